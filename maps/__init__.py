@@ -1,0 +1,19 @@
+"""maps: hybrid electro-vibro-impact dynamics on heyoka.
+
+Public API: scenes (:func:`get_scene`, :func:`scene_names`), time histories
+(:func:`simulate`), the generic hybrid engine (:class:`HybridSystem`,
+:class:`HybridRun`, :class:`Guard`, :class:`PeriodicSwitch`, :class:`State`) and
+named parameters (:class:`Parameter`, :class:`ParameterError`).
+"""
+from .hybrid import (Escaped, EventRecord, Guard, HybridRun, HybridSystem, IntegrationFailure,
+                     PeriodicSwitch, State)
+from .model import PARAMETERS, ModelOptions, build_system
+from .parameters import Parameter, ParameterError
+from .presets import PRESETS
+from .scenes import SCENES, Scene, get_scene, scene_names
+from .simulate import resolve, run_scene, simulate
+
+__all__ = ["Escaped", "EventRecord", "Guard", "HybridRun", "HybridSystem", "IntegrationFailure",
+           "PeriodicSwitch", "State", "PARAMETERS", "ModelOptions", "build_system", "Parameter",
+           "ParameterError", "PRESETS", "SCENES", "Scene", "get_scene", "scene_names", "resolve",
+           "run_scene", "simulate"]

@@ -1,0 +1,290 @@
+"""The electro-vibro-impact model (docs/model.md; MODEL.md sections 1-3).
+
+:func:`build_system` assembles a :class:`~maps.hybrid.HybridSystem` from
+structural options.  It compiles only the states and terms a scene needs: a
+DC-only scene has no circuit states, a scene without a stop has no contact
+guards.  All coefficients are runtime parameters.
+
+Sign conventions: x (1-DOF) or r = x1 - x2 (2-DOF) is the bar's distance above
+(behind) the stop, + away from the stop toward the DC solenoid.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import heyoka as hy
+import numpy as np
+
+from .hybrid import Guard, HybridSystem, PeriodicSwitch, State
+from .parameters import Parameter
+
+__all__ = ["ModelOptions", "PARAMETERS", "build_system", "ESCAPE_MARGIN"]
+
+INF = math.inf
+#: the table of every model parameter: name -> Parameter (MODEL.md section 6)
+PARAMETERS = {p.name: p for p in [
+    Parameter("m", "kg", "bar mass", 0, INF, low_open=True),
+    Parameter("m1", "kg", "bar mass", 0, INF, low_open=True),
+    Parameter("m2", "kg", "rig mass", 0, INF, low_open=True),
+    Parameter("g", "m s-2", "gravitational acceleration", 0, 100),
+    Parameter("k", "N m-1", "stop stiffness", 0, 1e14, low_open=True),
+    Parameter("c", "N s m-1", "stop damping", 0, 1e7),
+    Parameter("e", "m", "clearance of the stop", -0.01, 0.05),
+    Parameter("R", "ohm", "circuit resistance", 0, 1e6, low_open=True),
+    Parameter("C", "F", "circuit capacitance", 0, 100, low_open=True),
+    Parameter("V", "V", "AC source amplitude", 0, 1e4),
+    Parameter("f_mains", "Hz", "AC source frequency", 0, 1e4, low_open=True),
+    Parameter("relay_hz", "Hz", "relay (SSR) switching frequency", 0, 1e3, low_open=True),
+    Parameter("a1", "N m-1", "DC force cubic, linear coefficient"),
+    Parameter("a2", "N m-2", "DC force cubic, quadratic coefficient"),
+    Parameter("a3", "N m-3", "DC force cubic, cubic coefficient"),
+    Parameter("d_dc", "m", "stop-to-DC-solenoid-centre offset", 0, 0.5, low_open=True),
+    Parameter("d_ac", "m", "AC-solenoid-centre-to-stop offset", 0, 0.5, low_open=True),
+    Parameter("L0", "H", "inductance fit, baseline", 0, 100, low_open=True),
+    Parameter("A", "H", "inductance fit, amplitude", 0, 100),
+    Parameter("B", "m", "inductance fit, width", 0, 1, low_open=True),
+    Parameter("dc_scale", "1", "multiplier on the DC magnetic force (1 at 20 V DC)", 0, 100),
+    Parameter("F_static", "N", "static force pushing the rig into the soil", -1e5, 1e5),
+    Parameter("soil_c", "N s m-1", "viscous soil coefficient", 0, 1e7),
+    Parameter("soil_friction", "N", "dry-friction limit of the soil", 0, 1e7),
+]}
+
+#: the bar is "escaped" beyond d_dc + ESCAPE_MARGIN above the stop, or deeper
+#: than STOP_ESCAPE into it [m]: far outside the fitted force laws.
+ESCAPE_MARGIN = 0.1
+STOP_ESCAPE = 0.02
+
+
+@dataclass(frozen=True)
+class ModelOptions:
+    """Structural options of the model: each combination compiles once."""
+
+    dof: int = 1                 # 1: vertical bar; 2: horizontal bar + rig
+    dc: bool = True              # DC solenoid force
+    ac: bool = True              # AC solenoid and its circuit
+    stop: bool = True            # the impact stop
+    relay: str = "ssr"           # "ssr": AC on for the first half period; "antiphase": DC on
+                                 # while AC off (prototype); "none": AC always on
+    circuit: str = "thesis"      # "thesis": eq 4.16 in (i, z); "kvl": charge form in (q, i)
+    ac_sign: str = "physical"    # "physical" or "listing" (listing C.2 reverses the AC force)
+    soil: str = "viscous"        # 2-DOF: "viscous" or "coulomb"
+    energy: bool = False         # add quadrature states for the energy audit (1-DOF)
+
+    def __post_init__(self):
+        from .parameters import ParameterError
+        allowed = {"dof": (1, 2), "relay": ("ssr", "antiphase", "none"),
+                   "circuit": ("thesis", "kvl"), "ac_sign": ("physical", "listing"),
+                   "soil": ("viscous", "coulomb")}
+        for name, values in allowed.items():
+            if getattr(self, name) not in values:
+                raise ParameterError(f"option {name!r} = {getattr(self, name)!r}; "
+                                     f"allowed: {', '.join(map(str, values))}")
+        if self.relay != "none" and not self.ac:
+            raise ParameterError("option 'relay' needs the AC solenoid (ac=True)")
+        if self.energy and (self.dof != 1 or (self.ac and self.circuit != "kvl")):
+            raise ParameterError("option 'energy' needs dof=1 and, with the AC solenoid, circuit='kvl'")
+
+    def parameter_names(self) -> list[str]:
+        names = ["m", "g"] if self.dof == 1 else ["m1", "m2", "F_static",
+                                                  "soil_c" if self.soil == "viscous" else "soil_friction"]
+        if self.stop:
+            names += ["k", "c", "e"]
+        if self.dc:
+            names += ["a1", "a2", "a3", "d_dc", "dc_scale"]
+        if self.ac:
+            names += ["R", "C", "V", "f_mains", "d_ac", "L0", "A", "B"]
+        if self.relay != "none":
+            names += ["relay_hz"]
+        return names
+
+    def state_list(self) -> list[State]:
+        if self.dof == 1:
+            st = [State("x", "m", "bar position above the stop"),
+                  State("v", "m s-1", "bar velocity")]
+        else:
+            st = [State("x1", "m", "bar position"), State("v1", "m s-1", "bar velocity"),
+                  State("x2", "m", "rig position"), State("v2", "m s-1", "rig velocity")]
+        if self.ac:
+            if self.circuit == "thesis":
+                st += [State("i", "A", "AC solenoid current"), State("z", "A s-1", "current rate di/dt")]
+            else:
+                st += [State("q", "C", "capacitor charge"), State("i", "A", "AC solenoid current")]
+        if self.energy:
+            st += [State("W_src", "J", "work done by the AC source"),
+                   State("E_R", "J", "energy dissipated in the resistance"),
+                   State("E_c", "J", "energy dissipated by stop damping")]
+        return st
+
+    def key(self) -> tuple:
+        return tuple(sorted(self.__dict__.items()))
+
+
+def _forces(o: ModelOptions, s):
+    """Symbolic forces and geometry shared by the rhs, guards and outputs."""
+    f = {}
+    if o.dof == 1:
+        r, rdot = s.x, s.v
+    else:
+        r, rdot = s.x1 - s.x2, s.v1 - s.v2
+    f["r"], f["rdot"] = r, rdot
+    zero = hy.expression(0.0)
+    P = s.P if o.ac else None
+    if o.dc:
+        xa = r - s.d_dc
+        cubic = s.dc_scale * (-s.a3 * xa**3 + s.a2 * xa**2 - s.a1 * xa)
+        gate = (1.0 - P) if o.relay == "antiphase" else 1.0
+        f["F_dc"] = gate * cubic
+        f["U_dc"] = gate * s.dc_scale * (s.a3 * xa**4 / 4 - s.a2 * xa**3 / 3 + s.a1 * xa**2 / 2)
+    else:
+        f["F_dc"] = zero
+    if o.ac:
+        xb = r + s.d_ac
+        gauss = hy.exp(-2.0 * (xb / s.B) ** 2)
+        norm = s.A / (s.B * math.sqrt(math.pi / 2))
+        f["L"] = s.L0 + norm * gauss
+        f["dL"] = -4.0 * norm * xb / s.B**2 * gauss
+        f["ddL"] = -4.0 * norm / s.B**2 * (1.0 - 4.0 * xb**2 / s.B**2) * gauss
+        i = s.i
+        sign = 1.0 if o.ac_sign == "physical" else -1.0
+        f["F_ac"] = sign * 0.5 * f["dL"] * i**2
+        w = 2.0 * math.pi * s.f_mains
+        f["u"] = P * s.V * hy.sin(w * s.t)
+        f["du"] = P * s.V * w * hy.cos(w * s.t)
+    else:
+        f["F_ac"] = zero
+    if o.stop:
+        f["F_c"] = s.contact * (-s.k * (r - s.e) - s.c * rdot)
+    else:
+        f["F_c"] = zero
+    f["F_bar"] = f["F_dc"] + f["F_ac"] + f["F_c"]  # magnetic + contact force on the bar
+    if o.dof == 2:
+        if o.soil == "viscous":
+            f["F_soil"] = -s.soil_c * s.v2
+            f["N_rig"] = -f["F_bar"] - s.F_static
+            f["a2"] = (f["N_rig"] + f["F_soil"]) / s.m2
+        else:
+            f["N_rig"] = -f["F_bar"] - s.F_static  # net force on the rig before friction
+            f["a2"] = (1.0 - s.stuck) * (f["N_rig"] - s.slip_dir * s.soil_friction) / s.m2
+        f["a1"] = f["F_bar"] / s.m1
+        f["rddot"] = f["a1"] - f["a2"]
+    else:
+        weight_offset = s.m * s.g if o.dc else zero  # eq 4.7: F_dc carries +m g (listing C.9)
+        f["a1"] = (f["F_bar"] + weight_offset - s.m * s.g) / s.m
+        f["rddot"] = f["a1"]
+    return f
+
+
+def _rhs(o: ModelOptions, s):
+    f = _forces(o, s)
+    if o.dof == 1:
+        out = [s.v, f["a1"]]
+    else:
+        out = [s.v1, f["a1"], s.v2, f["a2"]]
+    if o.ac:
+        L, dL, ddL, rdot, i = f["L"], f["dL"], f["ddL"], f["rdot"], s.i
+        if o.circuit == "thesis":  # eq 4.16
+            out += [s.z, (f["du"] - (s.R + 2.0 * dL * rdot) * s.z
+                          - (1.0 / s.C + ddL * rdot**2 + dL * f["rddot"]) * i) / L]
+        else:  # d(L i)/dt + R i + q/C = u
+            out += [i, (f["u"] - s.R * i - s.q / s.C - dL * rdot * i) / L]
+    if o.energy:
+        out += [f["u"] * s.i if o.ac else hy.expression(0.0),
+                s.R * s.i**2 if o.ac else hy.expression(0.0),
+                s.contact * s.c * f["rdot"] ** 2 if o.stop else hy.expression(0.0)]
+    return out
+
+
+def _guards(o: ModelOptions, s):
+    f = _forces(o, s)
+    r, rdot = f["r"], f["rdot"]
+    gs = []
+    if o.stop:
+        gs += [Guard("contact", r - s.e, -1, when={"contact": 0}, then={"contact": 1}),
+               Guard("deepest", rdot, +1, when={"contact": 1}),
+               Guard("release", r - s.e, +1, when={"contact": 1}, then={"contact": 0}),
+               Guard("escape_stop", r - s.e + STOP_ESCAPE, -1, then={"escaped": 1})]
+        top = (s.d_dc if o.dc else 0.0) + ESCAPE_MARGIN
+        gs += [Guard("escape_far", r - top, +1, then={"escaped": 1})]
+    else:
+        centre = -s.d_ac if o.ac else 0.0
+        gs += [Guard("escape_far", (r - centre) ** 2 - (0.2) ** 2, +1, then={"escaped": 1})]
+    if o.dof == 2 and o.soil == "coulomb":
+        iv2 = 3  # index of v2 in the state
+
+        def zero_v2(y, params):
+            y = y.copy()
+            y[iv2] = 0.0
+            return y
+
+        gs += [Guard("rig_stop", s.v2, 0, when={"stuck": 0}, then=None, reset=zero_v2),
+               Guard("rig_slip_back", f["N_rig"] - s.soil_friction, +1, when={"stuck": 1},
+                     then={"stuck": 0, "slip_dir": 1.0}),
+               Guard("rig_slip_fwd", f["N_rig"] + s.soil_friction, -1, when={"stuck": 1},
+                     then={"stuck": 0, "slip_dir": -1.0})]
+    return gs
+
+
+def _outputs(o: ModelOptions, s):
+    f = _forces(o, s)
+    out = {k: f[k] for k in ("F_dc", "F_ac", "F_c", "r", "rdot") if k in f}
+    if o.dof == 2:
+        out["N_rig"] = f["N_rig"]
+    if o.energy:
+        E = 0.5 * s.m * s.v**2 + 0.5 * s.contact * s.k * (s.x - s.e) ** 2 if o.stop else 0.5 * s.m * s.v**2
+        if o.dc:
+            E = E + f["U_dc"]
+        else:
+            E = E + s.m * s.g * s.x
+        if o.ac:
+            E = E + 0.5 * f["L"] * s.i**2 + 0.5 * s.q**2 / s.C
+        out["E_mech_el"] = E
+    return out
+
+
+def _settle_coulomb(system: HybridSystem):
+    """Stick/slip consistency after any transition (relay switch, contact, rig stop)."""
+
+    def settle(t, y, flags, params):
+        N = float(system.evaluate(["N_rig"], y, params, flags, t)[0])
+        Ff = params["soil_friction"]
+        v2 = y[3]
+        if flags["stuck"] == 1:
+            if abs(N) > Ff:
+                return {"stuck": 0, "slip_dir": math.copysign(1.0, N)}
+            return None
+        if abs(v2) <= 1e-12:
+            if abs(N) <= Ff:
+                return {"stuck": 1}
+            return {"slip_dir": math.copysign(1.0, N)}
+        return {"slip_dir": math.copysign(1.0, v2)} if math.copysign(1.0, v2) != flags["slip_dir"] else None
+
+    return settle
+
+
+_SYSTEMS: dict = {}
+
+
+def build_system(options: ModelOptions | None = None, **kw) -> HybridSystem:
+    """The hybrid system for one set of structural options (built once, then cached)."""
+    o = options if options is not None else ModelOptions(**kw)
+    if o.key() in _SYSTEMS:
+        return _SYSTEMS[o.key()]
+    flags = {"P": 1.0} if o.ac else {}
+    if o.stop:
+        flags["contact"] = 0.0
+    flags["escaped"] = 0.0
+    if o.dof == 2 and o.soil == "coulomb":
+        flags.update(stuck=0.0, slip_dir=1.0)
+    switches = [PeriodicSwitch("P", "relay_hz")] if o.relay != "none" else []
+    params = [PARAMETERS[n] for n in o.parameter_names()]
+    system = HybridSystem(
+        name="electro-vibro-impact", states=o.state_list(), parameters=params,
+        flags=flags, rhs=lambda s: _rhs(o, s), guards=lambda s: _guards(o, s),
+        switches=switches, outputs=lambda s: _outputs(o, s), structure=o.key(),
+        halt_flags=("escaped",))
+    if o.dof == 2 and o.soil == "coulomb":
+        system.settle = _settle_coulomb(system)
+    system.options = o
+    _SYSTEMS[o.key()] = system
+    return system

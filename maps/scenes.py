@@ -1,0 +1,99 @@
+"""Named scenes: a model variant, its states and its default parameters.
+
+>>> from maps import get_scene
+>>> scene = get_scene("thesis-1dof")
+>>> params = scene.parameters(preset="matlab-listing", V=90, relay_hz=9)
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+
+from .model import ModelOptions, build_system
+from .parameters import ParameterError
+from .presets import preset_values
+
+__all__ = ["Scene", "SCENES", "get_scene", "scene_names"]
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A model variant with defaults: ``options`` fix the structure (what compiles)."""
+
+    name: str
+    summary: str
+    options: ModelOptions
+    preset: str = "thesis-text"
+    overrides: dict = field(default_factory=dict)   # name -> (value, provenance)
+    x0: dict = field(default_factory=dict)          # default initial state by name [SI]
+
+    @property
+    def system(self):
+        return build_system(self.options)
+
+    def with_options(self, **kw) -> "Scene":
+        """The same scene with other structural options (e.g. circuit='kvl')."""
+        return replace(self, options=replace(self.options, **kw))
+
+    def parameters(self, preset: str | None = None, **overrides) -> dict:
+        """Validated values of this scene's parameters: preset, scene defaults, then overrides."""
+        return {k: v for k, (v, _) in self.parameters_with_provenance(preset, **overrides).items()}
+
+    def parameters_with_provenance(self, preset: str | None = None, **overrides) -> dict:
+        """name -> (value, provenance) for this scene's parameters."""
+        system = self.system
+        table = preset_values(preset or self.preset)
+        if preset is None or preset == self.preset:
+            table.update({k: (float(v), f"scene {self.name}: {src}") for k, (v, src) in self.overrides.items()})
+        for k, v in overrides.items():
+            if k not in system.param_names:
+                raise ParameterError(f"unknown parameter {k!r} for scene {self.name!r}; its parameters are: "
+                                     f"{', '.join(system.param_names)}")
+            table[k] = (v, "set by user")
+        chosen = {k: table[k] for k in system.param_names}
+        values = system.validate({k: v for k, (v, _) in chosen.items()})
+        return {k: (values[k], chosen[k][1]) for k in system.param_names}
+
+    def initial_state(self, **components) -> dict:
+        """Default initial state with named components replaced."""
+        x0 = {n: 0.0 for n in self.system.state_names}
+        x0.update(self.x0)
+        for k, v in components.items():
+            if k not in x0:
+                raise ParameterError(f"unknown state {k!r} for scene {self.name!r}; its states are: "
+                                     f"{', '.join(x0)}")
+            x0[k] = float(v)
+        return x0
+
+
+_ABOVE = {"x": 1e-3}
+SCENES = {s.name: s for s in [
+    Scene("dc-only", "bar under DC force and weight on the stop, 2 states (thesis Fig 4.7)",
+          ModelOptions(dof=1, dc=True, ac=False, stop=True, relay="none"), x0={"x": 0.0}),
+    Scene("ac-only", "AC solenoid always on and weight, no DC solenoid, no stop (Fig 4.25)",
+          ModelOptions(dof=1, dc=False, ac=True, stop=False, relay="none"), x0={"x": 0.0}),
+    Scene("ac-stop", "AC solenoid always on, weight and the stop (Fig 4.26)",
+          ModelOptions(dof=1, dc=False, ac=True, stop=True, relay="none"), x0=_ABOVE),
+    Scene("thesis-1dof", "vertical bar, DC solenoid, relay-switched AC solenoid, stop (Fig 4.27)",
+          ModelOptions(dof=1), x0=_ABOVE),
+    Scene("thesis-2dof", "horizontal bar and rig, viscous soil (section 4.7, listing C.4)",
+          ModelOptions(dof=2, soil="viscous"), preset="matlab-listing", x0={"x1": 1e-3}),
+    Scene("prototype", "2-DOF prototype, antiphase relay, dry-friction soil (Chapter 5)",
+          ModelOptions(dof=2, relay="antiphase", soil="coulomb"), preset="dynamics-listing",
+          overrides={"dc_scale": (1.44, "DC 24 V: (24/20)^2, assuming a linear magnetic circuit"),
+                     "relay_hz": (6.0, "Tables 5.2-5.4 ran at 6 Hz")},
+          x0={"x1": 1e-3}),
+]}
+
+
+def scene_names() -> list[str]:
+    return list(SCENES)
+
+
+def get_scene(scene: str | Scene) -> Scene:
+    """The scene named ``scene`` (a :class:`Scene` passes through)."""
+    if isinstance(scene, Scene):
+        return scene
+    if scene not in SCENES:
+        raise ParameterError(f"unknown scene {scene!r}; scenes: {', '.join(SCENES)}")
+    return SCENES[scene]
+

@@ -1,0 +1,169 @@
+"""Time histories of a scene as xarray Datasets."""
+from __future__ import annotations
+
+import time as _time
+
+import heyoka as hy
+import numpy as np
+import xarray as xr
+
+from .hybrid import Escaped, HybridRun, IntegrationFailure
+from .impacts import impact_table
+from .parameters import ParameterError, validate_value
+from .scenes import get_scene
+
+__all__ = ["simulate", "run_scene", "resolve"]
+
+
+def resolve(scene, params=None, preset=None, circuit=None, ac_sign=None, energy=None):
+    """The scene with structural options applied, and its validated parameter values
+    with provenance: ``(scene, {name: (value, provenance)})``."""
+    sc = get_scene(scene)
+    opts = {k: v for k, v in dict(circuit=circuit, ac_sign=ac_sign, energy=energy).items() if v is not None}
+    if opts:
+        sc = sc.with_options(**opts)
+    table = sc.parameters_with_provenance(preset, **(params or {}))
+    return sc, table
+
+
+def run_scene(scene, t_end, params=None, preset=None, x0=None, tol=1e-12, circuit=None,
+              ac_sign=None, energy=None, fp_type=float, on_segment=None, max_events=100_000):
+    """Integrate a scene to ``t_end`` [s] and return the :class:`~maps.hybrid.HybridRun`.
+
+    Failures (non-finite state, escape, event cap) are recorded on the run as
+    ``run.status`` / ``run.failure`` instead of raised.
+    """
+    sc, table = resolve(scene, params, preset, circuit, ac_sign, energy)
+    values = {k: v for k, (v, _) in table.items()}
+    t_end = validate_value("t_end", t_end, 0.0, 1e7, low_open=True, unit="s")
+    y0 = sc.initial_state(**(x0 or {}))
+    run = HybridRun(sc.system, values, y0, tol=tol, fp_type=fp_type, max_events=max_events)
+    run.scene, run.provenance = sc, {k: src for k, (_, src) in table.items()}
+    run.status, run.failure = "ok", None
+    t0 = _time.perf_counter()
+    try:
+        run.advance(t_end, on_segment=on_segment)
+    except Escaped as exc:
+        run.status, run.failure = "escaped", exc
+    except IntegrationFailure as exc:
+        run.status, run.failure = "failed", exc
+    run.run_seconds = _time.perf_counter() - t0
+    return run
+
+
+def simulate(scene, *, periods=None, t_end=None, params=None, preset=None, x0=None, tol=1e-12,
+             dt=None, t_eval=None, circuit=None, ac_sign=None, energy=None) -> xr.Dataset:
+    """Time history of ``scene`` sampled on a grid from heyoka's dense output.
+
+    Parameters
+    ----------
+    scene : str or Scene
+        A scene name (``maps.scene_names()``).
+    periods, t_end : float
+        Duration in relay periods or in seconds (exactly one of them).
+    params : dict
+        Parameter overrides by name (MODEL.md section 6), e.g. ``{"V": 90}``.
+    preset : str
+        ``thesis-text``, ``matlab-listing`` or ``dynamics-listing``.
+    x0 : dict
+        Initial state components by name; the rest take the scene's defaults.
+    tol : float
+        heyoka's relative/absolute tolerance.
+    dt, t_eval : float, array
+        Sampling step [s] (default 2e-4 s) or explicit sample times; sampling
+        never changes the trajectory.
+    circuit, ac_sign : str
+        Structural options ("thesis"/"kvl", "physical"/"listing").
+
+    Returns
+    -------
+    xarray.Dataset with ``time`` and ``impact`` dimensions.
+    """
+    sc, table = resolve(scene, params, preset, circuit, ac_sign, energy)
+    values = {k: v for k, (v, _) in table.items()}
+    t_end = _duration(values, periods, t_end)
+    if t_eval is None:
+        dt = validate_value("dt", 2e-4 if dt is None else dt, 0.0, t_end, low_open=True, unit="s")
+        t_eval = np.arange(0.0, t_end + 0.5 * dt, dt)
+        t_eval = t_eval[t_eval <= t_end]
+    t_eval = np.asarray(t_eval, dtype=float)
+    if t_eval.ndim != 1 or not np.all(np.isfinite(t_eval)) or np.any(np.diff(t_eval) < 0):
+        raise ParameterError("t_eval must be a finite, non-decreasing 1-D array of times [s]")
+    n_states = len(sc.system.states)
+    samples = np.full((t_eval.size, n_states), np.nan)
+
+    def on_segment(c_out, ta, tb):
+        lo, hi = np.searchsorted(t_eval, [ta, tb], side="left")
+        hi = np.searchsorted(t_eval, tb, side="right")
+        if hi > lo:
+            samples[lo:hi] = c_out(t_eval[lo:hi])
+
+    run = run_scene(sc, t_end, params=values, x0=x0, tol=tol, on_segment=on_segment)
+    return to_dataset(run, t_eval, samples, table)
+
+
+def _duration(values, periods, t_end):
+    if (periods is None) == (t_end is None):
+        raise ParameterError("give exactly one of 'periods' (relay periods) and 't_end' (seconds)")
+    if periods is not None:
+        if "relay_hz" not in values:
+            raise ParameterError("'periods' counts relay periods; this scene has no relay: give 't_end' [s]")
+        periods = validate_value("periods", periods, 0.0, 1e7, low_open=True)
+        return periods / values["relay_hz"]
+    return validate_value("t_end", t_end, 0.0, 1e7, low_open=True, unit="s")
+
+
+def to_dataset(run, t_eval, samples, table) -> xr.Dataset:
+    """Package a run and its samples: states, flags, impacts, parameters and provenance."""
+    system, sc = run.system, run.scene
+    t_valid = run.t if run.status != "ok" else np.inf
+    keep = t_eval <= t_valid
+    t_eval, samples = t_eval[keep], samples[keep]
+    ds = xr.Dataset(coords={"time": ("time", t_eval, {"units": "s", "long_name": "time"})})
+    for j, st in enumerate(system.states):
+        ds[st.name] = ("time", samples[:, j], {"units": st.unit, "long_name": st.long_name})
+    times = np.array([t for t, _ in run.flag_log])
+    idx = np.clip(np.searchsorted(times, t_eval, side="right") - 1, 0, None)
+    for flag, long_name in (("P", "relay state (1: AC solenoid powered)"),
+                            ("contact", "bar in contact with the stop")):
+        if flag in system.flag_names:
+            vals = np.array([fl[flag] for _, fl in run.flag_log], dtype=np.int8)[idx]
+            ds[flag if flag != "P" else "relay"] = ("time", vals, {
+                "units": "1", "long_name": long_name, "flag_values": np.array([0, 1], np.int8),
+                "flag_meanings": "off on"})
+    if "stuck" in system.flag_names:
+        vals = np.array([fl["stuck"] for _, fl in run.flag_log], dtype=np.int8)[idx]
+        ds["rig_stuck"] = ("time", vals, {"units": "1", "long_name": "rig stuck in the soil",
+                                          "flag_values": np.array([0, 1], np.int8),
+                                          "flag_meanings": "slipping stuck"})
+    imp = impact_table(run)
+    ds = ds.assign_coords(impact=("impact", np.arange(imp["t"].size)))
+    ds["impact_time"] = ("impact", imp["t"], {"units": "s", "long_name": "contact onset time"})
+    ds["impact_velocity"] = ("impact", imp["velocity"],
+                             {"units": "m s-1", "long_name": "bar velocity relative to the stop at contact onset"})
+    ds["impact_penetration"] = ("impact", imp["penetration"],
+                                {"units": "m", "long_name": "maximum penetration into the stop"})
+    ds["impact_duration"] = ("impact", imp["duration"],
+                             {"units": "s", "long_name": "contact duration (NaN: still in contact at the end)"})
+    if "x2" in system.state_names:
+        ds["progression"] = ds["x2"].isel(time=0) - ds["x2"]
+        ds["progression"].attrs = {"units": "m", "long_name": "forward progression into the soil x2(0) - x2(t)"}
+    o = sc.options
+    attrs = {
+        "scene": sc.name, "scene_summary": sc.summary, "circuit": o.circuit if o.ac else "none",
+        "ac_sign": o.ac_sign if o.ac else "none", "relay": o.relay,
+        "soil": o.soil if o.dof == 2 else "none", "tol": run.tol, "heyoka_version": hy.__version__,
+        "run_seconds": run.run_seconds, "compile_seconds": run.compile_seconds,
+        "n_steps": run.n_steps, "n_events": run.n_events, "n_relay_switches": run.n_switches,
+        "status": run.status, "t_end_reached": run.t,
+    }
+    if run.failure is not None:
+        attrs["failure"] = str(run.failure)
+        attrs["failure_time"] = float(run.failure.t)
+        attrs["failure_state"] = np.asarray(run.failure.state, dtype=float)
+    for k, (v, src) in table.items():
+        attrs[f"param_{k}"] = v
+        attrs[f"param_{k}_units"] = system.parameter(k).unit
+        attrs[f"param_{k}_source"] = src
+    ds.attrs.update(attrs)
+    return ds
