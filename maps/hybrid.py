@@ -195,6 +195,9 @@ class HybridSystem:
         return [params[p] for p in self.param_names] + [flags[f] for f in self.flag_names]
 
     def state_vector(self, x0: Mapping[str, float] | Sequence[float]) -> np.ndarray:
+        """Initial state as an array (double, or the input's own extended dtype)."""
+        if isinstance(x0, np.ndarray) and x0.dtype != float and x0.shape == (len(self.states),):
+            return x0.copy()
         if isinstance(x0, Mapping):
             unknown = set(x0) - set(self.state_names)
             if unknown:
@@ -216,8 +219,9 @@ class HybridSystem:
         return list(zip(self.sym.state_vars, self.rhs))
 
     def heyoka_events(self, fp_type=float):
-        return [hy.t_event(g.expr, direction=g.heyoka_direction(), cooldown=EVENT_COOLDOWN,
-                           fp_type=fp_type) for g in self.guards]
+        kw = {} if fp_type is float else {"fp_type": fp_type}
+        return [hy.t_event(g.expr, direction=g.heyoka_direction(), cooldown=_fp(EVENT_COOLDOWN, fp_type),
+                           **kw) for g in self.guards]
 
     def integrator(self, tol: float = 1e-12, fp_type=float, compact_mode: bool = False):
         """A heyoka integrator for this system, compiled once per (structure, tol, fp_type).
@@ -234,7 +238,7 @@ class HybridSystem:
                 kw["fp_type"] = fp_type
             # heyoka sizes its parameter array to the highest index used; a flag used
             # by no expression (a halt flag) lives only on the Python side.
-            proto = hy.taylor_adaptive(self.heyoka_system(), y0, tol=tol,
+            proto = hy.taylor_adaptive(self.heyoka_system(), y0, tol=_fp(tol, fp_type),
                                        t_events=self.heyoka_events(fp_type),
                                        compact_mode=compact_mode, **kw)
             proto.compile_seconds = _time.perf_counter() - t0
@@ -305,6 +309,11 @@ class Symbols:
             raise AttributeError(name) from None
 
 
+def _fp(value, fp_type):
+    """A Python float as a scalar of heyoka's floating-point type."""
+    return value if fp_type is float else fp_type(value)
+
+
 def _np_dtype(fp_type):
     if fp_type is float:
         return float
@@ -329,19 +338,28 @@ class HybridRun:
         self.tol = validate_tol(tol)
         self.fp_type = fp_type
         self.ta, self.compile_seconds = system.integrator(tol, fp_type)
-        self.ta.time = t0
-        self.ta.state[:] = np.asarray(system.state_vector(x0), dtype=_np_dtype(fp_type))
-        self.flags = system.initial_flags(t0, self.params, flags)
-        self._load_pars()
-        self.events: list[EventRecord] = []
         self.record_events = record_events
         self.max_events = max_events
-        self.n_events = 0
-        self.n_steps = 0
-        self.n_switches = 0
-        self.flag_log: list[tuple[float, dict]] = [(t0, dict(self.flags))]
+        self.reset(t0, x0, flags)
+
+    def reset(self, t0: float, x0, flags: Mapping[str, float] | None = None) -> "HybridRun":
+        """Restart this run at time ``t0`` [s] from state ``x0`` (no recompilation).
+
+        Flags default to the system's defaults with switches at their value at ``t0``;
+        the event log, counters and heyoka's event cooldowns are cleared.
+        """
+        system = self.system
+        self.ta.time = _fp(t0, self.fp_type)
+        self.ta.state[:] = np.asarray(system.state_vector(x0), dtype=_np_dtype(self.fp_type))
+        self.ta.reset_cooldowns()
+        self.flags = system.initial_flags(t0, self.params, flags)
+        self._load_pars()
+        self.events = []
+        self.n_events = self.n_steps = self.n_switches = 0
+        self.flag_log = [(t0, dict(self.flags))]
         self._next_switch = {sw.flag: sw.index_at(t0, self.params[sw.frequency]) + 1 for sw in system.switches}
         self._settle(t0)
+        return self
 
     # ----- state access ---------------------------------------------------
     @property
@@ -410,7 +428,7 @@ class HybridRun:
             t_stop = min(t_end, t_sw)
             t_start = float(ta.time)
             if t_stop > t_start:
-                res = ta.propagate_until(t_stop, c_output=c_out)
+                res = ta.propagate_until(_fp(t_stop, self.fp_type), c_output=c_out)
                 outcome, nsteps = res[0], res[3]
                 self.n_steps += nsteps
                 if c_out and res[4] is not None:
