@@ -136,13 +136,16 @@ class HybridSystem:
                  rhs: Callable, flags: Mapping[str, float] | None = None,
                  guards: Callable | Sequence[Guard] = (), switches: Sequence[PeriodicSwitch] = (),
                  settle: Callable | None = None, outputs: Callable | None = None,
-                 structure: tuple = (), halt_flags: Sequence[str] = ()):
+                 structure: tuple = (), halt_flags: Sequence[str] = (), gap: Callable | None = None):
         """``rhs(sym) -> list of expressions`` and ``guards(sym) -> list of Guard`` receive a
         :class:`Symbols` giving ``sym.x``/``sym['x']`` for states, parameters and flags,
         and ``sym.t`` for time.  ``settle(t, y, flags, params) -> flags`` makes the flags
         consistent after any transition (e.g. stick/slip).  ``outputs(sym) -> dict`` names
         derived expressions (forces) evaluated on demand.  A guard that sets one of
         ``halt_flags`` to a non-zero value ends the run with :class:`Escaped`.
+        ``gap(y, params) -> (gap [m], gap rate [m/s])`` gives the signed distance to the
+        stop (> 0: clear) for impact logs and clearance; by default the state ``x``
+        (or ``x1 - x2``) less the parameter ``e`` (0 if absent).
         """
         self.name = name
         self.states = tuple(states)
@@ -151,6 +154,7 @@ class HybridSystem:
         self.switches = tuple(switches)
         self.settle = settle
         self.halt_flags = tuple(halt_flags)
+        self.gap = gap if gap is not None else _default_gap(tuple(s.name for s in states))
         self.structure = (name,) + tuple(structure)
         names = [s.name for s in self.states] + [p.name for p in self.parameters] + list(self.flag_defaults)
         if len(set(names)) != len(names):
@@ -307,6 +311,14 @@ class Symbols:
             return self.__dict__["_map"][name]
         except KeyError:
             raise AttributeError(name) from None
+
+
+def _default_gap(names):
+    if "x1" in names and "x2" in names:
+        i1, v1, i2, v2 = (names.index(n) for n in ("x1", "v1", "x2", "v2"))
+        return lambda y, p: (y[i1] - y[i2] - p.get("e", 0.0), y[v1] - y[v2])
+    ix, iv = names.index("x") if "x" in names else 0, names.index("v") if "v" in names else 1
+    return lambda y, p: (y[ix] - p.get("e", 0.0), y[iv])
 
 
 def _fp(value, fp_type):

@@ -1,38 +1,41 @@
-"""The impact log of a run: one row per contact, from the recorded guard crossings."""
+"""The impact log of a run: one row per contact, from the recorded guard crossings.
+
+Relies on the guard names "contact" (onset), "deepest" (maximum penetration)
+and "release", and on ``system.gap(y, params) -> (gap, gap_rate)``.
+"""
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["impact_table"]
+__all__ = ["impact_table", "free_flight_minima"]
 
 
 def impact_table(run) -> dict:
-    """Arrays per contact: onset time [s], impact velocity [m/s] (relative, negative
-    toward the stop), maximum penetration [m] (>= 0) and contact duration [s] (NaN
-    for a contact still open at the end of the run)."""
-    system = run.system
-    r_of = _relative(system)
+    """Arrays per contact: onset time [s], impact velocity [m/s] (gap rate at onset,
+    negative toward the stop), maximum penetration [m] (>= 0) and contact duration [s]
+    (NaN for a contact still open at the end of the run)."""
+    gap = run.system.gap
     onset, vel, pen, dur = [], [], [], []
     for ev in run.events:
         if ev.name == "contact":
-            r, rdot = r_of(ev.y_minus)
+            g, rate = gap(ev.y_minus, run.params)
             onset.append(ev.t)
-            vel.append(rdot)
-            pen.append(max(0.0, run.params["e"] - r))
+            vel.append(rate)
+            pen.append(max(0.0, -g))
             dur.append(np.nan)
         elif ev.name == "deepest" and onset:
-            r, _ = r_of(ev.y_minus)
-            pen[-1] = max(pen[-1], run.params["e"] - r)
+            pen[-1] = max(pen[-1], -gap(ev.y_minus, run.params)[0])
         elif ev.name == "release" and onset and np.isnan(dur[-1]):
             dur[-1] = ev.t - onset[-1]
     return {"t": np.array(onset), "velocity": np.array(vel), "penetration": np.array(pen),
             "duration": np.array(dur)}
 
 
-def _relative(system):
-    names = system.state_names
-    if "x1" in names:
-        i1, v1, i2, v2 = (names.index(n) for n in ("x1", "v1", "x2", "v2"))
-        return lambda y: (y[i1] - y[i2], y[v1] - y[v2])
-    ix, iv = names.index("x"), names.index("v")
-    return lambda y: (y[ix], y[iv])
+def free_flight_minima(run) -> dict:
+    """Local minima of the gap in free flight (guard "lowest"): time [s] and gap [m]."""
+    t, g = [], []
+    for ev in run.events:
+        if ev.name == "lowest":
+            t.append(ev.t)
+            g.append(run.system.gap(ev.y_minus, run.params)[0])
+    return {"t": np.array(t), "gap": np.array(g)}

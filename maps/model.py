@@ -201,6 +201,7 @@ def _guards(o: ModelOptions, s):
     gs = []
     if o.stop:
         gs += [Guard("contact", r - s.e, -1, when={"contact": 0}, then={"contact": 1}),
+               Guard("lowest", rdot, +1, when={"contact": 0}),
                Guard("deepest", rdot, +1, when={"contact": 1}),
                Guard("release", r - s.e, +1, when={"contact": 1}, then={"contact": 0}),
                Guard("escape_stop", r - s.e + STOP_ESCAPE, -1, then={"escaped": 1})]
@@ -262,6 +263,13 @@ def _settle_coulomb(system: HybridSystem):
     return settle
 
 
+def _gap(o: ModelOptions):
+    """Signed distance to the stop and its rate, (r - e, dr/dt), from a state array."""
+    if o.dof == 1:
+        return lambda y, p: (y[0] - p.get("e", 0.0), y[1])
+    return lambda y, p: (y[0] - y[2] - p.get("e", 0.0), y[1] - y[3])
+
+
 _SYSTEMS: dict = {}
 
 
@@ -282,7 +290,7 @@ def build_system(options: ModelOptions | None = None, **kw) -> HybridSystem:
         name="electro-vibro-impact", states=o.state_list(), parameters=params,
         flags=flags, rhs=lambda s: _rhs(o, s), guards=lambda s: _guards(o, s),
         switches=switches, outputs=lambda s: _outputs(o, s), structure=o.key(),
-        halt_flags=("escaped",))
+        halt_flags=("escaped",), gap=_gap(o))
     if o.dof == 2 and o.soil == "coulomb":
         system.settle = _settle_coulomb(system)
     system.options = o
