@@ -173,6 +173,7 @@ class HybridSystem:
         for sw in self.switches:
             if sw.flag not in self.flag_defaults or sw.frequency not in self._param_index:
                 raise ValueError(f"switch {sw} names an unknown flag or parameter")
+        self._groups = self.event_groups()
         self._cfuncs: dict = {}
 
     # ----- parameters -------------------------------------------------
@@ -222,10 +223,22 @@ class HybridSystem:
     def heyoka_system(self):
         return list(zip(self.sym.state_vars, self.rhs))
 
+    def event_groups(self) -> list[list[Guard]]:
+        """Guards grouped by identical (expression, direction): one heyoka event per group.
+
+        Guards that share a surface (e.g. the free-flight minimum and the deepest point
+        of a contact are both ``rdot = 0`` upward) must not be two events: a tie between
+        two terminal events at the same instant could lose the active one.
+        """
+        groups: dict = {}
+        for g in self.guards:
+            groups.setdefault((str(g.expr), g.direction), []).append(g)
+        return list(groups.values())
+
     def heyoka_events(self, fp_type=float):
         kw = {} if fp_type is float else {"fp_type": fp_type}
-        return [hy.t_event(g.expr, direction=g.heyoka_direction(), cooldown=_fp(EVENT_COOLDOWN, fp_type),
-                           **kw) for g in self.guards]
+        return [hy.t_event(grp[0].expr, direction=grp[0].heyoka_direction(),
+                           cooldown=_fp(EVENT_COOLDOWN, fp_type), **kw) for grp in self._groups]
 
     def integrator(self, tol: float = 1e-12, fp_type=float, compact_mode: bool = False):
         """A heyoka integrator for this system, compiled once per (structure, tol, fp_type).
@@ -456,8 +469,11 @@ class HybridRun:
                     self._settle(t_sw)
                 continue
             code = int(outcome)
-            if -len(sys.guards) - 1 < code < 0:
-                self._on_guard(sys.guards[-code - 1])
+            if -len(sys._groups) - 1 < code < 0:
+                for g in sys._groups[-code - 1]:
+                    if all(self.flags.get(k) == v for k, v in g.when.items()):
+                        self._on_guard(g)
+                        break
                 continue
             state = np.array(ta.state, dtype=float)
             if outcome == hy.taylor_outcome.err_nf_state:
@@ -468,8 +484,6 @@ class HybridRun:
         return self
 
     def _on_guard(self, g: Guard):
-        if any(self.flags.get(k) != v for k, v in g.when.items()):
-            return
         self.n_events += 1
         if self.max_events is not None and self.n_events > self.max_events:
             raise IntegrationFailure(f"more than {self.max_events} events by t = {self.t:.9g} s "
