@@ -137,7 +137,8 @@ def to_dataset(run, t_eval, samples, table) -> xr.Dataset:
                                           "flag_values": np.array([0, 1], np.int8),
                                           "flag_meanings": "slipping stuck"})
     imp = impact_table(run)
-    ds = ds.assign_coords(impact=("impact", np.arange(imp["t"].size)))
+    ds = ds.assign_coords(impact=("impact", np.arange(imp["t"].size),
+                                  {"units": "1", "long_name": "contact number in time order"}))
     ds["impact_time"] = ("impact", imp["t"], {"units": "s", "long_name": "contact onset time"})
     ds["impact_velocity"] = ("impact", imp["velocity"],
                              {"units": "m s-1", "long_name": "bar velocity relative to the stop at contact onset"})
