@@ -1,0 +1,208 @@
+"""Work-precision study: error against run time for the toolkit and the baselines.
+
+The reference is the toolkit itself in extended precision: heyoka in long
+double (x86 80-bit, machine epsilon 1.1e-19) at ``tol = 1e-19`` by default, or
+real128 (epsilon 1.9e-34) at ``tol = 1e-28`` on request.  Long double suffices
+for double-precision runs: their errors are >= ~1e-14 (round-off over ~1e3
+steps), while the long-double reference is accurate to ~1e-16 or better; the
+study measures this bound by running the reference a second time at a 100x
+looser tolerance and records the difference (``reference_error_bound``).  Relay
+switch instants are the same double numbers in every run (the problem is defined
+with them), so they are not a source of difference.
+
+Errors are measured at ``t_end``:
+
+- final-state error: ``max_k |y_k - y_ref_k| / max(1, |y_ref_k|)`` (heyoka's
+  mixed absolute/relative norm) over (x [m], v [m/s], i [A], z [A/s]);
+- position error: ``|x - x_ref|`` [m];
+- impact-time error: the largest difference of contact onset times [s] when the
+  impact counts agree, NaN otherwise (a missed or added contact).
+"""
+from __future__ import annotations
+
+import math
+import time as _time
+
+import numpy as np
+import xarray as xr
+
+from maps.hybrid import HybridRun
+from maps.impacts import impact_table
+from maps.parameters import ParameterError
+from maps.simulate import resolve
+
+from . import baselines
+
+__all__ = ["reference_solution", "toolkit_solution", "work_precision", "plot_work_precision",
+           "DEFAULT_LADDERS", "final_state_error"]
+
+#: tolerance ladders per method (rtol = atol for scipy, the step h [s] for RK4)
+DEFAULT_LADDERS = {
+    "heyoka": [1e-6, 1e-8, 1e-10, 1e-12, 1e-14, 1e-15],
+    "scipy-DOP853": [1e-6, 1e-8, 1e-10, 1e-12, 1e-13],
+    "scipy-RK45": [1e-6, 1e-8, 1e-10],
+    "scipy-LSODA": [1e-6, 1e-8, 1e-10, 1e-12],
+    "scipy-Radau": [1e-5, 1e-7, 1e-9],
+    "rk4-bisection": [1e-3, 3e-4, 1e-4, 3e-5, 1e-5],
+}
+
+
+def _problem(scene, preset=None, params=None, x0=None):
+    sc, table = resolve(scene, params, preset)
+    values = {k: v for k, (v, _) in table.items()}
+    y0 = sc.system.state_vector(sc.initial_state(**(x0 or {})))
+    return sc, values, y0
+
+
+def reference_solution(scene, t_end, preset=None, params=None, x0=None, precision="longdouble",
+                       tol=None) -> dict:
+    """Final state (float128-like array), impact times and error bound of the extended-precision run.
+
+    ``precision`` is ``"longdouble"`` (tol 1e-19) or ``"real128"`` (tol 1e-28, ~12 s to compile).
+    """
+    import heyoka as hy
+    sc, values, y0 = _problem(scene, preset, params, x0)
+    if precision == "longdouble":
+        fp, tol = np.longdouble, tol or 1e-19
+    elif precision == "real128":
+        fp, tol = hy.real128, tol or 1e-28
+    else:
+        raise ParameterError(f"reference precision {precision!r}; allowed: longdouble, real128")
+    out = {}
+    for label, t in (("ref", tol), ("loose", tol * 100)):
+        y0x = np.array([fp(float(v)) for v in y0], dtype=fp)   # the same double start, exactly
+        run = HybridRun(sc.system, values, y0x, tol=t, fp_type=fp, max_events=None)
+        t0 = _time.perf_counter()
+        run.advance(t_end)
+        out[label] = (np.array([np.longdouble(str(v)) if fp is not np.longdouble else v for v in run.ta.state]),
+                      impact_table(run)["t"], _time.perf_counter() - t0, run.compile_seconds)
+    y_ref, t_imp, secs, comp = out["ref"]
+    bound = final_state_error(out["loose"][0], y_ref)
+    return {"y": y_ref, "impact_times": t_imp, "run_seconds": secs, "compile_seconds": comp,
+            "precision": precision, "tol": tol, "error_bound": bound, "scene": sc, "params": values,
+            "y0": y0}
+
+
+def final_state_error(y, y_ref) -> float:
+    """``max_k |y_k - y_ref_k| / max(1, |y_ref_k|)`` in extended precision, returned as a float."""
+    y = np.asarray(y, dtype=np.longdouble)
+    y_ref = np.asarray(y_ref, dtype=np.longdouble)
+    return float(np.max(np.abs(y - y_ref) / np.maximum(1, np.abs(y_ref))))
+
+
+def toolkit_solution(sc, values, y0, t_end, tol, repeats=3) -> dict:
+    """The toolkit in double precision (no dense output); run time is the best of ``repeats``."""
+    run = HybridRun(sc.system, values, y0, tol=tol, max_events=None)
+    best = math.inf
+    for _ in range(repeats):
+        run.reset(0.0, y0)
+        t0 = _time.perf_counter()
+        run.advance(t_end)
+        best = min(best, _time.perf_counter() - t0)
+    return {"y": np.array(run.ta.state, dtype=float), "impact_times": impact_table(run)["t"],
+            "run_seconds": best, "n_steps": run.n_steps, "compile_seconds": run.compile_seconds}
+
+
+def _impact_error(t, t_ref):
+    if t.size != t_ref.size:
+        return math.nan
+    return float(np.max(np.abs(t - t_ref))) if t.size else 0.0
+
+
+def work_precision(scene="thesis-1dof", t_end=2.0, preset=None, params=None, x0=None,
+                   ladders=None, methods=None, reference="longdouble", repeats=3,
+                   max_seconds=30.0, progress=None) -> xr.Dataset:
+    """Errors against run time for every method over its tolerance ladder.
+
+    ``ladders`` maps a method to its tolerances (default :data:`DEFAULT_LADDERS`);
+    ``methods`` selects among them.  A method stops climbing its ladder once a run takes
+    longer than ``max_seconds``.  Returns a Dataset with dimension ``run``.
+    """
+    ladders = dict(DEFAULT_LADDERS if ladders is None else ladders)
+    if methods is not None:
+        unknown = set(methods) - set(DEFAULT_LADDERS)
+        if unknown:
+            raise ParameterError(f"unknown method {sorted(unknown)[0]!r}; methods: {', '.join(DEFAULT_LADDERS)}")
+        ladders = {m: ladders.get(m, DEFAULT_LADDERS[m]) for m in methods}
+    ref = reference_solution(scene, t_end, preset, params, x0, precision=reference)
+    sc, values, y0 = ref["scene"], ref["params"], ref["y0"]
+    if any(m != "heyoka" for m in ladders):
+        baselines.check_supported(sc)
+    rows = []
+    for method, ladder in ladders.items():
+        for tol in ladder:
+            if method == "heyoka":
+                r = toolkit_solution(sc, values, y0, t_end, tol, repeats)
+                y, t_imp, secs = r["y"], r["impact_times"], r["run_seconds"]
+            elif method == "rk4-bisection":
+                b = baselines.solve_rk4_bisection(values, y0, t_end, h=tol)
+                y, t_imp, secs = b.y, b.impact_times, b.run_seconds
+            else:
+                b = baselines.solve_scipy(values, y0, t_end, method=method.split("-", 1)[1], tol=tol)
+                y, t_imp, secs = b.y, b.impact_times, b.run_seconds
+            rows.append(dict(method=method, tol=tol, run_seconds=secs,
+                             final_state_error=final_state_error(y, ref["y"]),
+                             position_error=float(abs(np.longdouble(y[0]) - ref["y"][0])),
+                             impact_time_error=_impact_error(np.asarray(t_imp), np.asarray(ref["impact_times"], float)),
+                             n_impacts=int(np.asarray(t_imp).size)))
+            if progress:
+                progress(rows[-1])
+            if secs > max_seconds:
+                break
+    return _to_dataset(rows, ref, t_end)
+
+
+def _to_dataset(rows, ref, t_end) -> xr.Dataset:
+    col = {k: np.array([r[k] for r in rows]) for k in rows[0]}
+    ds = xr.Dataset(coords={"run": ("run", np.arange(len(rows)), {"units": "1", "long_name": "run number"})})
+    ds["method"] = ("run", col["method"].astype(str), {"long_name": "integration method"})
+    ds["tol"] = ("run", col["tol"], {"units": "1", "long_name":
+                                     "tolerance (rtol = atol; for rk4-bisection the step h in s)"})
+    ds["run_seconds"] = ("run", col["run_seconds"], {"units": "s", "long_name": "integration wall time"})
+    ds["final_state_error"] = ("run", col["final_state_error"], {
+        "units": "1", "long_name": "final-state error max_k |y_k - y_ref_k| / max(1, |y_ref_k|)"})
+    ds["position_error"] = ("run", col["position_error"], {"units": "m", "long_name": "final position error"})
+    ds["impact_time_error"] = ("run", col["impact_time_error"], {
+        "units": "s", "long_name": "largest contact onset time error (NaN: impact count differs)"})
+    ds["n_impacts"] = ("run", col["n_impacts"], {"units": "1", "long_name": "number of contacts"})
+    sc = ref["scene"]
+    ds.attrs.update({
+        "scene": sc.name, "t_end": t_end, "reference_precision": ref["precision"],
+        "reference_tol": float(ref["tol"]), "reference_error_bound": ref["error_bound"],
+        "reference_n_impacts": int(ref["impact_times"].size),
+        "reference_final_state": np.array(ref["y"], dtype=float),
+        "reference_run_seconds": ref["run_seconds"], "initial_state": np.asarray(ref["y0"], float),
+    })
+    for k, v in ref["params"].items():
+        ds.attrs[f"param_{k}"] = v
+        ds.attrs[f"param_{k}_units"] = sc.system.parameter(k).unit
+    return ds
+
+
+def plot_work_precision(ds: xr.Dataset, path=None, error="final_state_error"):
+    """Log-log error against run time, one line per method; returns the figure."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(7, 5))
+    floor = max(float(ds.attrs.get("reference_error_bound", 0.0)), 1e-18)
+    for method in dict.fromkeys(ds["method"].values.tolist()):
+        sel = ds.where(ds["method"] == method, drop=True)
+        err = np.maximum(sel[error].values.astype(float), floor)
+        ax.loglog(sel["run_seconds"].values, err, "o-", label=method)
+        bad = sel["n_impacts"].values != ds.attrs["reference_n_impacts"]
+        if bad.any():
+            ax.loglog(sel["run_seconds"].values[bad], err[bad], "kx", ms=10)
+    ax.axhline(floor, color="grey", lw=0.8, ls=":")
+    ax.set_xlabel("run time [s]")
+    ax.set_ylabel(ds[error].attrs.get("long_name", error))
+    ax.set_title(f"{ds.attrs['scene']}, {ds.attrs['t_end']:g} s, V = {ds.attrs.get('param_V', float('nan')):g} V, "
+                 f"relay {ds.attrs.get('param_relay_hz', float('nan')):g} Hz\n"
+                 f"reference: {ds.attrs['reference_precision']} tol {ds.attrs['reference_tol']:g} "
+                 f"(x: wrong impact count; dotted: reference bound)", fontsize=9)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    if path is not None:
+        fig.savefig(path, dpi=120)
+    return fig

@@ -1,0 +1,110 @@
+"""``bifurc accuracy``: work-precision study of the toolkit against scipy and the thesis' RK4.
+
+    bifurc accuracy --scene thesis-1dof --preset matlab-listing --set V=90 --set relay_hz=9 \\
+        --t-end 2 -o out/accuracy
+
+writes ``accuracy.csv``, ``accuracy.nc`` and ``accuracy.png`` (error against run time).
+"""
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from maps.parameters import ParameterError
+
+NAME = "accuracy"
+
+
+def _parse_set(items):
+    out = {}
+    for item in items or []:
+        name, sep, value = item.partition("=")
+        if not sep or not name:
+            raise ParameterError(f"--set expects NAME=VALUE, got {item!r}")
+        try:
+            out[name.strip()] = float(value)
+        except ValueError:
+            raise ParameterError(f"--set {name}: {value!r} is not a number") from None
+    return out
+
+
+def _parse_floats(text, what):
+    try:
+        return [float(v) for v in text.split(",") if v.strip()]
+    except ValueError:
+        raise ParameterError(f"{what} expects comma-separated numbers, got {text!r}") from None
+
+
+def register(subparsers):
+    from ..accuracy import DEFAULT_LADDERS
+    p = subparsers.add_parser(NAME, help="error against run time: toolkit vs scipy and fixed-step RK4",
+                              description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--scene", default="thesis-1dof", help="scene name (default thesis-1dof)")
+    p.add_argument("--preset", default=None, help="parameter preset (thesis-text, matlab-listing, dynamics-listing)")
+    p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE", help="override a parameter [SI]")
+    p.add_argument("--x0", action="append", default=[], metavar="NAME=VALUE", help="initial state component [SI]")
+    p.add_argument("--t-end", type=float, default=2.0, help="integration time [s] (default 2)")
+    p.add_argument("--methods", default=",".join(DEFAULT_LADDERS),
+                   help="comma-separated methods (default: all): " + ", ".join(DEFAULT_LADDERS))
+    p.add_argument("--tols", default=None, help="comma-separated tolerances for every method except rk4-bisection "
+                                                "(default: a ladder per method)")
+    p.add_argument("--steps", default=None, help="comma-separated RK4 steps h [s] (default 1e-3 .. 1e-5)")
+    p.add_argument("--reference", choices=("longdouble", "real128"), default="longdouble",
+                   help="precision of the reference run (default longdouble at tol 1e-19; real128: tol 1e-28)")
+    p.add_argument("--max-seconds", type=float, default=30.0,
+                   help="stop a method's ladder after a run longer than this [s]")
+    p.add_argument("-o", "--output", required=True, help="output directory")
+    p.set_defaults(func=run)
+    return p
+
+
+def run(args) -> int:
+    from ..accuracy import DEFAULT_LADDERS, plot_work_precision, work_precision
+    methods = [m.strip() for m in args.methods.split(",") if m.strip()]
+    ladders = {}
+    for m in methods:
+        if m not in DEFAULT_LADDERS:
+            raise ParameterError(f"unknown method {m!r}; methods: {', '.join(DEFAULT_LADDERS)}")
+        if m == "rk4-bisection" and args.steps:
+            ladders[m] = _parse_floats(args.steps, "--steps")
+        elif m != "rk4-bisection" and args.tols:
+            ladders[m] = _parse_floats(args.tols, "--tols")
+        else:
+            ladders[m] = DEFAULT_LADDERS[m]
+    params = _parse_set(args.set)
+    x0 = _parse_set(args.x0)
+    out = Path(args.output)
+    out.mkdir(parents=True, exist_ok=True)
+
+    def progress(row):
+        print(f"{row['method']:>14s} tol {row['tol']:8.1e}  error {row['final_state_error']:9.2e}  "
+              f"impact-time error {row['impact_time_error']:9.2e} s  impacts {row['n_impacts']:3d}  "
+              f"{row['run_seconds'] * 1e3:9.2f} ms", flush=True)
+
+    ds = work_precision(args.scene, args.t_end, preset=args.preset, params=params, x0=x0, ladders=ladders,
+                        reference=args.reference, max_seconds=args.max_seconds, progress=progress)
+    ds.to_dataframe().to_csv(out / "accuracy.csv")
+    ds.to_netcdf(out / "accuracy.nc")
+    plot_work_precision(ds, out / "accuracy.png")
+    print(f"reference ({ds.attrs['reference_precision']}, tol {ds.attrs['reference_tol']:g}): "
+          f"{ds.attrs['reference_n_impacts']} impacts, error bound {ds.attrs['reference_error_bound']:.1e}")
+    print(f"wrote {out / 'accuracy.csv'}, {out / 'accuracy.nc'}, {out / 'accuracy.png'}")
+    return 0
+
+
+def main(argv=None) -> int:
+    """Stand-alone entry (``python -m bifurc.commands.accuracy``) until the main CLI wires it."""
+    import sys
+    parser = argparse.ArgumentParser(prog="bifurc")
+    sub = parser.add_subparsers(dest="command", required=True)
+    register(sub)
+    args = parser.parse_args(["accuracy"] + list(sys.argv[1:] if argv is None else argv))
+    try:
+        return args.func(args)
+    except ParameterError as exc:
+        print(f"bifurc: error: {exc}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
