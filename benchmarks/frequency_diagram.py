@@ -1,0 +1,130 @@
+"""Frequency diagram throughput: process ensemble vs a serial loop vs a bare heyoka ensemble.
+
+thesis-1dof, preset matlab-listing, V = 90 V, N relay frequencies in [2, 10] Hz,
+300 transient + 100 recorded relay periods, tol 1e-10.  Measured side by side in one run:
+
+1. the diagram: ``bifurc.parallel.sweep_dataset`` with ``--workers`` processes, wall time
+   including the process pool start and one compilation per worker;
+2. a serial loop (one process, compiled once) over every ``--serial-stride``-th value,
+   extrapolated to all N values (the full serial loop takes ~2 minutes);
+3. a bare heyoka ensemble: the same trajectories by a minimal loop on the compiled
+   integrator (flip the contact flag at contact/release, switch the relay, nothing else:
+   no event log, no classification, no storage) in the same number of processes.
+
+    python benchmarks/frequency_diagram.py [--n 1000] [--workers 2] [--serial-stride 10]
+"""
+from __future__ import annotations
+
+import argparse
+import copy
+import os
+import time
+
+import numpy as np
+
+import maps
+from bifurc.parallel import StroboscopicTask, chunks_of, map_values, sweep_dataset
+
+
+def make_task(transient=300, record=100, tol=1e-10):
+    sc = maps.get_scene("thesis-1dof")
+    params = sc.parameters(preset="matlab-listing", V=90.0)
+    return StroboscopicTask("thesis-1dof", "relay_hz", params, transient=transient, record=record, tol=tol)
+
+
+class BareTrajectory:
+    """The same hybrid trajectory with the least Python possible; returns the final x."""
+
+    def __init__(self, task):
+        self.task = task
+        self._ta = None
+
+    def _setup(self):
+        system = maps.get_scene(self.task.scene).system
+        ta, _ = system.integrator(self.task.tol)
+        self.system, self._ta = system, ta
+        groups = system._groups
+        self.on_contact = {i for i, g in enumerate(groups) if any(x.name == "contact" for x in g)}
+        self.on_release = {i for i, g in enumerate(groups) if any(x.name == "release" for x in g)}
+        self.on_escape = {i for i, g in enumerate(groups) if any(x.name.startswith("escape") for x in g)}
+        self.i_contact = system._flag_index["contact"]
+        self.i_relay = system._flag_index["P"]
+        self.y0 = system.state_vector(maps.get_scene(self.task.scene).initial_state(**self.task.x0))
+
+    def __call__(self, W):
+        if self._ta is None:
+            self._setup()
+        ta, system = self._ta, self.system
+        params = dict(self.task.params, relay_hz=float(W))
+        flags = system.initial_flags(0.0, params)
+        ta.time = 0.0
+        ta.state[:] = self.y0
+        ta.reset_cooldowns()
+        ta.pars[:] = np.asarray(system.par_vector(params, flags)[:len(ta.pars)])
+        n_half = 2 * (self.task.transient + self.task.record)
+        time_limit = maps.hybrid.hy.taylor_outcome.time_limit
+        for n in range(1, n_half + 1):
+            t_sw = (n // 2 + (0.5 if n % 2 else 0.0)) / W
+            while True:
+                outcome = ta.propagate_until(t_sw)[0]
+                if outcome == time_limit:
+                    break
+                g = -int(outcome) - 1
+                if g in self.on_contact and ta.pars[self.i_contact] == 0.0:
+                    ta.pars[self.i_contact] = 1.0
+                elif g in self.on_release and ta.pars[self.i_contact] == 1.0:
+                    ta.pars[self.i_contact] = 0.0
+                elif g in self.on_escape:
+                    return float("nan")
+            ta.pars[self.i_relay] = 0.0 if n % 2 else 1.0
+        return float(ta.state[0])
+
+    def warm(self):
+        if self._ta is None:
+            self._setup()
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--n", type=int, default=1000)
+    ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--serial-stride", type=int, default=10)
+    ap.add_argument("--transient", type=int, default=300)
+    ap.add_argument("--record", type=int, default=100)
+    ap.add_argument("--output", default=None, help="netCDF path for the diagram (default: in memory)")
+    args = ap.parse_args(argv)
+    print(f"load average before: {os.getloadavg()}, cores: {os.cpu_count()}")
+    values = np.linspace(2.0, 10.0, args.n)
+    task = make_task(args.transient, args.record)
+
+    t0 = time.perf_counter()
+    ds = sweep_dataset(task, values, workers=args.workers, path=args.output)
+    wall = time.perf_counter() - t0
+    print(f"diagram: {args.n} values, {args.workers} workers: {wall:.2f} s wall "
+          f"(sum of per-value times {float(ds['run_seconds'].sum()):.1f} s; "
+          f"status ok {int((ds['status'] == 0).sum())}/{args.n})")
+
+    t0 = time.perf_counter()
+    bare = map_values(BareTrajectory(task), values, workers=args.workers)
+    wall_bare = time.perf_counter() - t0
+    print(f"bare heyoka ensemble, same trajectories, {args.workers} workers: {wall_bare:.2f} s wall")
+    x_end = ds["x"].isel(period=-1).values
+    print(f"  bare vs diagram final x agree: max |diff| = {np.nanmax(np.abs(np.array(bare) - x_end)):.2e} m")
+
+    sub = values[::args.serial_stride]
+    task.warm()
+    t0 = time.perf_counter()
+    for v in sub:
+        task(v)
+    serial = (time.perf_counter() - t0) * values.size / sub.size
+    print(f"serial loop over {sub.size} of the values (compiled), extrapolated to {args.n}: {serial:.1f} s")
+    print(f"load average after: {os.getloadavg()}")
+    print()
+    print(f"target wall <= 20 s:            {wall:7.2f} s   {'met' if wall <= 20 else 'NOT met'}")
+    print(f"throughput vs serial >= 3x:     {serial / wall:7.2f} x   {'met' if serial / wall >= 3 else 'NOT met'}")
+    print(f"diagram / bare ensemble <= 1.5: {wall / wall_bare:7.2f}     {'met' if wall / wall_bare <= 1.5 else 'NOT met'}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

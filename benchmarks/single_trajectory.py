@@ -1,0 +1,108 @@
+"""One trajectory: the toolkit (heyoka, no dense output) vs scipy and the thesis' RK4 at equal error.
+
+thesis-1dof, preset matlab-listing, V = 90 V, relay 9 Hz, start 1 mm above the stop, 2 s.
+Each method climbs its tolerance ladder; the first rung with final-state error <= the
+target (default 1e-10, against a long-double reference) is compared.  Also splits the
+toolkit's time into integration (inside heyoka's propagate_until) and Python overhead.
+
+    python benchmarks/single_trajectory.py [--target 1e-10]
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import time
+
+import numpy as np
+
+import maps
+from bifurc.accuracy import work_precision
+
+LADDERS = {
+    "heyoka": [1e-8, 3e-9, 1e-9, 3e-10, 1e-10, 1e-11, 1e-12],
+    "scipy-DOP853": [1e-9, 3e-10, 1e-10, 3e-11, 1e-11, 1e-12],
+    "scipy-LSODA": [1e-10, 3e-11, 1e-11, 3e-12, 1e-12],
+    "scipy-RK45": [1e-10, 1e-11, 1e-12],
+    "rk4-bisection": [3e-5, 1e-5, 5e-6],
+}
+SETUP = dict(preset="matlab-listing", params={"V": 90.0, "relay_hz": 9.0})
+
+
+def overhead_split(tol, repeats=20):
+    """Seconds per run inside propagate_until vs in total (HybridRun, no dense output)."""
+    sc = maps.get_scene("thesis-1dof")
+    p = sc.parameters(preset="matlab-listing", V=90.0, relay_hz=9.0)
+    run = maps.HybridRun(sc.system, p, sc.initial_state(), tol=tol)
+    inner = [0.0]
+    real = run.ta.propagate_until
+
+    class Timed:  # a thin proxy that times heyoka's propagate_until
+        def __init__(self, ta):
+            object.__setattr__(self, "_ta", ta)
+
+        def __setattr__(self, name, value):
+            setattr(self._ta, name, value)
+
+        def propagate_until(self, *a, **k):
+            t0 = time.perf_counter()
+            r = real(*a, **k)
+            inner[0] += time.perf_counter() - t0
+            return r
+
+        def __getattr__(self, name):
+            return getattr(self._ta, name)
+
+    ta = run.ta
+    run.ta = Timed(ta)
+    total = 0.0
+    for _ in range(repeats):
+        run.reset(0.0, sc.initial_state())
+        t0 = time.perf_counter()
+        run.advance(2.0)
+        total += time.perf_counter() - t0
+    run.ta = ta
+    return inner[0] / repeats, total / repeats, run.n_steps, run.n_events, run.n_switches
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--target", type=float, default=1e-10)
+    ap.add_argument("--max-seconds", type=float, default=20.0)
+    args = ap.parse_args(argv)
+    print(f"load average before: {os.getloadavg()}")
+    ds = work_precision("thesis-1dof", 2.0, ladders=LADDERS, repeats=5, max_seconds=args.max_seconds, **SETUP)
+    best = {}
+    for method in LADDERS:
+        sel = ds.where(ds["method"] == method, drop=True)
+        ok = sel.where(sel["final_state_error"] <= args.target, drop=True)
+        for r in range(sel.sizes["run"]):
+            print(f"{method:>14s} tol {float(sel['tol'][r]):8.1e}  error {float(sel['final_state_error'][r]):9.2e}  "
+                  f"{float(sel['run_seconds'][r]) * 1e3:9.2f} ms  impacts {int(sel['n_impacts'][r])}")
+        if ok.sizes["run"]:
+            best[method] = (float(ok["run_seconds"][0]), float(ok["tol"][0]), float(ok["final_state_error"][0]))
+    print(f"\nfastest run with final-state error <= {args.target:g} (reference {ds.attrs['reference_precision']}, "
+          f"bound {ds.attrs['reference_error_bound']:.1e}):")
+    for m, (s, tol, err) in best.items():
+        print(f"{m:>14s}: {s * 1e3:9.2f} ms at tol {tol:g} (error {err:.2e})")
+    for m in LADDERS:
+        if m not in best:
+            print(f"{m:>14s}: never reached {args.target:g} on its ladder")
+    if "heyoka" in best:
+        h = best["heyoka"][0]
+        for m, (s, _, _) in best.items():
+            if m != "heyoka":
+                print(f"speed-up heyoka vs {m}: {s / h:7.0f} x")
+        scipy = [s for m, (s, _, _) in best.items() if m.startswith("scipy")]
+        if scipy:
+            ratio = min(scipy) / h
+            print(f"target >= 100x vs the best scipy method: {ratio:.0f} x  {'met' if ratio >= 100 else 'NOT met'}")
+        inner, total, steps, events, switches = overhead_split(best["heyoka"][1])
+        print(f"toolkit split at tol {best['heyoka'][1]:g}: {inner * 1e3:.2f} ms in propagate_until, "
+              f"{(total - inner) * 1e3:.2f} ms Python ({100 * (total - inner) / total:.0f} %) per run; "
+              f"{steps} steps, {events} events, {switches} relay switches")
+    print(f"load average after: {os.getloadavg()}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
