@@ -36,7 +36,7 @@ from maps.hybrid import Escaped, HybridRun, IntegrationFailure
 from maps.parameters import ParameterError
 from maps.scenes import get_scene
 
-__all__ = ["StroboscopicTask", "map_values", "sweep_dataset", "add_error_estimate", "chunks_of",
+__all__ = ["StroboscopicTask", "BatchStroboscopicTask", "map_values", "sweep_dataset", "add_error_estimate", "chunks_of",
            "STATUS_MEANINGS"]
 
 #: status codes of one parameter value
@@ -131,7 +131,170 @@ def _warm(task):
 
 
 def _run_chunk(task, values):
+    if hasattr(task, "run_many"):
+        return task.run_many(values)
     return [task(v) for v in values]
+
+
+@dataclass(frozen=True)
+class BatchStroboscopicTask(StroboscopicTask):
+    """:class:`StroboscopicTask` on heyoka's batch integrator: ``batch_size`` values per SIMD pass.
+
+    Each lane has its own parameter values, relay switch instants, flags and event handling:
+    one ``propagate_until`` call advances every lane to its own next stop (relay switch or
+    terminal event); a lane that stops early waits for the others.  Supports systems whose
+    guards set flags and have no reset or settle function (the 1-DOF scenes); results equal
+    the scalar path up to round-off (SIMD math, and by default no stops at observation-only
+    guards such as the free-flight minimum), amplified by the dynamics over long horizons.
+    """
+
+    batch_size: int = 4
+    observations: bool = False      # also stop at observation-only guards (free-flight minimum, ...)
+
+    def _batch(self):
+        sc = get_scene(self.scene)
+        key = ("batch", sc.options, self.tol, self.batch_size, self.observations)
+        hit = _RUNS.get(key)
+        if hit is None:
+            hit = _BatchEngine(sc.system, self.tol, self.batch_size, self.observations)
+            _RUNS[key] = hit
+        return hit
+
+    def warm(self):
+        return self._batch()
+
+    def __call__(self, value) -> dict:
+        return self.run_many([value])[0]
+
+    def run_many(self, values) -> list:
+        eng = self._batch()
+        out = []
+        values = list(values)
+        for a in range(0, len(values), self.batch_size):
+            lanes = values[a:a + self.batch_size]
+            out += eng.run(self, lanes)[:len(lanes)]
+        return out
+
+
+class _BatchEngine:
+    """A compiled batch integrator and the per-lane hybrid bookkeeping."""
+
+    def __init__(self, system, tol, batch_size, observations=False):
+        import heyoka as hy
+        from maps.hybrid import EVENT_COOLDOWN
+        if system.settle is not None or any(g.reset is not None or callable(g.then) for g in system.guards):
+            raise ParameterError(f"batch mode supports guards without reset/settle; {system.name!r} has some: "
+                                 "use StroboscopicTask")
+        self.system, self.B, self.hy = system, batch_size, hy
+        # guards that only observe (no new flags, no reset) need no stop unless asked for
+        groups = [grp for grp in system._groups
+                  if observations or any(g.then is not None or g.reset is not None for g in grp)]
+        events = [hy.t_event_batch(grp[0].expr, direction=grp[0].heyoka_direction(), cooldown=EVENT_COOLDOWN)
+                  for grp in groups]
+        n = len(system.states)
+        self.ta = hy.taylor_adaptive_batch(system.heyoka_system(), np.zeros((n, batch_size)), tol=tol,
+                                           t_events=events)
+        self.npar = self.ta.pars.shape[0]
+        idx = system._flag_index
+        # per group: [(name, [(par index, value) when], [(par index or None, flag, value) then])]
+        self.groups = [[(g.name, [(idx[k], float(v)) for k, v in g.when.items()],
+                         [(idx[k], k, float(v)) for k, v in (g.then or {}).items()]) for g in grp]
+                       for grp in groups]
+        self.halt = {idx[f] for f in system.halt_flags}
+        self.i_contact = idx.get("contact")
+
+    def run(self, task, values) -> list:
+        hy, ta, system, B = self.hy, self.ta, self.system, self.B
+        sw = system.switches[0]
+        vals = list(values) + [values[-1]] * (B - len(values))
+        y0 = task._y0()
+        n_states = len(system.states)
+        nflag = len(system.flag_names)
+        flags = np.zeros((len(system.param_names) + nflag, B))      # params and flags per lane
+        W = np.empty(B)
+        for j, v in enumerate(vals):
+            params = system.validate(dict(task.params, **{task.param: float(v)}))
+            W[j] = params[sw.frequency]
+            flags[:, j] = system.par_vector(params, system.initial_flags(0.0, params))
+        ta.set_time(np.zeros(B))
+        ta.state[:] = np.repeat(np.asarray(y0, float)[:, None], B, axis=1)
+        ta.pars[:] = flags[:self.npar]
+        ta.reset_cooldowns()
+        clock = _time.perf_counter()
+        cap = task.impact_capacity
+        points = np.full((B, task.record, n_states), np.nan)
+        t_imp = np.full((B, cap), np.nan)
+        v_imp = np.full((B, cap), np.nan)
+        n_imp = np.zeros(B, int)
+        status = np.zeros(B, int)
+        steps = np.zeros(B, int)
+        events = np.zeros(B, int)
+        n_sw = np.ones(B, int)                    # index of each lane's next relay switch
+        last = 2 * (task.transient + task.record)
+        window = task.transient / W
+        target = np.array([sw.instants(W[j], 1) for j in range(B)])
+        time_limit, success = hy.taylor_outcome.time_limit, hy.taylor_outcome.success
+        ngroups = len(self.groups)
+        gap = system.gap
+        fl = [flags[:, j].tolist() for j in range(B)]     # plain lists: cheap per-lane access
+        i_sw, duty, tr2 = system._flag_index[sw.flag], sw.duty, 2 * task.transient
+        on, off = sw.value_for_index(0), sw.value_for_index(1)
+        Wl, windowl, active = W.tolist(), window.tolist(), list(range(B))
+        pars = ta.pars
+        while active:
+            ta.propagate_until(target)
+            res = ta.propagate_res
+            tnow = ta.time.tolist()
+            for j in list(active):
+                outcome, _, _, nst = res[j]
+                steps[j] += nst
+                if outcome == time_limit:                # lane j reached its relay switch
+                    n = int(n_sw[j])
+                    value = off if n % 2 else on
+                    fl[j][i_sw] = value
+                    if i_sw < self.npar:
+                        pars[i_sw, j] = value
+                    if n % 2 == 0 and n > tr2:
+                        points[j, n // 2 - task.transient - 1] = ta.state[:, j]
+                    if n >= last:
+                        active.remove(j)
+                        target[j] = tnow[j]
+                    else:
+                        n_sw[j] = n + 1
+                        m = n + 1                        # the engine's PeriodicSwitch.instants
+                        target[j] = (m // 2 + (duty if m % 2 else 0.0)) / Wl[j]
+                    continue
+                if outcome == success:                   # stopped by another lane's terminal event
+                    continue
+                code = int(outcome)
+                if not (-ngroups - 1 < code < 0):
+                    status[j] = 2
+                    active.remove(j)
+                    target[j] = tnow[j]
+                    continue
+                fj = fl[j]
+                for name, when, then in self.groups[-code - 1]:
+                    if all(fj[k] == v for k, v in when):
+                        events[j] += 1
+                        if name == "contact" and tnow[j] >= windowl[j]:
+                            if n_imp[j] < cap:
+                                t_imp[j, n_imp[j]] = tnow[j]
+                                v_imp[j, n_imp[j]] = gap(ta.state[:, j], dict(zip(system.param_names, fj)))[1]
+                            n_imp[j] += 1
+                        for k, _, v in then:
+                            fj[k] = v
+                            if k < self.npar:
+                                pars[k, j] = v
+                        if any(fj[k] for k in self.halt):
+                            status[j] = 1
+                            active.remove(j)
+                            target[j] = tnow[j]
+                        break
+        seconds = (_time.perf_counter() - clock) / B
+        return [{"points": points[j], "impact_time": t_imp[j], "impact_velocity": v_imp[j],
+                 "n_impacts": int(n_imp[j]), "status": int(status[j]), "n_steps": int(steps[j]),
+                 "n_events": int(events[j]), "n_switches": int(n_sw[j]), "seconds": seconds,
+                 "pid": os.getpid()} for j in range(B)]
 
 
 def chunks_of(n: int, size: int):
@@ -139,8 +302,9 @@ def chunks_of(n: int, size: int):
     return [(i, min(n, i + size)) for i in range(0, n, size)]
 
 
-def _default_chunk(n, workers):
-    return max(1, min(64, math.ceil(n / (8 * max(1, workers)))))
+def _default_chunk(n, workers, multiple=1):
+    size = max(1, min(64, math.ceil(n / (8 * max(1, workers)))))
+    return math.ceil(size / multiple) * multiple
 
 
 def map_values(func, values, workers: int = 1, scheduler=None, chunk_size: int | None = None,
@@ -171,7 +335,7 @@ def map_values(func, values, workers: int = 1, scheduler=None, chunk_size: int |
             take(a, _run_chunk(func, values[a:b]))
     else:
         import multiprocessing as mp
-        size = chunk_size or _default_chunk(n, workers)
+        size = chunk_size or _default_chunk(n, workers, getattr(func, "batch_size", 1))
         with ProcessPoolExecutor(max_workers=workers, mp_context=mp.get_context(mp_context),
                                  initializer=_warm, initargs=(func,)) as pool:
             futures = {pool.submit(_run_chunk, func, values[a:b]): a for a, b in chunks_of(n, size)}
@@ -187,7 +351,7 @@ def _map_dask(func, values, scheduler, chunk_size, take):
     try:
         n_workers = max(1, len(client.scheduler_info().get("workers", {})))
         client.run(_warm, func)                         # compile once per worker, up front
-        size = chunk_size or _default_chunk(values.size, n_workers)
+        size = chunk_size or _default_chunk(values.size, n_workers, getattr(func, "batch_size", 1))
         starts = [a for a, _ in chunks_of(values.size, size)]
         futures = client.map(_run_chunk, [func] * len(starts),
                              [values[a:b] for a, b in chunks_of(values.size, size)], pure=False)
