@@ -6,7 +6,7 @@ resident set size of this process and of the largest worker process (``getrusage
 The default transient is shortened (30 periods) to keep the run to minutes on 2 cores: memory
 depends on the recorded window (100 periods, 1600 impact slots per value), not on the transient.
 
-    python benchmarks/memory.py [--n 5000] [--transient 30] [--record 100] [--workers 2]
+    python benchmarks/memory.py [--n 5000] [--transient 30] [--record 100] [--workers 2] [--scalar]
 """
 from __future__ import annotations
 
@@ -19,7 +19,7 @@ import time
 import numpy as np
 
 import maps
-from bifurc.parallel import StroboscopicTask, sweep_dataset
+from bifurc.parallel import BatchStroboscopicTask, StroboscopicTask, sweep_dataset
 
 
 def main(argv=None):
@@ -28,10 +28,12 @@ def main(argv=None):
     ap.add_argument("--transient", type=int, default=30)
     ap.add_argument("--record", type=int, default=100)
     ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--scalar", action="store_true", help="scalar task instead of heyoka batch mode")
     args = ap.parse_args(argv)
     print(f"load average before: {os.getloadavg()}")
     sc = maps.get_scene("thesis-1dof")
-    task = StroboscopicTask("thesis-1dof", "relay_hz", sc.parameters(preset="matlab-listing", V=90.0),
+    cls = StroboscopicTask if args.scalar else BatchStroboscopicTask
+    task = cls("thesis-1dof", "relay_hz", sc.parameters(preset="matlab-listing", V=90.0),
                             transient=args.transient, record=args.record, tol=1e-10)
     with tempfile.TemporaryDirectory() as tmp:
         path = os.path.join(tmp, "sweep.nc")
@@ -43,7 +45,7 @@ def main(argv=None):
         ds.close()
     me = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     kids = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024
-    print(f"{args.n} values x ({args.transient} + {args.record}) periods, {args.workers} workers: {wall:.1f} s, "
+    print(f"{cls.__name__}: {args.n} values x ({args.transient} + {args.record}) periods, {args.workers} workers: {wall:.1f} s, "
           f"file {size:.0f} MiB, status ok {ok}/{args.n}")
     print(f"peak RSS: main process {me:.0f} MiB, largest worker {kids:.0f} MiB")
     total = me + args.workers * kids

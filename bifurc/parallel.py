@@ -413,6 +413,27 @@ def _fill(arrays: dict, state_names, start, results):
         arrays["run_seconds"][i] = r["seconds"]
 
 
+def _create_file(path, template: xr.Dataset, dim: str, values):
+    """An empty netCDF file shaped like ``template`` with ``len(values)`` along ``dim``
+    (NaN/zero fill, compressed), open for writing chunk by chunk."""
+    import netCDF4
+    nc = netCDF4.Dataset(path, "w")
+    for d, size in template.sizes.items():
+        nc.createDimension(d, len(values) if d == dim else size)
+    for name, var in template.variables.items():
+        fill = np.nan if var.dtype.kind == "f" else None
+        v = nc.createVariable(name, var.dtype, var.dims, fill_value=fill, zlib=var.ndim > 1, complevel=1)
+        v.setncatts({k: val for k, val in var.attrs.items()})
+        if name == dim:
+            v[:] = values
+        elif name in template.coords:
+            v[:] = var.values
+        elif fill is None:
+            v[:] = np.zeros(tuple(len(values) if d == dim else template.sizes[d] for d in var.dims), var.dtype)
+    nc.setncatts(dict(template.attrs))
+    return nc
+
+
 def sweep_dataset(task: StroboscopicTask, values, workers: int = 1, scheduler=None,
                   chunk_size: int | None = None, path=None, progress=None) -> xr.Dataset:
     """Run ``task`` over ``values`` and return one Dataset (dims: parameter, period, impact).
@@ -421,7 +442,7 @@ def sweep_dataset(task: StroboscopicTask, values, workers: int = 1, scheduler=No
     completes (memory stays bounded by a chunk); the file is then opened lazily.
     """
     values = np.asarray(values, dtype=float).ravel()
-    ds = _skeleton(task, values)
+    ds = _skeleton(task, values if path is None else values[:1])   # on disk: metadata only
     names = list(get_scene(task.scene).system.state_names)
     fields = names + ["impact_time", "impact_velocity", "n_impacts", "status", "n_steps", "run_seconds"]
     t0 = _time.perf_counter()
@@ -433,9 +454,7 @@ def sweep_dataset(task: StroboscopicTask, values, workers: int = 1, scheduler=No
             if progress:
                 progress(len(results))
     else:
-        import netCDF4
-        ds.to_netcdf(path)
-        nc = netCDF4.Dataset(path, "a")
+        nc = _create_file(path, ds, task.param, values)
 
         def on_chunk(start, results):
             arrays = {k: np.empty((len(results),) + ds[k].shape[1:], ds[k].dtype) for k in fields}
