@@ -1,0 +1,122 @@
+"""Classification of stroboscopic orbits: period-n with m impacts, or why not.
+
+Rules (every label rests on numbers stored beside it; when the numbers do not
+decide, the label is "not-converged", never a guess):
+
+1. ``status`` "escaped"/"failed" pass through.
+2. Each state component j is scaled by s_j = max(|p_j|) over the record (floor
+   ``atol``).  For n = 1..max_period the recurrence is
+   d_n = max_k max_j |p_{k+n,j} - p_{k,j}| / (rtol s_j + atol) over the whole record.
+   The smallest n with d_n <= 1 whose impact count per n steps is the same for
+   every window of n steps is the period; m = that count.  m = 0 is
+   "periodic-no-impact".
+3. Otherwise, for the best candidate n* (smallest d_n), the distances
+   e_k = max_j |p_{k+n*,j} - p_{k,j}| / s_j are fitted by log e_k = a + k log rho.
+   rho < 0.98 per step (a clear geometric decay): "not-converged" (a transient
+   still approaching a period-n* orbit; rho is stored as ``convergence_rate``).
+4. Else the largest Lyapunov exponent of the map lambda [per step] decides:
+   lambda > +lyap_tol: "chaotic"; |lambda| <= lyap_tol: "quasi-periodic";
+   lambda < -lyap_tol (contracting, yet not periodic within max_period) or NaN:
+   "not-converged".  A finite window of n steps biases lambda upward on a
+   sheared torus (separation growing like n, so lambda ~ ln(n)/n), hence
+   ``lyap_tol`` defaults to ``lyapunov_threshold(n) = max(2e-3, 2 ln(n)/n)``.
+The thesis' notation n:m is period-n with m impacts per period.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = ["CLASS_LABELS", "FLAG_MEANINGS", "classify_orbit", "describe", "code_of", "lyapunov_threshold"]
+
+CLASS_LABELS = ("periodic", "periodic-no-impact", "quasi-periodic", "chaotic", "not-converged",
+                "escaped", "failed")
+FLAG_MEANINGS = " ".join(CLASS_LABELS)
+#: per-step decay below which a non-periodic record counts as a converging transient
+DECAY_RATE = 0.98
+#: |largest Lyapunov exponent| [per step] within which the orbit counts as quasi-periodic
+LYAP_TOL = 2e-3
+
+
+def lyapunov_threshold(n_steps: int) -> float:
+    """|lambda| [per step] below which an n-step Benettin estimate is not evidence of chaos."""
+    return max(LYAP_TOL, 2.0 * math.log(max(n_steps, 2)) / max(n_steps, 2))
+
+
+def code_of(label: str) -> int:
+    return CLASS_LABELS.index(label)
+
+
+def describe(code: int, period: int = 0, impacts: int = -1) -> str:
+    """Human text: 'period-2, 3 impacts (2:3)', 'quasi-periodic', ..."""
+    label = CLASS_LABELS[int(code)]
+    if label == "periodic":
+        return f"period-{period}, {impacts} impact{'s' if impacts != 1 else ''} ({period}:{impacts})"
+    if label == "periodic-no-impact":
+        return f"period-{period}, no impact"
+    return label
+
+
+def _result(label, period=0, impacts=-1, recurrence=math.nan, rate=math.nan, rtol=0.0, atol=0.0):
+    return {"code": code_of(label), "label": label, "period": int(period), "impacts_per_period": int(impacts),
+            "recurrence": float(recurrence), "convergence_rate": float(rate), "rtol": float(rtol),
+            "atol": float(atol)}
+
+
+def classify_orbit(points, impacts_per_step, *, max_period: int = 16, rtol: float = 1e-6, atol: float = 1e-9,
+                   scale=None, status: str = "ok", lyapunov: float = math.nan,
+                   lyap_tol: float = LYAP_TOL) -> dict:
+    """Classify recorded stroboscopic states ``points`` (N, d) with ``impacts_per_step`` (N-1,).
+
+    Returns a dict: code, label, period, impacts_per_period, recurrence (scaled
+    distance at the detected or best candidate period), convergence_rate (per step),
+    rtol, atol.  See the module docstring for the rules.
+    """
+    if status in ("escaped", "failed"):
+        return _result(status, rtol=rtol, atol=atol)
+    if status != "ok":
+        raise ValueError(f"status {status!r}; allowed: ok, escaped, failed")
+    p = np.asarray(points, dtype=float)
+    imp = np.asarray(impacts_per_step, dtype=np.int64)
+    if p.ndim != 2 or p.shape[0] < 3:
+        raise ValueError(f"points must be (N >= 3, d), got shape {p.shape}")
+    if imp.shape != (p.shape[0] - 1,):
+        raise ValueError(f"impacts_per_step must have N - 1 = {p.shape[0] - 1} entries, got {imp.shape}")
+    if not np.all(np.isfinite(p)):
+        return _result("failed", rtol=rtol, atol=atol)
+    s = np.maximum(np.max(np.abs(p), axis=0), atol) if scale is None else np.asarray(scale, float)
+    N = p.shape[0]
+    max_n = min(int(max_period), (N - 1) // 2)
+    best_n, best_d = 0, math.inf
+    for n in range(1, max_n + 1):
+        diff = np.abs(p[n:] - p[:-n])
+        d = float(np.max(diff / (rtol * s + atol)))
+        if d < best_d:
+            best_n, best_d = n, d
+        if d <= 1.0:
+            windows = np.convolve(imp, np.ones(n, dtype=np.int64), mode="valid")
+            if windows.size and np.all(windows == windows[0]):
+                m = int(windows[0])
+                label = "periodic" if m > 0 else "periodic-no-impact"
+                return _result(label, n, m, d, _decay_rate(p, n, s, atol), rtol, atol)
+    rate = _decay_rate(p, best_n, s, atol) if best_n else math.nan
+    if math.isfinite(rate) and rate < DECAY_RATE:
+        return _result("not-converged", best_n, -1, best_d, rate, rtol, atol)
+    if math.isfinite(lyapunov):
+        if lyapunov > lyap_tol:
+            return _result("chaotic", 0, -1, best_d, rate, rtol, atol)
+        if abs(lyapunov) <= lyap_tol:
+            return _result("quasi-periodic", 0, -1, best_d, rate, rtol, atol)
+    return _result("not-converged", best_n, -1, best_d, rate, rtol, atol)
+
+
+def _decay_rate(p, n, s, atol):
+    """Geometric decay rate per step of the period-n recurrence distance (log-linear fit)."""
+    e = np.max(np.abs(p[n:] - p[:-n]) / s, axis=1)
+    e = np.maximum(e, 1e-300)
+    if e.size < 3:
+        return math.nan
+    k = np.arange(e.size)
+    slope = np.polyfit(k, np.log(e), 1)[0]
+    return float(math.exp(slope))

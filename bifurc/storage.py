@@ -1,0 +1,172 @@
+"""The sweep Dataset: layout, CF attributes, netCDF save and load.
+
+Dimensions: ``branch`` ("independent", or "up"/"down" for continuation), the
+swept parameter (named after it, e.g. ``relay_hz``), ``sample`` (recorded
+stroboscopic points 0..record), ``step`` (recorded periods), ``impact``
+(contacts in the recorded window, NaN-padded; ``n_impacts`` counts them) and
+``grazing`` (located grazing values).
+"""
+from __future__ import annotations
+
+import math
+import platform
+
+import heyoka as hy
+import numpy as np
+import xarray as xr
+
+from .classify import CLASS_LABELS, FLAG_MEANINGS
+from .storage_io import write_netcdf_atomic
+
+__all__ = ["to_dataset", "add_grazing", "add_error_estimate", "save", "load", "STATUS_MEANINGS"]
+
+STATUS_MEANINGS = "ok escaped failed"
+
+
+def _stack(results, branches, key, fill=np.nan, dtype=float):
+    first = next((r[key] for b in branches for r in results[b] if r is not None), None)
+    shape = np.shape(first) if first is not None else ()
+    out = np.full((len(branches), len(results[branches[0]])) + shape, fill, dtype=dtype)
+    for bi, b in enumerate(branches):
+        for i, r in enumerate(results[b]):
+            if r is not None:
+                out[bi, i] = r[key]
+    return out
+
+
+def to_dataset(results, values, point, scene, table, mode) -> xr.Dataset:
+    """Assemble per-value result dicts (see SweepPoint) into the sweep Dataset."""
+    import bifurc
+    branches = list(results)
+    system = scene.system
+    par = point.param
+    p = system.parameter(par)
+    dims = ("branch", par)
+    ds = xr.Dataset(coords={
+        "branch": ("branch", np.array(branches, dtype=str), {"long_name": "sweep branch", "units": "1"}),
+        par: (par, np.asarray(values, float), {"units": p.unit, "long_name": p.long_name}),
+        "sample": ("sample", np.arange(point.record + 1), {"units": "1", "long_name":
+                   f"stroboscopic sample k: t = (transient + k) / relay_hz, transient = {point.transient}"}),
+        "step": ("step", np.arange(point.record), {"units": "1", "long_name": "recorded relay period"}),
+        "impact": ("impact", np.arange(point.max_impacts), {"units": "1", "long_name": "contact in the record"}),
+    })
+    pts = _stack(results, branches, "points")
+    for j, st in enumerate(system.states):
+        ds[st.name] = (dims + ("sample",), pts[..., j], {"units": st.unit, "long_name": f"{st.long_name}, stroboscopic"})
+    ds["class_code"] = (dims, _stack(results, branches, "class_code", -1, np.int8), {
+        "units": "1", "long_name": "orbit class", "flag_values": np.arange(len(CLASS_LABELS), dtype=np.int8),
+        "flag_meanings": FLAG_MEANINGS.replace("-", "_"), "_FillValue": np.int8(-1)})
+    ds["period"] = (dims, _stack(results, branches, "class_period", -1, np.int16),
+                    {"units": "relay periods", "long_name": "period n of the orbit (0: not periodic)"})
+    ds["impacts_per_period"] = (dims, _stack(results, branches, "class_impacts_per_period", -1, np.int16),
+                                {"units": "1", "long_name": "impacts per period m (-1: not periodic)"})
+    ds["recurrence"] = (dims, _stack(results, branches, "class_recurrence"), {
+        "units": "1", "long_name": "max recurrence distance at the (candidate) period / (rtol*scale + atol)"})
+    ds["convergence_rate"] = (dims, _stack(results, branches, "class_convergence_rate"), {
+        "units": "1", "long_name": "fitted per-period decay factor of the recurrence distance"})
+    ds["lyapunov"] = (dims, _stack(results, branches, "lyapunov"), {
+        "units": "1/relay period", "long_name": "largest Lyapunov exponent of the map (NaN: not computed)"})
+    ds["forcing_period"] = (dims, _stack(results, branches, "forcing_period_steps", 0, np.int32), {
+        "units": "relay periods", "long_name": "period of the forcing in relay periods (0: incommensurate)"})
+    ds["impacts_per_step"] = (dims + ("step",), _stack(results, branches, "impacts_per_step", -1, np.int32),
+                              {"units": "1", "long_name": "contacts in each recorded relay period (-1: not reached)"})
+    ds["min_gap"] = (dims, _stack(results, branches, "min_gap"), {
+        "units": "m", "long_name": "smallest gap to the stop over the record (< 0: penetration)"})
+    ds["min_impact_speed"] = (dims, _stack(results, branches, "min_impact_speed"), {
+        "units": "m s-1", "long_name": "slowest impact over the record (inf: no impact)"})
+    from .sweep import GRAZING_GAP, GRAZING_SPEED
+    graze = ((ds.min_impact_speed < GRAZING_SPEED) | ((ds.min_gap >= 0) & (ds.min_gap < GRAZING_GAP)))
+    ds["grazing_flag"] = graze.astype(np.int8).assign_attrs(
+        units="1", long_name=f"orbit grazes: slowest impact < {GRAZING_SPEED} m/s or clearance < {GRAZING_GAP} m",
+        flag_values=np.array([0, 1], np.int8), flag_meanings="clear grazing")
+    for key, units, long_name in (
+            ("impact_t", "s", "contact onset time"),
+            ("impact_velocity", "m s-1", "gap rate at contact onset (< 0: toward the stop)"),
+            ("impact_phase", "1", "relay phase of the contact onset, in [0, 1)"),
+            ("impact_penetration", "m", "maximum penetration of the contact")):
+        ds[key] = (dims + ("impact",), _stack(results, branches, key), {"units": units, "long_name": long_name})
+    ds["n_impacts"] = (dims, _stack(results, branches, "n_impacts", -1, np.int32), {
+        "units": "1", "long_name": "contacts in the recorded window (may exceed the impact dimension)"})
+    ds["status"] = (dims, _stack(results, branches, "status", -1, np.int8), {
+        "units": "1", "long_name": "integration status", "flag_values": np.array([0, 1, 2], np.int8),
+        "flag_meanings": STATUS_MEANINGS, "_FillValue": np.int8(-1)})
+    ds["failure_time"] = (dims, _stack(results, branches, "failure_time"),
+                          {"units": "s", "long_name": "time of escape or failure (NaN: none)"})
+    ds["n_steps"] = (dims, _stack(results, branches, "n_steps", 0, np.int64), {"units": "1", "long_name": "Taylor steps"})
+    ds["run_seconds"] = (dims, _stack(results, branches, "seconds"), {"units": "s", "long_name": "wall time of the value"})
+    o = scene.options
+    ds.attrs.update({
+        "title": f"{scene.name}: {par} sweep ({mode})", "scene": scene.name, "swept_parameter": par,
+        "swept_parameter_units": p.unit, "mode": mode, "transient_periods": point.transient,
+        "recorded_periods": point.record, "tol": point.tol, "max_period": point.max_period,
+        "classification_rtol": point.rtol, "classification_atol": point.atol,
+        "lyapunov_steps": point.lyapunov_steps, "lyapunov_threshold": _lyap_thr(point.lyapunov_steps),
+        "circuit": o.circuit if o.ac else "none", "ac_sign": o.ac_sign if o.ac else "none",
+        "initial_state": ", ".join(f"{k}={v:g}" for k, v in scene.initial_state(**point.x0).items()),
+        "grazing_gap_threshold_m": _graze_gap(), "grazing_speed_threshold_m_s": _graze_speed(),
+        "bifurc_version": bifurc.__version__, "heyoka_version": hy.__version__, "numpy_version": np.__version__,
+        "xarray_version": xr.__version__, "python_version": platform.python_version(),
+        "Conventions": "CF-1.10",
+    })
+    for k, (v, src) in table.items():
+        if k != par:
+            ds.attrs[f"param_{k}"] = v
+            ds.attrs[f"param_{k}_units"] = system.parameter(k).unit
+            ds.attrs[f"param_{k}_source"] = src
+    return ds
+
+
+def _lyap_thr(n):
+    from .classify import lyapunov_threshold
+    return lyapunov_threshold(n)
+
+
+def _graze_gap():
+    from .sweep import GRAZING_GAP
+    return GRAZING_GAP
+
+
+def _graze_speed():
+    from .sweep import GRAZING_SPEED
+    return GRAZING_SPEED
+
+
+def add_grazing(ds: xr.Dataset, found) -> xr.Dataset:
+    """Located grazing values [(branch, locate_grazing result), ...] on the ``grazing`` dimension."""
+    par = ds.attrs["swept_parameter"]
+    units = ds[par].attrs.get("units", "")
+    n = len(found)
+    ds = ds.assign_coords(grazing=("grazing", np.arange(n), {"units": "1", "long_name": "located grazing"}))
+    ds["grazing_value"] = ("grazing", np.array([g["value"] for _, g in found], float),
+                           {"units": units, "long_name": f"{par} at which the orbit grazes the stop (bisection)"})
+    ds["grazing_xtol"] = ("grazing", np.array([g["xtol"] for _, g in found], float),
+                          {"units": units, "long_name": "width of the final bisection bracket"})
+    ds["grazing_branch"] = ("grazing", np.array([b for b, _ in found], dtype=str),
+                            {"units": "1", "long_name": "sweep branch"})
+    return ds
+
+
+def add_error_estimate(ds, sample_values, point_err, time_err, counts_differ, seconds, tight_tol) -> xr.Dataset:
+    """Record the numerical error estimate next to the run time."""
+    ds.attrs.update({
+        "error_estimate_values": np.asarray(sample_values, float) if len(sample_values) else np.array([math.nan]),
+        "error_estimate_tol": tight_tol,
+        "error_map_points_rel": point_err,
+        "error_impact_time_s": time_err,
+        "error_impact_count_mismatches": int(counts_differ),
+        "error_estimate_seconds": seconds,
+        "error_estimate_method": "values re-run at tol/100 (independent branch); largest scaled |difference| of "
+                                 "stroboscopic points and largest contact-time difference",
+    })
+    return ds
+
+
+def save(ds: xr.Dataset, path) -> None:
+    """Write atomically to netCDF (a reader never sees a partial file)."""
+    write_netcdf_atomic(ds, path)
+
+
+def load(path) -> xr.Dataset:
+    """Open a sweep dataset fully into memory (the file is not kept open)."""
+    with xr.open_dataset(path) as ds:
+        return ds.load()

@@ -1,0 +1,327 @@
+"""One-parameter sweeps: stroboscopic orbits, classification and grazing per value.
+
+``mode="independent"``: every value starts from the same initial state (values
+can run in parallel: ``workers`` processes or a Dask ``scheduler``).
+``mode="continuation"``: each value starts from the previous value's final
+state, swept up then down (dimension ``branch``), to reveal coexisting
+attractors and hysteresis.
+
+With ``path`` every completed value is saved at once under ``<path>.parts/``;
+an interrupted sweep loses nothing and a rerun with the same arguments resumes.
+The final Dataset is written atomically and the parts are removed.
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import os
+import pickle
+import shutil
+import sys
+import time as _time
+from dataclasses import asdict, dataclass, field, replace
+from pathlib import Path
+
+import numpy as np
+
+from maps.parameters import ParameterError, validate_value
+from maps.poincare import StroboscopicMap
+from maps.simulate import resolve
+
+from .classify import classify_orbit, lyapunov_threshold
+from .lyapunov import largest_lyapunov
+
+__all__ = ["SweepPoint", "sweep", "GRAZING_GAP", "GRAZING_SPEED"]
+
+#: an orbit grazes when its smallest clearance is below GRAZING_GAP [m] without contact,
+#: or its slowest impact is below GRAZING_SPEED [m/s]
+GRAZING_GAP = 1e-6
+GRAZING_SPEED = 1e-3
+STATUS = ("ok", "escaped", "failed")
+_MAPS: dict = {}
+
+
+@dataclass(frozen=True)
+class SweepPoint:
+    """The work for one parameter value (picklable, so it runs in any worker process).
+
+    Calling it with a value returns a dict of numpy arrays and scalars: the
+    recorded orbit, its impacts, clearance, classification and run time.
+    """
+
+    scene: str
+    param: str
+    params: dict
+    options: dict = field(default_factory=dict)   # circuit, ac_sign
+    x0: dict = field(default_factory=dict)
+    transient: int = 300
+    record: int = 100
+    tol: float = 1e-10
+    max_period: int = 16
+    rtol: float = 1e-6
+    atol: float = 1e-9
+    lyapunov: bool = True
+    lyapunov_steps: int = 100
+    max_impacts: int = 400
+
+    def warm(self) -> StroboscopicMap:
+        """The process-wide map for this scene structure and tolerance (compiled once)."""
+        sc, _ = resolve(self.scene, self.params, **self.options)
+        key = (sc.options, self.tol)
+        if key not in _MAPS:
+            _MAPS[key] = StroboscopicMap(sc, self.params, tol=self.tol)
+        return _MAPS[key]
+
+    def x0_state(self):
+        sc, _ = resolve(self.scene, self.params, **self.options)
+        return sc.system.state_vector(sc.initial_state(**self.x0))
+
+    def __call__(self, value, start=None) -> dict:
+        """Orbit and class at ``param = value``; ``start = (state, flags)`` overrides x0."""
+        smap = self.warm()
+        smap.set_params(**dict(self.params, **{self.param: float(value)}))
+        y0, flags = (self.x0_state(), None) if start is None else start
+        clock = _time.perf_counter()
+        o = smap.orbit(y0, self.record, transient=self.transient, flags=flags)
+        lyap = math.nan
+        status = o.status
+        if status == "ok":
+            cls = classify_orbit(o.points, o.impacts_per_step, max_period=self.max_period, rtol=self.rtol,
+                                 atol=self.atol)
+            if cls["label"] not in ("periodic", "periodic-no-impact") and self.lyapunov:
+                scale = np.maximum(np.max(np.abs(o.points), axis=0), self.atol)
+                k0 = self.transient + self.record
+                lyap = largest_lyapunov(smap.step, o.final_state, self.lyapunov_steps, scale=scale, k0=k0)
+                cls = classify_orbit(o.points, o.impacts_per_step, max_period=self.max_period,
+                                     rtol=self.rtol, atol=self.atol, lyapunov=lyap,
+                                     lyap_tol=lyapunov_threshold(self.lyapunov_steps))
+        else:
+            cls = classify_orbit(np.zeros((3, 1)), np.zeros(2), status=status)
+        n_imp = o.impact_t.size
+        cap = self.max_impacts
+        pad = lambda a: np.concatenate([a[:cap], np.full(max(0, cap - a.size), np.nan)])  # noqa: E731
+        n_rec = o.points.shape[0]
+        points = np.full((self.record + 1, o.points.shape[1]), np.nan)
+        points[:n_rec] = o.points
+        gaps = o.min_gap_per_step
+        speeds = o.min_impact_speed_per_step
+        return {
+            "value": float(value), "points": points, "n_recorded": n_rec - 1,
+            "impacts_per_step": np.pad(o.impacts_per_step, (0, self.record - o.n), constant_values=-1),
+            "min_gap": float(np.min(gaps)) if gaps.size else math.nan,
+            "min_impact_speed": float(np.min(speeds)) if speeds.size else math.inf,
+            "impact_t": pad(o.impact_t), "impact_velocity": pad(o.impact_velocity),
+            "impact_phase": pad(o.impact_phase), "impact_penetration": pad(o.impact_penetration),
+            "n_impacts": n_imp, "status": STATUS.index(status), "failure_time": o.failure_time,
+            "failure": o.failure, "lyapunov": lyap, "forcing_period_steps": smap.forcing_period_steps,
+            "n_steps": o.n_steps, "seconds": _time.perf_counter() - clock,
+            "final_state": o.final_state, "final_flags": o.final_flags, **{f"class_{k}": v for k, v in cls.items()},
+        }
+
+    def signed_clearance(self, value, start=None, transient=None, record=None) -> float:
+        """Smallest gap of the attractor at ``value`` [m]: > 0 clear of the stop, < 0 penetrating."""
+        pt = replace(self, transient=transient or self.transient, record=record or self.record, lyapunov=False)
+        return pt(value, start)["min_gap"]
+
+
+def _manifest(point: SweepPoint, values, mode) -> dict:
+    d = asdict(point)
+    d.update(values=[float(v) for v in values], mode=mode)
+    return d
+
+
+class _Parts:
+    """Completed values on disk, one small pickle each, written atomically."""
+
+    def __init__(self, path, manifest):
+        self.dir = Path(str(path) + ".parts")
+        self.dir.mkdir(parents=True, exist_ok=True)
+        mfile = self.dir / "manifest.json"
+        text = json.dumps(manifest, sort_keys=True, default=str)
+        if mfile.exists():
+            if mfile.read_text() != text:
+                raise ParameterError(f"{self.dir} holds a sweep with other arguments; remove it or change -o "
+                                     f"(stored hash {hashlib.sha1(mfile.read_bytes()).hexdigest()[:8]})")
+        else:
+            mfile.write_text(text)
+
+    def _file(self, branch, i):
+        return self.dir / f"{branch}-{i:06d}.pkl"
+
+    def load(self, branch, i):
+        f = self._file(branch, i)
+        if f.exists():
+            with open(f, "rb") as fh:
+                return pickle.load(fh)
+        return None
+
+    def save(self, branch, i, result):
+        f = self._file(branch, i)
+        tmp = f.with_suffix(".tmp")
+        with open(tmp, "wb") as fh:
+            pickle.dump(result, fh)
+        os.replace(tmp, f)
+
+    def remove(self):
+        shutil.rmtree(self.dir, ignore_errors=True)
+
+
+def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independent", transient=300,
+          record=100, preset=None, params=None, x0=None, tol=1e-10, max_period=16, rtol=1e-6, atol=1e-9,
+          lyapunov=True, grazing=True, grazing_xtol=None, circuit=None, ac_sign=None, path=None,
+          progress=True, workers=1, scheduler=None, error_sample=3):
+    """Sweep ``param`` over ``values``; returns an xarray Dataset (see bifurc.storage).
+
+    Parameters
+    ----------
+    scene, preset, params, x0, circuit, ac_sign : as in maps.simulate.
+    param : str
+        Parameter name to sweep (MODEL.md section 6), e.g. "relay_hz", "V", "k".
+    values : array
+        The grid (ascending for continuation).
+    mode : "independent" or "continuation".
+    transient, record : int
+        Relay periods discarded, then recorded, per value.
+    tol : float
+        heyoka tolerance; ``error_sample`` values are re-run at tol/100 for the error estimate.
+    max_period, rtol, atol : classification (bifurc.classify).
+    lyapunov : bool
+        Compute the largest Lyapunov exponent where the orbit is not periodic.
+    grazing : bool
+        Locate grazing values between neighbours where the orbit changes between
+        impacting and not impacting, by bisection to ``grazing_xtol``.
+    path : str
+        netCDF output; completed values are kept in ``<path>.parts/`` for resuming.
+    workers, scheduler : parallel execution of independent sweeps (bifurc.parallel).
+    """
+    from . import storage
+    if mode not in ("independent", "continuation"):
+        raise ParameterError(f"mode {mode!r}; allowed: independent, continuation")
+    values = np.asarray(values, dtype=float).ravel()
+    if values.size == 0 or not np.all(np.isfinite(values)):
+        raise ParameterError("values must be a non-empty array of finite numbers")
+    sc, table = resolve(scene, params, preset, circuit, ac_sign)
+    base = {k: v for k, (v, _) in table.items()}
+    sc.system.parameter(param)  # raises for an unknown name
+    for v in values:  # every value must be valid before anything runs
+        sc.parameters(preset, **dict(params or {}, **{param: v}))
+    sc.initial_state(**(x0 or {}))
+    transient = int(validate_value("transient", transient, 0, 1e7))
+    record = int(validate_value("record", record, 3, 1e7))
+    if scheduler is None:
+        workers = int(validate_value("workers", workers, 1, 1024))
+    options = {k: v for k, v in dict(circuit=circuit, ac_sign=ac_sign).items() if v is not None}
+    point = SweepPoint(sc.name, param, base, options, dict(x0 or {}), transient, record, float(tol), max_period,
+                       rtol, atol, lyapunov)
+    branches = ["independent"] if mode == "independent" else ["up", "down"]
+    parts = _Parts(path, _manifest(point, values, mode)) if path else None
+    results = {b: [None] * values.size for b in branches}
+    if parts:
+        for b in branches:
+            for i in range(values.size):
+                results[b][i] = parts.load(b, i)
+    todo = sum(r is None for b in branches for r in results[b])
+    bar = _progress(todo, progress, f"{sc.name} {param}")
+    clock = _time.perf_counter()
+
+    def keep(b, i, r):
+        results[b][i] = r
+        if parts:
+            parts.save(b, i, r)
+        bar.update(1)
+
+    try:
+        if mode == "independent":
+            missing = [i for i in range(values.size) if results["independent"][i] is None]
+            if missing:
+                from .parallel import map_values
+
+                def on_chunk(start, chunk):
+                    for j, r in enumerate(chunk):
+                        keep("independent", missing[start + j], r)
+                map_values(point, values[missing], workers=workers, scheduler=scheduler, on_chunk=on_chunk,
+                           collect=False, chunk_size=1 if workers == 1 and scheduler is None else None)
+        else:
+            start = None
+            for b, order in (("up", range(values.size)), ("down", range(values.size - 1, -1, -1))):
+                for i in order:
+                    r = results[b][i]
+                    if r is None:
+                        r = point(values[i], start)
+                        keep(b, i, r)
+                    start = (r["final_state"], r["final_flags"]) if r["status"] == 0 else None
+    finally:
+        bar.close()
+    seconds = _time.perf_counter() - clock
+    ds = storage.to_dataset(results, values, point, sc, table, mode)
+    ds.attrs["sweep_seconds"] = seconds
+    if grazing:
+        ds = storage.add_grazing(ds, _locate_grazing(results, values, point, grazing_xtol))
+    if error_sample:
+        ds = storage.add_error_estimate(ds, *_error_estimate(results, values, point, branches[0], error_sample))
+    if path:
+        storage.save(ds, path)
+        parts.remove()
+    return ds
+
+
+def _locate_grazing(results, values, point, xtol):
+    """Grazing values between neighbours where the orbit changes between impacting and not."""
+    from .grazing import locate_grazing
+    found = []
+    xtol = xtol or (values[-1] - values[0]) / max(1, values.size - 1) * 1e-3 if values.size > 1 else 0
+    for b, res in results.items():
+        for i in range(values.size - 1):
+            ra, rb = res[i], res[i + 1]
+            if ra is None or rb is None or ra["status"] or rb["status"]:
+                continue
+            if (ra["n_impacts"] > 0) == (rb["n_impacts"] > 0):
+                continue
+            if not (ra["min_gap"] > 0) != (rb["min_gap"] > 0):
+                continue
+            start = (ra["final_state"], ra["final_flags"]) if b != "independent" else None
+            try:
+                g = locate_grazing(lambda p: point.signed_clearance(p, start), values[i], values[i + 1], xtol=xtol)
+            except ParameterError:
+                continue  # the attractor at the ends changed under re-computation: nothing bracketed
+            found.append((b, g))
+    return found
+
+
+def _error_estimate(results, values, point, branch, sample):
+    """Re-run ``sample`` values at tol/100: largest differences of map points and impact times."""
+    idx = np.unique(np.linspace(0, values.size - 1, min(sample, values.size)).round().astype(int))
+    tight = replace(point, tol=point.tol / 100, lyapunov=False)
+    point_err, time_err, counts_differ = 0.0, 0.0, 0
+    clock = _time.perf_counter()
+    for i in idx:
+        a = results[branch][i]
+        if branch != "independent" or a["status"]:
+            continue
+        b = tight(values[i])
+        if b["status"]:
+            continue
+        scale = np.maximum(np.nanmax(np.abs(a["points"]), axis=0), point.atol)
+        point_err = max(point_err, float(np.nanmax(np.abs(a["points"] - b["points"]) / scale)))
+        if a["n_impacts"] == b["n_impacts"]:
+            if a["n_impacts"]:
+                time_err = max(time_err, float(np.nanmax(np.abs(a["impact_t"] - b["impact_t"]))))
+        else:
+            counts_differ += 1
+    return values[idx], point_err, time_err, counts_differ, _time.perf_counter() - clock, point.tol / 100
+
+
+class _NoBar:
+    def update(self, n=1):
+        pass
+
+    def close(self):
+        pass
+
+
+def _progress(total, progress, desc):
+    if not progress or total == 0:
+        return _NoBar()
+    from tqdm import tqdm
+    return tqdm(total=total, desc=desc, unit="value", file=sys.stderr, smoothing=0.1)

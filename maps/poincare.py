@@ -1,0 +1,236 @@
+"""Poincare maps of hybrid systems: the stroboscopic map and the impact map.
+
+The stroboscopic map samples the state at t_k = t0 + (k + phase) * T, T the
+relay period 1/relay_hz (or a given period).  For the electro-vibro-impact
+model the forcing P(t) V sin(2 pi f_mains t) repeats after T only when
+f_mains/relay_hz is an integer; otherwise the map is not autonomous and its
+forcing repeats after ``forcing_period_steps`` = q steps (q f_mains / relay_hz
+integral).  A periodic orbit's period is then a multiple of q.
+"""
+from __future__ import annotations
+
+import math
+import time as _time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .hybrid import Escaped, HybridRun, HybridSystem, IntegrationFailure
+from .parameters import ParameterError, validate_value
+
+__all__ = ["StroboscopicMap", "MapOrbit", "ImpactMap", "forcing_period_steps"]
+
+
+def forcing_period_steps(f_mains: float, relay_hz: float, max_steps: int = 1000) -> int:
+    """Smallest q <= max_steps with q * f_mains / relay_hz an integer (1e-9), else 0."""
+    ratio = f_mains / relay_hz
+    for q in range(1, max_steps + 1):
+        if abs(q * ratio - round(q * ratio)) <= 1e-9 * max(1.0, q * ratio):
+            return q
+    return 0
+
+
+@dataclass
+class MapOrbit:
+    """Recorded iterates of a stroboscopic map and what happened between them.
+
+    ``points[k]`` is the state at ``times[k]``; step k runs from ``times[k]`` to
+    ``times[k+1]``.  Gaps are distances to the stop [m] (negative: penetration).
+    """
+
+    times: np.ndarray                 # (n+1,) [s]
+    points: np.ndarray                # (n+1, d)
+    impacts_per_step: np.ndarray      # (n,) contacts in (t_k, t_k+1]
+    min_gap_per_step: np.ndarray      # (n,) [m] smallest gap in each step
+    min_impact_speed_per_step: np.ndarray  # (n,) [m/s], inf where no contact
+    impact_t: np.ndarray              # [s] contact onsets in the recorded window
+    impact_velocity: np.ndarray       # [m/s] gap rate at onset (< 0)
+    impact_phase: np.ndarray          # relay phase of each onset, in [0, 1)
+    impact_penetration: np.ndarray    # [m] maximum penetration of each contact
+    status: str = "ok"                # ok, escaped, failed
+    failure: str = ""
+    failure_time: float = math.nan
+    n_steps: int = 0                  # Taylor steps
+    run_seconds: float = 0.0
+    final_state: np.ndarray | None = None
+    final_flags: dict = field(default_factory=dict)
+
+    @property
+    def n(self) -> int:
+        return len(self.impacts_per_step)
+
+
+class StroboscopicMap:
+    """The state sampled once per period T of a scene or hybrid system.
+
+    >>> smap = StroboscopicMap("thesis-1dof", params)          # T = 1/relay_hz
+    >>> orbit = smap.orbit(x0, n=100, transient=300)
+    >>> y1 = smap.step(y0, k=0)                                # one period from t = phase*T
+    """
+
+    def __init__(self, system_or_scene, params: dict, *, period: float | None = None, phase: float = 0.0,
+                 tol: float = 1e-12, fp_type=float, max_events_per_period: int = 10_000):
+        if isinstance(system_or_scene, HybridSystem):
+            self.system, self.scene = system_or_scene, None
+        else:
+            from .scenes import get_scene
+            self.scene = get_scene(system_or_scene)
+            self.system = self.scene.system
+        self.phase = validate_value("phase", phase, 0.0, 1.0, high_open=True, long_name="sampling phase")
+        self.max_events_per_period = max_events_per_period
+        self._period_given = period
+        self._run = HybridRun(self.system, params, np.zeros(len(self.system.states)), tol=tol,
+                              fp_type=fp_type, max_events=None)
+        self.set_params(**params)
+
+    # ----- parameters ----------------------------------------------------------
+    @property
+    def params(self) -> dict:
+        return self._run.params
+
+    @property
+    def tol(self) -> float:
+        return self._run.tol
+
+    def set_params(self, **values) -> "StroboscopicMap":
+        """Change parameter values (no recompilation); the period follows relay_hz."""
+        self._run.set_params(**values)
+        p = self._run.params
+        if self._period_given is not None:
+            self.period = validate_value("period", self._period_given, 0.0, math.inf, low_open=True, unit="s")
+        elif "relay_hz" in p:
+            self.period = 1.0 / p["relay_hz"]
+        else:
+            raise ParameterError("this system has no 'relay_hz': give the stroboscopic 'period' [s]")
+        self.forcing_period_steps = (forcing_period_steps(p["f_mains"], p["relay_hz"])
+                                     if "f_mains" in p and "relay_hz" in p and self._period_given is None else 1)
+        return self
+
+    def sample_time(self, k: int, t0: float = 0.0) -> float:
+        return t0 + (k + self.phase) * self.period
+
+    def _flags_for(self, y, t):
+        if "contact" in self.system.flag_names:
+            return {"contact": 1.0 if self.system.gap(np.asarray(y, float), self.params)[0] < 0 else 0.0}
+        return None
+
+    # ----- iteration -------------------------------------------------------------
+    def step(self, y, k: int = 0, t0: float = 0.0) -> np.ndarray:
+        """The state one period after ``y`` given at the k-th sample time."""
+        run = self._run
+        ta = self.sample_time(k, t0)
+        run.record_events = False
+        run.reset(ta, y, self._flags_for(y, ta))
+        run.advance(self.sample_time(k + 1, t0))
+        return run.y
+
+    def jacobian(self, y, k: int = 0, *, eps: float | None = None, t0: float = 0.0) -> np.ndarray:
+        """d(step)/dy by central differences (d x d).
+
+        A placeholder for the variational Jacobian with saltation matrices at every
+        contact and relay event; valid where no event is grazed within +-eps.
+        """
+        y = np.asarray(y, dtype=float)
+        d = y.size
+        J = np.empty((d, d))
+        for j in range(d):
+            h = eps if eps is not None else 1e-6 * max(1e-3, abs(y[j]))
+            e = np.zeros(d)
+            e[j] = h
+            J[:, j] = (self.step(y + e, k, t0) - self.step(y - e, k, t0)) / (2 * h)
+        return J
+
+    def orbit(self, x0, n: int, *, transient: int = 0, t0: float = 0.0, flags: dict | None = None) -> MapOrbit:
+        """Discard ``transient`` periods from ``x0`` at ``t0``, then record ``n`` periods.
+
+        Failures (escape, non-finite state, event cap) end the orbit early with
+        ``status`` set; arrays then hold only the completed steps.
+        """
+        n = int(validate_value("n", n, 1, 1e8))
+        transient = int(validate_value("transient", transient, 0, 1e8))
+        run = self._run
+        system = self.system
+        clock = _time.perf_counter()
+        run.record_events = False
+        run.max_events = None
+        run.reset(t0, x0, flags if flags is not None else None)
+        W = self.params.get("relay_hz", 1.0 / self.period)
+        gap = system.gap
+        times, points = [], []
+        imp_n, min_gap, min_speed = [], [], []
+        it, iv, iph, ipen = [], [], [], []
+        status, failure, t_fail = "ok", "", math.nan
+        try:
+            run.advance(self.sample_time(transient, t0))
+            times.append(run.t)
+            points.append(run.y)
+            run.record_events = True
+            for k in range(transient, transient + n):
+                run.events = []
+                run.max_events = run.n_events + self.max_events_per_period
+                g_start = gap(points[-1], self.params)[0]
+                run.advance(self.sample_time(k + 1, t0))
+                y_end = run.y
+                g_lo = min(g_start, gap(y_end, self.params)[0])
+                count, speed = 0, math.inf
+                for ev in run.events:
+                    if ev.name == "contact":
+                        rate = gap(ev.y_minus, self.params)[1]
+                        count += 1
+                        speed = min(speed, abs(rate))
+                        it.append(ev.t)
+                        iv.append(rate)
+                        iph.append((ev.t * W) % 1.0)
+                        ipen.append(0.0)
+                    elif ev.name in ("lowest", "deepest"):
+                        g = gap(ev.y_minus, self.params)[0]
+                        g_lo = min(g_lo, g)
+                        if ev.name == "deepest" and ipen:
+                            ipen[-1] = max(ipen[-1], -g)
+                times.append(run.t)
+                points.append(y_end)
+                imp_n.append(count)
+                min_gap.append(g_lo)
+                min_speed.append(speed)
+        except Escaped as exc:
+            status, failure, t_fail = "escaped", str(exc), exc.t
+        except IntegrationFailure as exc:
+            status, failure, t_fail = "failed", str(exc), exc.t
+        run.events = []
+        if not points:
+            points, times = [np.asarray(run.system.state_vector(x0), float)], [t0]
+        return MapOrbit(
+            times=np.array(times), points=np.array(points), impacts_per_step=np.array(imp_n, dtype=np.int64),
+            min_gap_per_step=np.array(min_gap), min_impact_speed_per_step=np.array(min_speed),
+            impact_t=np.array(it), impact_velocity=np.array(iv), impact_phase=np.array(iph),
+            impact_penetration=np.array(ipen), status=status, failure=failure, failure_time=t_fail,
+            n_steps=run.n_steps, run_seconds=_time.perf_counter() - clock, final_state=run.y,
+            final_flags=dict(run.flags))
+
+
+class ImpactMap:
+    """The impact map: (relay phase, impact velocity) at each contact onset.
+
+    >>> imap = ImpactMap("thesis-1dof", params)
+    >>> phase, velocity, t = imap.iterate(x0, n_impacts=50, transient_periods=300)
+    """
+
+    def __init__(self, system_or_scene, params: dict, *, tol: float = 1e-12, period: float | None = None):
+        self._smap = StroboscopicMap(system_or_scene, params, tol=tol, period=period)
+
+    def iterate(self, x0, n_impacts: int, *, transient_periods: int = 0, max_periods: int = 100_000):
+        """Arrays (phase in [0, 1), velocity [m/s], time [s]) of the next ``n_impacts`` onsets."""
+        s = self._smap
+        orbit = s.orbit(x0, 1, transient=transient_periods)
+        phases, vels, times = [], [], []
+        y, k = orbit.final_state, transient_periods + 1
+        flags = orbit.final_flags
+        while len(times) < n_impacts and k < transient_periods + max_periods:
+            o = s.orbit(y, 1, transient=0, t0=s.sample_time(k) - s.sample_time(0), flags=flags)
+            phases += list(o.impact_phase)
+            vels += list(o.impact_velocity)
+            times += list(o.impact_t)
+            if o.status != "ok":
+                break
+            y, flags, k = o.final_state, o.final_flags, k + 1
+        return np.array(phases[:n_impacts]), np.array(vels[:n_impacts]), np.array(times[:n_impacts])
