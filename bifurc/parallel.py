@@ -26,7 +26,7 @@ from __future__ import annotations
 import math
 import os
 import time as _time
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -338,9 +338,15 @@ def map_values(func, values, workers: int = 1, scheduler=None, chunk_size: int |
         size = chunk_size or _default_chunk(n, workers, getattr(func, "batch_size", 1))
         with ProcessPoolExecutor(max_workers=workers, mp_context=mp.get_context(mp_context),
                                  initializer=_warm, initargs=(func,)) as pool:
-            futures = {pool.submit(_run_chunk, func, values[a:b]): a for a, b in chunks_of(n, size)}
-            for fut in as_completed(futures):
-                take(futures[fut], fut.result())
+            pending = chunks_of(n, size)[::-1]
+            running = {}
+            while pending or running:      # at most 2 chunks per worker in flight: bounded memory
+                while pending and len(running) < 2 * workers:
+                    a, b = pending.pop()
+                    running[pool.submit(_run_chunk, func, values[a:b])] = a
+                finished, _ = wait(running, return_when=FIRST_COMPLETED)
+                for fut in finished:
+                    take(running.pop(fut), fut.result())
     return out
 
 
