@@ -95,13 +95,15 @@ def to_dataset(results, values, point, scene, table, mode) -> xr.Dataset:
     ds["n_steps"] = (dims, _stack(results, branches, "n_steps", 0, np.int64), {"units": "1", "long_name": "Taylor steps"})
     ds["run_seconds"] = (dims, _stack(results, branches, "seconds"), {"units": "s", "long_name": "wall time of the value"})
     o = scene.options
+    circuit = (o.circuit if o.ac else "none") if o is not None else "none"
+    ac_sign = (o.ac_sign if o.ac else "none") if o is not None else "none"
     ds.attrs.update({
         "title": f"{scene.name}: {par} sweep ({mode})", "scene": scene.name, "swept_parameter": par,
         "swept_parameter_units": p.unit, "mode": mode, "transient_periods": point.transient,
         "recorded_periods": point.record, "tol": point.tol, "max_period": point.max_period,
         "classification_rtol": point.rtol, "classification_atol": point.atol,
         "lyapunov_steps": point.lyapunov_steps, "lyapunov_threshold": _lyap_thr(point.lyapunov_steps),
-        "circuit": o.circuit if o.ac else "none", "ac_sign": o.ac_sign if o.ac else "none",
+        "circuit": circuit, "ac_sign": ac_sign,
         "initial_state": ", ".join(f"{k}={v:g}" for k, v in scene.initial_state(**point.x0).items()),
         "grazing_gap_threshold_m": _graze_gap(), "grazing_speed_threshold_m_s": _graze_speed(),
         "bifurc_version": bifurc.__version__, "heyoka_version": hy.__version__, "numpy_version": np.__version__,

@@ -20,7 +20,7 @@ import pickle
 import shutil
 import sys
 import time as _time
-from dataclasses import asdict, dataclass, field, replace
+from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 
 import numpy as np
@@ -50,7 +50,7 @@ class SweepPoint:
     recorded orbit, its impacts, clearance, classification and run time.
     """
 
-    scene: str
+    scene: object  # scene name, or a HybridSystem (runs in this process only)
     param: str
     params: dict
     options: dict = field(default_factory=dict)   # circuit, ac_sign
@@ -67,14 +67,14 @@ class SweepPoint:
 
     def warm(self) -> StroboscopicMap:
         """The process-wide map for this scene structure and tolerance (compiled once)."""
-        sc, _ = resolve(self.scene, self.params, **self.options)
-        key = (sc.options, self.tol)
+        sc, _ = _resolve(self.scene, self.params, **self.options)
+        key = (sc.options if sc.options is not None else id(sc.system), self.tol)
         if key not in _MAPS:
             _MAPS[key] = StroboscopicMap(sc, self.params, tol=self.tol)
         return _MAPS[key]
 
     def x0_state(self):
-        sc, _ = resolve(self.scene, self.params, **self.options)
+        sc, _ = _resolve(self.scene, self.params, **self.options)
         return sc.system.state_vector(sc.initial_state(**self.x0))
 
     def __call__(self, value, start=None) -> dict:
@@ -125,8 +125,41 @@ class SweepPoint:
         return pt(value, start)["min_gap"]
 
 
+class SystemScene:
+    """Lets a bare HybridSystem be swept like a scene: every parameter must be given."""
+
+    def __init__(self, system):
+        self.system, self.name, self.options, self.preset = system, system.name, None, None
+
+    def initial_state(self, **components):
+        x0 = {n: 0.0 for n in self.system.state_names}
+        for k, v in components.items():
+            if k not in x0:
+                raise ParameterError(f"unknown state {k!r} for {self.name!r}; its states are: {', '.join(x0)}")
+            x0[k] = float(v)
+        return x0
+
+    def parameters(self, preset=None, **values):
+        return self.system.validate(values)
+
+
+def _resolve(scene, params, preset=None, circuit=None, ac_sign=None):
+    """(scene-like, {name: (value, provenance)}) for a scene name, Scene or HybridSystem."""
+    from maps.hybrid import HybridSystem
+    if isinstance(scene, SystemScene):
+        scene = scene.system
+    if isinstance(scene, HybridSystem):
+        if preset or circuit or ac_sign:
+            raise ParameterError("preset, circuit and ac_sign apply to scenes, not to a bare HybridSystem")
+        values = scene.validate(params or {})
+        return SystemScene(scene), {k: (v, "set by user") for k, v in values.items()}
+    return resolve(scene, params, preset, circuit, ac_sign)
+
+
 def _manifest(point: SweepPoint, values, mode) -> dict:
-    d = asdict(point)
+    d = {f.name: getattr(point, f.name) for f in fields(point)}
+    if not isinstance(d["scene"], str):
+        d["scene"] = repr(d["scene"])
     d.update(values=[float(v) for v in values], mode=mode)
     return d
 
@@ -201,7 +234,7 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
     values = np.asarray(values, dtype=float).ravel()
     if values.size == 0 or not np.all(np.isfinite(values)):
         raise ParameterError("values must be a non-empty array of finite numbers")
-    sc, table = resolve(scene, params, preset, circuit, ac_sign)
+    sc, table = _resolve(scene, params, preset, circuit, ac_sign)
     base = {k: v for k, (v, _) in table.items()}
     sc.system.parameter(param)  # raises for an unknown name
     for v in values:  # every value must be valid before anything runs
@@ -212,7 +245,8 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
     if scheduler is None:
         workers = int(validate_value("workers", workers, 1, 1024))
     options = {k: v for k, v in dict(circuit=circuit, ac_sign=ac_sign).items() if v is not None}
-    point = SweepPoint(sc.name, param, base, options, dict(x0 or {}), transient, record, float(tol), max_period,
+    name = sc.name if sc.options is not None else sc.system  # a bare system runs in this process
+    point = SweepPoint(name, param, base, options, dict(x0 or {}), transient, record, float(tol), max_period,
                        rtol, atol, lyapunov)
     branches = ["independent"] if mode == "independent" else ["up", "down"]
     parts = _Parts(path, _manifest(point, values, mode)) if path else None
@@ -267,7 +301,11 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
 
 
 def _locate_grazing(results, values, point, xtol):
-    """Grazing values between neighbours where the orbit changes between impacting and not."""
+    """Grazing values between periodic neighbours where the orbit changes between impacting and not.
+
+    Only periodic attractors on both sides bracket a grazing bifurcation; between chaotic or
+    unconverged neighbours the sign of the smallest gap says nothing about a grazing point.
+    """
     from .grazing import locate_grazing
     found = []
     xtol = xtol or (values[-1] - values[0]) / max(1, values.size - 1) * 1e-3 if values.size > 1 else 0
@@ -275,6 +313,8 @@ def _locate_grazing(results, values, point, xtol):
         for i in range(values.size - 1):
             ra, rb = res[i], res[i + 1]
             if ra is None or rb is None or ra["status"] or rb["status"]:
+                continue
+            if ra["class_code"] not in (0, 1) or rb["class_code"] not in (0, 1):
                 continue
             if (ra["n_impacts"] > 0) == (rb["n_impacts"] > 0):
                 continue

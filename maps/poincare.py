@@ -66,6 +66,9 @@ class StroboscopicMap:
     >>> smap = StroboscopicMap("thesis-1dof", params)          # T = 1/relay_hz
     >>> orbit = smap.orbit(x0, n=100, transient=300)
     >>> y1 = smap.step(y0, k=0)                                # one period from t = phase*T
+
+    The period T is ``period`` if given, else 1/relay_hz, else the system's
+    ``strobe_period(params)`` (e.g. 2 pi / Omega for a harmonically forced system).
     """
 
     def __init__(self, system_or_scene, params: dict, *, period: float | None = None, phase: float = 0.0,
@@ -100,8 +103,11 @@ class StroboscopicMap:
             self.period = validate_value("period", self._period_given, 0.0, math.inf, low_open=True, unit="s")
         elif "relay_hz" in p:
             self.period = 1.0 / p["relay_hz"]
+        elif getattr(self.system, "strobe_period", None) is not None:
+            self.period = float(self.system.strobe_period(p))
         else:
-            raise ParameterError("this system has no 'relay_hz': give the stroboscopic 'period' [s]")
+            raise ParameterError("this system has no 'relay_hz' nor a strobe_period(params): "
+                                 "give the stroboscopic 'period' [s]")
         self.forcing_period_steps = (forcing_period_steps(p["f_mains"], p["relay_hz"])
                                      if "f_mains" in p and "relay_hz" in p and self._period_given is None else 1)
         return self

@@ -1,0 +1,115 @@
+"""Classification, Lyapunov exponents and grazing bisection against known answers."""
+import math
+
+import numpy as np
+import pytest
+
+from bifurc.classify import CLASS_LABELS, classify_orbit, describe, lyapunov_threshold
+from bifurc.grazing import locate_grazing
+from bifurc.lyapunov import largest_lyapunov
+from maps.parameters import ParameterError
+
+
+def logistic(r):
+    return lambda y, k: r * y * (1 - y)
+
+
+def iterate(step, y0, n, skip=0):
+    y = np.atleast_1d(np.asarray(y0, float))
+    out = []
+    for k in range(skip + n):
+        y = step(y, k)
+        if k >= skip:
+            out.append(y.copy())
+    return np.array(out)
+
+
+def test_logistic_two_cycle_is_period_2_with_its_impact_count():
+    r = 3.2  # analytic 2-cycle: x = (r + 1 -+ sqrt((r - 3)(r + 1))) / (2 r)
+    pts = iterate(logistic(r), [0.3], 60, skip=400)
+    lo, hi = sorted(pts[-2:, 0])
+    root = math.sqrt((r - 3) * (r + 1))
+    assert lo == pytest.approx((r + 1 - root) / (2 * r), abs=1e-12)
+    assert hi == pytest.approx((r + 1 + root) / (2 * r), abs=1e-12)
+    impacts = np.tile([1, 2], 30)[:59]  # one impact then two: 3 per period
+    c = classify_orbit(pts, impacts)
+    assert (c["label"], c["period"], c["impacts_per_period"]) == ("periodic", 2, 3)
+    assert c["recurrence"] <= 1.0
+    assert describe(c["code"], c["period"], c["impacts_per_period"]) == "period-2, 3 impacts (2:3)"
+
+
+def test_inconsistent_impacts_are_not_a_period():
+    pts = iterate(logistic(3.2), [0.3], 60, skip=400)
+    impacts = np.tile([1, 2], 30)[:59]
+    impacts[30] = 0  # a graze missing once: the state repeats, the impact sequence does not
+    c = classify_orbit(pts, impacts)
+    assert c["label"] != "periodic" or c["period"] != 2
+
+
+def test_no_impact_period_1():
+    pts = np.tile([[0.5, -1.0]], (20, 1)) + 1e-12 * np.random.default_rng(1).standard_normal((20, 2))
+    c = classify_orbit(pts, np.zeros(19, int))
+    assert (c["label"], c["period"]) == ("periodic-no-impact", 1)
+
+
+@pytest.mark.parametrize("max_period", [1, 4, 16, 50])
+def test_quasi_periodic_rotation_is_never_periodic(max_period):
+    golden = (math.sqrt(5) - 1) / 2
+    k = np.arange(201)
+    pts = np.column_stack([np.cos(2 * math.pi * golden * k), np.sin(2 * math.pi * golden * k)])
+    c = classify_orbit(pts, np.zeros(200, int), max_period=max_period, lyapunov=0.0)
+    assert c["label"] == "quasi-periodic"
+    c = classify_orbit(pts, np.zeros(200, int), max_period=max_period)  # no Lyapunov: undecided
+    assert c["label"] == "not-converged"
+
+
+def test_decaying_transient_is_not_converged_with_its_rate():
+    rho = 0.9
+    k = np.arange(100)
+    pts = np.column_stack([1 + rho ** k, np.full(k.size, 2.0)])  # -> a fixed point, slowly
+    c = classify_orbit(pts, np.ones(99, int), rtol=1e-10, atol=1e-14)
+    assert c["label"] == "not-converged"
+    assert c["period"] == 1 and c["convergence_rate"] == pytest.approx(rho, rel=1e-6)
+
+
+def test_escape_and_failure_pass_through():
+    assert classify_orbit(np.zeros((3, 1)), np.zeros(2), status="escaped")["label"] == "escaped"
+    assert classify_orbit(np.zeros((3, 1)), np.zeros(2), status="failed")["label"] == "failed"
+    bad = np.ones((5, 2))
+    bad[3, 1] = np.nan
+    assert classify_orbit(bad, np.zeros(4))["label"] == "failed"
+
+
+def test_logistic_chaos_lyapunov_ln2_and_classified_chaotic():
+    step = logistic(4.0)
+    lam = largest_lyapunov(step, np.array([0.2]), 4000, d0=1e-10)
+    assert lam == pytest.approx(math.log(2), abs=0.03)
+    pts = iterate(step, [0.2], 200)
+    c = classify_orbit(pts, np.zeros(199, int), lyapunov=lam, lyap_tol=lyapunov_threshold(4000))
+    assert c["label"] == "chaotic"
+
+
+def test_lyapunov_of_linear_map_is_log_of_spectral_radius():
+    A = np.array([[0.5, 0.3], [-0.2, 0.8]])
+    lam = largest_lyapunov(lambda y, k: A @ y, np.array([1.0, 0.0]), 300)
+    assert lam == pytest.approx(math.log(max(abs(np.linalg.eigvals(A)))), abs=5e-3)
+
+
+def test_threshold_accounts_for_the_window():
+    assert lyapunov_threshold(100) == pytest.approx(2 * math.log(100) / 100)
+    assert lyapunov_threshold(10**6) == pytest.approx(2e-3)
+
+
+def test_bisection_brackets_the_root_to_xtol():
+    root = math.sqrt(2)
+    g = locate_grazing(lambda p: p * p - 2, 1.0, 2.0, xtol=1e-9)
+    lo, hi = g["bracket"]
+    assert lo <= root <= hi and hi - lo <= 1e-9
+    assert abs(g["value"] - root) <= 1e-9
+    with pytest.raises(ParameterError, match="no sign change"):
+        locate_grazing(lambda p: p + 5, 1.0, 2.0, xtol=1e-3)
+
+
+def test_labels_and_flag_meanings_agree():
+    from bifurc.classify import FLAG_MEANINGS
+    assert FLAG_MEANINGS.split() == list(CLASS_LABELS)
