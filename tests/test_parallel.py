@@ -68,15 +68,42 @@ def test_streamed_file_equals_in_memory(task, serial, tmp_path):
     assert streamed["x"].attrs["units"] == "m" and streamed["status"].attrs["flag_meanings"] == "ok escaped failed"
 
 
-def test_dask_local_cluster_equals_serial(task, serial):
+@pytest.fixture(scope="module")
+def cluster():
     distributed = pytest.importorskip("dask.distributed")
     with distributed.LocalCluster(n_workers=2, processes=True, threads_per_worker=1,
-                                  dashboard_address=None) as cluster:
-        with distributed.Client(cluster) as client:
-            a = sweep_dataset(task, VALUES, scheduler=client, chunk_size=3)
-        b = sweep_dataset(task, VALUES, scheduler=cluster.scheduler_address)
+                                  dashboard_address=None) as c:
+        yield c
+
+
+def test_dask_local_cluster_equals_serial(task, serial, cluster):
+    from dask.distributed import Client
+    with Client(cluster) as client:
+        a = sweep_dataset(task, VALUES, scheduler=client, chunk_size=3)
+    b = sweep_dataset(task, VALUES, scheduler=cluster.scheduler_address)
     _assert_same(serial, a)
     _assert_same(serial, b)
+
+
+def test_sweep_on_processes_and_dask_equals_serial(cluster):
+    """bifurc.sweep (orbits, classes, Lyapunov, error estimate) through map_values."""
+    from bifurc.sweep import sweep
+    kw = dict(preset="matlab-listing", params={"V": 90.0}, transient=15, record=8, progress=False,
+              grazing=False, error_sample=0)
+    values = np.linspace(2.0, 10.0, 6)
+    a = sweep("thesis-1dof", "relay_hz", values, **kw)
+    b = sweep("thesis-1dof", "relay_hz", values, workers=2, **kw)
+    c = sweep("thesis-1dof", "relay_hz", values, scheduler=cluster.scheduler_address, **kw)
+    for other in (b, c):
+        for k in a.data_vars:
+            if k == "run_seconds":
+                continue
+            x, y = a[k].values, other[k].values
+            if x.dtype.kind == "f":
+                assert np.array_equal(np.isnan(x), np.isnan(y)), k
+                assert np.nanmax(np.abs(x - y), initial=0.0) <= 1e-12 * max(1.0, np.nanmax(np.abs(x), initial=0.0)), k
+            else:
+                assert np.array_equal(x, y), k
 
 
 def test_error_estimate(task, serial):
