@@ -47,21 +47,21 @@ DEFAULT_LADDERS = {
 }
 
 
-def _problem(scene, preset=None, params=None, x0=None):
-    sc, table = resolve(scene, params, preset)
+def _problem(scene, preset=None, params=None, x0=None, circuit=None, ac_sign=None):
+    sc, table = resolve(scene, params, preset, circuit, ac_sign)
     values = {k: v for k, (v, _) in table.items()}
     y0 = sc.system.state_vector(sc.initial_state(**(x0 or {})))
     return sc, values, y0
 
 
 def reference_solution(scene, t_end, preset=None, params=None, x0=None, precision="longdouble",
-                       tol=None) -> dict:
+                       tol=None, circuit=None, ac_sign=None) -> dict:
     """Final state (float128-like array), impact times and error bound of the extended-precision run.
 
     ``precision`` is ``"longdouble"`` (tol 1e-19) or ``"real128"`` (tol 1e-28, ~12 s to compile).
     """
     import heyoka as hy
-    sc, values, y0 = _problem(scene, preset, params, x0)
+    sc, values, y0 = _problem(scene, preset, params, x0, circuit, ac_sign)
     if precision == "longdouble":
         fp, tol = np.longdouble, tol or 1e-19
     elif precision == "real128":
@@ -111,7 +111,7 @@ def _impact_error(t, t_ref):
 
 def work_precision(scene="thesis-1dof", t_end=2.0, preset=None, params=None, x0=None,
                    ladders=None, methods=None, reference="longdouble", repeats=3,
-                   max_seconds=30.0, progress=None) -> xr.Dataset:
+                   max_seconds=30.0, progress=None, circuit=None, ac_sign=None) -> xr.Dataset:
     """Errors against run time for every method over its tolerance ladder.
 
     ``ladders`` maps a method to its tolerances (default :data:`DEFAULT_LADDERS`);
@@ -124,10 +124,13 @@ def work_precision(scene="thesis-1dof", t_end=2.0, preset=None, params=None, x0=
         if unknown:
             raise ParameterError(f"unknown method {sorted(unknown)[0]!r}; methods: {', '.join(DEFAULT_LADDERS)}")
         ladders = {m: ladders.get(m, DEFAULT_LADDERS[m]) for m in methods}
-    ref = reference_solution(scene, t_end, preset, params, x0, precision=reference)
-    sc, values, y0 = ref["scene"], ref["params"], ref["y0"]
+    from maps.parameters import validate_value
+    t_end = validate_value("t_end", t_end, 0.0, 1e4, low_open=True, unit="s")
     if any(m != "heyoka" for m in ladders):
-        baselines.check_supported(sc)
+        baselines.check_supported(_problem(scene, preset, params, x0, circuit, ac_sign)[0])
+    ref = reference_solution(scene, t_end, preset, params, x0, precision=reference, circuit=circuit,
+                             ac_sign=ac_sign)
+    sc, values, y0 = ref["scene"], ref["params"], ref["y0"]
     rows = []
     for method, ladder in ladders.items():
         for tol in ladder:

@@ -15,19 +15,6 @@ from maps.parameters import ParameterError
 NAME = "accuracy"
 
 
-def _parse_set(items):
-    out = {}
-    for item in items or []:
-        name, sep, value = item.partition("=")
-        if not sep or not name:
-            raise ParameterError(f"--set expects NAME=VALUE, got {item!r}")
-        try:
-            out[name.strip()] = float(value)
-        except ValueError:
-            raise ParameterError(f"--set {name}: {value!r} is not a number") from None
-    return out
-
-
 def _parse_floats(text, what):
     try:
         return [float(v) for v in text.split(",") if v.strip()]
@@ -41,8 +28,13 @@ def register(subparsers):
                               description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--scene", default="thesis-1dof", help="scene name (default thesis-1dof)")
     p.add_argument("--preset", default=None, help="parameter preset (thesis-text, matlab-listing, dynamics-listing)")
-    p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE", help="override a parameter [SI]")
-    p.add_argument("--x0", action="append", default=[], metavar="NAME=VALUE", help="initial state component [SI]")
+    p.add_argument("--set", dest="sets", action="append", default=[], metavar="NAME=VALUE",
+                   help="override a parameter by its name (repeatable), e.g. --set V=90")
+    p.add_argument("--relay-hz", type=float, default=None, help="shortcut for --set relay_hz=...")
+    p.add_argument("--x0", default=None, metavar="x=0.001,v=0", help="initial state components by name")
+    p.add_argument("--circuit", choices=("thesis", "kvl"), default=None,
+                   help="circuit form (the scipy/RK4 baselines implement only 'thesis')")
+    p.add_argument("--ac-sign", choices=("physical", "listing"), default=None, help="AC force sign")
     p.add_argument("--t-end", type=float, default=2.0, help="integration time [s] (default 2)")
     p.add_argument("--methods", default=",".join(DEFAULT_LADDERS),
                    help="comma-separated methods (default: all): " + ", ".join(DEFAULT_LADDERS))
@@ -71,8 +63,11 @@ def run(args) -> int:
             ladders[m] = _parse_floats(args.tols, "--tols")
         else:
             ladders[m] = DEFAULT_LADDERS[m]
-    params = _parse_set(args.set)
-    x0 = _parse_set(args.x0)
+    from ._common import parse_sets, parse_x0
+    params = parse_sets(args.sets)
+    if args.relay_hz is not None:
+        params["relay_hz"] = args.relay_hz
+    x0 = parse_x0(args.x0)
     out = Path(args.output)
     out.mkdir(parents=True, exist_ok=True)
 
@@ -82,7 +77,8 @@ def run(args) -> int:
               f"{row['run_seconds'] * 1e3:9.2f} ms", flush=True)
 
     ds = work_precision(args.scene, args.t_end, preset=args.preset, params=params, x0=x0, ladders=ladders,
-                        reference=args.reference, max_seconds=args.max_seconds, progress=progress)
+                        reference=args.reference, max_seconds=args.max_seconds, progress=progress,
+                        circuit=args.circuit, ac_sign=args.ac_sign)
     ds.to_dataframe().to_csv(out / "accuracy.csv")
     ds.to_netcdf(out / "accuracy.nc")
     plot_work_precision(ds, out / "accuracy.png")
@@ -93,17 +89,10 @@ def run(args) -> int:
 
 
 def main(argv=None) -> int:
-    """Stand-alone entry (``python -m bifurc.commands.accuracy``) until the main CLI wires it."""
+    """``python -m bifurc.commands.accuracy ARGS`` = ``bifurc accuracy ARGS``."""
     import sys
-    parser = argparse.ArgumentParser(prog="bifurc")
-    sub = parser.add_subparsers(dest="command", required=True)
-    register(sub)
-    args = parser.parse_args(["accuracy"] + list(sys.argv[1:] if argv is None else argv))
-    try:
-        return args.func(args)
-    except ParameterError as exc:
-        print(f"bifurc: error: {exc}", file=sys.stderr)
-        return 2
+    from ..cli import main as cli_main
+    return cli_main(["accuracy"] + list(sys.argv[1:] if argv is None else argv))
 
 
 if __name__ == "__main__":
