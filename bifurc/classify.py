@@ -9,7 +9,9 @@ decide, the label is "not-converged", never a guess):
    d_n = max_k max_j |p_{k+n,j} - p_{k,j}| / (rtol s_j + atol) over the whole record.
    The smallest n with d_n <= 1 whose impact count per n steps is the same for
    every window of n steps is the period; m = that count.  m = 0 is
-   "periodic-no-impact".
+   "periodic-no-impact".  If a shorter candidate m < n is still decaying
+   geometrically (rule 3), n is only a near-recurrence of a transient:
+   "not-converged".
 3. Otherwise, for the best candidate n* (smallest d_n), the distances
    e_k = max_j |p_{k+n*,j} - p_{k,j}| / s_j are fitted by log e_k = a + k log rho.
    rho < 0.98 per step (a clear geometric decay): "not-converged" (a transient
@@ -97,6 +99,11 @@ def classify_orbit(points, impacts_per_step, *, max_period: int = 16, rtol: floa
         if d <= 1.0:
             windows = np.convolve(imp, np.ones(n, dtype=np.int64), mode="valid")
             if windows.size and np.all(windows == windows[0]):
+                for m_ in range(1, n):  # a shorter period still converging: n is a near-recurrence
+                    rate_m = _decay_rate(p, m_, s, atol)
+                    if math.isfinite(rate_m) and rate_m < DECAY_RATE:
+                        d_m = float(np.max(np.abs(p[m_:] - p[:-m_]) / (rtol * s + atol)))
+                        return _result("not-converged", m_, -1, d_m, rate_m, rtol, atol)
                 m = int(windows[0])
                 label = "periodic" if m > 0 else "periodic-no-impact"
                 return _result(label, n, m, d, _decay_rate(p, n, s, atol), rtol, atol)

@@ -54,8 +54,8 @@ def to_dataset(results, values, point, scene, table, mode) -> xr.Dataset:
     for j, st in enumerate(system.states):
         ds[st.name] = (dims + ("sample",), pts[..., j], {"units": st.unit, "long_name": f"{st.long_name}, stroboscopic"})
     ds["class_code"] = (dims, _stack(results, branches, "class_code", -1, np.int8), {
-        "units": "1", "long_name": "orbit class", "flag_values": np.arange(len(CLASS_LABELS), dtype=np.int8),
-        "flag_meanings": FLAG_MEANINGS.replace("-", "_"), "_FillValue": np.int8(-1)})
+        "units": "1", "long_name": "orbit class (-1: not computed)",
+        "flag_values": np.arange(len(CLASS_LABELS), dtype=np.int8), "flag_meanings": FLAG_MEANINGS.replace("-", "_")})
     ds["period"] = (dims, _stack(results, branches, "class_period", -1, np.int16),
                     {"units": "relay periods", "long_name": "period n of the orbit (0: not periodic)"})
     ds["impacts_per_period"] = (dims, _stack(results, branches, "class_impacts_per_period", -1, np.int16),
@@ -88,8 +88,8 @@ def to_dataset(results, values, point, scene, table, mode) -> xr.Dataset:
     ds["n_impacts"] = (dims, _stack(results, branches, "n_impacts", -1, np.int32), {
         "units": "1", "long_name": "contacts in the recorded window (may exceed the impact dimension)"})
     ds["status"] = (dims, _stack(results, branches, "status", -1, np.int8), {
-        "units": "1", "long_name": "integration status", "flag_values": np.array([0, 1, 2], np.int8),
-        "flag_meanings": STATUS_MEANINGS, "_FillValue": np.int8(-1)})
+        "units": "1", "long_name": "integration status (-1: not computed)", "flag_values": np.array([0, 1, 2], np.int8),
+        "flag_meanings": STATUS_MEANINGS})
     ds["failure_time"] = (dims, _stack(results, branches, "failure_time"),
                           {"units": "s", "long_name": "time of escape or failure (NaN: none)"})
     ds["n_steps"] = (dims, _stack(results, branches, "n_steps", 0, np.int64), {"units": "1", "long_name": "Taylor steps"})

@@ -70,7 +70,7 @@ class SweepPoint:
         sc, _ = _resolve(self.scene, self.params, **self.options)
         key = (sc.options if sc.options is not None else id(sc.system), self.tol)
         if key not in _MAPS:
-            _MAPS[key] = StroboscopicMap(sc, self.params, tol=self.tol)
+            _MAPS[key] = StroboscopicMap(sc if sc.options is not None else sc.system, self.params, tol=self.tol)
         return _MAPS[key]
 
     def x0_state(self):
@@ -113,16 +113,13 @@ class SweepPoint:
             "min_impact_speed": float(np.min(speeds)) if speeds.size else math.inf,
             "impact_t": pad(o.impact_t), "impact_velocity": pad(o.impact_velocity),
             "impact_phase": pad(o.impact_phase), "impact_penetration": pad(o.impact_penetration),
+            "max_impact_speed": float(np.max(np.abs(o.impact_velocity))) if n_imp else 0.0,
             "n_impacts": n_imp, "status": STATUS.index(status), "failure_time": o.failure_time,
             "failure": o.failure, "lyapunov": lyap, "forcing_period_steps": smap.forcing_period_steps,
             "n_steps": o.n_steps, "seconds": _time.perf_counter() - clock,
             "final_state": o.final_state, "final_flags": o.final_flags, **{f"class_{k}": v for k, v in cls.items()},
         }
 
-    def signed_clearance(self, value, start=None, transient=None, record=None) -> float:
-        """Smallest gap of the attractor at ``value`` [m]: > 0 clear of the stop, < 0 penetrating."""
-        pt = replace(self, transient=transient or self.transient, record=record or self.record, lyapunov=False)
-        return pt(value, start)["min_gap"]
 
 
 class SystemScene:
@@ -301,10 +298,11 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
 
 
 def _locate_grazing(results, values, point, xtol):
-    """Grazing values between periodic neighbours where the orbit changes between impacting and not.
+    """Grazing values between neighbours where the orbit changes between impacting and not.
 
-    Only periodic attractors on both sides bracket a grazing bifurcation; between chaotic or
-    unconverged neighbours the sign of the smallest gap says nothing about a grazing point.
+    Neighbours must be periodic or still converging (near a grazing bifurcation convergence
+    is slow); between chaotic or quasi-periodic neighbours the sign of the clearance
+    brackets nothing meaningful.
     """
     from .grazing import locate_grazing
     found = []
@@ -314,19 +312,51 @@ def _locate_grazing(results, values, point, xtol):
             ra, rb = res[i], res[i + 1]
             if ra is None or rb is None or ra["status"] or rb["status"]:
                 continue
-            if ra["class_code"] not in (0, 1) or rb["class_code"] not in (0, 1):
+            if ra["class_code"] not in (0, 1, 4) or rb["class_code"] not in (0, 1, 4):
                 continue
             if (ra["n_impacts"] > 0) == (rb["n_impacts"] > 0):
                 continue
-            if not (ra["min_gap"] > 0) != (rb["min_gap"] > 0):
-                continue
-            start = (ra["final_state"], ra["final_flags"]) if b != "independent" else None
+            clear = (values[i], ra) if ra["n_impacts"] == 0 else (values[i + 1], rb)
             try:
-                g = locate_grazing(lambda p: point.signed_clearance(p, start), values[i], values[i + 1], xtol=xtol)
+                g = locate_grazing(_BranchFollower(point, clear[0], clear[1]), values[i], values[i + 1], xtol=xtol)
             except ParameterError:
                 continue  # the attractor at the ends changed under re-computation: nothing bracketed
             found.append((b, g))
     return found
+
+
+class _BranchFollower:
+    """Signed clearance along the non-impacting branch, for bisection.
+
+    An impacting orbit may coexist just below grazing, and a parameter jump excites a
+    transient about as large as the change of the forced response, which can touch the
+    stop and land on it.  So each evaluation ramps the parameter from the last clear
+    value in ``substeps`` steps (transient split between them) and, when the result is
+    clear, becomes the new starting point: the branch is followed up to its graze.
+    """
+
+    def __init__(self, point, value, result, substeps=8):
+        self.point, self.substeps = replace(point, lyapunov=False), substeps
+        self.value, self.start = value, (result["final_state"], result["final_flags"])
+
+    def __call__(self, p):
+        if p == self.value:
+            r = self.point(p, self.start)
+        else:
+            start, short = self.start, replace(self.point, transient=max(1, self.point.transient // self.substeps),
+                                               record=3)
+            for j in range(1, self.substeps):
+                r = short(self.value + (p - self.value) * j / self.substeps, start)
+                if r["status"]:
+                    return math.nan
+                start = (r["final_state"], r["final_flags"])
+            r = self.point(p, start)
+        if r["status"]:
+            return math.nan
+        if r["n_impacts"]:
+            return -r["max_impact_speed"]
+        self.value, self.start = p, (r["final_state"], r["final_flags"])
+        return r["min_gap"]
 
 
 def _error_estimate(results, values, point, branch, sample):

@@ -1,0 +1,147 @@
+"""Stroboscopic maps, sweeps, grazing, continuation, resume and storage against independent truths."""
+import math
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import maps
+from bifurc import storage
+from bifurc.classify import CLASS_LABELS
+from bifurc.sweep import SweepPoint, sweep
+from maps.impacts import impact_table
+
+OSC = dict(w0=1.0, zeta=0.02, F=0.1, Omega=1.0, e=-1.0, r=0.8)
+
+
+@pytest.fixture(scope="module")
+def osc():
+    return maps.forced_oscillator_with_stop()
+
+
+def steady_state(p):
+    """Analytic non-impacting steady state at t = k T: (x, v)."""
+    w0, z, F, W = p["w0"], p["zeta"], p["F"], p["Omega"]
+    X = F / math.hypot(w0**2 - W**2, 2 * z * w0 * W)
+    phi = math.atan2(2 * z * w0 * W, w0**2 - W**2)
+    return X * math.cos(phi), X * W * math.sin(phi), X
+
+
+def test_stroboscopic_map_converges_to_the_analytic_steady_state(osc):
+    p = dict(OSC, Omega=0.7, e=-5.0, zeta=0.1)
+    smap = maps.StroboscopicMap(osc, p, tol=1e-14)
+    assert smap.period == pytest.approx(2 * math.pi / 0.7)
+    o = smap.orbit({"x": 0.0, "v": 0.0}, 5, transient=120)  # transient decays as exp(-zeta w0 t) ~ 1e-24
+    x, v, X = steady_state(p)
+    np.testing.assert_allclose(o.points[:, 0], x, atol=1e-12)
+    np.testing.assert_allclose(o.points[:, 1], v, atol=1e-12)
+    assert o.impacts_per_step.sum() == 0
+    # smallest gap per period: the lowest point of the orbit, -X, measured from the stop e
+    np.testing.assert_allclose(o.min_gap_per_step, -X - p["e"], atol=1e-12)
+    # step() from a recorded point gives the next one
+    np.testing.assert_allclose(smap.step(o.points[0], k=120), o.points[1], atol=1e-13)
+    J = smap.jacobian(o.points[0], k=120)  # linear flow: exp(-zeta w0 T) = |det J|^(1/2)
+    assert abs(np.linalg.det(J)) == pytest.approx(math.exp(-2 * 0.1 * smap.period), rel=1e-6)
+
+
+def test_map_impacts_equal_the_time_history():
+    sc = maps.get_scene("thesis-1dof")
+    p = sc.parameters(preset="matlab-listing", V=90, relay_hz=9)
+    smap = maps.StroboscopicMap(sc, p, tol=1e-12)
+    o = smap.orbit(sc.initial_state(), 18, transient=0)
+    run = maps.run_scene("thesis-1dof", 2.0, preset="matlab-listing", params={"V": 90, "relay_hz": 9})
+    ref = impact_table(run)
+    assert o.impacts_per_step.sum() == ref["t"].size > 0
+    np.testing.assert_allclose(o.impact_t, ref["t"], atol=1e-12)
+    np.testing.assert_allclose(o.impact_velocity, ref["velocity"], atol=1e-9)
+    np.testing.assert_allclose(o.points[-1], run.y, atol=1e-10)
+    assert np.all((o.impact_phase >= 0) & (o.impact_phase < 1))
+    assert smap.forcing_period_steps == 9  # 9 relay periods hold 50 mains cycles
+
+
+def test_grazing_located_where_the_analytic_amplitude_reaches_the_stop(osc):
+    W, e = 0.7, -1.0
+    F_graze = abs(e) * math.hypot(1 - W**2, 2 * 0.02 * W)  # X(F) = |e|
+    xtol = 1e-7
+    ds = sweep(osc, "F", np.linspace(0.9, 1.1, 5) * F_graze, params=dict(OSC, Omega=W, e=e), transient=300,
+               record=30, tol=1e-13, lyapunov=False, error_sample=0, grazing_xtol=xtol, progress=False)
+    assert ds.sizes["grazing"] == 1
+    assert abs(float(ds.grazing_value[0]) - F_graze) <= xtol + 1e-9
+    sub = ds.sel(branch="independent")
+    assert list(sub.class_code.values[:2]) == [CLASS_LABELS.index("periodic-no-impact")] * 2
+    assert list(sub.impacts_per_period.values[-2:]) == [1, 1]
+
+
+def test_continuation_finds_coexisting_attractors(osc):
+    """Impacts harden the oscillator: above w0 an impacting 1:1 orbit coexists with the
+    small non-impacting one; sweeping up follows the first, sweeping down the second."""
+    values = np.linspace(0.9, 1.3, 9)
+    ds = sweep(osc, "Omega", values, mode="continuation", params=OSC, transient=150, record=30, tol=1e-12,
+               lyapunov=False, error_sample=0, grazing=False, progress=False)
+    up, down = ds.sel(branch="up"), ds.sel(branch="down")
+    both = (up.class_code == 0) & (up.impacts_per_period == 1) & (down.class_code == 1)
+    coexist = values[both.values]
+    assert coexist.size >= 3 and coexist.min() > 1.0
+    # the non-impacting one is the analytic linear response
+    for W in coexist:
+        x, v, X = steady_state(dict(OSC, Omega=W))
+        assert X < abs(OSC["e"])
+        assert float(down.x.sel(Omega=W).isel(sample=-1)) == pytest.approx(x, abs=1e-8)
+
+
+def test_interrupted_sweep_resumes_to_the_same_dataset(tmp_path, monkeypatch):
+    args = dict(preset="matlab-listing", params={"V": 90}, transient=20, record=10, lyapunov=False,
+                grazing=False, error_sample=0, progress=False)
+    values = np.linspace(4, 9, 6)
+    path = tmp_path / "d.nc"
+    calls = {"n": 0}
+    original = SweepPoint.__call__
+
+    def flaky(self, value, start=None):
+        if calls["n"] == 4:
+            raise KeyboardInterrupt
+        calls["n"] += 1
+        return original(self, value, start)
+
+    monkeypatch.setattr(SweepPoint, "__call__", flaky)
+    with pytest.raises(KeyboardInterrupt):
+        sweep("thesis-1dof", "relay_hz", values, path=path, **args)
+    assert not path.exists()
+    assert len(list((tmp_path / "d.nc.parts").glob("independent-*.pkl"))) == 4
+    monkeypatch.setattr(SweepPoint, "__call__", original)
+    calls["n"] = 0
+    seen = []
+    monkeypatch.setattr(SweepPoint, "__call__", lambda self, v, s=None: seen.append(v) or original(self, v, s))
+    resumed = sweep("thesis-1dof", "relay_hz", values, path=path, **args)
+    assert seen == list(values[4:])  # only the missing values ran
+    monkeypatch.setattr(SweepPoint, "__call__", original)
+    fresh = sweep("thesis-1dof", "relay_hz", values, **args)
+    for name in ("x", "v", "i", "z", "impact_t", "class_code", "min_gap"):
+        np.testing.assert_allclose(resumed[name].values, fresh[name].values, rtol=0, atol=1e-12, equal_nan=True)
+    assert not (tmp_path / "d.nc.parts").exists()
+    with pytest.raises(maps.ParameterError, match="other arguments"):
+        (tmp_path / "e.nc.parts").mkdir()
+        (tmp_path / "e.nc.parts" / "manifest.json").write_text("{}")
+        sweep("thesis-1dof", "relay_hz", values, path=tmp_path / "e.nc", **args)
+
+
+def test_netcdf_round_trip_is_lossless(tmp_path):
+    ds = sweep("thesis-1dof", "relay_hz", np.array([5.0, 8.0]), preset="matlab-listing", params={"V": 90},
+               transient=10, record=8, error_sample=2, progress=False)
+    storage.save(ds, tmp_path / "s.nc")
+    back = storage.load(tmp_path / "s.nc")
+    xr.testing.assert_identical(back.drop_encoding() if hasattr(back, "drop_encoding") else back, ds)
+    for name, var in ds.variables.items():
+        assert back[name].dtype == var.dtype, name
+        assert "units" in var.attrs, name
+    assert back.class_code.attrs["flag_meanings"].split()[:2] == ["periodic", "periodic_no_impact"]
+    assert "error_map_points_rel" in back.attrs and back.attrs["sweep_seconds"] > 0
+
+
+def test_bad_sweep_input_names_the_parameter():
+    with pytest.raises(maps.ParameterError, match="relay_hz"):
+        sweep("thesis-1dof", "relay_hz", [5.0, 0.0], transient=1, record=3, progress=False)
+    with pytest.raises(maps.ParameterError, match="frequency"):
+        sweep("thesis-1dof", "frequency", [5.0], transient=1, record=3, progress=False)
+    with pytest.raises(maps.ParameterError, match="mode"):
+        sweep("thesis-1dof", "relay_hz", [5.0], mode="sideways", progress=False)
