@@ -141,7 +141,9 @@ class HybridSystem:
         :class:`Symbols` giving ``sym.x``/``sym['x']`` for states, parameters and flags,
         and ``sym.t`` for time.  ``settle(t, y, flags, params) -> flags`` makes the flags
         consistent after any transition (e.g. stick/slip).  ``outputs(sym) -> dict`` names
-        derived expressions (forces) evaluated on demand.  A guard that sets one of
+        derived expressions (forces) evaluated on demand; ``settle`` may also return
+        ``(flags, y)`` to enter a mode with a projected state (e.g. a bar stuck on its
+        stop: x = e, v = 0).  A guard that sets one of
         ``halt_flags`` to a non-zero value ends the run with :class:`Escaped`.
         ``gap(y, params) -> (gap [m], gap rate [m/s])`` gives the signed distance to the
         stop (> 0: clear) for impact logs and clearance; by default the state ``x``
@@ -381,6 +383,7 @@ class HybridRun:
         self._load_pars()
         self.events = []
         self.n_events = self.n_steps = self.n_switches = 0
+        self.mode_steps: dict = {}  # Taylor steps per mode (tuple of flag values, system order)
         self.flag_log = [(t0, dict(self.flags))]
         self._next_switch = {sw.flag: sw.index_at(t0, self.params[sw.frequency]) + 1 for sw in system.switches}
         self._settle(t0)
@@ -397,6 +400,12 @@ class HybridRun:
 
     def __getitem__(self, name):
         return float(self.ta.state[self.system.state_names.index(name)])
+
+    def steps_where(self, **flags) -> int:
+        """Taylor steps taken in modes with these flag values, e.g. ``steps_where(contact=1)``."""
+        names = list(self.flags)
+        return sum(n for key, n in self.mode_steps.items()
+                   if all(key[names.index(k)] == v for k, v in flags.items()))
 
     def set_params(self, **values):
         """Change parameter values in place (no recompilation)."""
@@ -425,6 +434,9 @@ class HybridRun:
     def _settle(self, t):
         if self.system.settle is not None:
             new = self.system.settle(t, np.array(self.ta.state, dtype=float), dict(self.flags), self.params)
+            if isinstance(new, tuple):  # (flags, state): a mode entered with a state projection
+                new, y = new
+                self.ta.state[:] = np.asarray(y, dtype=_np_dtype(self.fp_type))
             if new:
                 self._set_flags(new, t)
 
@@ -456,6 +468,8 @@ class HybridRun:
                 res = ta.propagate_until(_fp(t_stop, self.fp_type), c_output=c_out)
                 outcome, nsteps = res[0], res[3]
                 self.n_steps += nsteps
+                key = tuple(self.flags.values())
+                self.mode_steps[key] = self.mode_steps.get(key, 0) + nsteps
                 if c_out and res[4] is not None:
                     on_segment(res[4], t_start, float(ta.time))
             else:

@@ -70,6 +70,9 @@ class ModelOptions:
     ac_sign: str = "physical"    # "physical" or "listing" (listing C.2 reverses the AC force)
     soil: str = "viscous"        # 2-DOF: "viscous" or "coulomb"
     energy: bool = False         # add quadrature states for the energy audit (1-DOF)
+    stick_speed: float = 1e-4    # [m/s] 1-DOF: a contact onset slower than this while the net
+                                 # non-contact force presses the bar on the stop ends chattering:
+                                 # the bar sticks (x = e, v = 0) until that force pulls it away
 
     def __post_init__(self):
         from .parameters import ParameterError
@@ -170,7 +173,9 @@ def _forces(o: ModelOptions, s):
         f["rddot"] = f["a1"] - f["a2"]
     else:
         weight_offset = s.m * s.g if o.dc else zero  # eq 4.7: F_dc carries +m g (listing C.9)
-        f["a1"] = (f["F_bar"] + weight_offset - s.m * s.g) / s.m
+        f["N_bar"] = f["F_dc"] + f["F_ac"] + weight_offset - s.m * s.g  # net force without the stop
+        hold = (1.0 - s.stuck_bar) if o.stop else 1.0
+        f["a1"] = hold * (f["N_bar"] + f["F_c"]) / s.m
         f["rddot"] = f["a1"]
     return f
 
@@ -178,7 +183,7 @@ def _forces(o: ModelOptions, s):
 def _rhs(o: ModelOptions, s):
     f = _forces(o, s)
     if o.dof == 1:
-        out = [s.v, f["a1"]]
+        out = [(1.0 - s.stuck_bar) * s.v if o.stop else s.v, f["a1"]]
     else:
         out = [s.v1, f["a1"], s.v2, f["a2"]]
     if o.ac:
@@ -207,6 +212,8 @@ def _guards(o: ModelOptions, s):
                Guard("escape_stop", r - s.e + STOP_ESCAPE, -1, then={"escaped": 1})]
         top = (s.d_dc if o.dc else 0.0) + ESCAPE_MARGIN
         gs += [Guard("escape_far", r - top, +1, then={"escaped": 1})]
+        if o.dof == 1:
+            gs += [Guard("unstick", f["N_bar"], +1, when={"stuck_bar": 1}, then={"stuck_bar": 0})]
     else:
         centre = -s.d_ac if o.ac else 0.0
         gs += [Guard("escape_far", (r - centre) ** 2 - (0.2) ** 2, +1, then={"escaped": 1})]
@@ -231,6 +238,8 @@ def _outputs(o: ModelOptions, s):
     out = {k: f[k] for k in ("F_dc", "F_ac", "F_c", "r", "rdot") if k in f}
     if o.dof == 2:
         out["N_rig"] = f["N_rig"]
+    else:
+        out["N_bar"] = f["N_bar"]
     if o.energy:
         E = 0.5 * s.m * s.v**2 + 0.5 * s.contact * s.k * (s.x - s.e) ** 2 if o.stop else 0.5 * s.m * s.v**2
         if o.dc:
@@ -270,6 +279,37 @@ def _gap(o: ModelOptions):
     return lambda y, p: (y[0] - y[2] - p.get("e", 0.0), y[1] - y[3])
 
 
+def _settle_stick(system: HybridSystem, o: ModelOptions):
+    """End chattering: the bar sticks on the stop (x = e, v = 0) while pressed on it, when
+
+    - a contact begins slower than ``stick_speed`` (the Zeno cascade of ever shorter bounces), or
+    - in contact, the remaining oscillation about the static point x_s = e + N/k has a speed
+      amplitude sqrt(v^2 + k/m (x - x_s)^2) below ``stick_speed`` (a bar settled on a
+      Kelvin-Voigt stop; its turning points would otherwise fire for ever at noise level).
+
+    The projection moves the bar by its static penetration |N|/k (micrometres here).
+    """
+
+    def settle(t, y, flags, params):
+        if flags.get("contact") == 1 and flags.get("stuck_bar") == 0:
+            x, v, e = y[0], y[1], params["e"]
+            if abs(v) < o.stick_speed:
+                N = float(system.evaluate(["N_bar"], y, params, flags, t)[0])
+                x_s = e + N / params["k"]
+                amp = abs(v) if abs(x - e) < 1e-12 else math.hypot(v, math.sqrt(params["k"] / params["m"]) * (x - x_s))
+                if N <= 0.0 and amp < o.stick_speed:
+                    y = y.copy()
+                    y[0], y[1] = e, 0.0
+                    return {"contact": 0.0, "stuck_bar": 1.0}, y
+        if flags.get("stuck_bar") == 1:
+            N = float(system.evaluate(["N_bar"], y, params, flags, t)[0])
+            if N > 0.0:
+                return {"stuck_bar": 0.0}
+        return None
+
+    return settle
+
+
 _SYSTEMS: dict = {}
 
 
@@ -281,6 +321,8 @@ def build_system(options: ModelOptions | None = None, **kw) -> HybridSystem:
     flags = {"P": 1.0} if o.ac else {}
     if o.stop:
         flags["contact"] = 0.0
+    if o.stop and o.dof == 1:
+        flags["stuck_bar"] = 0.0
     flags["escaped"] = 0.0
     if o.dof == 2 and o.soil == "coulomb":
         flags.update(stuck=0.0, slip_dir=1.0)
@@ -293,6 +335,8 @@ def build_system(options: ModelOptions | None = None, **kw) -> HybridSystem:
         halt_flags=("escaped",), gap=_gap(o))
     if o.dof == 2 and o.soil == "coulomb":
         system.settle = _settle_coulomb(system)
+    if o.dof == 1 and o.stop:
+        system.settle = _settle_stick(system, o)
     system.options = o
     _SYSTEMS[o.key()] = system
     return system
