@@ -50,6 +50,7 @@ class BareTrajectory:
         self.on_contact = {i for i, g in enumerate(groups) if any(x.name == "contact" for x in g)}
         self.on_release = {i for i, g in enumerate(groups) if any(x.name == "release" for x in g)}
         self.on_escape = {i for i, g in enumerate(groups) if any(x.name.startswith("escape") for x in g)}
+        self.n_groups = len(groups)
         self.i_contact = system._flag_index["contact"]
         self.i_relay = system._flag_index["P"]
         self.y0 = system.state_vector(maps.get_scene(self.task.scene).initial_state(**self.task.x0))
@@ -73,6 +74,8 @@ class BareTrajectory:
                 if outcome == time_limit:
                     break
                 g = -int(outcome) - 1
+                if not 0 <= g < self.n_groups:       # non-finite state or other failure
+                    return float("nan")
                 if g in self.on_contact and ta.pars[self.i_contact] == 0.0:
                     ta.pars[self.i_contact] = 1.0
                 elif g in self.on_release and ta.pars[self.i_contact] == 1.0:

@@ -141,9 +141,11 @@ class BatchStroboscopicTask(StroboscopicTask):
     """:class:`StroboscopicTask` on heyoka's batch integrator: ``batch_size`` values per SIMD pass.
 
     Each lane has its own parameter values, relay switch instants, flags and event handling:
-    one ``propagate_until`` call advances every lane to its own next stop (relay switch or
-    terminal event); a lane that stops early waits for the others.  Supports systems whose
-    guards set flags and have no reset or settle function (the 1-DOF scenes); results equal
+    one ``propagate_until`` call advances every lane until its next relay switch, or until a
+    terminal event in any lane (heyoka stops the whole batch there; the other lanes report
+    ``success`` and carry on at the next call).  The system's ``settle`` runs after every lane
+    transition, as in :class:`~maps.hybrid.HybridRun`.  Supports guards that set flags without
+    a reset map (the 1-DOF scenes); results equal
     the scalar path up to round-off (SIMD math, and by default no stops at observation-only
     guards such as the free-flight minimum), amplified by the dynamics over long horizons.
     """
@@ -182,12 +184,16 @@ class _BatchEngine:
     def __init__(self, system, tol, batch_size, observations=False):
         import heyoka as hy
         from maps.hybrid import EVENT_COOLDOWN
-        if system.settle is not None or any(g.reset is not None or callable(g.then) for g in system.guards):
-            raise ParameterError(f"batch mode supports guards without reset/settle; {system.name!r} has some: "
-                                 "use StroboscopicTask")
+        if any(g.reset is not None or callable(g.then) for g in system.guards):
+            raise ParameterError(f"batch mode supports guards that set flags without a reset map; "
+                                 f"{system.name!r} has others: use StroboscopicTask")
         self.system, self.B, self.hy = system, batch_size, hy
-        # guards that only observe (no new flags, no reset) need no stop unless asked for
-        groups = [grp for grp in system._groups
+        # one event per (surface, direction), dispatched on the lane's flags; guards that only
+        # observe (no new flags, no reset) need no stop unless asked for
+        by_surface: dict = {}
+        for g in system.guards:
+            by_surface.setdefault((str(g.expr), g.direction), []).append(g)
+        groups = [grp for grp in by_surface.values()
                   if observations or any(g.then is not None or g.reset is not None for g in grp)]
         events = [hy.t_event_batch(grp[0].expr, direction=grp[0].heyoka_direction(), cooldown=EVENT_COOLDOWN)
                   for grp in groups]
@@ -201,7 +207,7 @@ class _BatchEngine:
                          [(idx[k], k, float(v)) for k, v in (g.then or {}).items()]) for g in grp]
                        for grp in groups]
         self.halt = {idx[f] for f in system.halt_flags}
-        self.i_contact = idx.get("contact")
+        self.flag_items = [(f, idx[f]) for f in system.flag_names]
 
     def run(self, task, values) -> list:
         hy, ta, system, B = self.hy, self.ta, self.system, self.B
@@ -241,6 +247,22 @@ class _BatchEngine:
         on, off = sw.value_for_index(0), sw.value_for_index(1)
         Wl, windowl, active = W.tolist(), window.tolist(), list(range(B))
         pars = ta.pars
+        settle = system.settle
+        lane_params = [dict(zip(system.param_names, fl[j])) for j in range(B)]
+        flag_items, flag_index, npar = self.flag_items, system._flag_index, self.npar
+
+        def settle_lane(j, t):
+            """The system's settle() after a transition of lane j (as HybridRun._settle)."""
+            fj = fl[j]
+            new = settle(t, ta.state[:, j].copy(), {f: fj[i] for f, i in flag_items}, lane_params[j])
+            if isinstance(new, tuple):
+                new, y = new
+                ta.state[:, j] = y
+            for k, v in (new or {}).items():
+                i = flag_index[k]
+                fj[i] = v
+                if i < npar:
+                    pars[i, j] = v
         while active:
             ta.propagate_until(target)
             res = ta.propagate_res
@@ -254,6 +276,8 @@ class _BatchEngine:
                     fl[j][i_sw] = value
                     if i_sw < self.npar:
                         pars[i_sw, j] = value
+                    if settle is not None:
+                        settle_lane(j, tnow[j])
                     if n % 2 == 0 and n > tr2:
                         points[j, n // 2 - task.transient - 1] = ta.state[:, j]
                     if n >= last:
@@ -285,6 +309,8 @@ class _BatchEngine:
                             fj[k] = v
                             if k < self.npar:
                                 pars[k, j] = v
+                        if settle is not None:
+                            settle_lane(j, tnow[j])
                         if any(fj[k] for k in self.halt):
                             status[j] = 1
                             active.remove(j)
