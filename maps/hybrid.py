@@ -176,6 +176,7 @@ class HybridSystem:
             if sw.flag not in self.flag_defaults or sw.frequency not in self._param_index:
                 raise ValueError(f"switch {sw} names an unknown flag or parameter")
         self._groups = self.event_groups()
+        self._mixed = [len({g.direction for g in grp}) > 1 for grp in self._groups]
         self._cfuncs: dict = {}
 
     # ----- parameters -------------------------------------------------
@@ -226,21 +227,31 @@ class HybridSystem:
         return list(zip(self.sym.state_vars, self.rhs))
 
     def event_groups(self) -> list[list[Guard]]:
-        """Guards grouped by identical (expression, direction): one heyoka event per group.
+        """Guards grouped by identical expression: one heyoka event per surface.
 
-        Guards that share a surface (e.g. the free-flight minimum and the deepest point
-        of a contact are both ``rdot = 0`` upward) must not be two events: a tie between
-        two terminal events at the same instant could lose the active one.
+        Guards that share a surface must not be separate events: a tie between two
+        terminal events at the same instant can lose the active one (the free-flight
+        minimum and the deepest point of a contact are both ``rdot = 0`` upward), and
+        in long double a surface left exactly at 0.0 by one direction's event hides
+        every later crossing of the other direction's event (contact onset after a
+        release: the bar passed through the stop).  A surface whose guards have
+        different directions is one event of direction "any"; the crossing's sign,
+        recorded by a callback, selects the guard.
         """
         groups: dict = {}
         for g in self.guards:
-            groups.setdefault((str(g.expr), g.direction), []).append(g)
+            groups.setdefault(str(g.expr), []).append(g)
         return list(groups.values())
 
     def heyoka_events(self, fp_type=float):
         kw = {} if fp_type is float else {"fp_type": fp_type}
-        return [hy.t_event(grp[0].expr, direction=grp[0].heyoka_direction(),
-                           cooldown=_fp(EVENT_COOLDOWN, fp_type), **kw) for grp in self._groups]
+        events = []
+        for grp in self._groups:
+            extra = dict(direction=hy.event_direction.any, callback=_record_crossing) if len(
+                {g.direction for g in grp}) > 1 else \
+                dict(direction=grp[0].heyoka_direction())
+            events.append(hy.t_event(grp[0].expr, cooldown=_fp(EVENT_COOLDOWN, fp_type), **extra, **kw))
+        return events
 
     def integrator(self, tol: float = 1e-12, fp_type=float, compact_mode: bool = False):
         """A heyoka integrator for this system, compiled once per (structure, tol, fp_type).
@@ -326,6 +337,15 @@ class Symbols:
             return self.__dict__["_map"][name]
         except KeyError:
             raise AttributeError(name) from None
+
+
+_CROSSING = [0]  # sign of the last crossing of a mixed-direction surface (set by its callback)
+
+
+def _record_crossing(ta, d_sgn):
+    """Terminal-event callback: remember the crossing direction, stop the integration."""
+    _CROSSING[0] = int(d_sgn)
+    return False
 
 
 def _default_gap(names):
@@ -464,6 +484,7 @@ class HybridRun:
             t_sw, sw = self.next_switch_time()
             t_stop = min(t_end, t_sw)
             t_start = float(ta.time)
+            y_start = np.array(ta.state, dtype=float)
             if t_stop > t_start:
                 res = ta.propagate_until(_fp(t_stop, self.fp_type), c_output=c_out)
                 outcome, nsteps = res[0], res[3]
@@ -484,15 +505,18 @@ class HybridRun:
                 continue
             code = int(outcome)
             if -len(sys._groups) - 1 < code < 0:
-                for g in sys._groups[-code - 1]:
-                    if all(self.flags.get(k) == v for k, v in g.when.items()):
+                group, mixed = sys._groups[-code - 1], sys._mixed[-code - 1]
+                for g in group:
+                    if (not mixed or g.direction in (0, _CROSSING[0])) and \
+                            all(self.flags.get(k) == v for k, v in g.when.items()):
                         self._on_guard(g)
                         break
                 continue
             state = np.array(ta.state, dtype=float)
             if outcome == hy.taylor_outcome.err_nf_state:
-                raise IntegrationFailure(f"non-finite state at t = {float(ta.time):.9g} s",
-                                         float(ta.time), state)
+                raise IntegrationFailure(f"non-finite state in the step after t = {t_start:.9g} s "
+                                         f"(last finite state {np.array2string(y_start, precision=6)})",
+                                         t_start, y_start)
             raise IntegrationFailure(f"integration stopped with {outcome} at t = {float(ta.time):.9g} s",
                                      float(ta.time), state)
         return self

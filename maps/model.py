@@ -135,10 +135,11 @@ def _forces(o: ModelOptions, s):
     P = s.P if o.ac else None
     if o.dc:
         xa = r - s.d_dc
-        cubic = s.dc_scale * (-s.a3 * xa**3 + s.a2 * xa**2 - s.a1 * xa)
+        xa2 = xa * xa  # products, not xa**3: heyoka's pow recurrence divides by xa (NaN at xa = 0)
+        cubic = s.dc_scale * (-s.a3 * xa2 * xa + s.a2 * xa2 - s.a1 * xa)
         gate = (1.0 - P) if o.relay == "antiphase" else 1.0
         f["F_dc"] = gate * cubic
-        f["U_dc"] = gate * s.dc_scale * (s.a3 * xa**4 / 4 - s.a2 * xa**3 / 3 + s.a1 * xa**2 / 2)
+        f["U_dc"] = gate * s.dc_scale * (s.a3 * xa2 * xa2 / 4 - s.a2 * xa2 * xa / 3 + s.a1 * xa2 / 2)
     else:
         f["F_dc"] = zero
     if o.ac:
