@@ -70,6 +70,10 @@ def to_dataset(results, values, point, scene, table, mode) -> xr.Dataset:
         "units": "relay periods", "long_name": "period of the forcing in relay periods (0: incommensurate)"})
     ds["impacts_per_step"] = (dims + ("step",), _stack(results, branches, "impacts_per_step", -1, np.int32),
                               {"units": "1", "long_name": "contacts in each recorded relay period (-1: not reached)"})
+    ds["min_gap_per_step"] = (dims + ("step",), _stack(results, branches, "min_gap_per_step"), {
+        "units": "m", "long_name": "smallest gap to the stop in each recorded relay period (< 0: penetration)"})
+    ds["min_impact_speed_per_step"] = (dims + ("step",), _stack(results, branches, "min_impact_speed_per_step"), {
+        "units": "m s-1", "long_name": "slowest impact in each recorded relay period (inf: no impact)"})
     ds["min_gap"] = (dims, _stack(results, branches, "min_gap"), {
         "units": "m", "long_name": "smallest gap to the stop over the record (< 0: penetration)"})
     ds["min_impact_speed"] = (dims, _stack(results, branches, "min_impact_speed"), {

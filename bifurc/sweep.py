@@ -109,6 +109,8 @@ class SweepPoint:
         return {
             "value": float(value), "points": points, "n_recorded": n_rec - 1,
             "impacts_per_step": np.pad(o.impacts_per_step, (0, self.record - o.n), constant_values=-1),
+            "min_gap_per_step": np.pad(gaps, (0, self.record - gaps.size), constant_values=np.nan),
+            "min_impact_speed_per_step": np.pad(speeds, (0, self.record - speeds.size), constant_values=np.nan),
             "min_gap": float(np.min(gaps)) if gaps.size else math.nan,
             "min_impact_speed": float(np.min(speeds)) if speeds.size else math.inf,
             "impact_t": pad(o.impact_t), "impact_velocity": pad(o.impact_velocity),
@@ -306,7 +308,8 @@ def _locate_grazing(results, values, point, xtol):
     """
     from .grazing import locate_grazing
     found = []
-    xtol = xtol or (values[-1] - values[0]) / max(1, values.size - 1) * 1e-3 if values.size > 1 else 0
+    if xtol is None and values.size > 1:  # default: a thousandth of the grid spacing
+        xtol = float(np.min(np.abs(np.diff(values)))) * 1e-3
     for b, res in results.items():
         for i in range(values.size - 1):
             ra, rb = res[i], res[i + 1]
