@@ -1,0 +1,64 @@
+"""Independent cross-checks: scipy at tight tolerance, extended precision, the equations themselves."""
+import heyoka as hy
+import numpy as np
+import pytest
+
+import maps
+from bifurc.baselines import rhs_1dof, solve_scipy
+from maps.hybrid import HybridRun
+from maps.impacts import impact_table
+
+PARAMS = {"V": 90.0, "relay_hz": 9.0}
+
+
+def test_contact_times_agree_with_scipy_dop853_at_rtol_1e12():
+    """bifurc.baselines writes the right-hand side again from MODEL.md (no heyoka) and restarts
+    solve_ivp at every contact and relay switch."""
+    scene = maps.get_scene("thesis-1dof")
+    p = scene.parameters(preset="matlab-listing", **PARAMS)
+    y0 = scene.system.state_vector(scene.initial_state())  # 1 mm above the stop, at rest
+    run = maps.run_scene("thesis-1dof", 1.0, preset="matlab-listing", params=PARAMS, tol=1e-15)
+    ref = solve_scipy(p, y0, 1.0, method="DOP853", tol=1e-12)
+    mine = impact_table(run)["t"]
+    assert ref.n_impacts == mine.size >= 1
+    np.testing.assert_allclose(mine, ref.impact_times, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(run.y[:2], ref.y[:2], rtol=0, atol=1e-7)
+
+
+@pytest.mark.parametrize("fp_type, tol, slow", [(np.longdouble, 1e-19, False), (hy.real128, 1e-28, True)])
+def test_double_agrees_with_extended_precision(fp_type, tol, slow, request):
+    """Double at tol 1e-15 over ~1000 steps: global error ~1e3 x eps relative, far below 1e-10."""
+    if slow and not request.config.getoption("--runslow"):
+        pytest.skip("real128 compiles for ~12 s: run with --runslow")
+    scene = maps.get_scene("thesis-1dof")
+    p = scene.parameters(preset="matlab-listing", **PARAMS)
+    y0 = scene.system.state_vector(scene.initial_state(x=0.005, v=-3.0))
+    a = HybridRun(scene.system, p, y0, tol=1e-15)
+    a.advance(0.5)
+    yx = np.array([fp_type(float(v)) for v in y0], dtype=fp_type if fp_type is np.longdouble else hy.real128)
+    b = HybridRun(scene.system, p, yx, tol=tol, fp_type=fp_type)
+    b.advance(0.5)
+    ta, tb = impact_table(a)["t"], impact_table(b)["t"]
+    assert ta.size == tb.size >= 3
+    np.testing.assert_allclose(ta, tb, rtol=0, atol=1e-12)
+    yb = np.array([float(v) for v in b.ta.state])
+    assert np.max(np.abs(a.y - yb) / np.maximum(1, np.abs(yb))) < 1e3 * a.n_steps * np.finfo(float).eps
+
+
+@pytest.mark.parametrize("relay, contact", [(1.0, 0.0), (0.0, 0.0), (1.0, 1.0), (0.0, 1.0)])
+def test_heyoka_rhs_equals_the_independent_numpy_rhs(relay, contact):
+    """The compiled equations are MODEL.md's: forces, inductance derivatives, eq 4.16, contact law."""
+    scene = maps.get_scene("thesis-1dof")
+    system = scene.system
+    p = scene.parameters(preset="matlab-listing", **PARAMS)
+    f_ref = rhs_1dof(p)
+    flags = dict(system.flag_defaults, P=relay, contact=contact)
+    fn = hy.cfunc(system.rhs, vars=system.sym.state_vars)
+    pars = np.asarray(system.par_vector(p, flags), float)[:fn.nparams]
+    rng = np.random.default_rng(7)
+    for _ in range(50):
+        y = np.array([rng.uniform(-2e-3, 0.12), rng.uniform(-3, 3), rng.uniform(-2, 2), rng.uniform(-500, 500)])
+        t = rng.uniform(0, 2)
+        got = fn(y, pars=pars, time=t)
+        want = np.array(f_ref(t, y, relay, contact))
+        np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-12 * np.abs(want).max())
