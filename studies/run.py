@@ -50,8 +50,8 @@ def _sentence(w, c, thesis_n, V, seconds):
     """One sentence on a disagreement with the thesis' period at relay frequency w [Hz]."""
     parts = []
     if c["n_impacts"] == 0 and c["label"] != "periodic":
-        parts.append(f"the bar does not reach the stop in the record (V = {V:g} V: the AC pull cannot "
-                     f"overcome the ~37 N DC force at the stop)")
+        weak = V <= 30 and ": the AC pull (< 0.5 N) cannot overcome the ~37 N DC force at the stop" or ""
+        parts.append(f"the bar does not reach the stop in the recorded periods{weak}")
     if c["label"] == "periodic":
         parts.append(f"the orbit is period-{c['period']}, not period-{thesis_n}")
     elif c["label"] == "chaotic":
