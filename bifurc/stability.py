@@ -239,9 +239,15 @@ def _sentence(r) -> str:
         return f"reported, not a crash: {r['failure'].values}."
     if v == "event-cap":
         return f"runaway stopped by the event cap at t = {float(r['failure_time']):.6g} s."
-    return (f"double and extended precision diverge: state {float(r['state_error']):.2g} > bound "
-            f"{float(r['bound']):.2g} or contacts differ by {int(r['event_count_difference'])}; "
-            "a sensitive orbit: trust classes, not individual points, past this horizon.")
+    why = []
+    if int(r["event_count_difference"]):
+        why.append(f"the extended run has {int(r['event_count_difference']):+d} contacts")
+    if float(r["state_error"]) > float(r["bound"]):
+        why.append(f"final states differ by {float(r['state_error']):.2g} > bound {float(r['bound']):.2g}")
+    if not why:
+        why.append(f"contact times differ by {float(r['event_time_error']):.2g} s")
+    return "double and extended precision disagree: " + "; ".join(why) + \
+        " (final states differ by {:.2g}).".format(float(r["state_error"]))
 
 
 def write_report(ds: xr.Dataset, folder) -> Path:
