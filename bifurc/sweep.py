@@ -96,8 +96,8 @@ class SweepPoint:
                 cls = classify_orbit(o.points, o.impacts_per_step, max_period=self.max_period,
                                      rtol=self.rtol, atol=self.atol, lyapunov=lyap,
                                      lyap_tol=lyapunov_threshold(self.lyapunov_steps))
-        else:
-            cls = classify_orbit(np.zeros((3, 1)), np.zeros(2), status=status)
+        else:  # escaped or failed: the status is the class
+            cls = classify_orbit(o.points, o.impacts_per_step, status=status)
         n_imp = o.impact_t.size
         cap = self.max_impacts
         pad = lambda a: np.concatenate([a[:cap], np.full(max(0, cap - a.size), np.nan)])  # noqa: E731
