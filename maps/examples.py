@@ -18,7 +18,7 @@ import heyoka as hy
 from .hybrid import Guard, HybridSystem, State
 from .parameters import Parameter
 
-__all__ = ["forced_oscillator_with_stop", "OSCILLATOR_PARAMETERS"]
+__all__ = ["forced_oscillator_with_stop", "OSCILLATOR_PARAMETERS", "STICK_SPEED"]
 
 OSCILLATOR_PARAMETERS = [
     Parameter("w0", "rad s-1", "natural angular frequency", 0, math.inf, low_open=True),
@@ -29,17 +29,31 @@ OSCILLATOR_PARAMETERS = [
     Parameter("r", "1", "coefficient of restitution", 0, 1),
 ]
 
+#: [m/s] a rebound slower than this while the forcing presses the mass on the stop ends
+#: the cascade of ever shorter bounces (r < 1 accumulates infinitely many impacts in a
+#: finite time): the mass sticks until the forcing pulls it away.
+STICK_SPEED = 1e-5
 
-def forced_oscillator_with_stop() -> HybridSystem:
+
+def _pull_at_rest(t, p):
+    """Acceleration [m/s^2] of the mass held at rest on the stop (> 0: pulled away)."""
+    return p["F"] * math.cos(p["Omega"] * t) - p["w0"] ** 2 * p["e"]
+
+
+def forced_oscillator_with_stop(stick_speed: float = STICK_SPEED) -> HybridSystem:
     """The forced linear impact oscillator (states x [m], v [m/s]; parameters above).
 
-    Guards: "contact" (x = e moving down; reset v -> -r v) and "lowest" (v = 0
-    upward: a free-flight minimum, recorded for clearance).  Its stroboscopic
-    period is the forcing period 2 pi / Omega.
+    Guards: "contact" (x = e moving down; reset v -> -r v), "lowest" (v = 0
+    upward: a free-flight minimum, recorded for clearance) and "unstick" (the
+    forcing starts pulling a stuck mass away).  The flag "stuck" (mass held at
+    x = e, v = 0) is entered by ``settle`` when the mass is on the stop slower
+    than ``stick_speed`` [m/s] and pressed on it.  Its stroboscopic period is the
+    forcing period 2 pi / Omega.
     """
 
     def rhs(s):
-        return [s.v, s.F * hy.cos(s.Omega * s.t) - 2 * s.zeta * s.w0 * s.v - s.w0**2 * s.x]
+        free = 1 - s.stuck
+        return [free * s.v, free * (s.F * hy.cos(s.Omega * s.t) - 2 * s.zeta * s.w0 * s.v - s.w0**2 * s.x)]
 
     def restitute(y, p):
         y = y.copy()
@@ -47,12 +61,26 @@ def forced_oscillator_with_stop() -> HybridSystem:
         return y
 
     def guards(s):
-        return [Guard("contact", s.x - s.e, -1, reset=restitute),
-                Guard("lowest", s.v, +1)]
+        return [Guard("contact", s.x - s.e, -1, when={"stuck": 0}, reset=restitute),
+                Guard("lowest", s.v, +1, when={"stuck": 0}),
+                Guard("unstick", s.F * hy.cos(s.Omega * s.t) - s.w0**2 * s.e, +1,
+                      when={"stuck": 1}, then={"stuck": 0})]
+
+    def settle(t, y, flags, p):
+        on_stop = abs(y[0] - p["e"]) <= 1e-12 * max(1.0, abs(p["e"]))
+        pressed = _pull_at_rest(t, p) < -1e-12 * (p["F"] + p["w0"] ** 2 * abs(p["e"]))  # not at the unstick instant
+        if flags["stuck"] == 0 and on_stop and abs(y[1]) < stick_speed and pressed:
+            y = y.copy()
+            y[0], y[1] = p["e"], 0.0
+            return {"stuck": 1.0}, y
+        if flags["stuck"] == 1 and _pull_at_rest(t, p) > 0:
+            return {"stuck": 0.0}
+        return None
 
     system = HybridSystem(
         "forced-oscillator-with-stop",
         states=[State("x", "m", "position"), State("v", "m s-1", "velocity")],
-        parameters=OSCILLATOR_PARAMETERS, rhs=rhs, guards=guards)
+        parameters=OSCILLATOR_PARAMETERS, rhs=rhs, flags={"stuck": 0.0}, guards=guards,
+        settle=settle, structure=("stick", stick_speed))
     system.strobe_period = lambda p: 2 * math.pi / p["Omega"]
     return system

@@ -25,18 +25,30 @@ def free_flight(p, t0, x0, v0):
 
 
 def next_impact(p, t0, x0, v0):
-    """First t > t0 with x(t) = e moving down: scan on a fine grid, then brentq."""
+    """First t > t0 with x(t) = e moving down.
+
+    Scan a grid of 1/400 of the shortest period; inside each cell, a sign change of v from
+    - to + is a minimum, located by brentq on v: if it lies below e the cell holds a crossing
+    even when both ends are above e (a shallow dip), so no crossing is skipped.  The crossing
+    itself is then bracketed between the cell start and that minimum and found by brentq.
+    """
     x, v = free_flight(p, t0, x0, v0)
+    e = p["e"]
     h = 2 * math.pi / max(p["w0"], p["Omega"]) / 400
+    root = lambda a, b: brentq(lambda s: x(s) - e, a, b, xtol=1e-15, rtol=4 * np.finfo(float).eps)  # noqa: E731
     t = t0 + 1e-12
-    g_prev = x(t) - p["e"]
-    while True:
+    for _ in range(10**6):
         t_next = t + h
-        g = x(t_next) - p["e"]
-        if g_prev > 0 >= g:
-            ti = brentq(lambda s: x(s) - p["e"], t, t_next, xtol=1e-15, rtol=4 * np.finfo(float).eps)
+        if x(t) - e > 0 >= x(t_next) - e:
+            ti = root(t, t_next)
             return ti, v(ti)
-        t, g_prev = t_next, g
+        if v(t) < 0 < v(t_next):
+            t_min = brentq(v, t, t_next, xtol=1e-15)
+            if x(t_min) < e:
+                ti = root(t, t_min)
+                return ti, v(ti)
+        t = t_next
+    raise AssertionError("no impact within 10^6 grid cells")
 
 
 @pytest.mark.parametrize("zeta", [0.05, 0.0])
@@ -65,3 +77,33 @@ def test_restitution_reset_is_applied_exactly():
     for ev in (ev for ev in run.events if ev.name == "contact"):
         assert ev.y_plus[1] == -p["r"] * ev.y_minus[1]
         assert abs(ev.y_minus[0] - p["e"]) < 1e-14
+
+
+def test_restitution_never_lets_the_mass_below_the_stop():
+    system = maps.forced_oscillator_with_stop()
+    p = dict(w0=1.0, zeta=0.0, F=0.5, Omega=0.8, e=-0.6, r=0.7)
+    run = HybridRun(system, p, {"x": 0.0, "v": 0.0}, tol=1e-15)
+    lowest = []
+    run.advance(60.0, on_segment=lambda c, a, b: lowest.append(c(np.linspace(a, b, 50))[:, 0].min()))
+    assert min(lowest) >= p["e"] - 1e-13
+
+
+@pytest.mark.parametrize("zeta, Omega", [(0.1, 0.7), (0.3, 1.4)])
+def test_stroboscopic_map_without_impacts_converges_to_the_steady_amplitude(zeta, Omega):
+    """Stop far away: the forcing-period map converges to the fixed point of the steady state
+    X cos(Omega t - phi), X = F / sqrt((w0^2 - Omega^2)^2 + (2 zeta w0 Omega)^2); the transient
+    decays as exp(-zeta w0 t), below 1e-13 of X after the transient periods used here."""
+    system = maps.forced_oscillator_with_stop()
+    p = dict(w0=1.0, zeta=zeta, F=0.4, Omega=Omega, e=-50.0, r=0.7)
+    T = 2 * math.pi / Omega
+    transient = math.ceil(32 / (zeta * p["w0"] * T))  # exp(-32) ~ 1e-14
+    smap = maps.StroboscopicMap(system, p, period=T, tol=1e-15)
+    orbit = smap.orbit({"x": 0.3, "v": -0.2}, 4, transient=transient)
+    X = p["F"] / math.hypot(p["w0"] ** 2 - Omega**2, 2 * zeta * p["w0"] * Omega)
+    amplitude = np.hypot(orbit.points[:, 0], orbit.points[:, 1] / Omega)  # harmonic: sqrt(x^2 + (v/W)^2)
+    assert orbit.impacts_per_step.sum() == 0
+    np.testing.assert_allclose(amplitude, X, rtol=1e-10)
+    np.testing.assert_allclose(np.diff(orbit.points, axis=0), 0.0, atol=1e-10 * X)  # a fixed point
+    # and the transient really was there: one period from the start is far from it
+    first = smap.step([0.3, -0.2], k=0)
+    assert abs(math.hypot(first[0], first[1] / Omega) - X) > 1e-3
