@@ -205,6 +205,9 @@ class HybridSystem:
     def state_vector(self, x0: Mapping[str, float] | Sequence[float]) -> np.ndarray:
         """Initial state as an array (double, or the input's own extended dtype)."""
         if isinstance(x0, np.ndarray) and x0.dtype != float and x0.shape == (len(self.states),):
+            for n, v in zip(self.state_names, x0):  # extended precision: checked like doubles
+                if not math.isfinite(float(v)):
+                    raise ParameterError(f"initial state {n!r} must be finite, got {v}")
             return x0.copy()
         if isinstance(x0, Mapping):
             unknown = set(x0) - set(self.state_names)
@@ -356,6 +359,9 @@ def _default_gap(names):
     return lambda y, p: (y[ix] - p.get("e", 0.0), y[iv])
 
 
+_FP_TYPES = (float, np.float64, np.longdouble, np.float32) + ((hy.real128,) if hasattr(hy, "real128") else ())
+
+
 def _fp(value, fp_type):
     """A Python float as a scalar of heyoka's floating-point type."""
     return value if fp_type is float else fp_type(value)
@@ -383,6 +389,9 @@ class HybridRun:
         self.system = system
         self.params = system.validate(params)
         self.tol = validate_tol(tol)
+        if fp_type not in _FP_TYPES:  # else a TypeError from deep inside heyoka
+            raise ParameterError(f"'fp_type' = {fp_type!r} is not supported; allowed: float, "
+                                 f"numpy.longdouble, heyoka.real128 (numpy.float32 also runs)")
         self.fp_type = fp_type
         self.ta, self.compile_seconds = system.integrator(tol, fp_type)
         self.record_events = record_events
@@ -396,6 +405,8 @@ class HybridRun:
         the event log, counters and heyoka's event cooldowns are cleared.
         """
         system = self.system
+        if not math.isfinite(float(t0)):  # a NaN start time would make advance() a silent no-op
+            raise ParameterError(f"'t0' must be a finite time [s], got {t0}")
         self.ta.time = _fp(t0, self.fp_type)
         self.ta.state[:] = np.asarray(system.state_vector(x0), dtype=_np_dtype(self.fp_type))
         self.ta.reset_cooldowns()
@@ -477,6 +488,8 @@ class HybridRun:
         Raises :class:`IntegrationFailure` on a non-finite state or on more than
         ``max_events`` events.
         """
+        if not math.isfinite(float(t_end)):  # NaN: silent no-op; inf: ValueError inside heyoka
+            raise ParameterError(f"'t_end' must be a finite time [s], got {t_end}")
         ta = self.ta
         sys = self.system
         c_out = on_segment is not None

@@ -6,7 +6,7 @@
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field, fields, replace
 
 from .model import ModelOptions, build_system
 from .parameters import ParameterError
@@ -32,6 +32,10 @@ class Scene:
 
     def with_options(self, **kw) -> "Scene":
         """The same scene with other structural options (e.g. circuit='kvl')."""
+        unknown = sorted(set(kw) - {f.name for f in fields(self.options)})
+        if unknown:
+            raise ParameterError(f"unknown option {unknown[0]!r}; options: "
+                                 f"{', '.join(f.name for f in fields(self.options))}")
         return replace(self, options=replace(self.options, **kw))
 
     def parameters(self, preset: str | None = None, **overrides) -> dict:
@@ -61,7 +65,10 @@ class Scene:
             if k not in x0:
                 raise ParameterError(f"unknown state {k!r} for scene {self.name!r}; its states are: "
                                      f"{', '.join(x0)}")
-            x0[k] = float(v)
+            try:
+                x0[k] = float(v)
+            except (TypeError, ValueError):
+                raise ParameterError(f"initial state {k!r} must be a number, got {v!r}") from None
         return x0
 
 

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import time as _time
+from collections.abc import Mapping
 
 import heyoka as hy
 import numpy as np
@@ -36,6 +37,9 @@ def run_scene(scene, t_end, params=None, preset=None, x0=None, tol=1e-12, circui
     sc, table = resolve(scene, params, preset, circuit, ac_sign, energy)
     values = {k: v for k, (v, _) in table.items()}
     t_end = validate_value("t_end", t_end, 0.0, 1e7, low_open=True, unit="s")
+    if x0 is not None and not isinstance(x0, Mapping):
+        raise ParameterError(f"x0 must map state names to values, e.g. {{'x': 0.001}}; "
+                             f"{sc.name!r} has the states {', '.join(sc.system.state_names)}")
     y0 = sc.initial_state(**(x0 or {}))
     run = HybridRun(sc.system, values, y0, tol=tol, fp_type=fp_type, max_events=max_events)
     run.scene, run.provenance = sc, {k: src for k, (_, src) in table.items()}

@@ -1,6 +1,7 @@
 """Bad input is refused with a message naming the parameter and its allowed range."""
 import math
 
+import numpy as np
 import pytest
 
 import maps
@@ -53,3 +54,57 @@ def test_scene_parameters_validate_like_simulate():
 def test_a_nonphysical_option_combination_is_refused():
     with pytest.raises(ParameterError, match="'energy'"):
         maps.ModelOptions(dof=2, energy=True)
+
+
+@pytest.mark.parametrize("overrides, named", [
+    (dict(m=-1.0), r"'m'.*-1 kg.*\(0, inf\) kg"),
+    (dict(V=math.nan), r"'V'.*finite.*nan"),
+    (dict(relay_hz=0.0), r"'relay_hz'.*\(0, 1000\]"),
+    (dict(V="ninety"), r"'V'.*must be a number"),
+    (dict(mass=1.0), r"'mass'.*parameters are: m, g"),
+])
+def test_scene_parameters_refuse_what_simulate_refuses(overrides, named):
+    with pytest.raises(ParameterError, match=named):
+        maps.get_scene("thesis-1dof").parameters(**overrides)
+    with pytest.raises(ParameterError, match=named):
+        maps.simulate("thesis-1dof", periods=1, params=overrides)
+
+
+def test_scene_parameters_refuse_an_unknown_preset():
+    with pytest.raises(ParameterError, match=r"'best-guess'.*matlab-listing"):
+        maps.get_scene("thesis-1dof").parameters(preset="best-guess")
+
+
+def test_options_are_named_with_their_allowed_values():
+    with pytest.raises(ParameterError, match=r"'circuit' = 'foo'; allowed: thesis, kvl"):
+        maps.ModelOptions(circuit="foo")
+    with pytest.raises(ParameterError, match=r"'colour'.*options: dof"):
+        maps.get_scene("thesis-1dof").with_options(colour="red")
+
+
+def test_initial_states_are_checked_before_integration():
+    with pytest.raises(ParameterError, match=r"x0 must map state names.*x, v, i, z"):
+        maps.simulate("thesis-1dof", periods=1, x0=[0.001, 0.0])
+    with pytest.raises(ParameterError, match=r"initial state 'x' must be a number"):
+        maps.simulate("thesis-1dof", periods=1, x0={"x": "high"})
+    scene = maps.get_scene("dc-only")
+    with pytest.raises(ParameterError, match=r"initial state 'x' must be finite"):
+        maps.HybridRun(scene.system, scene.parameters(), np.array([np.nan, 0.0], dtype=np.longdouble),
+                       fp_type=np.longdouble)
+
+
+def test_engine_refuses_what_heyoka_would_fail_on_deep_inside():
+    """Found by this test: fp_type=int and advance(inf) raised heyoka's TypeError/ValueError,
+    a NaN start or end time made advance() a silent no-op."""
+    scene = maps.get_scene("dc-only")
+    p = scene.parameters()
+    with pytest.raises(ParameterError, match=r"'fp_type'.*longdouble"):
+        maps.HybridRun(scene.system, p, {"x": 0.01}, fp_type=int)
+    with pytest.raises(ParameterError, match=r"'t0'.*finite"):
+        maps.HybridRun(scene.system, p, {"x": 0.01}, t0=math.nan)
+    run = maps.HybridRun(scene.system, p, {"x": 0.01})
+    for t_end in (math.nan, math.inf):
+        with pytest.raises(ParameterError, match=r"'t_end'.*finite"):
+            run.advance(t_end)
+    with pytest.raises(ParameterError, match=r"'fp_type'"):
+        maps.run_scene("dc-only", 0.1, fp_type=int)
