@@ -62,3 +62,47 @@ def test_heyoka_rhs_equals_the_independent_numpy_rhs(relay, contact):
         got = fn(y, pars=pars, time=t)
         want = np.array(f_ref(t, y, relay, contact))
         np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-12 * np.abs(want).max())
+
+
+def _compiled_rhs(system, p, flags):
+    fn = hy.cfunc(system.rhs, vars=system.sym.state_vars)
+    pars = np.asarray(system.par_vector(p, dict(system.flag_defaults, **flags)), float)[:fn.nparams]
+    return lambda y, t: fn(np.asarray(y, float), pars=pars, time=t)
+
+
+@pytest.mark.parametrize("ac_sign", ["physical", "listing"])
+@pytest.mark.parametrize("relay, contact", [(1.0, 0.0), (0.0, 0.0), (1.0, 1.0), (0.0, 1.0)])
+def test_kvl_form_and_energy_equal_the_independent_numpy_model(relay, contact, ac_sign):
+    """Charge form, its energy quadratures and the stored energy E_mech_el, against tests/reference_model."""
+    from reference_model import energy_1dof_kvl, rhs_1dof_kvl
+    scene = maps.get_scene("thesis-1dof").with_options(circuit="kvl", energy=True, ac_sign=ac_sign)
+    system = scene.system
+    p = scene.parameters(preset="matlab-listing", **PARAMS)
+    f = _compiled_rhs(system, p, dict(P=relay, contact=contact))
+    f_ref = rhs_1dof_kvl(p, ac_sign)
+    rng = np.random.default_rng(11)
+    for _ in range(50):
+        y = np.r_[rng.uniform(-2e-3, 0.12), rng.uniform(-3, 3), rng.uniform(-0.05, 0.05), rng.uniform(-2, 2),
+                  rng.uniform(-5, 5, 3)]
+        t = rng.uniform(0, 2)
+        want = np.array(f_ref(t, y, relay, contact))
+        np.testing.assert_allclose(f(y, t), want, rtol=1e-12, atol=1e-12 * np.abs(want).max())
+        E = system.evaluate(["E_mech_el"], y, p, dict(system.flag_defaults, P=relay, contact=contact), t)[0]
+        assert abs(E - energy_1dof_kvl(p, y, contact)) <= 1e-12 * abs(E)
+
+
+@pytest.mark.parametrize("relay, contact", [(1.0, 0.0), (0.0, 1.0)])
+def test_two_dof_rhs_equals_the_independent_numpy_model(relay, contact):
+    from reference_model import rhs_2dof_viscous
+    scene = maps.get_scene("thesis-2dof")
+    p = scene.parameters(preset="matlab-listing", **PARAMS)
+    f = _compiled_rhs(scene.system, p, dict(P=relay, contact=contact))
+    f_ref = rhs_2dof_viscous(p)
+    rng = np.random.default_rng(5)
+    for _ in range(50):
+        x2 = rng.uniform(-0.5, 0.0)
+        y = np.array([x2 + rng.uniform(-2e-3, 0.12), rng.uniform(-3, 3), x2, rng.uniform(-0.5, 0.5),
+                      rng.uniform(-2, 2), rng.uniform(-500, 500)])
+        t = rng.uniform(0, 2)
+        want = np.array(f_ref(t, y, relay, contact))
+        np.testing.assert_allclose(f(y, t), want, rtol=1e-12, atol=1e-12 * np.abs(want).max())

@@ -75,4 +75,4 @@ def test_circuit_forms_differ_when_the_relay_cuts_the_source_mid_cycle():
     """At 6 Hz the switch at t = 1/12 s cuts sin(2 pi 50 t) at 0.5: the thesis form drops that jump."""
     a, b = _pair(6.0)
     ia, ib = a.system.state_names.index("i"), b.system.state_names.index("i")
-    assert abs(a.y[0] - b.y[0]) > 1e-6 and abs(a.y[ia] - b.y[ib]) > 1e-6
+    assert abs(a.y[0] - b.y[0]) > 1e-6 and abs(a.y[1] - b.y[1]) > 1e-6 and abs(a.y[ia] - b.y[ib]) > 1e-6
