@@ -28,7 +28,7 @@ from typing import Callable, Mapping, Sequence
 import heyoka as hy
 import numpy as np
 
-from .parameters import Parameter, ParameterError
+from .parameters import Parameter, ParameterError, validate_value
 
 __all__ = ["State", "Guard", "PeriodicSwitch", "HybridSystem", "HybridRun", "EventRecord",
            "IntegrationFailure", "Escaped"]
@@ -395,6 +395,8 @@ class HybridRun:
         self.fp_type = fp_type
         self.ta, self.compile_seconds = system.integrator(tol, fp_type)
         self.record_events = record_events
+        if max_events is not None:
+            max_events = int(validate_value("max_events", max_events, 1, math.inf))
         self.max_events = max_events
         self.reset(t0, x0, flags)
 

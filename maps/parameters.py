@@ -46,6 +46,8 @@ def validate_value(name, value, low=-math.inf, high=math.inf, low_open=False,
                    high_open=False, unit="", long_name="") -> float:
     """Check one scalar against a range; the error names the parameter and the range."""
     what = f"parameter {name!r}" + (f" ({long_name})" if long_name else "")
+    if isinstance(value, (str, bytes, bool)):
+        raise ParameterError(f"{what} must be a number, got {value!r}")
     try:
         x = float(value)
     except (TypeError, ValueError):

@@ -93,6 +93,8 @@ def simulate(scene, *, periods=None, t_end=None, params=None, preset=None, x0=No
     t_eval = np.asarray(t_eval, dtype=float)
     if t_eval.ndim != 1 or not np.all(np.isfinite(t_eval)) or np.any(np.diff(t_eval) < 0):
         raise ParameterError("t_eval must be a finite, non-decreasing 1-D array of times [s]")
+    if t_eval.size and (t_eval[0] < 0 or t_eval[-1] > t_end):
+        raise ParameterError(f"t_eval must lie in [0, t_end = {t_end:g}] s, got [{t_eval[0]:g}, {t_eval[-1]:g}]")
     n_states = len(sc.system.states)
     samples = np.full((t_eval.size, n_states), np.nan)
 

@@ -108,3 +108,14 @@ def test_engine_refuses_what_heyoka_would_fail_on_deep_inside():
             run.advance(t_end)
     with pytest.raises(ParameterError, match=r"'fp_type'"):
         maps.run_scene("dc-only", 0.1, fp_type=int)
+
+
+def test_strings_booleans_event_caps_and_sample_times_are_checked():
+    with pytest.raises(ParameterError, match=r"'V'.*must be a number, got '90'"):
+        maps.simulate("thesis-1dof", periods=1, params={"V": "90"})
+    with pytest.raises(ParameterError, match=r"'V'.*must be a number, got True"):
+        maps.simulate("thesis-1dof", periods=1, params={"V": True})
+    with pytest.raises(ParameterError, match=r"'max_events'"):
+        maps.run_scene("thesis-1dof", 0.1, max_events=0)
+    with pytest.raises(ParameterError, match=r"t_eval must lie in \[0, t_end"):
+        maps.simulate("thesis-1dof", t_end=0.1, t_eval=np.array([0.0, 0.2]))
