@@ -21,11 +21,19 @@ from .parameters import ParameterError, validate_value
 __all__ = ["StroboscopicMap", "MapOrbit", "ImpactMap", "forcing_period_steps"]
 
 
-def forcing_period_steps(f_mains: float, relay_hz: float, max_steps: int = 1000) -> int:
-    """Smallest q <= max_steps with q * f_mains / relay_hz an integer (1e-9), else 0."""
-    ratio = f_mains / relay_hz
+def forcing_period_steps(f_mains: float, relay_hz: float, max_steps: int = 1000,
+                         period: float | None = None) -> int:
+    """Smallest q <= max_steps after which the relay-switched mains forcing repeats, else 0.
+
+    The forcing P(t) V sin(2 pi f_mains t) has period 1/relay_hz in P and 1/f_mains in
+    the sine; sampled every ``period`` [s] (default 1/relay_hz) it repeats after q
+    samples when q*period*f_mains and q*period*relay_hz are both integers (to 1e-9).
+    0 means incommensurate within ``max_steps``: the map is not autonomous at all.
+    """
+    T = 1.0 / relay_hz if period is None else float(period)
+    ratios = (T * f_mains, T * relay_hz)
     for q in range(1, max_steps + 1):
-        if abs(q * ratio - round(q * ratio)) <= 1e-9 * max(1.0, q * ratio):
+        if all(abs(q * r - round(q * r)) <= 1e-9 * max(1.0, q * r) for r in ratios):
             return q
     return 0
 
@@ -36,6 +44,12 @@ class MapOrbit:
 
     ``points[k]`` is the state at ``times[k]``; step k runs from ``times[k]`` to
     ``times[k+1]``.  Gaps are distances to the stop [m] (negative: penetration).
+    ``min_gap_per_step`` is the smallest of the gaps at the step's ends, at its
+    free-flight minima (guard "lowest") and, in contact, minus the deepest
+    penetration: never NaN.  ``min_flight_gap_per_step`` keeps only the free-flight
+    minima (inf where the step has none): it reaches 0 where a new impact is born
+    (a grazing bifurcation), which the total ``min_gap`` does not show on an
+    impacting orbit.
     """
 
     times: np.ndarray                 # (n+1,) [s]
@@ -46,7 +60,9 @@ class MapOrbit:
     impact_t: np.ndarray              # [s] contact onsets in the recorded window
     impact_velocity: np.ndarray       # [m/s] gap rate at onset (< 0)
     impact_phase: np.ndarray          # relay phase of each onset, in [0, 1)
-    impact_penetration: np.ndarray    # [m] maximum penetration of each contact
+    impact_penetration: np.ndarray    # [m] maximum penetration of each contact (>= 0)
+    impact_duration: np.ndarray       # [s] contact duration (NaN: still in contact at the end)
+    min_flight_gap_per_step: np.ndarray  # (n,) [m] lowest free-flight minimum per step, inf if none
     status: str = "ok"                # ok, escaped, failed
     failure: str = ""
     failure_time: float = math.nan
@@ -108,33 +124,40 @@ class StroboscopicMap:
         else:
             raise ParameterError("this system has no 'relay_hz' nor a strobe_period(params): "
                                  "give the stroboscopic 'period' [s]")
-        self.forcing_period_steps = (forcing_period_steps(p["f_mains"], p["relay_hz"])
-                                     if "f_mains" in p and "relay_hz" in p and self._period_given is None else 1)
+        # q: the forcing repeats every q samples (0: never).  A system without mains and
+        # relay parameters is taken to be forced with the sampling period (q = 1).
+        self.forcing_period_steps = (forcing_period_steps(p["f_mains"], p["relay_hz"], period=self.period)
+                                     if "f_mains" in p and "relay_hz" in p else 1)
         return self
 
     def sample_time(self, k: int, t0: float = 0.0) -> float:
         return t0 + (k + self.phase) * self.period
 
-    def _flags_for(self, y, t):
+    def _flags_for(self, y, t) -> dict | None:
+        """Flags consistent with a state given at time t: in contact if it starts inside the stop."""
         if "contact" in self.system.flag_names:
             return {"contact": 1.0 if self.system.gap(np.asarray(y, float), self.params)[0] < 0 else 0.0}
         return None
 
     # ----- iteration -------------------------------------------------------------
     def step(self, y, k: int = 0, t0: float = 0.0) -> np.ndarray:
-        """The state one period after ``y`` given at the k-th sample time."""
+        """The state one period after ``y`` given at the k-th sample time t0 + (k + phase) T.
+
+        The relay flag follows that time; the contact flag is inferred from the gap.
+        """
         run = self._run
         ta = self.sample_time(k, t0)
         run.record_events = False
+        run.max_events = self.max_events_per_period
         run.reset(ta, y, self._flags_for(y, ta))
         run.advance(self.sample_time(k + 1, t0))
         return run.y
 
     def jacobian(self, y, k: int = 0, *, eps: float | None = None, t0: float = 0.0) -> np.ndarray:
-        """d(step)/dy by central differences (d x d).
+        """d(step)/dy by central differences (d x d), steps ``eps`` (default 1e-6 |y_j|, >= 1e-9).
 
         A placeholder for the variational Jacobian with saltation matrices at every
-        contact and relay event; valid where no event is grazed within +-eps.
+        contact and relay event; valid only where no event is grazed within +-eps.
         """
         y = np.asarray(y, dtype=float)
         d = y.size
@@ -147,71 +170,85 @@ class StroboscopicMap:
         return J
 
     def orbit(self, x0, n: int, *, transient: int = 0, t0: float = 0.0, flags: dict | None = None) -> MapOrbit:
-        """Discard ``transient`` periods from ``x0`` at ``t0``, then record ``n`` periods.
+        """Start from ``x0`` at ``t0`` [s], discard the samples before k = ``transient``, record ``n`` steps.
 
-        Failures (escape, non-finite state, event cap) end the orbit early with
-        ``status`` set; arrays then hold only the completed steps.
+        ``points[0]`` is the state at t0 + (transient + phase) T.  ``flags`` (e.g. the
+        ``final_flags`` of a previous orbit) default to those consistent with ``x0``.
+        Failures (escape, non-finite state, more than ``max_events_per_period`` events
+        in a period) end the orbit early with ``status`` set and never raise; arrays
+        then hold only the completed steps.
         """
         n = int(validate_value("n", n, 1, 1e8))
         transient = int(validate_value("transient", transient, 0, 1e8))
         run = self._run
-        system = self.system
+        params = self.params
+        gap = self.system.gap
         clock = _time.perf_counter()
         run.record_events = False
-        run.max_events = None
-        run.reset(t0, x0, flags if flags is not None else None)
-        W = self.params.get("relay_hz", 1.0 / self.period)
-        gap = system.gap
+        run.max_events = self.max_events_per_period * max(1, transient)
+        run.reset(t0, x0, flags if flags is not None else self._flags_for(self.system.state_vector(x0), t0))
+        W = params.get("relay_hz", 1.0 / self.period)
         times, points = [], []
-        imp_n, min_gap, min_speed = [], [], []
-        it, iv, iph, ipen = [], [], [], []
+        imp_n, min_gap, min_flight, min_speed = [], [], [], []
+        it, iv, iph, ipen, idur = [], [], [], [], []
         status, failure, t_fail = "ok", "", math.nan
         try:
             run.advance(self.sample_time(transient, t0))
             times.append(run.t)
             points.append(run.y)
             run.record_events = True
+            g_prev = gap(points[-1], params)[0]
             for k in range(transient, transient + n):
                 run.events = []
                 run.max_events = run.n_events + self.max_events_per_period
-                g_start = gap(points[-1], self.params)[0]
                 run.advance(self.sample_time(k + 1, t0))
                 y_end = run.y
-                g_lo = min(g_start, gap(y_end, self.params)[0])
+                g_end = gap(y_end, params)[0]
+                g_lo, g_flight = min(g_prev, g_end), math.inf
                 count, speed = 0, math.inf
                 for ev in run.events:
-                    if ev.name == "contact":
-                        rate = gap(ev.y_minus, self.params)[1]
+                    name = ev.name
+                    if name == "contact":
+                        g, rate = gap(ev.y_minus, params)
                         count += 1
                         speed = min(speed, abs(rate))
                         it.append(ev.t)
                         iv.append(rate)
                         iph.append((ev.t * W) % 1.0)
-                        ipen.append(0.0)
-                    elif ev.name in ("lowest", "deepest"):
-                        g = gap(ev.y_minus, self.params)[0]
+                        ipen.append(max(0.0, -g))
+                        idur.append(math.nan)
+                    elif name == "lowest":
+                        g = gap(ev.y_minus, params)[0]
+                        g_lo, g_flight = min(g_lo, g), min(g_flight, g)
+                    elif name == "deepest":
+                        g = gap(ev.y_minus, params)[0]
                         g_lo = min(g_lo, g)
-                        if ev.name == "deepest" and ipen:
+                        if ipen:
                             ipen[-1] = max(ipen[-1], -g)
+                    elif name == "release" and idur and math.isnan(idur[-1]):
+                        idur[-1] = ev.t - it[-1]
                 times.append(run.t)
                 points.append(y_end)
                 imp_n.append(count)
                 min_gap.append(g_lo)
+                min_flight.append(g_flight)
                 min_speed.append(speed)
+                g_prev = g_end
         except Escaped as exc:
             status, failure, t_fail = "escaped", str(exc), exc.t
         except IntegrationFailure as exc:
             status, failure, t_fail = "failed", str(exc), exc.t
         run.events = []
         if not points:
-            points, times = [np.asarray(run.system.state_vector(x0), float)], [t0]
+            points, times = [np.asarray(self.system.state_vector(x0), float)], [t0]
         return MapOrbit(
             times=np.array(times), points=np.array(points), impacts_per_step=np.array(imp_n, dtype=np.int64),
             min_gap_per_step=np.array(min_gap), min_impact_speed_per_step=np.array(min_speed),
             impact_t=np.array(it), impact_velocity=np.array(iv), impact_phase=np.array(iph),
-            impact_penetration=np.array(ipen), status=status, failure=failure, failure_time=t_fail,
-            n_steps=run.n_steps, run_seconds=_time.perf_counter() - clock, final_state=run.y,
-            final_flags=dict(run.flags))
+            impact_penetration=np.array(ipen), impact_duration=np.array(idur),
+            min_flight_gap_per_step=np.array(min_flight), status=status, failure=failure,
+            failure_time=t_fail, n_steps=run.n_steps, run_seconds=_time.perf_counter() - clock,
+            final_state=run.y, final_flags=dict(run.flags))
 
 
 class ImpactMap:
@@ -219,24 +256,33 @@ class ImpactMap:
 
     >>> imap = ImpactMap("thesis-1dof", params)
     >>> phase, velocity, t = imap.iterate(x0, n_impacts=50, transient_periods=300)
+
+    The phase is t * relay_hz mod 1 (for a system without a relay: t / period mod 1).
     """
 
-    def __init__(self, system_or_scene, params: dict, *, tol: float = 1e-12, period: float | None = None):
-        self._smap = StroboscopicMap(system_or_scene, params, tol=tol, period=period)
+    def __init__(self, system_or_scene, params: dict, *, tol: float = 1e-12, period: float | None = None,
+                 fp_type=float):
+        self.stroboscopic = StroboscopicMap(system_or_scene, params, tol=tol, period=period, fp_type=fp_type)
 
-    def iterate(self, x0, n_impacts: int, *, transient_periods: int = 0, max_periods: int = 100_000):
-        """Arrays (phase in [0, 1), velocity [m/s], time [s]) of the next ``n_impacts`` onsets."""
-        s = self._smap
-        orbit = s.orbit(x0, 1, transient=transient_periods)
+    def iterate(self, x0, n_impacts: int, transient_periods: int = 0, *, max_periods: int = 100_000,
+                chunk: int = 20):
+        """Arrays (phase in [0, 1), velocity [m/s], time [s]) of the next ``n_impacts`` onsets
+        after ``transient_periods`` periods; fewer if ``max_periods`` pass without them or the
+        run fails (then ``self.status`` says why)."""
+        n_impacts = int(validate_value("n_impacts", n_impacts, 1, 1e8))
+        s = self.stroboscopic  # phase 0: samples at t = k T
         phases, vels, times = [], [], []
-        y, k = orbit.final_state, transient_periods + 1
-        flags = orbit.final_flags
-        while len(times) < n_impacts and k < transient_periods + max_periods:
-            o = s.orbit(y, 1, transient=0, t0=s.sample_time(k) - s.sample_time(0), flags=flags)
-            phases += list(o.impact_phase)
-            vels += list(o.impact_velocity)
-            times += list(o.impact_t)
-            if o.status != "ok":
+        o = s.orbit(x0, chunk, transient=transient_periods)
+        k = transient_periods
+        while True:
+            phases.extend(o.impact_phase)
+            vels.extend(o.impact_velocity)
+            times.extend(o.impact_t)
+            self.status = o.status
+            k += o.n
+            if o.status != "ok" or len(times) >= n_impacts or k >= transient_periods + max_periods:
                 break
-            y, flags, k = o.final_state, o.final_flags, k + 1
-        return np.array(phases[:n_impacts]), np.array(vels[:n_impacts]), np.array(times[:n_impacts])
+            # continue from the end of this chunk, the state at t = k T
+            o = s.orbit(o.final_state, chunk, t0=k * s.period, flags=o.final_flags)
+        m = min(n_impacts, len(times))
+        return np.array(phases[:m]), np.array(vels[:m]), np.array(times[:m])
