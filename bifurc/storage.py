@@ -46,7 +46,7 @@ def to_dataset(results, values, point, scene, table, mode) -> xr.Dataset:
         "branch": ("branch", np.array(branches, dtype=str), {"long_name": "sweep branch", "units": "1"}),
         par: (par, np.asarray(values, float), {"units": p.unit, "long_name": p.long_name}),
         "sample": ("sample", np.arange(point.record + 1), {"units": "1", "long_name":
-                   f"stroboscopic sample k: t = (transient + k) / relay_hz, transient = {point.transient}"}),
+                   "stroboscopic sample k: t = (transient_used + k) / relay_hz"}),
         "step": ("step", np.arange(point.record), {"units": "1", "long_name": "recorded relay period"}),
         "impact": ("impact", np.arange(point.max_impacts), {"units": "1", "long_name": "contact in the record"}),
     })
@@ -76,6 +76,8 @@ def to_dataset(results, values, point, scene, table, mode) -> xr.Dataset:
         "units": "m s-1", "long_name": "slowest impact in each recorded relay period (inf: no impact)"})
     ds["min_gap"] = (dims, _stack(results, branches, "min_gap"), {
         "units": "m", "long_name": "smallest gap to the stop over the record (< 0: penetration)"})
+    ds["min_flight_gap"] = (dims, _stack(results, branches, "min_flight_gap"), {
+        "units": "m", "long_name": "lowest free-flight minimum of the gap over the record (inf: none)"})
     ds["min_impact_speed"] = (dims, _stack(results, branches, "min_impact_speed"), {
         "units": "m s-1", "long_name": "slowest impact over the record (inf: no impact)"})
     from .sweep import GRAZING_GAP, GRAZING_SPEED
@@ -87,7 +89,8 @@ def to_dataset(results, values, point, scene, table, mode) -> xr.Dataset:
             ("impact_t", "s", "contact onset time"),
             ("impact_velocity", "m s-1", "gap rate at contact onset (< 0: toward the stop)"),
             ("impact_phase", "1", "relay phase of the contact onset, in [0, 1)"),
-            ("impact_penetration", "m", "maximum penetration of the contact")):
+            ("impact_penetration", "m", "maximum penetration of the contact"),
+            ("impact_duration", "s", "contact duration (NaN: padding, or still in contact at the record's end)")):
         ds[key] = (dims + ("impact",), _stack(results, branches, key), {"units": units, "long_name": long_name})
     ds["n_impacts"] = (dims, _stack(results, branches, "n_impacts", -1, np.int32), {
         "units": "1", "long_name": "contacts in the recorded window (may exceed the impact dimension)"})
@@ -97,6 +100,8 @@ def to_dataset(results, values, point, scene, table, mode) -> xr.Dataset:
     ds["failure_time"] = (dims, _stack(results, branches, "failure_time"),
                           {"units": "s", "long_name": "time of escape or failure (NaN: none)"})
     ds["n_steps"] = (dims, _stack(results, branches, "n_steps", 0, np.int64), {"units": "1", "long_name": "Taylor steps"})
+    ds["transient_used"] = (dims, _stack(results, branches, "transient_used", -1, np.int64), {
+        "units": "relay periods", "long_name": "transient discarded before the record (extended where still converging)"})
     ds["run_seconds"] = (dims, _stack(results, branches, "seconds"), {"units": "s", "long_name": "wall time of the value"})
     o = scene.options
     circuit = (o.circuit if o.ac else "none") if o is not None else "none"
@@ -105,6 +110,7 @@ def to_dataset(results, values, point, scene, table, mode) -> xr.Dataset:
         "title": f"{scene.name}: {par} sweep ({mode})", "scene": scene.name, "swept_parameter": par,
         "swept_parameter_units": p.unit, "mode": mode, "transient_periods": point.transient,
         "recorded_periods": point.record, "tol": point.tol, "max_period": point.max_period,
+        "max_transient_periods": point.max_transient if point.max_transient is not None else point.transient,
         "classification_rtol": point.rtol, "classification_atol": point.atol,
         "lyapunov_steps": point.lyapunov_steps, "lyapunov_threshold": _lyap_thr(point.lyapunov_steps),
         "circuit": circuit, "ac_sign": ac_sign,
@@ -147,6 +153,10 @@ def add_grazing(ds: xr.Dataset, found) -> xr.Dataset:
                            {"units": units, "long_name": f"{par} at which the orbit grazes the stop (bisection)"})
     ds["grazing_xtol"] = ("grazing", np.array([g["xtol"] for _, g in found], float),
                           {"units": units, "long_name": "width of the final bisection bracket"})
+    for key, long_name in (("impacts_below", "contacts in the record at the lower neighbour"),
+                           ("impacts_above", "contacts in the record at the upper neighbour")):
+        ds[f"grazing_{key}"] = ("grazing", np.array([g.get(key, -1) for _, g in found], np.int32),
+                                {"units": "1", "long_name": long_name})
     ds["grazing_branch"] = ("grazing", np.array([b for b, _ in found], dtype=str),
                             {"units": "1", "long_name": "sweep branch"})
     return ds

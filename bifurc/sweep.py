@@ -29,7 +29,7 @@ from maps.parameters import ParameterError, validate_value
 from maps.poincare import StroboscopicMap
 from maps.simulate import resolve
 
-from .classify import classify_orbit, lyapunov_threshold
+from .classify import DECAY_RATE, classify_orbit, lyapunov_threshold
 from .lyapunov import largest_lyapunov
 
 __all__ = ["SweepPoint", "sweep", "GRAZING_GAP", "GRAZING_SPEED"]
@@ -39,6 +39,8 @@ __all__ = ["SweepPoint", "sweep", "GRAZING_GAP", "GRAZING_SPEED"]
 GRAZING_GAP = 1e-6
 GRAZING_SPEED = 1e-3
 STATUS = ("ok", "escaped", "failed")
+#: layout of the per-value results saved under <path>.parts/ (a resume refuses another layout)
+PARTS_FORMAT = 2
 _MAPS: dict = {}
 
 
@@ -64,6 +66,7 @@ class SweepPoint:
     lyapunov: bool = True
     lyapunov_steps: int = 100
     max_impacts: int = 400
+    max_transient: int | None = None  # extend a still-converging transient up to this [relay periods]
 
     def warm(self) -> StroboscopicMap:
         """The process-wide map for this scene structure and tolerance (compiled once)."""
@@ -84,19 +87,30 @@ class SweepPoint:
         y0, flags = (self.x0_state(), None) if start is None else start
         clock = _time.perf_counter()
         o = smap.orbit(y0, self.record, transient=self.transient, flags=flags)
+        used, steps = self.transient, o.n_steps
         lyap = math.nan
         status = o.status
         if status == "ok":
             cls = classify_orbit(o.points, o.impacts_per_step, max_period=self.max_period, rtol=self.rtol,
                                  atol=self.atol)
-            if cls["label"] not in ("periodic", "periodic-no-impact") and self.lyapunov:
+            limit = self.max_transient if self.max_transient is not None else self.transient
+            while (o.status == "ok" and cls["label"] == "not-converged" and used < limit
+                   and cls["convergence_rate"] < DECAY_RATE):  # still converging: integrate on
+                extra = max(1, min(used, limit - used))  # doubling, up to the limit
+                o = smap.orbit(o.final_state, self.record, transient=extra, flags=o.final_flags,
+                               t0=smap.sample_time(used + self.record) - smap.sample_time(0))
+                used, steps = used + self.record + extra, steps + o.n_steps
+                status = o.status
+                cls = classify_orbit(o.points, o.impacts_per_step, max_period=self.max_period, rtol=self.rtol,
+                                     atol=self.atol, status=status)
+            if status == "ok" and cls["label"] not in ("periodic", "periodic-no-impact") and self.lyapunov:
                 scale = np.maximum(np.max(np.abs(o.points), axis=0), self.atol)
-                k0 = self.transient + self.record
+                k0 = used + self.record
                 lyap = largest_lyapunov(smap.step, o.final_state, self.lyapunov_steps, scale=scale, k0=k0)
                 cls = classify_orbit(o.points, o.impacts_per_step, max_period=self.max_period,
                                      rtol=self.rtol, atol=self.atol, lyapunov=lyap,
                                      lyap_tol=lyapunov_threshold(self.lyapunov_steps))
-        else:  # escaped or failed: the status is the class
+        if status != "ok":  # escaped or failed: the status is the class
             cls = classify_orbit(o.points, o.impacts_per_step, status=status)
         n_imp = o.impact_t.size
         cap = self.max_impacts
@@ -115,10 +129,12 @@ class SweepPoint:
             "min_impact_speed": float(np.min(speeds)) if speeds.size else math.inf,
             "impact_t": pad(o.impact_t), "impact_velocity": pad(o.impact_velocity),
             "impact_phase": pad(o.impact_phase), "impact_penetration": pad(o.impact_penetration),
+            "impact_duration": pad(o.impact_duration),
+            "min_flight_gap": float(np.min(o.min_flight_gap_per_step)) if gaps.size else math.inf,
             "max_impact_speed": float(np.max(np.abs(o.impact_velocity))) if n_imp else 0.0,
             "n_impacts": n_imp, "status": STATUS.index(status), "failure_time": o.failure_time,
             "failure": o.failure, "lyapunov": lyap, "forcing_period_steps": smap.forcing_period_steps,
-            "n_steps": o.n_steps, "seconds": _time.perf_counter() - clock,
+            "n_steps": steps, "transient_used": used, "seconds": _time.perf_counter() - clock,
             "final_state": o.final_state, "final_flags": o.final_flags, **{f"class_{k}": v for k, v in cls.items()},
         }
 
@@ -159,7 +175,7 @@ def _manifest(point: SweepPoint, values, mode) -> dict:
     d = {f.name: getattr(point, f.name) for f in fields(point)}
     if not isinstance(d["scene"], str):
         d["scene"] = repr(d["scene"])
-    d.update(values=[float(v) for v in values], mode=mode)
+    d.update(values=[float(v) for v in values], mode=mode, parts_format=PARTS_FORMAT)
     return d
 
 
@@ -202,7 +218,7 @@ class _Parts:
 def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independent", transient=300,
           record=100, preset=None, params=None, x0=None, tol=1e-10, max_period=16, rtol=1e-6, atol=1e-9,
           lyapunov=True, grazing=True, grazing_xtol=None, circuit=None, ac_sign=None, path=None,
-          progress=True, workers=1, scheduler=None, error_sample=3):
+          progress=True, workers=1, scheduler=None, error_sample=3, max_transient=None):
     """Sweep ``param`` over ``values``; returns an xarray Dataset (see bifurc.storage).
 
     Parameters
@@ -215,6 +231,9 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
     mode : "independent" or "continuation".
     transient, record : int
         Relay periods discarded, then recorded, per value.
+    max_transient : int
+        Where a value is not-converged with a geometrically decaying recurrence, integrate on
+        (doubling the transient) up to this many relay periods; the transient used is stored.
     tol : float
         heyoka tolerance; ``error_sample`` values are re-run at tol/100 for the error estimate.
     max_period, rtol, atol : classification (bifurc.classify).
@@ -245,8 +264,10 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
         workers = int(validate_value("workers", workers, 1, 1024))
     options = {k: v for k, v in dict(circuit=circuit, ac_sign=ac_sign).items() if v is not None}
     name = sc.name if sc.options is not None else sc.system  # a bare system runs in this process
+    if max_transient is not None:
+        max_transient = int(validate_value("max_transient", max_transient, transient, 1e8))
     point = SweepPoint(name, param, base, options, dict(x0 or {}), transient, record, float(tol), max_period,
-                       rtol, atol, lyapunov)
+                       rtol, atol, lyapunov, max_transient=max_transient)
     branches = ["independent"] if mode == "independent" else ["up", "down"]
     parts = _Parts(path, _manifest(point, values, mode)) if path else None
     results = {b: [None] * values.size for b in branches}
@@ -289,6 +310,7 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
     seconds = _time.perf_counter() - clock
     ds = storage.to_dataset(results, values, point, sc, table, mode)
     ds.attrs["sweep_seconds"] = seconds
+    ds.attrs["compile_seconds"] = point.warm()._run.compile_seconds  # once per structure and process
     if grazing:
         ds = storage.add_grazing(ds, _locate_grazing(results, values, point, grazing_xtol))
     if error_sample:
@@ -299,12 +321,20 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
     return ds
 
 
-def _locate_grazing(results, values, point, xtol):
-    """Grazing values between neighbours where the orbit changes between impacting and not.
+def _impact_rate(r) -> float:
+    """Contacts per recorded period."""
+    return r["n_impacts"] / max(1, r["n_recorded"])
 
-    Neighbours must be periodic or still converging (near a grazing bifurcation convergence
-    is slow); between chaotic or quasi-periodic neighbours the sign of the clearance
-    brackets nothing meaningful.
+
+def _locate_grazing(results, values, point, xtol):
+    """Grazing values between neighbours whose number of impacts per period differs.
+
+    From no impact to impacts, neighbours must be periodic or still converging (near a
+    grazing bifurcation convergence is slow); from m > 0 to m' impacts per period both
+    must be periodic.  Between chaotic or quasi-periodic neighbours the sign of the
+    clearance brackets nothing meaningful.  The bisection follows the side with fewer impacts (see
+    :class:`_BranchFollower`); an attractor that changes under re-computation brackets
+    nothing and is skipped.
     """
     from .grazing import locate_grazing
     found = []
@@ -317,21 +347,28 @@ def _locate_grazing(results, values, point, xtol):
                 continue
             if ra["class_code"] not in (0, 1, 4) or rb["class_code"] not in (0, 1, 4):
                 continue
-            if (ra["n_impacts"] > 0) == (rb["n_impacts"] > 0):
+            if _impact_rate(ra) == _impact_rate(rb):
                 continue
-            clear = (values[i], ra) if ra["n_impacts"] == 0 else (values[i + 1], rb)
+            if ra["n_impacts"] and rb["n_impacts"] and not (ra["class_code"] == rb["class_code"] == 0):
+                continue  # m -> m' > 0 impacts: only between periodic orbits (a transient's count drifts)
+            clear = (values[i], ra) if _impact_rate(ra) < _impact_rate(rb) else (values[i + 1], rb)
             try:
                 g = locate_grazing(_BranchFollower(point, clear[0], clear[1]), values[i], values[i + 1], xtol=xtol)
             except ParameterError:
-                continue  # the attractor at the ends changed under re-computation: nothing bracketed
+                continue
+            g["impacts_below"], g["impacts_above"] = ra["n_impacts"], rb["n_impacts"]
             found.append((b, g))
     return found
 
 
 class _BranchFollower:
-    """Signed clearance along the non-impacting branch, for bisection.
+    """Signed clearance along the branch with fewer impacts, for bisection.
 
-    An impacting orbit may coexist just below grazing, and a parameter jump excites a
+    On that branch (``m`` contacts in the record, possibly 0) it is the smallest
+    clearance: the whole orbit's for m = 0, the lowest free-flight minimum for m > 0;
+    both reach 0 at the graze.  Past it (more contacts) it is minus the slowest impact
+    speed, which also reaches 0 at the graze.
+    An orbit with more impacts may coexist just before grazing, and a parameter jump excites a
     transient about as large as the change of the forced response, which can touch the
     stop and land on it.  So each evaluation ramps the parameter from the last clear
     value in ``substeps`` steps (transient split between them) and, when the result is
@@ -341,6 +378,7 @@ class _BranchFollower:
     def __init__(self, point, value, result, substeps=8):
         self.point, self.substeps = replace(point, lyapunov=False), substeps
         self.value, self.start = value, (result["final_state"], result["final_flags"])
+        self.impacts = result["n_impacts"]
 
     def __call__(self, p):
         if p == self.value:
@@ -356,10 +394,10 @@ class _BranchFollower:
             r = self.point(p, start)
         if r["status"]:
             return math.nan
-        if r["n_impacts"]:
-            return -r["max_impact_speed"]
+        if r["n_impacts"] > self.impacts:
+            return -r["min_impact_speed"]
         self.value, self.start = p, (r["final_state"], r["final_flags"])
-        return r["min_gap"]
+        return r["min_gap"] if self.impacts == 0 else r["min_flight_gap"]
 
 
 def _error_estimate(results, values, point, branch, sample):
