@@ -145,3 +145,24 @@ def test_bad_sweep_input_names_the_parameter():
         sweep("thesis-1dof", "frequency", [5.0], transient=1, record=3, progress=False)
     with pytest.raises(maps.ParameterError, match="mode"):
         sweep("thesis-1dof", "relay_hz", [5.0], mode="sideways", progress=False)
+
+
+def test_a_still_converging_transient_is_extended_until_it_decides(osc):
+    """A lightly damped linear response decays by exp(-zeta w0 T) per period: after 20 periods it
+    is not-converged at exactly that rate; with max_transient the sweep integrates on until the
+    recurrence is within tolerance (about ln(1e-6)/ln(rate) ~ 300 periods)."""
+    p = dict(OSC, Omega=0.7, e=-5.0, zeta=0.005)
+    rate = math.exp(-0.005 * 1.0 * 2 * math.pi / 0.7)
+    args = dict(params=p, transient=20, record=30, tol=1e-13, lyapunov=False, grazing=False, error_sample=0,
+                progress=False)
+    short = sweep(osc, "Omega", [0.7], **args).isel(branch=0, Omega=0)
+    assert CLASS_LABELS[int(short.class_code)] == "not-converged"
+    # the decaying free oscillation (w_d ~ w0) nearly repeats every 7 samples of T = 2 pi / 0.7,
+    # the best candidate; its distance decays at the analytic rate per period
+    assert float(short.convergence_rate) == pytest.approx(rate, rel=1e-3)
+    assert int(short.transient_used) == 20
+    long = sweep(osc, "Omega", [0.7], max_transient=1000, **args).isel(branch=0, Omega=0)
+    assert CLASS_LABELS[int(long.class_code)] == "periodic-no-impact" and int(long.period) == 1
+    assert math.log(1e-6) / math.log(rate) < int(long.transient_used) <= 1000
+    x, v, X = steady_state(p)
+    assert float(long.x.isel(sample=-1)) == pytest.approx(x, abs=1e-5 * X)

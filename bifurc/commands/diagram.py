@@ -17,6 +17,8 @@ def register(subparsers):
     p.add_argument("--n", type=int, default=100, help="number of values (default 100)")
     p.add_argument("--transient", type=int, default=300, help="relay periods discarded per value")
     p.add_argument("--record", type=int, default=100, help="relay periods recorded per value")
+    p.add_argument("--max-transient", type=int, default=None,
+                   help="extend the transient of values still converging, up to this many relay periods")
     p.add_argument("--mode", choices=("independent", "continuation"), default="independent")
     p.add_argument("--max-period", type=int, default=16, help="largest period detected (default 16)")
     p.add_argument("--no-lyapunov", action="store_true", help="skip Lyapunov exponents (faster)")
@@ -39,6 +41,7 @@ def run(args) -> int:
     values = np.linspace(args.start, args.stop, args.n)
     ds = sweep(args.scene, args.param, values, mode=args.mode, transient=args.transient, record=args.record,
                max_period=args.max_period, lyapunov=not args.no_lyapunov, path=args.output,
+               max_transient=args.max_transient,
                progress=not args.quiet, workers=args.workers, scheduler=args.scheduler, **kw)
     if args.plot:
         from ..plot_diagram import plot_diagram
