@@ -21,7 +21,7 @@ from .parameters import ParameterError, validate_value
 __all__ = ["StroboscopicMap", "MapOrbit", "ImpactMap", "forcing_period_steps"]
 
 
-def forcing_period_steps(f_mains: float, relay_hz: float, max_steps: int = 1000,
+def forcing_period_steps(f_mains: float, relay_hz: float | None, max_steps: int = 1000,
                          period: float | None = None) -> int:
     """Smallest q <= max_steps after which the relay-switched mains forcing repeats, else 0.
 
@@ -29,9 +29,10 @@ def forcing_period_steps(f_mains: float, relay_hz: float, max_steps: int = 1000,
     the sine; sampled every ``period`` [s] (default 1/relay_hz) it repeats after q
     samples when q*period*f_mains and q*period*relay_hz are both integers (to 1e-9).
     0 means incommensurate within ``max_steps``: the map is not autonomous at all.
+    Without a relay (``relay_hz`` None) only the mains period counts.
     """
     T = 1.0 / relay_hz if period is None else float(period)
-    ratios = (T * f_mains, T * relay_hz)
+    ratios = (T * f_mains,) if relay_hz is None else (T * f_mains, T * relay_hz)
     for q in range(1, max_steps + 1):
         if all(abs(q * r - round(q * r)) <= 1e-9 * max(1.0, q * r) for r in ratios):
             return q
@@ -124,10 +125,10 @@ class StroboscopicMap:
         else:
             raise ParameterError("this system has no 'relay_hz' nor a strobe_period(params): "
                                  "give the stroboscopic 'period' [s]")
-        # q: the forcing repeats every q samples (0: never).  A system without mains and
-        # relay parameters is taken to be forced with the sampling period (q = 1).
-        self.forcing_period_steps = (forcing_period_steps(p["f_mains"], p["relay_hz"], period=self.period)
-                                     if "f_mains" in p and "relay_hz" in p else 1)
+        # q: the forcing repeats every q samples (0: never).  A system without a mains
+        # parameter is taken to be forced with the sampling period (q = 1).
+        self.forcing_period_steps = (forcing_period_steps(p["f_mains"], p.get("relay_hz"), period=self.period)
+                                     if "f_mains" in p else 1)
         return self
 
     def sample_time(self, k: int, t0: float = 0.0) -> float:
