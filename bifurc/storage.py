@@ -77,9 +77,9 @@ def to_dataset(results, values, point, scene, table, mode) -> xr.Dataset:
     ds["min_gap"] = (dims, _stack(results, branches, "min_gap"), {
         "units": "m", "long_name": "smallest gap to the stop over the record (< 0: penetration)"})
     ds["min_flight_gap"] = (dims, _stack(results, branches, "min_flight_gap"), {
-        "units": "m", "long_name": "lowest free-flight minimum of the gap over the record (inf: none)"})
+        "units": "m", "long_name": "lowest free-flight minimum of the gap over the record (inf: none; NaN: no period recorded)"})
     ds["min_impact_speed"] = (dims, _stack(results, branches, "min_impact_speed"), {
-        "units": "m s-1", "long_name": "slowest impact over the record (inf: no impact)"})
+        "units": "m s-1", "long_name": "slowest impact over the record (inf: no impact; NaN: no period recorded, see status)"})
     from .sweep import GRAZING_GAP, GRAZING_SPEED
     graze = ((ds.min_impact_speed < GRAZING_SPEED) | ((ds.min_gap >= 0) & (ds.min_gap < GRAZING_GAP)))
     ds["grazing_flag"] = graze.astype(np.int8).assign_attrs(
@@ -182,7 +182,15 @@ def save(ds: xr.Dataset, path) -> None:
     write_netcdf_atomic(ds, path)
 
 
+#: attributes that are arrays: netCDF gives a one-element array back as a scalar
+ARRAY_ATTRS = ("error_estimate_values",)
+
+
 def load(path) -> xr.Dataset:
     """Open a sweep dataset fully into memory (the file is not kept open)."""
     with xr.open_dataset(path) as ds:
-        return ds.load()
+        ds = ds.load()
+    for key in ARRAY_ATTRS:
+        if key in ds.attrs:
+            ds.attrs[key] = np.atleast_1d(ds.attrs[key])
+    return ds

@@ -126,11 +126,11 @@ class SweepPoint:
             "min_gap_per_step": np.pad(gaps, (0, self.record - gaps.size), constant_values=np.nan),
             "min_impact_speed_per_step": np.pad(speeds, (0, self.record - speeds.size), constant_values=np.nan),
             "min_gap": float(np.min(gaps)) if gaps.size else math.nan,
-            "min_impact_speed": float(np.min(speeds)) if speeds.size else math.inf,
+            "min_impact_speed": float(np.min(speeds)) if speeds.size else math.nan,  # NaN: no step recorded
             "impact_t": pad(o.impact_t), "impact_velocity": pad(o.impact_velocity),
             "impact_phase": pad(o.impact_phase), "impact_penetration": pad(o.impact_penetration),
             "impact_duration": pad(o.impact_duration),
-            "min_flight_gap": float(np.min(o.min_flight_gap_per_step)) if gaps.size else math.inf,
+            "min_flight_gap": float(np.min(o.min_flight_gap_per_step)) if gaps.size else math.nan,
             "max_impact_speed": float(np.max(np.abs(o.impact_velocity))) if n_imp else 0.0,
             "n_impacts": n_imp, "status": STATUS.index(status), "failure_time": o.failure_time,
             "failure": o.failure, "lyapunov": lyap, "forcing_period_steps": smap.forcing_period_steps,

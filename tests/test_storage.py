@@ -1,0 +1,92 @@
+"""The sweep Dataset on disk: netCDF round trip, CF attributes, NaN only where flagged."""
+import math
+
+import netCDF4
+import numpy as np
+import pytest
+import xarray as xr
+
+import maps
+from bifurc import storage
+from bifurc.classify import CLASS_LABELS
+from bifurc.sweep import sweep
+
+OSC = dict(w0=1.0, zeta=0.02, F=0.1, Omega=0.7, e=-1.0, r=0.8)
+
+
+@pytest.fixture(scope="module")
+def escaping_sweep():
+    """k = 1 N/m without DC force: the bar falls through the stop (escaped); k = 1e5: impacts."""
+    return sweep("thesis-1dof", "k", np.array([1.0, 1e5]), preset="matlab-listing",
+                 params={"V": 90.0, "relay_hz": 5.0, "dc_scale": 0.0}, transient=5, record=6,
+                 error_sample=1, progress=False)
+
+
+@pytest.fixture(scope="module")
+def grazing_sweep():
+    """Continuation over the oscillator's grazing: branch and grazing dimensions both filled."""
+    W = OSC["Omega"]
+    F_graze = abs(OSC["e"]) * math.hypot(1 - W**2, 2 * OSC["zeta"] * W)
+    return sweep(maps.forced_oscillator_with_stop(), "F", np.array([0.9, 1.1]) * F_graze, mode="continuation",
+                 params=OSC, transient=200, record=10, tol=1e-12, lyapunov=False, error_sample=0,
+                 grazing_xtol=1e-4, progress=False)
+
+
+def _round_trip(ds, tmp_path, name):
+    path = tmp_path / name
+    storage.save(ds, path)
+    return storage.load(path), path
+
+
+@pytest.mark.parametrize("which", ["escaping_sweep", "grazing_sweep"])
+def test_netcdf_round_trip_keeps_values_dtypes_and_attributes(which, request, tmp_path):
+    ds = request.getfixturevalue(which)
+    back, _ = _round_trip(ds, tmp_path, f"{which}.nc")
+    back = back.drop_encoding() if hasattr(back, "drop_encoding") else back
+    xr.testing.assert_identical(back, ds)  # values (NaN, inf included), coordinates, attrs
+    for name, var in ds.variables.items():
+        assert back[name].dtype == var.dtype, name
+        assert back[name].attrs.keys() == var.attrs.keys(), name
+        if var.dtype.kind == "f":
+            np.testing.assert_array_equal(np.isnan(back[name].values), np.isnan(var.values))
+            np.testing.assert_array_equal(np.isinf(back[name].values), np.isinf(var.values))
+    for key, value in ds.attrs.items():
+        np.testing.assert_array_equal(back.attrs[key], value, err_msg=key)
+    assert ds.sizes["grazing"] >= (1 if which == "grazing_sweep" else 0)
+
+
+def test_every_variable_is_cf_described_and_flags_decode(escaping_sweep, tmp_path):
+    ds = escaping_sweep
+    _, path = _round_trip(ds, tmp_path, "cf.nc")
+    with netCDF4.Dataset(path) as nc:  # any netCDF tool sees the same description
+        for name, var in nc.variables.items():
+            attrs = var.ncattrs()
+            assert "units" in attrs and "long_name" in attrs, name
+            if "flag_values" in attrs:
+                assert len(var.flag_values) == len(var.flag_meanings.split()), name
+        assert nc.variables["class_code"].dtype == np.int8
+        assert nc.getncattr("swept_parameter") == "k" and nc.getncattr("Conventions").startswith("CF")
+    meanings = ds.class_code.attrs["flag_meanings"].split()
+    assert [m.replace("_", "-") for m in meanings] == list(CLASS_LABELS)
+    for key in ("scene", "mode", "tol", "transient_periods", "recorded_periods", "heyoka_version",
+                "numpy_version", "xarray_version", "sweep_seconds", "compile_seconds", "param_V",
+                "param_V_units", "param_V_source", "swept_parameter_units"):
+        assert key in ds.attrs, key
+    assert ds.attrs["param_V_source"] == "set by user" and ds.attrs["swept_parameter_units"] == "N m-1"
+
+
+def test_missing_values_are_flagged_never_silent(escaping_sweep):
+    """The escaped value has NaN samples after its escape, and its status and class say so;
+    the completed value has no NaN in any recorded quantity."""
+    ds = escaping_sweep.isel(branch=0)
+    esc, ok = ds.isel(k=0), ds.isel(k=1)
+    assert int(esc.status) == 1 and CLASS_LABELS[int(esc.class_code)] == "escaped"
+    assert math.isfinite(float(esc.failure_time)) and int(esc.n_impacts) == 0
+    assert np.isnan(esc.x.values[1:]).all() and np.isfinite(esc.x.values[0])
+    assert np.isnan(float(esc.min_gap)) and np.isnan(float(esc.min_impact_speed))
+    assert int(ok.status) == 0 and int(ok.n_impacts) > 0
+    for name in ("x", "v", "i", "z", "min_gap_per_step", "min_gap", "min_impact_speed", "run_seconds"):
+        assert np.isfinite(ok[name].values).all(), name
+    n = int(ok.n_impacts)
+    assert np.isfinite(ok.impact_t.values[:n]).all() and np.isnan(ok.impact_t.values[n:]).all()
+    assert ok.impacts_per_step.values.sum() == n
