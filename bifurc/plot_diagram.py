@@ -6,6 +6,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from matplotlib.lines import Line2D  # noqa: E402
 from matplotlib.patches import Patch  # noqa: E402
 
 from .classify import CLASS_LABELS  # noqa: E402
@@ -14,22 +15,27 @@ __all__ = ["plot_diagram", "CLASS_COLOURS"]
 
 CLASS_COLOURS = {"periodic": "#1f77b4", "periodic-no-impact": "#17becf", "quasi-periodic": "#2ca02c",
                  "chaotic": "#d62728", "not-converged": "#7f7f7f", "escaped": "#ff7f0e", "failed": "#000000"}
+GRAZE = "#9467bd"
 
 
 def plot_diagram(ds, path=None, state=None, branch=None):
     """Parameter against the stroboscopic state ``state`` (default the bar position),
-    points coloured by class; grazing values marked; a strip of classes and periods below.
+    points coloured by class; located grazing values (dotted lines) and orbits flagged
+    as grazing (triangles) marked; a strip of classes with n:m (period-n, m impacts)
+    below, one row per branch.
 
     ``branch``: which branch to show ("up", "down", "independent"); default all
-    (continuation branches are drawn with different markers). Returns the Figure.
+    (continuation: "up" filled dots, "down" open circles). Saves a PNG to ``path``
+    if given; returns the Figure.
     """
     par = ds.attrs["swept_parameter"]
     state = state or ("x" if "x" in ds else "x1")
-    branches = [branch] if branch else list(ds.branch.values)
+    branches = [branch] if branch else [str(b) for b in ds.branch.values]
     fig, (ax, strip) = plt.subplots(2, 1, sharex=True, figsize=(10, 6.5),
                                     gridspec_kw={"height_ratios": [5, 1 + 0.5 * (len(branches) - 1)]})
     pvals = ds[par].values
-    markers = {"independent": ".", "up": ".", "down": "x"}
+    style = {"independent": dict(marker=".", ms=2.2), "up": dict(marker=".", ms=2.2),
+             "down": dict(marker="o", ms=3.2, mfc="none", mew=0.6)}
     y_scale = 1e3 if ds[state].attrs.get("units") == "m" else 1.0
     for b in branches:
         sub = ds.sel(branch=b)
@@ -40,18 +46,32 @@ def plot_diagram(ds, path=None, state=None, branch=None):
                 continue
             pts = sub[state].values[sel]  # (values, samples)
             px = np.repeat(pvals[sel], pts.shape[1])
-            ax.plot(px, y_scale * pts.ravel(), markers[b], ms=1.6 if markers[b] == "." else 2.5,
-                    color=CLASS_COLOURS[label], alpha=0.6, rasterized=True)
+            ax.plot(px, y_scale * pts.ravel(), ls="none", color=CLASS_COLOURS[label], alpha=0.6,
+                    rasterized=True, **style[b])
+    handles = []
+    for code in sorted({int(c) for c in np.ravel(ds.class_code.sel(branch=branches).values) if c >= 0}):
+        label = CLASS_LABELS[code]
+        handles.append(Patch(color=CLASS_COLOURS[label], label=_legend_label(ds, branches, code, label)))
+    if len(branches) > 1:
+        for b in branches:
+            handles.append(Line2D([], [], ls="none", color="0.3", label=f"branch {b}", **style[b]))
+    ylo, yhi = ax.get_ylim()
+    if "grazing_flag" in ds:
+        flagged = (ds.grazing_flag.sel(branch=branches) == 1).any("branch").values
+        if flagged.any():
+            ax.plot(pvals[flagged], np.full(flagged.sum(), yhi), ls="none", marker="v", ms=5, color=GRAZE,
+                    clip_on=False)
+            handles.append(Line2D([], [], ls="none", marker="v", color=GRAZE,
+                                  label="orbit grazes (slow impact or tiny clearance)"))
     if "grazing_value" in ds and ds.sizes.get("grazing", 0):
-        for g in ds.grazing_value.values:
-            ax.axvline(g, color="#9467bd", lw=0.8, ls=":")
-        ax.plot([], [], ls=":", color="#9467bd", label=f"grazing ({ds.sizes['grazing']}, bisection)")
+        keep = np.isin(ds.grazing_branch.values, branches)
+        for g, b in zip(ds.grazing_value.values[keep], ds.grazing_branch.values[keep]):
+            ax.axvline(g, color=GRAZE, lw=0.9, ls=":")
+            strip.plot([g], [branches.index(b) + 0.45], marker="D", ms=4, color=GRAZE, mec="white", mew=0.5)
+        handles.append(Line2D([], [], ls=":", color=GRAZE, label=f"grazing located ({int(keep.sum())}, bisection)"))
     unit = "mm" if y_scale == 1e3 else ds[state].attrs.get("units", "")
     ax.set_ylabel(f"{ds[state].attrs.get('long_name', state)} [{unit}]")
-    present = sorted({int(c) for c in np.ravel(ds.class_code.values) if c >= 0})
-    handles = [Patch(color=CLASS_COLOURS[CLASS_LABELS[c]], label=CLASS_LABELS[c]) for c in present]
-    handles += ax.get_legend_handles_labels()[0]
-    ax.legend(handles=handles, fontsize=8, loc="upper right", framealpha=0.85)
+    ax.legend(handles=handles, fontsize=8, loc="best", framealpha=0.85)
     ax.grid(alpha=0.3)
     # class strip: one row per branch, periodic cells annotated n:m
     width = np.diff(pvals).min() if pvals.size > 1 else 1.0
@@ -63,20 +83,46 @@ def plot_diagram(ds, path=None, state=None, branch=None):
             strip.add_patch(plt.Rectangle((p - width / 2, row), width, 0.9, color=CLASS_COLOURS[CLASS_LABELS[c]],
                                           lw=0))
             if CLASS_LABELS[c] == "periodic" and pvals.size <= 60:
-                strip.text(p, row + 0.45, f"{n}:{m}", ha="center", va="center", fontsize=6, color="white")
+                strip.text(p, row + 0.45, f"{n}:{m}", ha="center", va="center", fontsize=6, color="white",
+                           rotation=90 if pvals.size > 45 else 0)
     strip.set_ylim(0, len(branches))
     strip.set_yticks(np.arange(len(branches)) + 0.45, branches, fontsize=8)
     strip.set_xlim(pvals.min() - width, pvals.max() + width)
     strip.set_xlabel(f"{ds[par].attrs.get('long_name', par)} {par} [{ds[par].attrs.get('units', '')}]")
-    a = ds.attrs
-    keys = [k for k in ("V", "relay_hz", "R", "C", "k", "c") if f"param_{k}" in a]
-    params = ", ".join(f"{k} = {a[f'param_{k}']:g} {a[f'param_{k}_units']}" for k in keys)
-    err = a.get("error_map_points_rel")
-    err_txt = f"; map-point error vs tol/100: {err:.1e}" if err is not None else ""
-    fig.suptitle(f"{a['scene']} ({a['mode']}): {params}\n{a['transient_periods']} transient + "
-                 f"{a['recorded_periods']} recorded relay periods, tol {a['tol']:g}{err_txt}", fontsize=9)
+    fig.suptitle(_title(ds), fontsize=9)
     fig.tight_layout()
     if path:
         fig.savefig(path, dpi=130)
         plt.close(fig)
     return fig
+
+
+def _legend_label(ds, branches, code, label):
+    """Class label, with the n:m types present for periodic orbits (n: period, m: impacts)."""
+    if label not in ("periodic", "periodic-no-impact"):
+        return label
+    sel = ds.class_code.sel(branch=branches).values == code
+    n = ds.period.sel(branch=branches).values[sel]
+    m = ds.impacts_per_period.sel(branch=branches).values[sel]
+    kinds = sorted({(int(a), int(b)) for a, b in zip(n, m)})
+    text = ", ".join(f"{a}:{b}" if label == "periodic" else f"period-{a}" for a, b in kinds[:6])
+    return f"{label} ({text}{', ...' if len(kinds) > 6 else ''})"
+
+
+def _title(ds) -> str:
+    a = ds.attrs
+    keys = [k for k in ("V", "relay_hz", "R", "C", "k", "c") if f"param_{k}" in a] or \
+        [k[6:] for k in a if k.startswith("param_") and not k.endswith(("_units", "_source"))][:8]
+    params = ", ".join(f"{k} = {a[f'param_{k}']:g} {_unit(a.get(f'param_{k}_units', ''))}".rstrip() for k in keys)
+    per = "relay periods" if "param_relay_hz" in a or a.get("swept_parameter") == "relay_hz" else "periods"
+    err = a.get("error_map_points_rel")
+    err_txt = ""
+    if err is not None:
+        err_txt = (f"; map points vs tol/100: {err:.1e} (periodic/converging values)" if np.isfinite(err)
+                   else "; map points vs tol/100: n/a (no periodic or converging value sampled)")
+    return (f"{a['scene']} ({a['mode']}): {params}\n{a['transient_periods']} transient + "
+            f"{a['recorded_periods']} recorded {per}, tol {a['tol']:g}{err_txt}")
+
+
+def _unit(u: str) -> str:
+    return "" if u in ("1", "-") else u

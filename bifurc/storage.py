@@ -162,17 +162,22 @@ def add_grazing(ds: xr.Dataset, found) -> xr.Dataset:
     return ds
 
 
-def add_error_estimate(ds, sample_values, point_err, time_err, counts_differ, seconds, tight_tol) -> xr.Dataset:
-    """Record the numerical error estimate next to the run time."""
+def add_error_estimate(ds, sample_values, point_err, time_err, counts_differ, seconds, tight_tol,
+                       sensitive_err=math.nan, n_sensitive=0) -> xr.Dataset:
+    """Record the numerical error estimate next to the run time (NaN: nothing of that kind sampled)."""
     ds.attrs.update({
         "error_estimate_values": np.asarray(sample_values, float) if len(sample_values) else np.array([math.nan]),
         "error_estimate_tol": tight_tol,
         "error_map_points_rel": point_err,
         "error_impact_time_s": time_err,
         "error_impact_count_mismatches": int(counts_differ),
+        "error_map_points_rel_sensitive": sensitive_err,
+        "error_sensitive_values": int(n_sensitive),
         "error_estimate_seconds": seconds,
-        "error_estimate_method": "values re-run at tol/100 (independent branch); largest scaled |difference| of "
-                                 "stroboscopic points and largest contact-time difference",
+        "error_estimate_method": "values re-run at tol/100 from the same start; largest scaled |difference| of "
+                                 "stroboscopic points and largest contact-time difference over periodic or "
+                                 "contracting values; at chaotic, quasi-periodic or wandering values the "
+                                 "difference (error_map_points_rel_sensitive) reflects sensitivity, not accuracy",
     })
     return ds
 

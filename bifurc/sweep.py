@@ -400,27 +400,50 @@ class _BranchFollower:
         return r["min_gap"] if self.impacts == 0 else r["min_flight_gap"]
 
 
+def _insensitive(r) -> bool:
+    """Periodic, or still contracting: a tolerance change moves its points by about the error."""
+    return r["class_code"] in (0, 1) or (r["class_code"] == 4 and r["class_convergence_rate"] < DECAY_RATE)
+
+
 def _error_estimate(results, values, point, branch, sample):
-    """Re-run ``sample`` values at tol/100: largest differences of map points and impact times."""
-    idx = np.unique(np.linspace(0, values.size - 1, min(sample, values.size)).round().astype(int))
+    """Re-run ``sample`` values at tol/100: largest differences of map points and impact times.
+
+    Sampled preferably among periodic or contracting values, where the difference measures
+    the integration error; at chaotic, quasi-periodic or wandering values the difference
+    grows to the attractor's size whatever the tolerance, so it is reported apart
+    (``sensitive``).  A continuation value is re-run from the same start (the previous
+    value's final state).  NaN: nothing of that kind was sampled.
+    """
+    ok = [i for i in range(values.size) if results[branch][i] is not None and not results[branch][i]["status"]]
+    good = [i for i in ok if _insensitive(results[branch][i])]
+    pick = lambda pool, k: [pool[j] for j in np.unique(np.linspace(0, len(pool) - 1, k).round().astype(int))] \
+        if pool and k > 0 else []  # noqa: E731
+    idx = pick(good, min(sample, len(good)))
+    idx += pick([i for i in ok if i not in good], sample - len(idx))
     tight = replace(point, tol=point.tol / 100, lyapunov=False)
-    point_err, time_err, counts_differ = 0.0, 0.0, 0
+    point_err, sensitive_err, time_err, counts_differ = math.nan, math.nan, 0.0, 0
     clock = _time.perf_counter()
-    for i in idx:
+    for i in sorted(idx):
         a = results[branch][i]
-        if branch != "independent" or a["status"]:
-            continue
-        b = tight(values[i])
+        prev = results[branch][i - 1] if branch != "independent" and i > 0 else None
+        start = (prev["final_state"], prev["final_flags"]) if prev is not None and prev["status"] == 0 else None
+        b = tight(values[i], start)
         if b["status"]:
+            counts_differ += 1
             continue
         scale = np.maximum(np.nanmax(np.abs(a["points"]), axis=0), point.atol)
-        point_err = max(point_err, float(np.nanmax(np.abs(a["points"] - b["points"]) / scale)))
+        err = float(np.nanmax(np.abs(a["points"] - b["points"]) / scale))
+        if i in good:
+            point_err = err if math.isnan(point_err) else max(point_err, err)
+        else:
+            sensitive_err = err if math.isnan(sensitive_err) else max(sensitive_err, err)
         if a["n_impacts"] == b["n_impacts"]:
-            if a["n_impacts"]:
+            if a["n_impacts"] and i in good:
                 time_err = max(time_err, float(np.nanmax(np.abs(a["impact_t"] - b["impact_t"]))))
         else:
             counts_differ += 1
-    return values[idx], point_err, time_err, counts_differ, _time.perf_counter() - clock, point.tol / 100
+    return (values[sorted(idx)], point_err, time_err, counts_differ, _time.perf_counter() - clock, point.tol / 100,
+            sensitive_err, len(idx) - len([i for i in idx if i in good]))
 
 
 class _NoBar:

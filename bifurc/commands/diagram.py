@@ -51,7 +51,10 @@ def run(args) -> int:
                        if (codes == c).any())
     print(f"{ds.attrs['scene']}: {args.param} {args.start:g}..{args.stop:g} ({args.n} values, {args.mode}) in "
           f"{ds.attrs['sweep_seconds']:.1f} s: {counts}; grazing located at {ds.sizes.get('grazing', 0)} values")
-    print(f"  error estimate (tol/100 re-run): map points {ds.attrs.get('error_map_points_rel', float('nan')):.1e} "
-          f"relative, impact times {ds.attrs.get('error_impact_time_s', float('nan')):.1e} s")
+    a = ds.attrs
+    if "error_map_points_rel" in a:
+        print(f"  error estimate (tol/100 re-run): map points {a['error_map_points_rel']:.1e} relative, impact "
+              f"times {a['error_impact_time_s']:.1e} s (periodic or contracting values; nan: none sampled); "
+              f"{a['error_sensitive_values']} sensitive value(s) differ by {a['error_map_points_rel_sensitive']:.1e}")
     print(f"  wrote {args.output}" + (f" and {args.plot}" if args.plot else ""))
     return 0
