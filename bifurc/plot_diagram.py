@@ -65,10 +65,17 @@ def plot_diagram(ds, path=None, state=None, branch=None):
                                   label="orbit grazes (slow impact or tiny clearance)"))
     if "grazing_value" in ds and ds.sizes.get("grazing", 0):
         keep = np.isin(ds.grazing_branch.values, branches)
-        for g, b in zip(ds.grazing_value.values[keep], ds.grazing_branch.values[keep]):
-            ax.axvline(g, color=GRAZE, lw=0.9, ls=":")
-            strip.plot([g], [branches.index(b) + 0.45], marker="D", ms=4, color=GRAZE, mec="white", mew=0.5)
-        handles.append(Line2D([], [], ls=":", color=GRAZE, label=f"grazing located ({int(keep.sum())}, bisection)"))
+        graze = ds.grazing_confirmed.values.astype(bool) if "grazing_confirmed" in ds else np.ones(keep.size, bool)
+        for g, b, ok in zip(ds.grazing_value.values[keep], ds.grazing_branch.values[keep], graze[keep]):
+            colour = GRAZE if ok else "0.45"
+            ax.axvline(g, color=colour, lw=0.9, ls=":" if ok else "--")
+            strip.plot([g], [branches.index(b) + 0.45], marker="D" if ok else "X", ms=4, color=colour,
+                       mec="white", mew=0.5)
+        n_ok, n_jump = int((keep & graze).sum()), int((keep & ~graze).sum())
+        if n_ok:
+            handles.append(Line2D([], [], ls=":", color=GRAZE, label=f"grazing located ({n_ok}, bisection)"))
+        if n_jump:
+            handles.append(Line2D([], [], ls="--", color="0.45", label=f"impact count jumps, no graze ({n_jump})"))
     unit = "mm" if y_scale == 1e3 else ds[state].attrs.get("units", "")
     ax.set_ylabel(f"{ds[state].attrs.get('long_name', state)} [{unit}]")
     ax.legend(handles=handles, fontsize=8, loc="best", framealpha=0.85)

@@ -157,6 +157,14 @@ def add_grazing(ds: xr.Dataset, found) -> xr.Dataset:
                            ("impacts_above", "contacts in the record at the upper neighbour")):
         ds[f"grazing_{key}"] = ("grazing", np.array([g.get(key, -1) for _, g in found], np.int32),
                                 {"units": "1", "long_name": long_name})
+    ds["grazing_clearance"] = ("grazing", np.array([g.get("clearance", np.nan) for _, g in found], float), {
+        "units": "m", "long_name": "clearance of the orbit at the bracket's end with fewer impacts"})
+    ds["grazing_impact_speed"] = ("grazing", np.array([g.get("impact_speed", np.nan) for _, g in found], float), {
+        "units": "m s-1", "long_name": "slowest impact at the bracket's end with more impacts"})
+    ds["grazing_confirmed"] = ("grazing", np.array([bool(g.get("confirmed", False)) for _, g in found], np.int8), {
+        "units": "1", "long_name": "the clearance shrank with the bracket (1: a graze; 0: the branch with "
+        "fewer impacts ends otherwise, a jump)", "flag_values": np.array([0, 1], np.int8),
+        "flag_meanings": "jump graze"})
     ds["grazing_branch"] = ("grazing", np.array([b for b, _ in found], dtype=str),
                             {"units": "1", "long_name": "sweep branch"})
     return ds

@@ -39,6 +39,9 @@ __all__ = ["SweepPoint", "sweep", "GRAZING_GAP", "GRAZING_SPEED"]
 GRAZING_GAP = 1e-6
 GRAZING_SPEED = 1e-3
 STATUS = ("ok", "escaped", "failed")
+#: a located sign change counts as a graze when the bisection shrank the clearance at its end
+#: with fewer impacts to this fraction of its value at the grid neighbour
+GRAZE_SHRINK = 0.1
 #: layout of the per-value results saved under <path>.parts/ (a resume refuses another layout)
 PARTS_FORMAT = 2
 _MAPS: dict = {}
@@ -352,11 +355,18 @@ def _locate_grazing(results, values, point, xtol):
             if ra["n_impacts"] and rb["n_impacts"] and not (ra["class_code"] == rb["class_code"] == 0):
                 continue  # m -> m' > 0 impacts: only between periodic orbits (a transient's count drifts)
             clear = (values[i], ra) if _impact_rate(ra) < _impact_rate(rb) else (values[i + 1], rb)
+            follower = _BranchFollower(point, clear[0], clear[1])
             try:
-                g = locate_grazing(_BranchFollower(point, clear[0], clear[1]), values[i], values[i + 1], xtol=xtol)
+                g = locate_grazing(follower, values[i], values[i + 1], xtol=xtol)
             except ParameterError:
                 continue
             g["impacts_below"], g["impacts_above"] = ra["n_impacts"], rb["n_impacts"]
+            g["clearance"], g["impact_speed"] = follower.clearance[-1], follower.speed[-1]
+            # a graze: the clearance of the branch with fewer impacts vanishes as the bracket shrinks;
+            # if it stays finite the branch ends otherwise (a jump, e.g. a saddle-node).  The impact
+            # speed past a graze need not be small: the orbit may jump to a distant impacting attractor.
+            g["confirmed"] = follower.clearance[-1] <= GRAZE_SHRINK * follower.clearance[0]
+            g["clearance_start"] = follower.clearance[0]
             found.append((b, g))
     return found
 
@@ -379,8 +389,15 @@ class _BranchFollower:
         self.point, self.substeps = replace(point, lyapunov=False), substeps
         self.value, self.start = value, (result["final_state"], result["final_flags"])
         self.impacts = result["n_impacts"]
+        self.clearance, self.speed = [], []  # every positive and negative value returned, in order
 
     def __call__(self, p):
+        f = self._evaluate(p)
+        if math.isfinite(f):
+            (self.clearance if f > 0 else self.speed).append(abs(f))
+        return f
+
+    def _evaluate(self, p):
         if p == self.value:
             r = self.point(p, self.start)
         else:

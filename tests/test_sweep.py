@@ -211,3 +211,23 @@ def test_killed_sweep_keeps_completed_values_and_resumes(tmp_path):
     for name in ("x", "v", "i", "z", "impact_t", "impact_velocity", "class_code", "min_gap", "n_impacts"):
         np.testing.assert_allclose(resumed[name].values, fresh[name].values, rtol=0, atol=1e-12, equal_nan=True)
     assert storage.load(path).sizes == resumed.sizes and not parts.exists()
+
+
+def test_grazing_of_an_impacting_orbit_where_a_new_impact_is_born(osc):
+    """Stop at equilibrium, Omega = 0.44: a 1:5 orbit; lower down its lowest free-flight minimum
+    touches the stop and more impacts appear.  The located graze is confirmed (the clearance
+    shrank with the bracket), and the clearance of the 1:5 orbit, computed apart at three
+    values above it, extrapolates (quadratic fit) to zero there."""
+    p = dict(w0=1.0, zeta=0.05, F=1.0, Omega=1.0, e=0.0, r=0.8)
+    kw = dict(params=p, transient=200, record=24, tol=1e-12, lyapunov=False, error_sample=0, progress=False)
+    xtol = 1e-6
+    ds = sweep(osc, "Omega", [0.42, 0.44], grazing_xtol=xtol, **kw)
+    assert list(ds.period.values[0]) == [2, 1] and list(ds.impacts_per_period.values[0]) == [14, 5]
+    assert ds.sizes["grazing"] == 1 and int(ds.grazing_confirmed[0]) == 1
+    g = float(ds.grazing_value[0])
+    assert 0.42 < g < 0.44 and float(ds.grazing_clearance[0]) < 1e-4
+    d = np.array([2e-3, 4e-3, 8e-3])
+    down = sweep(osc, "Omega", np.append(g + d, 0.44), mode="continuation", grazing=False, **kw).sel(branch="down")
+    assert list(down.impacts_per_period.values) == [5] * 4 and list(down.period.values) == [1] * 4
+    root = min(np.roots(np.polyfit(d, down.min_flight_gap.values[:3], 2)), key=abs)
+    assert abs(root) < 20 * xtol  # measured 3.5e-6 (quadratic fit error)
