@@ -1,4 +1,9 @@
-"""The `bifurc` command line: a thin shell over the same functions a notebook calls."""
+"""The `bifurc` command line: a thin shell over the same functions a notebook calls.
+
+Each subcommand lives in ``bifurc.commands.<name>`` with ``register(subparsers)``; a user
+mistake (a bad parameter, option, scene or file) prints one line ``bifurc: error: ...`` on
+stderr and exits 2, never a traceback.
+"""
 from __future__ import annotations
 
 import argparse
@@ -9,13 +14,31 @@ from maps.parameters import ParameterError
 
 from . import __version__
 
-#: subcommand modules in bifurc.commands, each with register(subparsers)
+__all__ = ["COMMANDS", "UsageError", "build_parser", "main"]
+
+#: subcommand modules in bifurc.commands, each with register(subparsers); missing ones are skipped
 COMMANDS = ["scenes", "simulate", "diagram", "report", "accuracy", "stability", "study"]
+
+#: user-facing failures: one line on stderr, exit code 2
+USER_ERRORS = (ParameterError, FileNotFoundError, FileExistsError, IsADirectoryError,
+               NotADirectoryError, PermissionError)
+
+
+class UsageError(ValueError):
+    """A malformed command line (unknown option, a value argparse cannot convert)."""
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse that raises :class:`UsageError` instead of printing usage and exiting."""
+
+    def error(self, message):
+        raise UsageError(f"{message} (see `{self.prog} --help`)")
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
-        prog="bifurc", description="Bifurcation analysis of the electro-vibro-impact system (heyoka).")
+    """The parser with every subcommand module that exists (subparsers inherit _Parser)."""
+    parser = _Parser(prog="bifurc",
+                     description="Bifurcation analysis of the electro-vibro-impact system (heyoka).")
     parser.add_argument("--version", action="version", version=f"bifurc {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for name in COMMANDS:
@@ -23,24 +46,34 @@ def build_parser() -> argparse.ArgumentParser:
         try:
             module = importlib.import_module(modname)
         except ModuleNotFoundError as exc:
-            if exc.name == modname:
+            if exc.name == modname:  # not written yet; any other missing import is a real error
                 continue
             raise
         module.register(sub)
     return parser
 
 
+def _fail(message) -> int:
+    print(f"bifurc: error: {' '.join(str(message).split())}", file=sys.stderr)
+    return 2
+
+
 def main(argv=None) -> int:
+    """Run the command line on ``argv`` (default ``sys.argv[1:]``); return the exit code."""
     parser = build_parser()
-    args = parser.parse_args(argv)
+    try:
+        args = parser.parse_args(argv)
+    except UsageError as exc:
+        return _fail(exc)
+    except SystemExit as exc:  # --help, --version
+        return exc.code if isinstance(exc.code, int) else 0
     if not getattr(args, "func", None):
         parser.print_help()
         return 2
     try:
         return int(args.func(args) or 0)
-    except (ParameterError, FileNotFoundError, FileExistsError) as exc:
-        print(f"bifurc: error: {exc}", file=sys.stderr)
-        return 2
+    except (UsageError, *USER_ERRORS) as exc:
+        return _fail(exc)
     except KeyboardInterrupt:
         print("bifurc: interrupted; completed work is kept on disk where the command streams it",
               file=sys.stderr)

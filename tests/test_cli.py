@@ -1,37 +1,101 @@
-"""The command line: same numbers as the API, clear errors, files written."""
-import numpy as np
-import pytest
-import xarray as xr
+"""The command line: the same numbers as the API, one-line errors, files written atomically."""
+import matplotlib
 
-import maps
-from bifurc.cli import main
+matplotlib.use("Agg")
+import matplotlib.image as mpimg  # noqa: E402
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import pytest  # noqa: E402
+import xarray as xr  # noqa: E402
+
+import maps  # noqa: E402
+from bifurc import __version__, cli  # noqa: E402
+from bifurc.cli import main  # noqa: E402
+from bifurc.plot_history import plot_time_history  # noqa: E402
+from bifurc.storage_io import write_netcdf_atomic  # noqa: E402
+
+OPTS = dict(preset="matlab-listing", params={"V": 90.0, "k": 1e6, "relay_hz": 9.0}, dt=1e-3)
+ARGV = ["--scene", "thesis-1dof", "--relay-hz", "9", "--preset", "matlab-listing",
+        "--set", "V=90", "--set", "k=1e6", "--dt", "1e-3"]
 
 
-def test_scenes_lists_every_scene(capsys):
+@pytest.fixture(scope="module")
+def reference():
+    """maps.simulate with the options of ARGV: 12 relay periods at 9 Hz (first impacts ~0.85 s)."""
+    return maps.simulate("thesis-1dof", periods=12, **OPTS)
+
+
+def test_scenes_lists_every_scene_with_its_states(capsys):
     assert main(["scenes"]) == 0
-    out = capsys.readouterr().out
-    for name in maps.scene_names():
-        assert name in out
-    assert len(out.strip().splitlines()) == len(maps.scene_names())
+    lines = capsys.readouterr().out.strip().splitlines()
+    assert len(maps.scene_names()) == 6 and len(lines) == 6
+    for name, line in zip(maps.scene_names(), lines):
+        assert line.split()[0] == name
+        assert "[" + ",".join(maps.get_scene(name).system.state_names) + "]" in line
 
 
-def test_simulate_writes_the_same_numbers_as_the_api(tmp_path):
+def test_simulate_writes_the_same_numbers_as_the_api(tmp_path, reference, capsys):
     nc, png = tmp_path / "run.nc", tmp_path / "run.png"
-    code = main(["simulate", "--scene", "thesis-1dof", "--relay-hz", "9", "--periods", "12",
-                 "--preset", "matlab-listing", "--set", "V=90", "--set", "k=1e6", "--dt", "1e-3",
-                 "-o", str(nc), "--plot", str(png)])
-    assert code == 0
+    assert main(["simulate", *ARGV, "--periods", "12", "-o", str(nc), "--plot", str(png)]) == 0
+    out = capsys.readouterr().out
     ds = xr.open_dataset(nc)
-    ref = maps.simulate("thesis-1dof", periods=12, preset="matlab-listing",
-                        params={"V": 90, "k": 1e6, "relay_hz": 9}, dt=1e-3)
-    assert ds.sizes["impact"] == ref.sizes["impact"] > 0
-    np.testing.assert_allclose(ds.impact_time.values, ref.impact_time.values, rtol=0, atol=1e-12)
-    np.testing.assert_allclose(ds.x.values, ref.x.values, rtol=0, atol=1e-12)
-    assert ds.attrs["param_k"] == 1e6 and ds.attrs["param_V"] == 90
+    n = reference.sizes["impact"]
+    assert n > 0 and ds.sizes["impact"] == n and f"{n} impacts" in out and "status ok" in out
+    for name in ("impact_time", "impact_velocity", "impact_penetration", "impact_duration"):
+        np.testing.assert_allclose(ds[name].values, reference[name].values, rtol=0, atol=1e-12,
+                                   equal_nan=True, err_msg=name)
+    np.testing.assert_array_equal(ds.time.values, reference.time.values)
+    for name in maps.get_scene("thesis-1dof").system.state_names:
+        scale = np.abs(reference[name].values).max()
+        np.testing.assert_allclose(ds[name].values, reference[name].values, rtol=0, atol=1e-12 * scale,
+                                   err_msg=name)
+    np.testing.assert_array_equal(ds.relay.values, reference.relay.values)
+    np.testing.assert_array_equal(ds.contact.values, reference.contact.values)
+    assert ds.attrs["param_k"] == 1e6 and ds.attrs["param_V"] == 90 and ds.attrs["param_relay_hz"] == 9
+    assert ds.attrs["param_V_source"] == "set by user"
     for name, var in ds.variables.items():
-        assert "units" in var.attrs, name
-    assert png.stat().st_size > 20_000
-    assert not list(tmp_path.glob(".*.tmp"))  # atomic write left no temporary file
+        assert var.attrs.get("units"), name
+    assert not list(tmp_path.glob(".*.tmp"))  # the atomic write left no temporary file
+    # the figure: several panels of real curves, not a blank canvas
+    img = mpimg.imread(png)
+    assert img.shape[0] > 600 and img.shape[1] > 900
+    ink = (img[..., :3].min(axis=2) < 0.9).mean()
+    assert 0.03 < ink < 0.6, ink
+
+
+def test_t_end_is_the_same_run_as_periods(tmp_path, reference):
+    nc = tmp_path / "t.nc"
+    assert main(["simulate", *ARGV, "--t-end", repr(12 / 9), "-o", str(nc)]) == 0
+    ds = xr.open_dataset(nc)
+    np.testing.assert_allclose(ds.impact_time.values, reference.impact_time.values, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(ds.x.values, reference.x.values, rtol=0, atol=1e-12)
+
+
+def test_time_history_figure_draws_the_dataset(reference):
+    """Into a caller's Axes: the displacement curve is x in mm, one marker per impact on the stop."""
+    fig, ax = plt.subplots()
+    assert plot_time_history(reference, ax=ax) is fig
+    curve, stop_marks = ax.lines[0], ax.lines[-1]
+    np.testing.assert_allclose(curve.get_ydata(), 1e3 * reference.x.values, rtol=1e-15)
+    np.testing.assert_allclose(stop_marks.get_xdata(), reference.impact_time.values, rtol=0)
+    assert "[mm]" in ax.get_ylabel()
+    plt.close(fig)
+    full = plot_time_history(reference)  # own figure: displacement, current, relay
+    labels = [a.get_ylabel() for a in full.axes]
+    assert len(labels) == 3 and "[A]" in labels[1] and "V* = 90 V" in full._suptitle.get_text()
+    plt.close(full)
+
+
+def test_atomic_write_keeps_the_old_file_when_writing_fails(tmp_path, reference):
+    path = tmp_path / "keep.nc"
+    write_netcdf_atomic(reference, path)
+    before = path.read_bytes()
+    bad = reference.copy()
+    bad.attrs["not_storable"] = {"a": 1}  # netCDF refuses a dict attribute mid-write
+    with pytest.raises(TypeError):
+        write_netcdf_atomic(bad, path)
+    assert path.read_bytes() == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["keep.nc"]
 
 
 @pytest.mark.parametrize("argv, named", [
@@ -41,10 +105,39 @@ def test_simulate_writes_the_same_numbers_as_the_api(tmp_path):
     (["simulate", "--relay-hz", "0"], "relay_hz"),
     (["simulate", "--scene", "nope"], "nope"),
     (["simulate", "--set", "V"], "NAME=VALUE"),
+    (["simulate", "--set", "V=ninety"], "'V'"),
     (["simulate", "--x0", "y=1"], "'y'"),
+    (["simulate", "--x0", "x=abc"], "--x0"),
+    (["simulate", "--tol", "abc"], "--tol"),
+    (["simulate", "--periods", "1", "--t-end", "1"], "--t-end"),
+    (["simulate", "--bogus"], "--bogus"),
+    (["nope"], "nope"),
 ])
 def test_bad_input_is_one_line_naming_the_parameter(argv, named, capsys):
     assert main(argv) == 2
     err = capsys.readouterr().err
-    assert err.startswith("bifurc: error:") and named in err
+    assert err.startswith("bifurc: error:") and named in err, err
     assert "Traceback" not in err and len(err.strip().splitlines()) == 1
+
+
+def test_version(capsys):
+    assert main(["--version"]) == 0
+    assert capsys.readouterr().out.strip() == f"bifurc {__version__}"
+
+
+def test_missing_subcommand_module_is_skipped_but_a_broken_import_is_not(monkeypatch):
+    real = cli.importlib.import_module
+
+    def fake(name):
+        if name == "bifurc.commands.report":
+            raise ModuleNotFoundError(f"No module named {name!r}", name=name)
+        if name == "bifurc.commands.diagram":
+            raise ModuleNotFoundError("No module named 'somedep'", name="somedep")
+        return real(name)
+
+    monkeypatch.setattr(cli.importlib, "import_module", fake)
+    monkeypatch.setattr(cli, "COMMANDS", ["scenes", "report"])
+    assert "report" not in cli.build_parser()._subparsers._group_actions[0].choices
+    monkeypatch.setattr(cli, "COMMANDS", ["scenes", "diagram"])
+    with pytest.raises(ModuleNotFoundError, match="somedep"):
+        cli.build_parser()

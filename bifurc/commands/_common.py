@@ -26,26 +26,33 @@ def add_scene_options(parser: argparse.ArgumentParser, default_scene: str = "the
     g.add_argument("--tol", type=float, default=1e-12, help="heyoka tolerance (default 1e-12)")
 
 
-def parse_sets(items) -> dict:
-    """['V=90', 'k=1e6'] -> {'V': 90.0, 'k': 1e6}; a malformed item names itself."""
+def _parse_pairs(items, option: str) -> dict:
     out = {}
     for item in items or []:
         name, sep, value = item.partition("=")
         name = name.strip()
         if not sep or not name:
-            raise ParameterError(f"--set {item!r}: expected NAME=VALUE")
+            raise ParameterError(f"{option} {item!r}: expected NAME=VALUE")
         try:
             out[name] = float(value)
         except ValueError:
-            raise ParameterError(f"--set {item!r}: value of {name!r} is not a number") from None
+            raise ParameterError(f"{option} {item!r}: value of {name!r} is not a number") from None
     return out
 
 
+def parse_sets(items) -> dict:
+    """['V=90', 'k=1e6'] -> {'V': 90.0, 'k': 1e6}; a malformed item names itself.
+
+    Names are checked later by the scene, which lists its allowed names.
+    """
+    return _parse_pairs(items, "--set")
+
+
 def parse_x0(text) -> dict:
-    """'x=0.001,v=0' -> {'x': 0.001, 'v': 0.0}."""
+    """'x=0.001,v=0' -> {'x': 0.001, 'v': 0.0} (state components by name, SI units)."""
     if not text:
         return {}
-    return parse_sets([p for p in text.split(",") if p.strip()])
+    return _parse_pairs([p for p in text.split(",") if p.strip()], "--x0")
 
 
 def scene_kwargs(args) -> dict:

@@ -1,16 +1,18 @@
-"""`bifurc scenes`: one line per scene."""
+"""`bifurc scenes`: one line per scene (name, states, summary, default preset)."""
 import maps
 
 
 def register(subparsers):
-    p = subparsers.add_parser("scenes", help="list the scenes")
+    p = subparsers.add_parser("scenes", help="list the scenes",
+                              description="List the scenes: name, states, what it models, default preset.")
     p.set_defaults(func=run)
 
 
 def run(args) -> int:
-    width = max(map(len, maps.scene_names()))
-    for name in maps.scene_names():
-        sc = maps.get_scene(name)
-        states = ",".join(sc.system.state_names)
-        print(f"{name:<{width}}  [{states}]  {sc.summary}; preset {sc.preset}")
+    scenes = [maps.get_scene(name) for name in maps.scene_names()]
+    states = {sc.name: "[" + ",".join(sc.system.state_names) + "]" for sc in scenes}
+    w_name = max(len(sc.name) for sc in scenes)
+    w_states = max(map(len, states.values()))
+    for sc in scenes:
+        print(f"{sc.name:<{w_name}}  {states[sc.name]:<{w_states}}  {sc.summary}; preset {sc.preset}")
     return 0
