@@ -50,11 +50,21 @@ def run(args) -> int:
     counts = ", ".join(f"{CLASS_LABELS[c]} {int((codes == c).sum())}" for c in range(len(CLASS_LABELS))
                        if (codes == c).any())
     print(f"{ds.attrs['scene']}: {args.param} {args.start:g}..{args.stop:g} ({args.n} values, {args.mode}) in "
-          f"{ds.attrs['sweep_seconds']:.1f} s: {counts}; grazing located at {ds.sizes.get('grazing', 0)} values")
+          f"{ds.attrs['sweep_seconds']:.1f} s: {counts}; {_grazing_text(ds)}")
     a = ds.attrs
     if "error_map_points_rel" in a:
         print(f"  error estimate (tol/100 re-run): map points {a['error_map_points_rel']:.1e} relative, impact "
-              f"times {a['error_impact_time_s']:.1e} s (periodic or contracting values; nan: none sampled); "
-              f"{a['error_sensitive_values']} sensitive value(s) differ by {a['error_map_points_rel_sensitive']:.1e}")
+              f"times {a['error_impact_time_s']:.1e} s (periodic or contracting values; nan: none sampled)"
+              + (f"; {a['error_sensitive_values']} chaotic/wandering value(s) differ by "
+                 f"{a['error_map_points_rel_sensitive']:.1e} (sensitivity, not error)"
+                 if a["error_sensitive_values"] else ""))
     print(f"  wrote {args.output}" + (f" and {args.plot}" if args.plot else ""))
     return 0
+
+
+def _grazing_text(ds) -> str:
+    n = ds.sizes.get("grazing", 0)
+    if not n:
+        return "no grazing located (bisected only between periodic or converging neighbours)"
+    ok = int(ds.grazing_confirmed.sum()) if "grazing_confirmed" in ds else n
+    return f"grazing at {ok} value(s), impact-count jumps without a graze at {n - ok}"
