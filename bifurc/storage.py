@@ -34,6 +34,33 @@ def _stack(results, branches, key, fill=np.nan, dtype=float):
     return out
 
 
+#: per-value variables: (name, result key, per recorded step?, fill, dtype, units, long_name)
+_PER_VALUE = [
+    ("period", "class_period", False, -1, np.int16, "relay periods", "period n of the orbit (0: not periodic)"),
+    ("impacts_per_period", "class_impacts_per_period", False, -1, np.int16, "1",
+     "impacts per period m (-1: not periodic)"),
+    ("recurrence", "class_recurrence", False, np.nan, float, "1",
+     "max recurrence distance at the (candidate) period / (rtol*scale + atol)"),
+    ("convergence_rate", "class_convergence_rate", False, np.nan, float, "1",
+     "fitted per-period decay factor of the recurrence distance"),
+    ("lyapunov", "lyapunov", False, np.nan, float, "1/relay period",
+     "largest Lyapunov exponent of the map (NaN: not computed)"),
+    ("forcing_period", "forcing_period_steps", False, 0, np.int32, "relay periods",
+     "period of the forcing in relay periods (0: incommensurate)"),
+    ("impacts_per_step", "impacts_per_step", True, -1, np.int32, "1",
+     "contacts in each recorded relay period (-1: not reached)"),
+    ("min_gap_per_step", "min_gap_per_step", True, np.nan, float, "m",
+     "smallest gap to the stop in each recorded relay period (< 0: penetration)"),
+    ("min_impact_speed_per_step", "min_impact_speed_per_step", True, np.nan, float, "m s-1",
+     "slowest impact in each recorded relay period (inf: no impact)"),
+    ("min_gap", "min_gap", False, np.nan, float, "m", "smallest gap to the stop over the record (< 0: penetration)"),
+    ("min_flight_gap", "min_flight_gap", False, np.nan, float, "m",
+     "lowest free-flight minimum of the gap over the record (inf: none; NaN: no period recorded)"),
+    ("min_impact_speed", "min_impact_speed", False, np.nan, float, "m s-1",
+     "slowest impact over the record (inf: no impact; NaN: no period recorded, see status)"),
+]
+
+
 def to_dataset(results, values, point, scene, table, mode) -> xr.Dataset:
     """Assemble per-value result dicts (see SweepPoint) into the sweep Dataset."""
     import bifurc
@@ -56,30 +83,9 @@ def to_dataset(results, values, point, scene, table, mode) -> xr.Dataset:
     ds["class_code"] = (dims, _stack(results, branches, "class_code", -1, np.int8), {
         "units": "1", "long_name": "orbit class (-1: not computed)",
         "flag_values": np.arange(len(CLASS_LABELS), dtype=np.int8), "flag_meanings": FLAG_MEANINGS.replace("-", "_")})
-    ds["period"] = (dims, _stack(results, branches, "class_period", -1, np.int16),
-                    {"units": "relay periods", "long_name": "period n of the orbit (0: not periodic)"})
-    ds["impacts_per_period"] = (dims, _stack(results, branches, "class_impacts_per_period", -1, np.int16),
-                                {"units": "1", "long_name": "impacts per period m (-1: not periodic)"})
-    ds["recurrence"] = (dims, _stack(results, branches, "class_recurrence"), {
-        "units": "1", "long_name": "max recurrence distance at the (candidate) period / (rtol*scale + atol)"})
-    ds["convergence_rate"] = (dims, _stack(results, branches, "class_convergence_rate"), {
-        "units": "1", "long_name": "fitted per-period decay factor of the recurrence distance"})
-    ds["lyapunov"] = (dims, _stack(results, branches, "lyapunov"), {
-        "units": "1/relay period", "long_name": "largest Lyapunov exponent of the map (NaN: not computed)"})
-    ds["forcing_period"] = (dims, _stack(results, branches, "forcing_period_steps", 0, np.int32), {
-        "units": "relay periods", "long_name": "period of the forcing in relay periods (0: incommensurate)"})
-    ds["impacts_per_step"] = (dims + ("step",), _stack(results, branches, "impacts_per_step", -1, np.int32),
-                              {"units": "1", "long_name": "contacts in each recorded relay period (-1: not reached)"})
-    ds["min_gap_per_step"] = (dims + ("step",), _stack(results, branches, "min_gap_per_step"), {
-        "units": "m", "long_name": "smallest gap to the stop in each recorded relay period (< 0: penetration)"})
-    ds["min_impact_speed_per_step"] = (dims + ("step",), _stack(results, branches, "min_impact_speed_per_step"), {
-        "units": "m s-1", "long_name": "slowest impact in each recorded relay period (inf: no impact)"})
-    ds["min_gap"] = (dims, _stack(results, branches, "min_gap"), {
-        "units": "m", "long_name": "smallest gap to the stop over the record (< 0: penetration)"})
-    ds["min_flight_gap"] = (dims, _stack(results, branches, "min_flight_gap"), {
-        "units": "m", "long_name": "lowest free-flight minimum of the gap over the record (inf: none; NaN: no period recorded)"})
-    ds["min_impact_speed"] = (dims, _stack(results, branches, "min_impact_speed"), {
-        "units": "m s-1", "long_name": "slowest impact over the record (inf: no impact; NaN: no period recorded, see status)"})
+    for name, key, step, fill, dtype, units, long_name in _PER_VALUE:
+        ds[name] = (dims + (("step",) if step else ()), _stack(results, branches, key, fill, dtype),
+                    {"units": units, "long_name": long_name})
     from .sweep import GRAZING_GAP, GRAZING_SPEED
     graze = ((ds.min_impact_speed < GRAZING_SPEED) | ((ds.min_gap >= 0) & (ds.min_gap < GRAZING_GAP)))
     ds["grazing_flag"] = graze.astype(np.int8).assign_attrs(
