@@ -31,7 +31,7 @@ import numpy as np
 from .parameters import Parameter, ParameterError, validate_value
 
 __all__ = ["State", "Guard", "PeriodicSwitch", "HybridSystem", "HybridRun", "EventRecord",
-           "IntegrationFailure", "Escaped"]
+           "IntegrationFailure", "Escaped", "EventCap"]
 
 #: explicit cooldown of every terminal event [s]; with heyoka's automatic one
 #: an event that starts on its own zero (a bar starting on the stop) re-triggers.
@@ -115,6 +115,10 @@ class Escaped(IntegrationFailure):
     """The state left the model's domain (a guard set a halt flag)."""
 
 
+class EventCap(IntegrationFailure):
+    """More events than the run's cap (per run or per relay period): chattering or a runaway."""
+
+
 @dataclass
 class EventRecord:
     """One guard crossing: time, guard name, state before and after the reset."""
@@ -131,6 +135,10 @@ _COMPILED: dict = {}
 
 class HybridSystem:
     """A piecewise-smooth system: states, parameters, flags, rhs, guards, switches."""
+
+    #: flag -> {value: event name}: a ``settle`` that sets the flag to the value is logged as
+    #: an event of that name (e.g. ``{"stuck_bar": {1.0: "stick", 0.0: "unstick"}}``)
+    settle_events: Mapping[str, Mapping[float, str]] = {}
 
     def __init__(self, name: str, states: Sequence[State], parameters: Sequence[Parameter],
                  rhs: Callable, flags: Mapping[str, float] | None = None,
@@ -385,7 +393,11 @@ class HybridRun:
 
     def __init__(self, system: HybridSystem, params: Mapping[str, float], x0, t0: float = 0.0,
                  flags: Mapping[str, float] | None = None, tol: float = 1e-12, fp_type=float,
-                 max_events: int | None = 100_000, record_events: bool = True):
+                 max_events: int | None = 100_000, record_events: bool = True,
+                 max_events_per_period: int | None = None):
+        """``max_events`` caps the events of the whole run, ``max_events_per_period`` those of
+        any one period of the first switch (a relay period); more raise :class:`EventCap`.
+        ``max_period_events`` reports the most events seen in one such period."""
         self.system = system
         self.params = system.validate(params)
         self.tol = validate_tol(tol)
@@ -398,6 +410,9 @@ class HybridRun:
         if max_events is not None:
             max_events = int(validate_value("max_events", max_events, 1, math.inf))
         self.max_events = max_events
+        if max_events_per_period is not None:
+            max_events_per_period = int(validate_value("max_events_per_period", max_events_per_period, 1, math.inf))
+        self.max_events_per_period = max_events_per_period
         self.reset(t0, x0, flags)
 
     def reset(self, t0: float, x0, flags: Mapping[str, float] | None = None) -> "HybridRun":
@@ -416,6 +431,7 @@ class HybridRun:
         self._load_pars()
         self.events = []
         self.n_events = self.n_steps = self.n_switches = 0
+        self.period_events = self.max_period_events = 0  # events in the current / busiest relay period
         self.mode_steps: dict = {}  # Taylor steps per mode (tuple of flag values, system order)
         self.flag_log = [(t0, dict(self.flags))]
         self._next_switch = {sw.flag: sw.index_at(t0, self.params[sw.frequency]) + 1 for sw in system.switches}
@@ -464,14 +480,41 @@ class HybridRun:
                 self.ta.pars[self.system._flag_index[k]] = v
         self.flag_log.append((t, dict(self.flags)))
 
-    def _settle(self, t):
+    def _settle(self, t, log: bool = True) -> list:
+        """Make the flags consistent; transitions named in ``system.settle_events`` are
+        logged as events (after the guard's own record when ``log`` is False: returned)."""
+        records = []
         if self.system.settle is not None:
-            new = self.system.settle(t, np.array(self.ta.state, dtype=float), dict(self.flags), self.params)
+            y_minus = np.array(self.ta.state, dtype=float)
+            new = self.system.settle(t, y_minus.copy(), dict(self.flags), self.params)
             if isinstance(new, tuple):  # (flags, state): a mode entered with a state projection
                 new, y = new
                 self.ta.state[:] = np.asarray(y, dtype=_np_dtype(self.fp_type))
             if new:
+                named = self.system.settle_events
+                for k, v in new.items():
+                    if self.flags.get(k) != v and v in named.get(k, {}):
+                        records.append((named[k][v], y_minus))
                 self._set_flags(new, t)
+        out = []
+        for name, y_minus in records:
+            self._count_event(name)
+            if self.record_events:
+                out.append(EventRecord(t, name, y_minus, np.array(self.ta.state, dtype=float), dict(self.flags)))
+        if log:
+            self.events.extend(out)
+        return out
+
+    def _count_event(self, name: str):
+        self.n_events += 1
+        self.period_events += 1
+        self.max_period_events = max(self.max_period_events, self.period_events)
+        if self.max_events is not None and self.n_events > self.max_events:
+            raise EventCap(f"more than {self.max_events} events by t = {self.t:.9g} s "
+                           f"(last: {name}); chattering or a runaway", self.t, self.y)
+        if self.max_events_per_period is not None and self.period_events > self.max_events_per_period:
+            raise EventCap(f"more than {self.max_events_per_period} events in one relay period, "
+                           f"by t = {self.t:.9g} s (last: {name}); chattering or a runaway", self.t, self.y)
 
     # ----- integration ------------------------------------------------------
     def next_switch_time(self) -> tuple[float, PeriodicSwitch | None]:
@@ -515,6 +558,8 @@ class HybridRun:
                     n = self._next_switch[sw.flag]
                     self._next_switch[sw.flag] = n + 1
                     self.n_switches += 1
+                    if sw is self.system.switches[0] and n % 2 == 0:
+                        self.period_events = 0  # a new relay period begins
                     self._set_flags({sw.flag: sw.value_for_index(n)}, t_sw)
                     self._settle(t_sw)
                 continue
@@ -537,11 +582,7 @@ class HybridRun:
         return self
 
     def _on_guard(self, g: Guard):
-        self.n_events += 1
-        if self.max_events is not None and self.n_events > self.max_events:
-            raise IntegrationFailure(f"more than {self.max_events} events by t = {self.t:.9g} s "
-                                     f"(last: {g.name}); chattering or a runaway",
-                                     self.t, self.y)
+        self._count_event(g.name)
         t = self.t
         y_minus = np.array(self.ta.state, dtype=float) if self.record_events else None
         if g.reset is not None:
@@ -550,10 +591,14 @@ class HybridRun:
             new = g.then(t, np.array(self.ta.state, dtype=float), dict(self.flags), self.params) \
                 if callable(g.then) else g.then
             self._set_flags(new, t)
-        self._settle(t)
-        if self.record_events:
-            self.events.append(EventRecord(t, g.name, y_minus, np.array(self.ta.state, dtype=float),
-                                           dict(self.flags)))
+        y_guard = np.array(self.ta.state, dtype=float) if self.record_events else None
+        flags_guard = dict(self.flags)
+        settled = self._settle(t, log=False)
+        if self.record_events:  # the guard's record, then any settle transition it caused
+            self.events.append(EventRecord(t, g.name, y_minus, y_guard if settled else
+                                           np.array(self.ta.state, dtype=float),
+                                           flags_guard if settled else dict(self.flags)))
+            self.events.extend(settled)
         for f in self.system.halt_flags:
             if self.flags.get(f):
                 raise Escaped(f"{g.name}: the state left the model's domain at t = {t:.9g} s",

@@ -338,6 +338,7 @@ def build_system(options: ModelOptions | None = None, **kw) -> HybridSystem:
         system.settle = _settle_coulomb(system)
     if o.dof == 1 and o.stop:
         system.settle = _settle_stick(system, o)
+        system.settle_events = {"stuck_bar": {1.0: "stick", 0.0: "unstick"}}  # logged as events
     system.options = o
     _SYSTEMS[o.key()] = system
     return system

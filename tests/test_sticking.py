@@ -1,0 +1,172 @@
+"""Sticking on the stop: chattering ends in the stuck mode at the instants independent
+calculations give, stick/unstick are logged events, and a runaway hits the event cap."""
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+from scipy.optimize import brentq
+
+import maps
+from maps.hybrid import EventCap, HybridRun
+from bifurc.stability import CASES, case_scene, run_case
+
+
+def _case(name):
+    return next(c for c in CASES if c.name == name)
+
+
+def _run(name, t_end=None, **kw):
+    case = _case(name)
+    sc, p = case_scene(case)
+    run = HybridRun(sc.system, p, sc.initial_state(**case.x0), flags=case.flags or None, **kw)
+    run.advance(t_end or case.t_end)
+    return run, sc, p
+
+
+def bouncing_ball(m, g, k, c, e, h, v_stick, t_end):
+    """Closed-form Kelvin-Voigt bouncing ball: free flight is a parabola, contact a damped
+    oscillation about x_s = e - m g / k.  Applies the model's stick rule: a contact beginning
+    slower than ``v_stick``, or a deepest point whose oscillation amplitude
+    sqrt(k/m) |x - x_s| is below ``v_stick``.  Returns (contact onsets, stick time)."""
+    w = math.sqrt(k / m)
+    sig = c / (2 * m)
+    wd = math.sqrt(w * w - sig * sig)
+    s = m * g / k  # height of the stop above the static point
+    t, v = math.sqrt(2 * (h - e) / g), -math.sqrt(2 * g * (h - e))
+    onsets = []
+    while t < t_end:
+        onsets.append(t)
+        if abs(v) < v_stick:
+            return onsets, t
+        A, B = s, (v + sig * s) / wd  # y = x - x_s = exp(-sig t) (A cos wd t + B sin wd t)
+        y = lambda tau: math.exp(-sig * tau) * (A * math.cos(wd * tau) + B * math.sin(wd * tau))  # noqa: E731
+        phase = math.atan2(B * wd - sig * A, A * wd + sig * B) % math.pi
+        ext = [(phase + n * math.pi) / wd for n in range(10_000)]  # y' = 0: minima (even n), maxima (odd n)
+        for n in range(0, len(ext), 2):
+            t_min, t_max = ext[n], ext[n + 1]
+            if w * abs(y(t_min)) < v_stick:
+                return onsets, t + t_min
+            if y(t_max) > s:  # rises back above the stop: released
+                tr = brentq(lambda tau: y(tau) - s, t_min, t_max, xtol=1e-16, rtol=1e-15)
+                v_up = math.exp(-sig * tr) * ((B * wd - sig * A) * math.cos(wd * tr)
+                                              - (A * wd + sig * B) * math.sin(wd * tr))
+                t += tr + 2 * v_up / g  # free flight back to the stop
+                v = -v_up
+                break
+        else:
+            raise AssertionError("no release and no stick within 5000 oscillations")
+    return onsets, math.nan
+
+
+def test_zeno_cascade_sticks_when_the_closed_form_bouncing_ball_does():
+    """ac-stop without current is a bouncing ball on a Kelvin-Voigt stop; the bounce sequence
+    and the stick instant are known in closed form."""
+    run, sc, p = _run("chatter-stick")
+    onsets, t_stick = bouncing_ball(p["m"], p["g"], p["k"], p["c"], p["e"], 1e-3,
+                                    sc.options.stick_speed, 1.0)
+    got = [ev.t for ev in run.events if ev.name == "contact"]
+    assert len(got) == len(onsets) == 36
+    assert np.max(np.abs(np.array(got) - onsets)) < 1e-11  # measured 3.5e-13
+    sticks = [ev for ev in run.events if ev.name == "stick"]
+    assert len(sticks) == 1 and sticks[0].t == pytest.approx(t_stick, abs=1e-11)  # measured 8e-13
+    # afterwards the bar rides the stop: x = e, v = 0 exactly, no further event or burnt step
+    assert run.events[-1].name == "stick" and run.y[0] == p["e"] and run.y[1] == 0.0
+    assert run.flags["stuck_bar"] == 1 and run.n_steps < 400
+
+
+def test_without_the_stick_mode_the_cascade_is_an_event_cap_not_a_hang():
+    case = _case("chatter-no-stick")
+    res = run_case(case)
+    assert res["verdict"] == "event-cap" and res["max_period_events"] == case.max_events_per_period + 1
+    assert 0 < res["failure_time"] < 0.2  # within the first relay period (5 Hz)
+    sc, p = case_scene(case)
+    run = HybridRun(sc.system, p, sc.initial_state(**case.x0), max_events_per_period=30)
+    with pytest.raises(EventCap, match="in one relay period"):
+        run.advance(1.0)
+
+
+def _circuit_alone(p, t0, y0, t_end, on):
+    """Eq 4.16 with the bar held at x = e (v = dv/dt = 0): a linear ODE in (i, z) with the
+    relay as ``on(t)``; the bar leaves when the (listing-sign) AC push 0.5 |L'| i^2 exceeds m g.
+    Returns the first such instant."""
+    xb = p["e"] + p["d_ac"]
+    norm = p["A"] / (p["B"] * math.sqrt(math.pi / 2))
+    gauss = math.exp(-2 * (xb / p["B"]) ** 2)
+    L, dL = p["L0"] + norm * gauss, -4 * norm * xb / p["B"] ** 2 * gauss
+    w = 2 * math.pi * p["f_mains"]
+
+    def push(t, y):
+        return 0.5 * abs(dL) * y[0] ** 2 - p["m"] * p["g"]
+    push.terminal, push.direction = True, 1
+    t, y = t0, list(y0)
+    for t_a, t_b, P in on(t0, t_end):
+        rhs = lambda t, y, P=P: [y[1], (P * w * p["V"] * math.cos(w * t) - p["R"] * y[1] - y[0] / p["C"]) / L]  # noqa: E731
+        sol = solve_ivp(rhs, (t_a, t_b), y, method="DOP853", rtol=1e-13, atol=1e-15, events=push)
+        if sol.t_events[0].size:
+            return sol.t_events[0][0]
+        y = sol.y[:, -1]
+    return math.nan
+
+
+def test_time_on_the_stop_matches_the_circuit_alone():
+    """Held on the stop from t = 0 with the AC always on, the bar leaves at the first root of
+    the net force along the stuck trajectory."""
+    case = _case("stuck-unstick")
+    res = run_case(case)
+    sc, p = case_scene(case)
+    t_out = _circuit_alone(p, 0.0, [0.0, 0.0], 0.05, lambda a, b: [(a, b, 1.0)])
+    assert res["unstick_time"] == pytest.approx(t_out, abs=1e-10)
+    assert res["time_on_stop"] == pytest.approx(t_out, abs=1e-10)
+    assert res["verdict"] == "ok"
+
+
+def test_relay_chattering_sticks_and_leaves_when_the_circuit_alone_says():
+    """thesis-1dof without DC, listing-sign AC, stiff stop: each relay ON half lifts the bar,
+    each OFF half it chatters down and sticks.  From every stick instant, the circuit alone
+    (held bar, relay switching at n/(2 W)) gives the next unstick instant."""
+    run, sc, p = _run("chatter-relay")
+    W = p["relay_hz"]
+    names = [ev.name for ev in run.events if ev.name in ("stick", "unstick")]
+    assert names[:2] == ["stick", "unstick"] and len(names) >= 8
+    i_idx = sc.system.state_names.index("i")
+
+    def relay(a, b):  # (start, stop, P) pieces between relay switches n / (2 W)
+        edges = [a] + [n / (2 * W) for n in range(math.floor(2 * W * a) + 1, math.ceil(2 * W * b))] + [b]
+        return [(s, e, 1.0 if ((s + e) / 2 * W) % 1.0 < 0.5 else 0.0) for s, e in zip(edges[:-1], edges[1:])]
+
+    checked = 0
+    for k, ev in enumerate(run.events):
+        if ev.name != "stick":
+            continue
+        nxt = next((e for e in run.events[k + 1:] if e.name == "unstick"), None)
+        if nxt is None:
+            continue
+        t_out = _circuit_alone(p, ev.t, ev.y_plus[i_idx:i_idx + 2], nxt.t + 0.01, relay)
+        assert nxt.t == pytest.approx(t_out, abs=1e-11), (ev.t, nxt.t, t_out)  # measured 3e-16
+        checked += 1
+    assert checked >= 4
+    # the bar never leaves during an OFF half: only the AC pushes it up
+    for ev in run.events:
+        if ev.name == "unstick":
+            assert (ev.t * W) % 1.0 < 0.5
+
+
+def test_stick_and_unstick_are_logged_events_between_the_guard_records():
+    run, sc, p = _run("chatter-relay", t_end=0.3)
+    ev = run.events
+    for k, e in enumerate(ev):
+        if e.name == "stick":
+            assert e.flags["stuck_bar"] == 1 and e.y_plus[0] == p["e"] and e.y_plus[1] == 0.0
+            assert ev[k - 1].t == e.t and ev[k - 1].flags["stuck_bar"] == 0  # the guard that caused it
+        if e.name == "unstick":
+            assert e.flags["stuck_bar"] == 0
+    assert run.n_events == len(ev)
+
+
+def test_pure_free_fall_escape_time():
+    res = run_case(_case("free-fall-out"))
+    sc, p = case_scene(_case("free-fall-out"))
+    h = p["d_ac"] + 0.2  # escape 0.2 m beyond the AC centre, 0.0455 m below the start
+    assert res["verdict"] == "escaped"
+    assert res["failure_time"] == pytest.approx(math.sqrt(2 * h / p["g"]), abs=1e-12)
