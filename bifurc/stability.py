@@ -79,6 +79,9 @@ CASES = [
     Case("stuck-unstick", "chattering", "ac-stop", 0.05, dict(V=200.0), x0={"x": 0.0}, flags={"stuck_bar": 1.0},
          options=dict(ac_sign="listing")),
     Case("stuck-held", "chattering", "ac-stop", 0.2, dict(V=200.0), x0={"x": 0.0}, flags={"stuck_bar": 1.0}),
+    Case("stuck-2dof", "chattering", "thesis-2dof", 0.05, dict(V=0.0, dc_scale=0.04, F_static=-31.1),
+         x0={"x1": 0.0}, flags={"stuck_bar": 1.0}),
+    Case("prototype-stick", "chattering", "prototype", 1.0, dict(V=90.0)),
     Case("graze-dc-only", "grazing", "dc-only", 1.0, x0={"x": 0.0}, expect="ill-conditioned",
          note="an exact graze: from rest on the stop the symmetric cubic potential returns the bar to the "
               "stop with zero speed, so whether each return is a contact at ~1e-6 m/s or a turning point "
@@ -110,7 +113,7 @@ CASES = [
               "over 3 s double and extended precision agree to the tolerance"),
 ]
 QUICK = ["stiff-k1e+05-c0", "stiff-k1e+08-c0", "stiff-k1e+10-c10", "chatter-stick", "chatter-relay",
-         "chatter-no-stick", "stuck-unstick", "stuck-held", "graze-miss-1nm", "graze-hit-1nm", "graze-thesis",
+         "chatter-no-stick", "stuck-unstick", "stuck-held", "stuck-2dof", "prototype-stick", "graze-miss-1nm", "graze-hit-1nm", "graze-thesis",
          "relay-100Hz", "thrown-out", "through-the-stop", "free-fall-out", "non-finite", "precision-long-9Hz"]
 
 

@@ -70,9 +70,13 @@ class ModelOptions:
     ac_sign: str = "physical"    # "physical" or "listing" (listing C.2 reverses the AC force)
     soil: str = "viscous"        # 2-DOF: "viscous" or "coulomb"
     energy: bool = False         # add quadrature states for the energy audit (1-DOF)
-    stick_speed: float = 1e-4    # [m/s] 1-DOF: a contact onset slower than this while the net
+    stick_speed: float = 1e-4    # [m/s] a contact onset slower than this while the net
                                  # non-contact force presses the bar on the stop ends chattering:
-                                 # the bar sticks (x = e, v = 0) until that force pulls it away
+                                 # the bar sticks (x = e, v = 0; 2-DOF: r = e, bar and rig move
+                                 # as one body) until that force pulls it away
+    unstick_force: float = 1e-9  # [N] the stuck bar leaves when that force exceeds this: above the
+                                 # noise of heyoka's event polynomials (~tol x force), so a force
+                                 # that only touches zero (AC alone, i^2 -> 0) does not free it
 
     def __post_init__(self):
         from .parameters import ParameterError
@@ -163,14 +167,23 @@ def _forces(o: ModelOptions, s):
         f["F_c"] = zero
     f["F_bar"] = f["F_dc"] + f["F_ac"] + f["F_c"]  # magnetic + contact force on the bar
     if o.dof == 2:
+        # stuck_bar = 1: the bar rides the stop, bar and rig move as one body of mass m1 + m2
+        # under the static force and the soil; stuck_bar = 0 gives the free equations exactly.
+        sb = s.stuck_bar if o.stop else 0.0
+        free, mass = 1.0 - sb, s.m2 + sb * s.m1
+        F_mag = f["F_dc"] + f["F_ac"]
+        N_rig_free = -free * F_mag - s.F_static  # without the contact force
+        f["N_rig"] = -free * f["F_bar"] - s.F_static  # net force on the rig (bar+rig if stuck) before the soil
         if o.soil == "viscous":
             f["F_soil"] = -s.soil_c * s.v2
-            f["N_rig"] = -f["F_bar"] - s.F_static
-            f["a2"] = (f["N_rig"] + f["F_soil"]) / s.m2
+            f["a2"] = (f["N_rig"] + f["F_soil"]) / mass
+            a2_free = (N_rig_free + f["F_soil"]) / mass
         else:
-            f["N_rig"] = -f["F_bar"] - s.F_static  # net force on the rig before friction
-            f["a2"] = (1.0 - s.stuck) * (f["N_rig"] - s.slip_dir * s.soil_friction) / s.m2
-        f["a1"] = f["F_bar"] / s.m1
+            f["a2"] = (1.0 - s.stuck) * (f["N_rig"] - s.slip_dir * s.soil_friction) / mass
+            a2_free = (1.0 - s.stuck) * (N_rig_free - s.slip_dir * s.soil_friction) / mass
+        f["a1"] = free * f["F_bar"] / s.m1 + sb * f["a2"]
+        # m1 x the bar's acceleration relative to the rig without contact force (> 0: pulls it off the stop)
+        f["N_bar"] = F_mag - s.m1 * a2_free
         f["rddot"] = f["a1"] - f["a2"]
     else:
         weight_offset = s.m * s.g if o.dc else zero  # eq 4.7: F_dc carries +m g (listing C.9)
@@ -206,15 +219,16 @@ def _guards(o: ModelOptions, s):
     r, rdot = f["r"], f["rdot"]
     gs = []
     if o.stop:
-        gs += [Guard("contact", r - s.e, -1, when={"contact": 0}, then={"contact": 1}),
-               Guard("lowest", rdot, +1, when={"contact": 0}),
+        gs += [Guard("contact", r - s.e, -1, when={"contact": 0, "stuck_bar": 0}, then={"contact": 1}),
+               Guard("lowest", rdot, +1, when={"contact": 0, "stuck_bar": 0}),
                Guard("deepest", rdot, +1, when={"contact": 1}),
                Guard("release", r - s.e, +1, when={"contact": 1}, then={"contact": 0}),
                Guard("escape_stop", r - s.e + STOP_ESCAPE, -1, then={"escaped": 1})]
         top = (s.d_dc if o.dc else 0.0) + ESCAPE_MARGIN
         gs += [Guard("escape_far", r - top, +1, then={"escaped": 1})]
-        if o.dof == 1:
-            gs += [Guard("unstick", f["N_bar"], +1, when={"stuck_bar": 1}, then={"stuck_bar": 0})]
+        # times stuck_bar: identically zero (no crossings to stop at) while the bar is free
+        gs += [Guard("unstick", s.stuck_bar * (f["N_bar"] - o.unstick_force), +1, when={"stuck_bar": 1},
+                     then={"stuck_bar": 0})]
     else:
         centre = -s.d_ac if o.ac else 0.0
         gs += [Guard("escape_far", (r - centre) ** 2 - (0.2) ** 2, +1, then={"escaped": 1})]
@@ -239,6 +253,8 @@ def _outputs(o: ModelOptions, s):
     out = {k: f[k] for k in ("F_dc", "F_ac", "F_c", "r", "rdot") if k in f}
     if o.dof == 2:
         out["N_rig"] = f["N_rig"]
+        if "N_bar" in f:
+            out["N_bar"] = f["N_bar"]
     else:
         out["N_bar"] = f["N_bar"]
     if o.energy:
@@ -289,24 +305,53 @@ def _settle_stick(system: HybridSystem, o: ModelOptions):
       Kelvin-Voigt stop; its turning points would otherwise fire for ever at noise level).
 
     The projection moves the bar by its static penetration |N|/k (micrometres here).
+    2-DOF: x is r = x1 - x2, m the reduced mass m1 m2 / (m1 + m2), N = N_bar m / m1; the bar
+    is put at x2 + e and bar and rig take their common momentum velocity (the rig's velocity
+    if the soil holds the rig).
     """
 
     def settle(t, y, flags, params):
         if flags.get("contact") == 1 and flags.get("stuck_bar") == 0:
-            x, v, e = y[0], y[1], params["e"]
+            x, v = system.gap(y, params)
+            e = params["e"]
+            x = x + e
             if abs(v) < o.stick_speed:
                 N = float(system.evaluate(["N_bar"], y, params, flags, t)[0])
+                m = params["m"] if o.dof == 1 else params["m1"] * params["m2"] / (params["m1"] + params["m2"])
+                if o.dof == 2:
+                    N = N * m / params["m1"]
                 x_s = e + N / params["k"]
-                amp = abs(v) if abs(x - e) < 1e-12 else math.hypot(v, math.sqrt(params["k"] / params["m"]) * (x - x_s))
+                amp = abs(v) if abs(x - e) < 1e-12 else math.hypot(v, math.sqrt(params["k"] / m) * (x - x_s))
                 if N <= 0.0 and amp < o.stick_speed:
                     y = y.copy()
-                    y[0], y[1] = e, 0.0
+                    if o.dof == 1:
+                        y[0], y[1] = e, 0.0
+                    else:
+                        m1, m2 = params["m1"], params["m2"]
+                        v_common = y[3] if flags.get("stuck") == 1 else (m1 * y[1] + m2 * y[3]) / (m1 + m2)
+                        y[0], y[1], y[3] = y[2] + e, v_common, v_common
                     return {"contact": 0.0, "stuck_bar": 1.0}, y
         if flags.get("stuck_bar") == 1:
             N = float(system.evaluate(["N_bar"], y, params, flags, t)[0])
-            if N > 0.0:
+            if N > o.unstick_force:
                 return {"stuck_bar": 0.0}
         return None
+
+    return settle
+
+
+def _chain(first, second):
+    """Two settle functions in turn: the second sees the first's flags and projected state."""
+
+    def settle(t, y, flags, params):
+        out = first(t, y, flags, params)
+        projected = isinstance(out, tuple)
+        new, y = out if projected else (out or {}, y)
+        more = second(t, y, dict(flags, **new), params)
+        if isinstance(more, tuple):
+            (more, y), projected = more, True
+        new = dict(new, **(more or {}))
+        return (new, y) if projected else (new or None)
 
     return settle
 
@@ -322,7 +367,7 @@ def build_system(options: ModelOptions | None = None, **kw) -> HybridSystem:
     flags = {"P": 1.0} if o.ac else {}
     if o.stop:
         flags["contact"] = 0.0
-    if o.stop and o.dof == 1:
+    if o.stop:
         flags["stuck_bar"] = 0.0
     flags["escaped"] = 0.0
     if o.dof == 2 and o.soil == "coulomb":
@@ -336,8 +381,9 @@ def build_system(options: ModelOptions | None = None, **kw) -> HybridSystem:
         halt_flags=("escaped",), gap=_gap(o))
     if o.dof == 2 and o.soil == "coulomb":
         system.settle = _settle_coulomb(system)
-    if o.dof == 1 and o.stop:
-        system.settle = _settle_stick(system, o)
+    if o.stop:
+        stick = _settle_stick(system, o)
+        system.settle = stick if system.settle is None else _chain(stick, system.settle)
         system.settle_events = {"stuck_bar": {1.0: "stick", 0.0: "unstick"}}  # logged as events
     system.options = o
     _SYSTEMS[o.key()] = system

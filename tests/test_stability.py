@@ -28,7 +28,7 @@ def test_double_agrees_with_extended_precision_within_the_bound(quick):
     assert (ok.state_error <= ok.bound).all() and (ok.tight_state_error <= ok.bound).all()
     assert (ok.event_count_difference == 0).all() and (ok.tight_event_count_difference == 0).all()
     assert float(ok.event_time_error.max()) < 1e-10  # measured 4.7e-11 (relay chattering, 1 s)
-    assert float(ok.state_error.max()) < 1e-11       # measured 1.9e-12
+    assert float(ok.state_error.max()) < 1e-10       # measured 4.2e-11 (relay 100 Hz, 355 steps at tol 1e-12)
 
 
 def test_a_sensitive_orbit_diverges_late_and_agrees_over_a_short_horizon(quick):
@@ -44,7 +44,8 @@ def test_grazes_are_neither_missed_nor_doubled(quick):
     assert int(miss.contacts) == 0 and abs(float(miss.min_clearance) - 1e-9) < 1e-15
     assert int(hit.contacts) == 8 and int(hit.event_count_difference) == 0
     assert int(hit.tight_event_count_difference) == 0
-    assert float(hit.event_time_error) < 1e-12 and float(hit.tight_event_time_error) < 1e-12
+    # a 1 nm-deep contact begins at ~7e-4 m/s: a position error d shifts its time by d / 7e-4
+    assert float(hit.event_time_error) < 1e-10 and float(hit.tight_event_time_error) < 1e-10  # measured 1.7e-11
 
 
 def test_stiff_stop_penetration_tends_to_the_linear_estimate(quick):

@@ -170,3 +170,42 @@ def test_pure_free_fall_escape_time():
     h = p["d_ac"] + 0.2  # escape 0.2 m beyond the AC centre, 0.0455 m below the start
     assert res["verdict"] == "escaped"
     assert res["failure_time"] == pytest.approx(math.sqrt(2 * h / p["g"]), abs=1e-12)
+
+
+def test_two_dof_bar_rides_the_rig_and_leaves_at_the_analytic_instant():
+    """thesis-2dof, no AC, weak DC, the static force reversed (pulling the rig onto the bar):
+    held on the stop, bar and rig accelerate as one body, a(t) = (-F_static/M) exp(-soil_c t / M),
+    and the bar leaves when the DC pull F_dc(e) exceeds m1 a(t) by the model's unstick_force."""
+    case = _case("stuck-2dof")
+    run, sc, p = _run("stuck-2dof")
+    M = p["m1"] + p["m2"]
+    xa = p["e"] - p["d_dc"]
+    F_dc = p["dc_scale"] * (-p["a3"] * xa**3 + p["a2"] * xa**2 - p["a1"] * xa)
+    eps = sc.options.unstick_force
+    t_phys = M / p["soil_c"] * math.log(p["m1"] * -p["F_static"] / (M * F_dc))
+    t_model = M / p["soil_c"] * math.log(p["m1"] * -p["F_static"] / (M * (F_dc - eps)))
+    (ev,) = [e for e in run.events if e.name == "unstick"]
+    assert ev.t == pytest.approx(t_model, abs=1e-15)  # measured 3.9e-18
+    assert abs(t_phys - t_model) < 1e-10  # the regularisation's lag: eps / (dN/dt) = 1.4e-11 s
+    x1, v1, x2, v2 = ev.y_minus[:4]
+    assert x1 - x2 == p["e"] and v1 == v2  # rode the stop exactly
+    assert v2 == pytest.approx(-p["F_static"] / p["soil_c"] * (1 - math.exp(-p["soil_c"] * ev.t / M)), rel=1e-12)
+    assert case.flags == {"stuck_bar": 1.0}
+
+
+def test_prototype_stick_conserves_momentum_or_holds_the_rig():
+    """In the prototype (dry-friction soil) the bar settles on the stop during an AC half and
+    leaves when the antiphase DC comes on at the relay switch: at the stick the bar is put on the
+    stop with the rig's velocity (rig held by friction) or the common momentum velocity."""
+    run, sc, p = _run("prototype-stick")
+    sticks = [k for k, e in enumerate(run.events) if e.name == "stick"]
+    assert sticks
+    for k in sticks:
+        e = run.events[k]
+        x1, v1, x2, v2 = e.y_plus[:4]
+        assert x1 - x2 == p["e"] and v1 == v2
+        if e.flags["stuck"] == 0:
+            m1, m2 = p["m1"], p["m2"]
+            assert m1 * v1 + m2 * v2 == pytest.approx(m1 * e.y_minus[1] + m2 * e.y_minus[3], abs=1e-15)
+        nxt = next(u for u in run.events[k + 1:] if u.name == "unstick")
+        assert nxt.t * p["relay_hz"] % 0.5 == pytest.approx(0.0, abs=1e-12)  # at a relay switch
