@@ -30,7 +30,8 @@ from maps.hybrid import Escaped, EventCap, HybridRun, IntegrationFailure
 from maps.impacts import free_flight_minima, impact_table
 from maps.scenes import get_scene
 
-__all__ = ["Case", "CASES", "QUICK", "run_case", "run_suite", "write_report", "VERDICTS", "COMPARED_EVENTS"]
+__all__ = ["Case", "CASES", "QUICK", "VERDICTS", "COMPARED_EVENTS", "case_scene", "run_case", "run_suite",
+           "compare_runs", "event_log", "sentence", "write_report"]
 
 VERDICTS = ("ok", "ill-conditioned", "escaped", "numerical-failure", "event-cap")
 #: events whose count and times are compared between runs (observations such as "deepest" are not)
@@ -241,13 +242,13 @@ def _mechanics(run, case) -> dict:
     out["sticks"], out["unsticks"] = len(sticks), len(unsticks)
     out["stick_time"] = sticks[0] if sticks else (0.0 if case.flags.get("stuck_bar") else math.nan)
     out["unstick_time"] = unsticks[0] if unsticks else math.nan
-    out["time_on_stop"] = _time_stuck(run, case) if "stuck_bar" in run.flags else math.nan
+    out["time_on_stop"] = _time_stuck(run) if "stuck_bar" in run.flags else math.nan
     mins = free_flight_minima(run)["gap"]
     out["min_clearance"] = float(np.min(mins)) if mins.size else math.nan
     return out
 
 
-def _time_stuck(run, case) -> float:
+def _time_stuck(run) -> float:
     """Total time [s] with the flag stuck_bar set, from the run's flag log."""
     total, since = 0.0, None
     for t, flags in run.flag_log:

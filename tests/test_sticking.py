@@ -7,7 +7,6 @@ import pytest
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
-import maps
 from maps.hybrid import EventCap, HybridRun
 from bifurc.stability import CASES, case_scene, run_case
 
