@@ -28,10 +28,12 @@ def resolve(scene, params=None, preset=None, circuit=None, ac_sign=None, energy=
 
 
 def run_scene(scene, t_end, params=None, preset=None, x0=None, tol=1e-12, circuit=None,
-              ac_sign=None, energy=None, fp_type=float, on_segment=None, max_events=100_000):
+              ac_sign=None, energy=None, fp_type=float, on_segment=None, max_events=100_000,
+              max_events_per_period=None):
     """Integrate a scene to ``t_end`` [s] and return the :class:`~maps.hybrid.HybridRun`.
 
-    Failures (non-finite state, escape, event cap) are recorded on the run as
+    Failures (non-finite state, escape, event cap: ``max_events`` per run,
+    ``max_events_per_period`` per relay period) are recorded on the run as
     ``run.status`` / ``run.failure`` instead of raised.
     """
     sc, table = resolve(scene, params, preset, circuit, ac_sign, energy)
@@ -41,7 +43,8 @@ def run_scene(scene, t_end, params=None, preset=None, x0=None, tol=1e-12, circui
         raise ParameterError(f"x0 must map state names to values, e.g. {{'x': 0.001}}; "
                              f"{sc.name!r} has the states {', '.join(sc.system.state_names)}")
     y0 = sc.initial_state(**(x0 or {}))
-    run = HybridRun(sc.system, values, y0, tol=tol, fp_type=fp_type, max_events=max_events)
+    run = HybridRun(sc.system, values, y0, tol=tol, fp_type=fp_type, max_events=max_events,
+                    max_events_per_period=max_events_per_period)
     run.scene, run.provenance = sc, {k: src for k, (_, src) in table.items()}
     run.status, run.failure = "ok", None
     t0 = _time.perf_counter()
@@ -56,7 +59,8 @@ def run_scene(scene, t_end, params=None, preset=None, x0=None, tol=1e-12, circui
 
 
 def simulate(scene, *, periods=None, t_end=None, params=None, preset=None, x0=None, tol=1e-12,
-             dt=None, t_eval=None, circuit=None, ac_sign=None, energy=None) -> xr.Dataset:
+             dt=None, t_eval=None, circuit=None, ac_sign=None, energy=None,
+             max_events_per_period=None) -> xr.Dataset:
     """Time history of ``scene`` sampled on a grid from heyoka's dense output.
 
     Parameters
@@ -104,7 +108,8 @@ def simulate(scene, *, periods=None, t_end=None, params=None, preset=None, x0=No
         if hi > lo:
             samples[lo:hi] = c_out(t_eval[lo:hi])
 
-    run = run_scene(sc, t_end, params=values, x0=x0, tol=tol, on_segment=on_segment)
+    run = run_scene(sc, t_end, params=values, x0=x0, tol=tol, on_segment=on_segment,
+                    max_events_per_period=max_events_per_period)
     return to_dataset(run, t_eval, samples, table)
 
 

@@ -105,3 +105,11 @@ def test_escape_is_reported_with_time_and_truncated_grid():
     assert np.sqrt(2 * 0.2 / 9.81) - 1e-9 <= t_fail < 1.0
     assert float(ds.time[-1]) <= t_fail
     assert not np.isnan(ds.x.values).any()
+
+
+def test_per_period_event_cap_is_a_reported_failure():
+    ds = maps.simulate("thesis-1dof", t_end=1.5, max_events_per_period=2, **CASE)
+    assert ds.attrs["status"] == "failed" and "events" in ds.attrs["failure"]
+    assert ds.attrs["failure_time"] < 1.5 and not np.isnan(ds.x.values).any()
+    ok = maps.simulate("thesis-1dof", t_end=1.5, max_events_per_period=50, **CASE)
+    assert ok.attrs["status"] == "ok" and ok.sizes["impact"] >= 4 > ds.sizes["impact"]
