@@ -87,6 +87,12 @@ class ModelOptions:
             if getattr(self, name) not in values:
                 raise ParameterError(f"option {name!r} = {getattr(self, name)!r}; "
                                      f"allowed: {', '.join(map(str, values))}")
+        for name in ("dc", "ac", "stop", "energy"):
+            if not isinstance(getattr(self, name), bool):
+                raise ParameterError(f"option {name!r} = {getattr(self, name)!r}; allowed: True, False")
+        from .parameters import validate_value
+        validate_value("stick_speed", self.stick_speed, 0.0, 1.0, unit="m s-1")
+        validate_value("unstick_force", self.unstick_force, 0.0, 1e3, unit="N")
         if self.relay != "none" and not self.ac:
             raise ParameterError("option 'relay' needs the AC solenoid (ac=True)")
         if self.energy and (self.dof != 1 or (self.ac and self.circuit != "kvl")):

@@ -53,7 +53,7 @@ def validate_value(name, value, low=-math.inf, high=math.inf, low_open=False,
     except (TypeError, ValueError):
         raise ParameterError(f"{what} must be a number, got {value!r}") from None
     rng = Parameter(name, unit, long_name, low, high, low_open, high_open).range_text()
-    units = f" {unit}" if unit and unit != "-" else ""
+    units = f" {unit}" if unit and unit not in ("-", "1") else ""  # "1": dimensionless (CF)
     if not math.isfinite(x):
         raise ParameterError(f"{what} must be finite, got {x}; allowed range {rng}{units}")
     bad_low = x <= low if low_open else x < low

@@ -23,6 +23,8 @@ def resolve(scene, params=None, preset=None, circuit=None, ac_sign=None, energy=
     opts = {k: v for k, v in dict(circuit=circuit, ac_sign=ac_sign, energy=energy).items() if v is not None}
     if opts:
         sc = sc.with_options(**opts)
+    if params is not None and not isinstance(params, Mapping):  # else a TypeError from the ** below
+        raise ParameterError(f"params must map parameter names to values, e.g. {{'V': 90}}; got {params!r}")
     table = sc.parameters_with_provenance(preset, **(params or {}))
     return sc, table
 

