@@ -64,7 +64,11 @@ def test_heyoka_rhs_equals_the_independent_numpy_rhs(relay, contact):
         t = rng.uniform(0, 2)
         got = fn(y, pars=pars, time=t)
         want = np.array(f_ref(t, y, relay, contact))
-        np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-12 * np.abs(want).max())
+        # dz/dt is a difference of terms up to the source's V w / L (~6e4 A s-2): round-off in
+        # the phase w t (~1e-13 rad at t = 2 s) moves it by ~1e-9 however the product is ordered
+        atol = 1e-12 * np.abs(want).max()
+        scale = np.array([atol, atol, atol, 1e-13 * p["V"] * 2 * np.pi * p["f_mains"] / p["L0"]])
+        assert np.all(np.abs(got - want) <= 1e-12 * np.abs(want) + np.maximum(atol, scale)), (got, want)
 
 
 def _compiled_rhs(system, p, flags):
