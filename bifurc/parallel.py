@@ -23,6 +23,8 @@ differences on the dataset.
 """
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import math
 import os
 import time as _time
@@ -30,11 +32,13 @@ from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from dataclasses import dataclass, field, replace
 
 import numpy as np
-import xarray as xr
 
 from maps.hybrid import Escaped, HybridRun, IntegrationFailure
 from maps.parameters import ParameterError
 from maps.scenes import get_scene
+
+if TYPE_CHECKING:  # xarray is imported where used: worker processes start faster
+    import xarray as xr
 
 __all__ = ["StroboscopicTask", "BatchStroboscopicTask", "map_values", "sweep_dataset", "add_error_estimate", "chunks_of",
            "STATUS_MEANINGS"]
@@ -138,189 +142,56 @@ def _run_chunk(task, values):
 
 @dataclass(frozen=True)
 class BatchStroboscopicTask(StroboscopicTask):
-    """:class:`StroboscopicTask` on heyoka's batch integrator: ``batch_size`` values per SIMD pass.
+    """:class:`StroboscopicTask` on heyoka's batch integrator (:mod:`bifurc.batch`).
 
-    Each lane has its own parameter values, relay switch instants, flags and event handling:
-    one ``propagate_until`` call advances every lane until its next relay switch, or until a
-    terminal event in any lane (heyoka stops the whole batch there; the other lanes report
-    ``success`` and carry on at the next call).  The system's ``settle`` runs after every lane
-    transition, as in :class:`~maps.hybrid.HybridRun`.  Supports guards that set flags without
-    a reset map (the 1-DOF scenes); results equal
-    the scalar path up to round-off (SIMD math, and by default no stops at observation-only
-    guards such as the free-flight minimum), amplified by the dynamics over long horizons.
+    ``batch_size`` SIMD lanes, each with its own parameter values, relay switch instants,
+    flags and event handling; a lane is refilled as soon as its value is done.  Results
+    equal the scalar path up to round-off (SIMD arithmetic, switch instants located as
+    events, and by default no stops at observation-only guards such as the free-flight
+    minimum), amplified by the dynamics over long horizons.
     """
 
     batch_size: int = 4
     observations: bool = False      # also stop at observation-only guards (free-flight minimum, ...)
 
-    def _batch(self):
-        sc = get_scene(self.scene)
-        key = ("batch", sc.options, self.tol, self.batch_size, self.observations)
-        hit = _RUNS.get(key)
-        if hit is None:
-            hit = _BatchEngine(sc.system, self.tol, self.batch_size, self.observations)
-            _RUNS[key] = hit
-        return hit
+    def _engine(self):
+        from .batch import engine_for
+        return engine_for(get_scene(self.scene).system, self.tol, self.batch_size, self.observations)
 
     def warm(self):
-        return self._batch()
+        return self._engine()
 
     def __call__(self, value) -> dict:
         return self.run_many([value])[0]
 
     def run_many(self, values) -> list:
-        eng = self._batch()
+        from .batch import LaneJob
+        eng = self._engine()
+        system = eng.system
+        y0 = self._y0()
+        jobs = []
+        for v in values:
+            params = system.validate(dict(self.params, **{self.param: float(v)}))
+            jobs.append(LaneJob(params, y0, system.initial_flags(0.0, params), transient=self.transient,
+                                record=self.record, log=True))
         out = []
-        values = list(values)
-        for a in range(0, len(values), self.batch_size):
-            lanes = values[a:a + self.batch_size]
-            out += eng.run(self, lanes)[:len(lanes)]
+        cap, n_states = self.impact_capacity, len(system.states)
+        for job, r in zip(jobs, eng.run(jobs)):
+            points = np.full((self.record, n_states), np.nan)
+            ends = r.points[1:]
+            if ends:
+                points[:len(ends)] = ends
+            t_imp, v_imp = np.full(cap, np.nan), np.full(cap, np.nan)
+            onsets = [(t, y) for period in r.period_events + [r.tail_events] for name, t, y in period
+                      if name == "contact"]
+            for i, (t, y) in enumerate(onsets[:cap]):
+                t_imp[i] = t
+                v_imp[i] = system.gap(y, job.params)[1]
+            out.append({"points": points, "impact_time": t_imp, "impact_velocity": v_imp,
+                        "n_impacts": len(onsets), "status": STATUS_MEANINGS.index(r.status),
+                        "n_steps": r.n_steps, "n_events": r.n_events, "n_switches": r.n_switches,
+                        "seconds": r.seconds, "pid": os.getpid()})
         return out
-
-
-class _BatchEngine:
-    """A compiled batch integrator and the per-lane hybrid bookkeeping."""
-
-    def __init__(self, system, tol, batch_size, observations=False):
-        import heyoka as hy
-        from maps.hybrid import EVENT_COOLDOWN
-        if any(g.reset is not None or callable(g.then) for g in system.guards):
-            raise ParameterError(f"batch mode supports guards that set flags without a reset map; "
-                                 f"{system.name!r} has others: use StroboscopicTask")
-        self.system, self.B, self.hy = system, batch_size, hy
-        # one event per (surface, direction), dispatched on the lane's flags; guards that only
-        # observe (no new flags, no reset) need no stop unless asked for
-        by_surface: dict = {}
-        for g in system.guards:
-            by_surface.setdefault((str(g.expr), g.direction), []).append(g)
-        groups = [grp for grp in by_surface.values()
-                  if observations or any(g.then is not None or g.reset is not None for g in grp)]
-        events = [hy.t_event_batch(grp[0].expr, direction=grp[0].heyoka_direction(), cooldown=EVENT_COOLDOWN)
-                  for grp in groups]
-        n = len(system.states)
-        self.ta = hy.taylor_adaptive_batch(system.heyoka_system(), np.zeros((n, batch_size)), tol=tol,
-                                           t_events=events)
-        self.npar = self.ta.pars.shape[0]
-        idx = system._flag_index
-        # per group: [(name, [(par index, value) when], [(par index or None, flag, value) then])]
-        self.groups = [[(g.name, [(idx[k], float(v)) for k, v in g.when.items()],
-                         [(idx[k], k, float(v)) for k, v in (g.then or {}).items()]) for g in grp]
-                       for grp in groups]
-        self.halt = {idx[f] for f in system.halt_flags}
-        self.flag_items = [(f, idx[f]) for f in system.flag_names]
-
-    def run(self, task, values) -> list:
-        hy, ta, system, B = self.hy, self.ta, self.system, self.B
-        sw = system.switches[0]
-        vals = list(values) + [values[-1]] * (B - len(values))
-        y0 = task._y0()
-        n_states = len(system.states)
-        nflag = len(system.flag_names)
-        flags = np.zeros((len(system.param_names) + nflag, B))      # params and flags per lane
-        W = np.empty(B)
-        for j, v in enumerate(vals):
-            params = system.validate(dict(task.params, **{task.param: float(v)}))
-            W[j] = params[sw.frequency]
-            flags[:, j] = system.par_vector(params, system.initial_flags(0.0, params))
-        ta.set_time(np.zeros(B))
-        ta.state[:] = np.repeat(np.asarray(y0, float)[:, None], B, axis=1)
-        ta.pars[:] = flags[:self.npar]
-        ta.reset_cooldowns()
-        clock = _time.perf_counter()
-        cap = task.impact_capacity
-        points = np.full((B, task.record, n_states), np.nan)
-        t_imp = np.full((B, cap), np.nan)
-        v_imp = np.full((B, cap), np.nan)
-        n_imp = np.zeros(B, int)
-        status = np.zeros(B, int)
-        steps = np.zeros(B, int)
-        events = np.zeros(B, int)
-        n_sw = np.ones(B, int)                    # index of each lane's next relay switch
-        last = 2 * (task.transient + task.record)
-        window = task.transient / W
-        target = np.array([sw.instants(W[j], 1) for j in range(B)])
-        time_limit, success = hy.taylor_outcome.time_limit, hy.taylor_outcome.success
-        ngroups = len(self.groups)
-        gap = system.gap
-        fl = [flags[:, j].tolist() for j in range(B)]     # plain lists: cheap per-lane access
-        i_sw, duty, tr2 = system._flag_index[sw.flag], sw.duty, 2 * task.transient
-        on, off = sw.value_for_index(0), sw.value_for_index(1)
-        Wl, windowl, active = W.tolist(), window.tolist(), list(range(B))
-        pars = ta.pars
-        settle = system.settle
-        lane_params = [dict(zip(system.param_names, fl[j])) for j in range(B)]
-        flag_items, flag_index, npar = self.flag_items, system._flag_index, self.npar
-
-        def settle_lane(j, t):
-            """The system's settle() after a transition of lane j (as HybridRun._settle)."""
-            fj = fl[j]
-            new = settle(t, ta.state[:, j].copy(), {f: fj[i] for f, i in flag_items}, lane_params[j])
-            if isinstance(new, tuple):
-                new, y = new
-                ta.state[:, j] = y
-            for k, v in (new or {}).items():
-                i = flag_index[k]
-                fj[i] = v
-                if i < npar:
-                    pars[i, j] = v
-        while active:
-            ta.propagate_until(target)
-            res = ta.propagate_res
-            tnow = ta.time.tolist()
-            for j in list(active):
-                outcome, _, _, nst = res[j]
-                steps[j] += nst
-                if outcome == time_limit:                # lane j reached its relay switch
-                    n = int(n_sw[j])
-                    value = off if n % 2 else on
-                    fl[j][i_sw] = value
-                    if i_sw < self.npar:
-                        pars[i_sw, j] = value
-                    if settle is not None:
-                        settle_lane(j, tnow[j])
-                    if n % 2 == 0 and n > tr2:
-                        points[j, n // 2 - task.transient - 1] = ta.state[:, j]
-                    if n >= last:
-                        active.remove(j)
-                        target[j] = tnow[j]
-                    else:
-                        n_sw[j] = n + 1
-                        m = n + 1                        # the engine's PeriodicSwitch.instants
-                        target[j] = (m // 2 + (duty if m % 2 else 0.0)) / Wl[j]
-                    continue
-                if outcome == success:                   # stopped by another lane's terminal event
-                    continue
-                code = int(outcome)
-                if not (-ngroups - 1 < code < 0):
-                    status[j] = 2
-                    active.remove(j)
-                    target[j] = tnow[j]
-                    continue
-                fj = fl[j]
-                for name, when, then in self.groups[-code - 1]:
-                    if all(fj[k] == v for k, v in when):
-                        events[j] += 1
-                        if name == "contact" and tnow[j] >= windowl[j]:
-                            if n_imp[j] < cap:
-                                t_imp[j, n_imp[j]] = tnow[j]
-                                v_imp[j, n_imp[j]] = gap(ta.state[:, j], dict(zip(system.param_names, fj)))[1]
-                            n_imp[j] += 1
-                        for k, _, v in then:
-                            fj[k] = v
-                            if k < self.npar:
-                                pars[k, j] = v
-                        if settle is not None:
-                            settle_lane(j, tnow[j])
-                        if any(fj[k] for k in self.halt):
-                            status[j] = 1
-                            active.remove(j)
-                            target[j] = tnow[j]
-                        break
-        seconds = (_time.perf_counter() - clock) / B
-        return [{"points": points[j], "impact_time": t_imp[j], "impact_velocity": v_imp[j],
-                 "n_impacts": int(n_imp[j]), "status": int(status[j]), "n_steps": int(steps[j]),
-                 "n_events": int(events[j]), "n_switches": int(n_sw[j]), "seconds": seconds,
-                 "pid": os.getpid()} for j in range(B)]
 
 
 def chunks_of(n: int, size: int):
@@ -399,6 +270,7 @@ def _map_dask(func, values, scheduler, chunk_size, take):
 # ----- datasets ----------------------------------------------------------------------
 
 def _skeleton(task: StroboscopicTask, values) -> xr.Dataset:
+    import xarray as xr
     sc = get_scene(task.scene)
     system = sc.system
     unit = system.parameter(task.param).unit
@@ -473,6 +345,7 @@ def sweep_dataset(task: StroboscopicTask, values, workers: int = 1, scheduler=No
     With ``path`` the netCDF file is created first and each chunk is written into it as it
     completes (memory stays bounded by a chunk); the file is then opened lazily.
     """
+    import xarray as xr
     values = np.asarray(values, dtype=float).ravel()
     ds = _skeleton(task, values if path is None else values[:1])   # on disk: metadata only
     names = list(get_scene(task.scene).system.state_names)
@@ -518,6 +391,7 @@ def add_error_estimate(ds: xr.Dataset, task: StroboscopicTask, sample: int = 5, 
     difference of contact onset times; NaN where a contact count differs) and the attribute
     ``error_estimate_tol``.  Differences are measured only where both runs are ``ok``.
     """
+    import xarray as xr
     values = ds[task.param].values
     idx = np.unique(np.linspace(0, values.size - 1, min(sample, values.size)).round().astype(int))
     tight = replace(task, tol=task.tol / factor)

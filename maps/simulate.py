@@ -1,17 +1,21 @@
 """Time histories of a scene as xarray Datasets."""
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import time as _time
 from collections.abc import Mapping
 
 import heyoka as hy
 import numpy as np
-import xarray as xr
 
 from .hybrid import Escaped, HybridRun, IntegrationFailure
 from .impacts import impact_table
 from .parameters import ParameterError, validate_value
 from .scenes import get_scene
+
+if TYPE_CHECKING:  # xarray is imported where used: worker processes start faster
+    import xarray as xr
 
 __all__ = ["simulate", "run_scene", "resolve"]
 
@@ -128,6 +132,7 @@ def _duration(values, periods, t_end):
 
 def to_dataset(run, t_eval, samples, table) -> xr.Dataset:
     """Package a run and its samples: states, flags, impacts, parameters and provenance."""
+    import xarray as xr
     system, sc = run.system, run.scene
     t_valid = run.t if run.status != "ok" else np.inf
     keep = t_eval <= t_valid
