@@ -210,6 +210,7 @@ class BatchEngine:
         self.ta.reset_cooldowns(j)
         target[j] = (job.k0 + job.transient + job.record + 1) / W   # never reached: the last switch ends it
         self.lanes[j] = lane
+        self._settle(j, lane, t0)                                     # as HybridRun.reset
         if job.transient == 0:
             self._sample(j, lane, t0)
 
@@ -222,7 +223,10 @@ class BatchEngine:
         lanes = self.lanes = [None] * B
         target = np.array(self.time, dtype=float)
         success = int(hy.taylor_outcome.success)
-        parked = jobs[0].y0 if jobs else None
+        if jobs:   # what a lane without a job holds: a valid state and parameters, and no motion
+            j0 = jobs[0]
+            parked = j0.y0
+            parked_pars = self.system.par_vector(j0.params, j0.flags) + [self.sw.instants(j0.params[self.sw.frequency], 1)]
 
         def refill():
             """Load waiting jobs into free lanes; park the rest (finite state, no motion)."""
@@ -234,9 +238,12 @@ class BatchEngine:
                     i = waiting.popleft()
                     self._load(j, jobs[i], results[i], target, hi, lo)
                 else:
+                    if not math.isfinite(hi[j]):                # left by a failed lane
+                        hi[j] = 0.0
                     lo[j] = 0.0
                     target[j] = hi[j]
                     self.state[:, j] = parked
+                    self.pars[:, j] = parked_pars
             ta.set_dtime(hi, lo)
 
         refill()

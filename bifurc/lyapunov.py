@@ -8,7 +8,7 @@ import math
 
 import numpy as np
 
-__all__ = ["largest_lyapunov"]
+__all__ = ["largest_lyapunov", "lyapunov_along", "companion_start"]
 
 
 def largest_lyapunov(step, y0, n: int, *, d0: float = 1e-8, scale=None, k0: int = 0) -> float:
@@ -21,10 +21,7 @@ def largest_lyapunov(step, y0, n: int, *, d0: float = 1e-8, scale=None, k0: int 
     """
     y = np.asarray(y0, dtype=float).copy()
     s = np.ones_like(y) if scale is None else np.asarray(scale, dtype=float)
-    rng = np.random.default_rng(12345)
-    u = rng.standard_normal(y.size)
-    u /= np.linalg.norm(u)
-    z = y + d0 * u * s
+    z = companion_start(y, d0, s)
     total = 0.0
     for k in range(k0, k0 + int(n)):
         try:
@@ -37,4 +34,37 @@ def largest_lyapunov(step, y0, n: int, *, d0: float = 1e-8, scale=None, k0: int 
         total += math.log(dist / d0)
         y = y1
         z = y1 + (z1 - y1) * (d0 / dist)
+    return total / n
+
+
+def companion_start(y0, d0: float = 1e-8, scale=None) -> np.ndarray:
+    """The companion's start: ``d0`` from ``y0`` along a fixed random direction (norm scaled by ``scale``)."""
+    y = np.asarray(y0, dtype=float)
+    s = np.ones_like(y) if scale is None else np.asarray(scale, dtype=float)
+    u = np.random.default_rng(12345).standard_normal(y.size)
+    return y + d0 * (u / np.linalg.norm(u)) * s
+
+
+def lyapunov_along(step, points, *, d0: float = 1e-8, scale=None, k0: int = 0) -> float:
+    """Largest Lyapunov exponent [per map step] along a recorded orbit ``points[0..n]`` of ``step``.
+
+    Benettin's method with the reference trajectory already known: only the companion is
+    integrated.  It starts ``d0`` from ``points[0]`` (:func:`companion_start`) and after each
+    step is moved back to distance ``d0`` from ``points[k+1]``.  ``k0`` is the index of
+    ``points[0]`` (for non-autonomous maps).  NaN if a step fails or the separation collapses.
+    """
+    y = np.asarray(points, dtype=float)
+    s = np.ones(y.shape[1]) if scale is None else np.asarray(scale, dtype=float)
+    z = companion_start(y[0], d0, s)
+    total, n = 0.0, y.shape[0] - 1
+    for k in range(n):
+        try:
+            z1 = step(z, k0 + k)
+        except Exception:  # a failed step leaves the exponent undetermined
+            return math.nan
+        dist = float(np.linalg.norm((z1 - y[k + 1]) / s))
+        if not math.isfinite(dist) or dist == 0.0:
+            return math.nan
+        total += math.log(dist / d0)
+        z = y[k + 1] + (z1 - y[k + 1]) * (d0 / dist)
     return total / n

@@ -26,11 +26,11 @@ from pathlib import Path
 import numpy as np
 
 from maps.parameters import ParameterError, validate_value
-from maps.poincare import StroboscopicMap
+from maps.poincare import StroboscopicMap, orbit_from_periods
 from maps.simulate import resolve
 
 from .classify import DECAY_RATE, classify_orbit, lyapunov_threshold
-from .lyapunov import largest_lyapunov
+from .lyapunov import companion_start, largest_lyapunov, lyapunov_along
 
 __all__ = ["SweepPoint", "sweep", "GRAZING_GAP", "GRAZING_SPEED"]
 
@@ -70,6 +70,7 @@ class SweepPoint:
     lyapunov_steps: int = 100
     max_impacts: int = 400
     max_transient: int | None = None  # extend a still-converging transient up to this [relay periods]
+    batch_size: int = 4               # SIMD lanes of run_many (heyoka batch mode); 1: scalar path
 
     def warm(self) -> StroboscopicMap:
         """The process-wide map for this scene structure and tolerance (compiled once)."""
@@ -90,31 +91,48 @@ class SweepPoint:
         y0, flags = (self.x0_state(), None) if start is None else start
         clock = _time.perf_counter()
         o = smap.orbit(y0, self.record, transient=self.transient, flags=flags)
+        return self._complete(value, smap, o, clock)
+
+    def _lyapunov_needed(self, o, cls) -> bool:
+        return self.lyapunov and o.status == "ok" and cls["label"] not in ("periodic", "periodic-no-impact")
+
+    def _lyapunov_scale(self, o):
+        return np.maximum(np.max(np.abs(o.points), axis=0), self.atol)
+
+    def _classify(self, o, **kw):
+        return classify_orbit(o.points, o.impacts_per_step, max_period=self.max_period, rtol=self.rtol,
+                              atol=self.atol, status=o.status, **kw)
+
+    def _complete(self, value, smap, o, clock, lyap=None, seconds=None) -> dict:
+        """Classification (integrating on while still converging, up to ``max_transient``), the
+        Lyapunov exponent where not periodic (``lyap``: already computed along ``o``), packing."""
         used, steps = self.transient, o.n_steps
-        lyap = math.nan
-        status = o.status
-        if status == "ok":
-            cls = classify_orbit(o.points, o.impacts_per_step, max_period=self.max_period, rtol=self.rtol,
-                                 atol=self.atol)
+        cls = self._classify(o)
+        if o.status == "ok":
             limit = self.max_transient if self.max_transient is not None else self.transient
             while (o.status == "ok" and cls["label"] == "not-converged" and used < limit
                    and cls["convergence_rate"] < DECAY_RATE):  # still converging: integrate on
                 extra = max(1, min(used, limit - used))  # doubling, up to the limit
                 o = smap.orbit(o.final_state, self.record, transient=extra, flags=o.final_flags,
                                t0=smap.sample_time(used + self.record) - smap.sample_time(0))
-                used, steps = used + self.record + extra, steps + o.n_steps
-                status = o.status
-                cls = classify_orbit(o.points, o.impacts_per_step, max_period=self.max_period, rtol=self.rtol,
-                                     atol=self.atol, status=status)
-            if status == "ok" and cls["label"] not in ("periodic", "periodic-no-impact") and self.lyapunov:
-                scale = np.maximum(np.max(np.abs(o.points), axis=0), self.atol)
-                k0 = used + self.record
-                lyap = largest_lyapunov(smap.step, o.final_state, self.lyapunov_steps, scale=scale, k0=k0)
-                cls = classify_orbit(o.points, o.impacts_per_step, max_period=self.max_period,
-                                     rtol=self.rtol, atol=self.atol, lyapunov=lyap,
-                                     lyap_tol=lyapunov_threshold(self.lyapunov_steps))
-        if status != "ok":  # escaped or failed: the status is the class
-            cls = classify_orbit(o.points, o.impacts_per_step, status=status)
+                used, steps, lyap = used + self.record + extra, steps + o.n_steps, None
+                cls = self._classify(o)
+        if self._lyapunov_needed(o, cls):
+            if lyap is None:
+                scale = self._lyapunov_scale(o)
+                if self.lyapunov_steps <= self.record:      # along the recorded window
+                    lyap = lyapunov_along(smap.step, o.points[:self.lyapunov_steps + 1], scale=scale, k0=used)
+                else:                                        # two trajectories after it
+                    lyap = largest_lyapunov(smap.step, o.final_state, self.lyapunov_steps, scale=scale,
+                                            k0=used + self.record)
+            cls = self._classify(o, lyapunov=lyap, lyap_tol=lyapunov_threshold(self.lyapunov_steps))
+        else:
+            lyap = math.nan
+        return self._pack(value, smap, o, cls, lyap, used, steps,
+                          _time.perf_counter() - clock if seconds is None else seconds)
+
+    def _pack(self, value, smap, o, cls, lyap, used, steps, seconds) -> dict:
+        status = o.status
         n_imp = o.impact_t.size
         cap = self.max_impacts
         pad = lambda a: np.concatenate([a[:cap], np.full(max(0, cap - a.size), np.nan)])  # noqa: E731
@@ -137,10 +155,77 @@ class SweepPoint:
             "max_impact_speed": float(np.max(np.abs(o.impact_velocity))) if n_imp else 0.0,
             "n_impacts": n_imp, "status": STATUS.index(status), "failure_time": o.failure_time,
             "failure": o.failure, "lyapunov": lyap, "forcing_period_steps": smap.forcing_period_steps,
-            "n_steps": steps, "transient_used": used, "seconds": _time.perf_counter() - clock,
+            "n_steps": steps, "transient_used": used, "seconds": seconds,
             "final_state": o.final_state, "final_flags": o.final_flags, **{f"class_{k}": v for k, v in cls.items()},
         }
 
+    # ----- many values at once: heyoka batch mode -------------------------------------
+    def _batchable(self, smap) -> bool:
+        system = smap.system
+        return (self.batch_size > 1 and len(system.switches) == 1 and smap.phase == 0.0
+                and system.switches[0].frequency == "relay_hz" and smap._period_given is None
+                and not any(g.reset is not None or callable(g.then) for g in system.guards))
+
+    def run_many(self, values) -> list:
+        """The same results as ``[self(v) for v in values]`` (up to round-off), on heyoka's batch
+        integrator: the transient on a lean event set, the recorded window with every
+        observation guard, then Lyapunov companions along the recorded orbits.  Values that
+        are still converging and may integrate on (``max_transient``) continue on the scalar path."""
+        from .batch import LaneJob, engine_for
+        smap = self.warm()
+        if not self._batchable(smap):
+            return [self(v) for v in values]
+        system = smap.system
+        clock = _time.perf_counter()
+        params = [system.validate({**smap.params, **self.params, self.param: float(v)}) for v in values]
+        y0 = self.x0_state()
+        lean = engine_for(system, self.tol, self.batch_size, observations=False)
+        full = engine_for(system, self.tol, self.batch_size, observations=True)
+
+        def start_flags(y, t, p):      # as StroboscopicMap.orbit: contact inferred from the gap
+            return system.initial_flags(t, p, smap._flags_for(y, t))
+
+        if self.transient:
+            first = lean.run([LaneJob(p, y0, start_flags(y0, 0.0, p), transient=self.transient, record=0)
+                              for p in params])
+        else:
+            first = [None] * len(params)
+        second = full.run([LaneJob(p, r.final_state, r.final_flags, k0=self.transient, record=self.record, log=True)
+                           if r is not None else LaneJob(p, y0, start_flags(y0, 0.0, p), record=self.record, log=True)
+                           for p, r in zip(params, first)])
+        orbits = []
+        for p, pre, r in zip(params, first, second):
+            if pre is not None and pre.status != "ok":      # ended in the transient: nothing recorded
+                r, times, points, steps = pre, [0.0], [y0], pre.n_steps
+            else:
+                times, points, steps = r.times, r.points, r.n_steps + (pre.n_steps if pre is not None else 0)
+            orbits.append(orbit_from_periods(
+                system, p, p["relay_hz"], times, points, r.period_events, status=r.status, failure=r.failure,
+                failure_time=r.failure_time, n_steps=steps, final_state=r.final_state, final_flags=r.final_flags))
+        # Lyapunov companions where the orbit is not periodic and will not be extended
+        lyap = [None] * len(params)
+        comp, owners = [], []
+        for i, (p, o) in enumerate(zip(params, orbits)):
+            cls = self._classify(o)
+            if self._lyapunov_needed(o, cls) and self.lyapunov_steps <= self.record and not self._extends(o, cls):
+                scale = self._lyapunov_scale(o)
+                ref = list(o.points[:self.lyapunov_steps + 1])
+                z0 = companion_start(ref[0], scale=scale)
+                comp.append(LaneJob(p, z0, start_flags(z0, self.transient / p["relay_hz"], p), k0=self.transient,
+                                    record=self.lyapunov_steps, reference=ref, scale=scale))
+                owners.append(i)
+        for i, r in zip(owners, lean.run(comp) if comp else []):
+            lyap[i] = r.lyapunov
+        share = (_time.perf_counter() - clock) / max(1, len(params))
+        out = []
+        for v, p, o, lam in zip(values, params, orbits, lyap):
+            smap.set_params(**p)
+            out.append(self._complete(v, smap, o, _time.perf_counter(), lyap=lam, seconds=share))
+        return out
+
+    def _extends(self, o, cls) -> bool:
+        limit = self.max_transient if self.max_transient is not None else self.transient
+        return cls["label"] == "not-converged" and self.transient < limit and cls["convergence_rate"] < DECAY_RATE
 
 
 class SystemScene:
@@ -175,7 +260,7 @@ def _resolve(scene, params, preset=None, circuit=None, ac_sign=None):
 
 
 def _manifest(point: SweepPoint, values, mode) -> dict:
-    d = {f.name: getattr(point, f.name) for f in fields(point)}
+    d = {f.name: getattr(point, f.name) for f in fields(point) if f.name != "batch_size"}  # no effect on results
     if not isinstance(d["scene"], str):
         d["scene"] = repr(d["scene"])
     d.update(values=[float(v) for v in values], mode=mode, parts_format=PARTS_FORMAT)
@@ -221,7 +306,8 @@ class _Parts:
 def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independent", transient=300,
           record=100, preset=None, params=None, x0=None, tol=1e-10, max_period=16, rtol=1e-6, atol=1e-9,
           lyapunov=True, grazing=True, grazing_xtol=None, circuit=None, ac_sign=None, path=None,
-          progress=True, workers=1, scheduler=None, error_sample=3, max_transient=None):
+          progress=True, workers=1, scheduler=None, error_sample=3, max_transient=None, batch_size=4,
+          chunk_size=None):
     """Sweep ``param`` over ``values``; returns an xarray Dataset (see bifurc.storage).
 
     Parameters
@@ -248,6 +334,13 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
     path : str
         netCDF output; completed values are kept in ``<path>.parts/`` for resuming.
     workers, scheduler : parallel execution of independent sweeps (bifurc.parallel).
+    batch_size : int
+        Values integrated together in heyoka's batch mode (SIMD lanes, :mod:`bifurc.batch`);
+        1: one value at a time.  Results agree to round-off, amplified by chaotic dynamics.
+    chunk_size : int
+        Values per task (default: 8 x batch_size, or 1 without batch mode, in this process;
+        automatic on workers);
+        with ``path``, an interruption loses at most the chunks in flight.
     """
     from . import storage
     if mode not in ("independent", "continuation"):
@@ -269,8 +362,13 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
     name = sc.name if sc.options is not None else sc.system  # a bare system runs in this process
     if max_transient is not None:
         max_transient = int(validate_value("max_transient", max_transient, transient, 1e8))
+    batch_size = int(validate_value("batch_size", batch_size, 1, 64))
     point = SweepPoint(name, param, base, options, dict(x0 or {}), transient, record, float(tol), max_period,
-                       rtol, atol, lyapunov, max_transient=max_transient)
+                       rtol, atol, lyapunov, max_transient=max_transient, batch_size=batch_size)
+    if chunk_size is None and workers == 1 and scheduler is None:
+        chunk_size = 8 * batch_size if batch_size > 1 else 1
+    if chunk_size is not None:
+        chunk_size = int(validate_value("chunk_size", chunk_size, 1, 1e9))
     branches = ["independent"] if mode == "independent" else ["up", "down"]
     parts = _Parts(path, _manifest(point, values, mode)) if path else None
     results = {b: [None] * values.size for b in branches}
@@ -298,7 +396,7 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
                     for j, r in enumerate(chunk):
                         keep("independent", missing[start + j], r)
                 map_values(point, values[missing], workers=workers, scheduler=scheduler, on_chunk=on_chunk,
-                           collect=False, chunk_size=1 if workers == 1 and scheduler is None else None)
+                           collect=False, chunk_size=chunk_size)
         else:
             start = None
             for b, order in (("up", range(values.size)), ("down", range(values.size - 1, -1, -1))):

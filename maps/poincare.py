@@ -18,7 +18,7 @@ import numpy as np
 from .hybrid import Escaped, HybridRun, HybridSystem, IntegrationFailure
 from .parameters import ParameterError, validate_value
 
-__all__ = ["StroboscopicMap", "MapOrbit", "ImpactMap", "forcing_period_steps"]
+__all__ = ["StroboscopicMap", "MapOrbit", "ImpactMap", "forcing_period_steps", "orbit_from_periods"]
 
 
 def forcing_period_steps(f_mains: float, relay_hz: float | None, max_steps: int = 1000,
@@ -183,58 +183,24 @@ class StroboscopicMap:
         transient = int(validate_value("transient", transient, 0, 1e8))
         run = self._run
         params = self.params
-        gap = self.system.gap
         clock = _time.perf_counter()
         run.record_events = False
         run.max_events = self.max_events_per_period * max(1, transient)
         run.reset(t0, x0, flags if flags is not None else self._flags_for(self.system.state_vector(x0), t0))
-        W = params.get("relay_hz", 1.0 / self.period)
-        times, points = [], []
-        imp_n, min_gap, min_flight, min_speed = [], [], [], []
-        it, iv, iph, ipen, idur = [], [], [], [], []
+        times, points, period_events = [], [], []
         status, failure, t_fail = "ok", "", math.nan
         try:
             run.advance(self.sample_time(transient, t0))
             times.append(run.t)
             points.append(run.y)
             run.record_events = True
-            g_prev = gap(points[-1], params)[0]
             for k in range(transient, transient + n):
                 run.events = []
                 run.max_events = run.n_events + self.max_events_per_period
                 run.advance(self.sample_time(k + 1, t0))
-                y_end = run.y
-                g_end = gap(y_end, params)[0]
-                g_lo, g_flight = min(g_prev, g_end), math.inf
-                count, speed = 0, math.inf
-                for ev in run.events:
-                    name = ev.name
-                    if name == "contact":
-                        g, rate = gap(ev.y_minus, params)
-                        count += 1
-                        speed = min(speed, abs(rate))
-                        it.append(ev.t)
-                        iv.append(rate)
-                        iph.append((ev.t * W) % 1.0)
-                        ipen.append(max(0.0, -g))
-                        idur.append(math.nan)
-                    elif name == "lowest":
-                        g = gap(ev.y_minus, params)[0]
-                        g_lo, g_flight = min(g_lo, g), min(g_flight, g)
-                    elif name == "deepest":
-                        g = gap(ev.y_minus, params)[0]
-                        g_lo = min(g_lo, g)
-                        if ipen:
-                            ipen[-1] = max(ipen[-1], -g)
-                    elif name == "release" and idur and math.isnan(idur[-1]):
-                        idur[-1] = ev.t - it[-1]
                 times.append(run.t)
-                points.append(y_end)
-                imp_n.append(count)
-                min_gap.append(g_lo)
-                min_flight.append(g_flight)
-                min_speed.append(speed)
-                g_prev = g_end
+                points.append(run.y)
+                period_events.append([(ev.name, ev.t, ev.y_minus) for ev in run.events])
         except Escaped as exc:
             status, failure, t_fail = "escaped", str(exc), exc.t
         except IntegrationFailure as exc:
@@ -242,14 +208,58 @@ class StroboscopicMap:
         run.events = []
         if not points:
             points, times = [np.asarray(self.system.state_vector(x0), float)], [t0]
-        return MapOrbit(
-            times=np.array(times), points=np.array(points), impacts_per_step=np.array(imp_n, dtype=np.int64),
-            min_gap_per_step=np.array(min_gap), min_impact_speed_per_step=np.array(min_speed),
-            impact_t=np.array(it), impact_velocity=np.array(iv), impact_phase=np.array(iph),
-            impact_penetration=np.array(ipen), impact_duration=np.array(idur),
-            min_flight_gap_per_step=np.array(min_flight), status=status, failure=failure,
-            failure_time=t_fail, n_steps=run.n_steps, run_seconds=_time.perf_counter() - clock,
-            final_state=run.y, final_flags=dict(run.flags))
+        return orbit_from_periods(self.system, params, params.get("relay_hz", 1.0 / self.period), times, points, period_events,
+                                  status=status, failure=failure, failure_time=t_fail, n_steps=run.n_steps,
+                                  run_seconds=_time.perf_counter() - clock, final_state=run.y,
+                                  final_flags=dict(run.flags))
+
+
+def orbit_from_periods(system, params, W, times, points, period_events, **fields) -> MapOrbit:
+    """A :class:`MapOrbit` from the sampled states and each period's guard crossings.
+
+    ``period_events[k]`` lists ``(guard name, t [s], state at the crossing)`` between
+    ``times[k]`` and ``times[k+1]``; ``W`` [Hz] gives the relay phase of each onset.
+    ``fields`` are MapOrbit's remaining fields (status, n_steps, final_state, ...).
+    """
+    gap = system.gap
+    imp_n, min_gap, min_flight, min_speed = [], [], [], []
+    it, iv, iph, ipen, idur = [], [], [], [], []
+    g_prev = gap(points[0], params)[0]
+    for k, events in enumerate(period_events):
+        g_end = gap(points[k + 1], params)[0]
+        g_lo, g_flight = min(g_prev, g_end), math.inf
+        count, speed = 0, math.inf
+        for name, t, y in events:
+            if name == "contact":
+                g, rate = gap(y, params)
+                count += 1
+                speed = min(speed, abs(rate))
+                it.append(t)
+                iv.append(rate)
+                iph.append((t * W) % 1.0)
+                ipen.append(max(0.0, -g))
+                idur.append(math.nan)
+            elif name == "lowest":
+                g = gap(y, params)[0]
+                g_lo, g_flight = min(g_lo, g), min(g_flight, g)
+            elif name == "deepest":
+                g = gap(y, params)[0]
+                g_lo = min(g_lo, g)
+                if ipen:
+                    ipen[-1] = max(ipen[-1], -g)
+            elif name == "release" and idur and math.isnan(idur[-1]):
+                idur[-1] = t - it[-1]
+        imp_n.append(count)
+        min_gap.append(g_lo)
+        min_flight.append(g_flight)
+        min_speed.append(speed)
+        g_prev = g_end
+    return MapOrbit(
+        times=np.array(times), points=np.array(points), impacts_per_step=np.array(imp_n, dtype=np.int64),
+        min_gap_per_step=np.array(min_gap), min_impact_speed_per_step=np.array(min_speed),
+        impact_t=np.array(it), impact_velocity=np.array(iv), impact_phase=np.array(iph),
+        impact_penetration=np.array(ipen), impact_duration=np.array(idur),
+        min_flight_gap_per_step=np.array(min_flight), **fields)
 
 
 class ImpactMap:

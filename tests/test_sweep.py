@@ -89,9 +89,39 @@ def test_continuation_finds_coexisting_attractors(osc):
         assert float(down.x.sel(Omega=W).isel(sample=-1)) == pytest.approx(x, abs=1e-8)
 
 
+def test_interrupted_batch_sweep_resumes_to_the_same_dataset(tmp_path, monkeypatch):
+    """Batch mode saves each completed chunk: after an interruption only the rest runs."""
+    args = dict(preset="matlab-listing", params={"V": 90}, transient=20, record=10, grazing=False,
+                error_sample=0, progress=False, chunk_size=2)
+    values = np.linspace(4, 9, 6)
+    path = tmp_path / "d.nc"
+    original = SweepPoint.run_many
+    seen = []
+
+    def flaky(self, vals):
+        if len(seen) == 4:
+            raise KeyboardInterrupt
+        seen.extend(vals)
+        return original(self, vals)
+
+    monkeypatch.setattr(SweepPoint, "run_many", flaky)
+    with pytest.raises(KeyboardInterrupt):
+        sweep("thesis-1dof", "relay_hz", values, path=path, **args)
+    assert not path.exists()
+    assert len(list((tmp_path / "d.nc.parts").glob("independent-*.pkl"))) == 4
+    seen.clear()
+    monkeypatch.setattr(SweepPoint, "run_many", lambda self, vals: seen.extend(vals) or original(self, vals))
+    resumed = sweep("thesis-1dof", "relay_hz", values, path=path, **args)
+    assert seen == list(values[4:])
+    monkeypatch.setattr(SweepPoint, "run_many", original)
+    fresh = sweep("thesis-1dof", "relay_hz", values, **args)
+    for name in ("x", "v", "i", "z", "impact_t", "class_code", "min_gap", "lyapunov"):
+        np.testing.assert_allclose(resumed[name].values, fresh[name].values, rtol=0, atol=1e-12, equal_nan=True)
+
+
 def test_interrupted_sweep_resumes_to_the_same_dataset(tmp_path, monkeypatch):
     args = dict(preset="matlab-listing", params={"V": 90}, transient=20, record=10, lyapunov=False,
-                grazing=False, error_sample=0, progress=False)
+                grazing=False, error_sample=0, progress=False, batch_size=1)
     values = np.linspace(4, 9, 6)
     path = tmp_path / "d.nc"
     calls = {"n": 0}
@@ -184,7 +214,7 @@ def test_killed_sweep_keeps_completed_values_and_resumes(tmp_path):
     import sys
     import time
     args = dict(preset="matlab-listing", params={"V": 90.0}, transient=150, record=20, lyapunov=False,
-                grazing=False, error_sample=0, progress=False)
+                grazing=False, error_sample=0, progress=False, chunk_size=2)
     path = tmp_path / "k.nc"
     parts = tmp_path / "k.nc.parts"
     proc = subprocess.Popen([sys.executable, "-c", KILL_SCRIPT.format(args=repr(args)), str(path)])
@@ -200,12 +230,12 @@ def test_killed_sweep_keeps_completed_values_and_resumes(tmp_path):
         pytest.skip(f"the kill came too late to test a resume ({len(done)} values done)")
     assert not path.exists()  # a .tmp cut by the kill may remain: only whole .pkl parts count
     seen = []
-    original = SweepPoint.__call__
+    original = SweepPoint.run_many
     try:
-        SweepPoint.__call__ = lambda self, v, s=None: seen.append(v) or original(self, v, s)
+        SweepPoint.run_many = lambda self, vals: seen.extend(vals) or original(self, vals)
         resumed = sweep("thesis-1dof", "relay_hz", np.linspace(4, 9, 8), path=path, **args)
     finally:
-        SweepPoint.__call__ = original
+        SweepPoint.run_many = original
     assert len(seen) == 8 - len(done)
     fresh = sweep("thesis-1dof", "relay_hz", np.linspace(4, 9, 8), **args)
     for name in ("x", "v", "i", "z", "impact_t", "impact_velocity", "class_code", "min_gap", "n_impacts"):
