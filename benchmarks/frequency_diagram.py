@@ -8,9 +8,10 @@ thesis-1dof, preset matlab-listing, V = 90 V, N relay frequencies in [2, 10] Hz,
    with the batch task (heyoka batch mode, 4 SIMD lanes per pass);
 2. ``bifurc.sweep`` (the ``bifurc diagram`` command: orbits, classification, Lyapunov
    exponents where not periodic, grazing bisection, error estimate) on the same processes;
-3. a bare heyoka ensemble: the same trajectories by a minimal loop on the compiled scalar
-   integrator (flip the contact flag at contact/release, switch the relay, nothing else:
-   no event log, no classification, no storage) in the same number of processes;
+3. bare heyoka ensembles: the same trajectories with the least Python possible (flip the
+   contact flag at contact/release, switch the relay, nothing else: no event log, no
+   classification, no storage) in the same number of processes, on the scalar integrator
+   (a propagate_until loop) and on the batch integrator (4 lanes, event callbacks);
 4. a serial loop (one process, compiled once) over every ``--serial-stride``-th value,
    extrapolated to all N values (the full serial loop takes ~2 minutes).
 
@@ -90,6 +91,106 @@ class BareTrajectory:
             self._setup()
 
 
+class _Same:
+    """heyoka deep-copies event callbacks; this one's copies are itself."""
+
+    def __deepcopy__(self, memo):
+        return self
+
+
+class BareBatch(_Same):
+    """The same trajectories on heyoka's batch integrator with the least Python possible.
+
+    4 lanes; the relay switch is a time event and the contact flag flips on the contact
+    surface's crossing sign, both in event callbacks; a lane is refilled when its value is
+    done; only the final x is kept (no event log, settle, escape or stick handling, no
+    classification, no storage).  ``__call__`` per value, ``run_many`` per chunk.
+    """
+
+    batch_size = 4
+
+    def __init__(self, task):
+        self.task = task
+        self._ta = None
+
+    def _setup(self):
+        import heyoka as hy
+        system = maps.get_scene(self.task.scene).system
+        contact = next(g for g in system.guards if g.name == "contact")
+        self.i_contact, self.i_P = system._flag_index["contact"], system._flag_index["P"]
+        self.i_next = len(system.param_names) + len(system.flag_names)
+        me = self
+
+        class Contact(_Same):
+            def __call__(self, ta, d_sgn, j):
+                me.pars[me.i_contact, j] = 1.0 if d_sgn < 0 else 0.0
+                return True
+
+        class Relay(_Same):
+            def __call__(self, ta, d_sgn, j):
+                n = me.n_sw[j]
+                me.pars[me.i_P, j] = 0.0 if n % 2 else 1.0
+                me.n_sw[j] = m = n + 1
+                me.pars[me.i_next, j] = (m // 2 + (0.5 if m % 2 else 0.0)) / me.W[j]
+                if n >= me.last:
+                    me.done[j] = True
+                    return False
+                return True
+
+        events = [hy.t_event_batch(contact.expr, direction=hy.event_direction.any, cooldown=1e-10,
+                                   callback=Contact()),
+                  hy.t_event_batch((hy.time - hy.par[self.i_next]) * hy.par[system._param_index["relay_hz"]],
+                                   direction=hy.event_direction.positive, cooldown=1e-10, callback=Relay())]
+        self._ta = hy.taylor_adaptive_batch(system.heyoka_system(), np.zeros((len(system.states), 4)),
+                                            tol=self.task.tol, t_events=events)
+        self.system, self.pars, self.state = system, self._ta.pars, self._ta.state
+        self.y0 = system.state_vector(maps.get_scene(self.task.scene).initial_state(**self.task.x0))
+        self.last = 2 * (self.task.transient + self.task.record)
+
+    def warm(self):
+        if self._ta is None:
+            self._setup()
+
+    def __call__(self, W):
+        return self.run_many([W])[0]
+
+    def run_many(self, values):
+        self.warm()
+        ta, B = self._ta, 4
+        out, lane_of = [None] * len(values), [None] * B
+        waiting = list(range(len(values)))[::-1]
+        self.n_sw, self.W, self.done = [1] * B, [1.0] * B, [False] * B
+        target = np.zeros(B)
+
+        def load():
+            hi = np.array(ta.time, dtype=float)
+            for j in range(B):
+                if lane_of[j] is None:
+                    i = waiting.pop() if waiting else None
+                    k = i if i is not None else 0
+                    params = dict(self.task.params, relay_hz=float(values[k]))
+                    self.pars[:, j] = self.system.par_vector(params, self.system.initial_flags(0.0, params)) + [
+                        0.5 / float(values[k])]
+                    self.state[:, j] = self.y0
+                    self.n_sw[j], self.W[j], self.done[j] = 1, float(values[k]), False
+                    hi[j] = 0.0
+                    target[j] = (self.last / 2 + 1) / self.W[j] if i is not None else 0.0
+                    lane_of[j] = i if i is not None else -1
+                    ta.reset_cooldowns(j)
+            ta.set_dtime(hi, np.zeros(B))
+
+        load()
+        while any(i is not None and i >= 0 for i in lane_of):
+            ta.propagate_until(target)
+            for j in range(B):
+                if lane_of[j] is not None and lane_of[j] >= 0 and self.done[j]:
+                    out[lane_of[j]] = float(self.state[0, j])
+                    lane_of[j] = None
+            if any(i is None for i in lane_of):
+                load()
+        return out
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--n", type=int, default=1000)
@@ -122,18 +223,21 @@ def main(argv=None):
         t0 = time.perf_counter()
         sw = sweep("thesis-1dof", "relay_hz", values, preset="matlab-listing", params={"V": 90.0},
                    transient=args.transient, record=args.record, tol=1e-10, workers=args.workers,
-                   lyapunov=not args.no_lyapunov, progress=False)
+                   lyapunov=not args.no_lyapunov, progress=False, path=args.output and args.output + ".sweep.nc")
         walls["bifurc.sweep"] = time.perf_counter() - t0
         codes = sw["class_code"].values.ravel()
         print(f"bifurc.sweep (orbits + classification{'' if args.no_lyapunov else ' + Lyapunov'} + grazing + "
               f"error estimate), {args.workers} workers: {walls['bifurc.sweep']:.2f} s wall; "
               f"class codes {dict(zip(*np.unique(codes, return_counts=True)))}")
-    wall = min(walls["scalar"], walls["batch"])
-    t0 = time.perf_counter()
-    bare = map_values(BareTrajectory(task), values, workers=args.workers)
-    wall_bare = time.perf_counter() - t0
-    print(f"bare heyoka ensemble, same trajectories, {args.workers} workers: {wall_bare:.2f} s wall")
-    print(f"  bare vs scalar diagram final x: max |diff| = {np.nanmax(np.abs(np.array(bare) - x_scalar)):.2e} m")
+    bares = {}
+    for label, bare_cls in (("scalar", BareTrajectory), ("batch", BareBatch)):
+        t0 = time.perf_counter()
+        final_x = map_values(bare_cls(task), values, workers=args.workers)
+        bares[label] = time.perf_counter() - t0
+        print(f"bare heyoka ensemble ({label}), same trajectories, {args.workers} workers: {bares[label]:.2f} s wall")
+        if label == "scalar":
+            print(f"  bare scalar vs scalar diagram final x: max |diff| = "
+                  f"{np.nanmax(np.abs(np.array(final_x) - x_scalar)):.2e} m (same steps and events)")
 
     sub = values[::args.serial_stride]
     task.warm()
@@ -143,17 +247,18 @@ def main(argv=None):
     serial = (time.perf_counter() - t0) * values.size / sub.size
     print(f"serial loop over {sub.size} of the values (compiled), extrapolated to {args.n}: {serial:.1f} s")
     print(f"load average after: {os.getloadavg()}")
-    best = "batch" if walls["batch"] <= walls["scalar"] else "scalar"
-    print(f"\nbest stroboscopic diagram: {best} task; scalar diagram / bare ensemble: "
-          f"{walls['scalar'] / wall_bare:.2f}")
-    print(f"target wall <= 20 s:            {wall:7.2f} s   {'met' if wall <= 20 else 'NOT met'}")
-    print(f"throughput vs serial >= 3x:     {serial / wall:7.2f} x   {'met' if serial / wall >= 3 else 'NOT met'}")
-    eff = walls["scalar"] / wall_bare
-    print(f"diagram / bare ensemble <= 1.5: {eff:7.2f}     {'met' if eff <= 1.5 else 'NOT met'}  "
-          f"(scalar diagram vs scalar bare: same steps and events; batch diagram / bare: "
-          f"{walls['batch'] / wall_bare:.2f})")
+    wall = walls["batch"]
+    print(f"\ntarget wall <= 20 s (batch diagram):       {wall:7.2f} s   {'met' if wall <= 20 else 'NOT met'}")
+    print(f"throughput vs serial loop >= 3x:           {serial / wall:7.2f} x   {'met' if serial / wall >= 3 else 'NOT met'}"
+          f"  (processes alone, scalar task: {serial / walls['scalar']:.2f} x)")
+    eff = walls["batch"] / bares["batch"]
+    print(f"diagram / bare ensemble <= 1.5 (batch):    {eff:7.2f}     {'met' if eff <= 1.5 else 'NOT met'}"
+          f"  (scalar diagram / scalar bare: {walls['scalar'] / bares['scalar']:.2f})")
     if "bifurc.sweep" in walls:
-        print(f"bifurc.sweep / bare ensemble:   {walls['bifurc.sweep'] / wall_bare:7.2f}")
+        r = walls["bifurc.sweep"] / bares["batch"]
+        print(f"bifurc.sweep / bare batch ensemble:        {r:7.2f}     {'met' if r <= 1.5 else 'NOT met'}"
+              f"  (it also integrates a Lyapunov companion over the 100 recorded periods of every "
+              f"non-periodic value: up to 500 instead of 400 periods)")
     return 0
 
 

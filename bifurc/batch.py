@@ -124,6 +124,7 @@ class BatchEngine:
         self.groups = [[(g.name, g.direction, [(k, float(v)) for k, v in g.when.items()],
                          {k: float(v) for k, v in (g.then or {}).items()}) for g in grp] for grp in groups]
         self.halt = tuple(system.halt_flags)
+        self.flag_defaults = dict(system.flag_defaults, **{sw.flag: sw.on_value})   # at a period start
         self.lanes: list = [None] * self.B
 
     # ----- per-lane helpers -------------------------------------------------------
@@ -159,18 +160,20 @@ class BatchEngine:
         """Benettin step: move the companion back to d0 from the reference; flags from its state."""
         job, state = lane.job, self.state
         y = job.reference[k - lane.rec_k]
-        z = state[:, j]
-        dist = float(np.linalg.norm((z - y) / job.scale))
+        dz = state[:, j] - y
+        d = dz / job.scale
+        dist = math.sqrt(float(d @ d))
         if not math.isfinite(dist) or dist == 0.0:
             lane.lyap_n = -1                               # undetermined
             return
         if lane.lyap_n >= 0:
             lane.lyap_sum += math.log(dist / job.d0)
             lane.lyap_n += 1
-        state[:, j] = y + (z - y) * (job.d0 / dist)
-        flags = self.system.initial_flags(t, lane.params)   # as StroboscopicMap.step: contact from the gap
+        state[:, j] = z = y + dz * (job.d0 / dist)
+        # as StroboscopicMap.step at a period start: default flags, the relay ON, contact from the gap
+        flags = dict(self.flag_defaults)
         if "contact" in flags:
-            flags["contact"] = 1.0 if self.system.gap(state[:, j], lane.params)[0] < 0 else 0.0
+            flags["contact"] = 1.0 if self.system.gap(z, lane.params)[0] < 0 else 0.0
         self._set_flags(j, lane, flags)
         self.ta.reset_cooldowns(j)
         self._settle(j, lane, t)
@@ -211,7 +214,7 @@ class BatchEngine:
         target[j] = (job.k0 + job.transient + job.record + 1) / W   # never reached: the last switch ends it
         self.lanes[j] = lane
         self._settle(j, lane, t0)                                     # as HybridRun.reset
-        if job.transient == 0:
+        if job.transient == 0 and job.reference is None:
             self._sample(j, lane, t0)
 
     # ----- the loop ---------------------------------------------------------------
@@ -311,8 +314,9 @@ class _RelayCallback(_Callback):
         k = lane.k_done = n // 2
         lane.n_events_period = 0
         if k >= lane.rec_k:
-            eng._sample(j, lane, t)
-            if lane.job.reference is not None and k > lane.rec_k:
+            if lane.job.reference is None:
+                eng._sample(j, lane, t)
+            elif k > lane.rec_k:
                 eng._renormalise(j, lane, t, k)
         if n >= lane.last:
             eng._end(j, lane)

@@ -1,0 +1,111 @@
+"""heyoka batch mode (bifurc.batch): lanes, refills, events in callbacks, companions.
+
+Every comparison is against the scalar path (HybridRun through StroboscopicMap), which the
+other test files check against analytic solutions, scipy and extended precision.  Horizons
+are short: the two paths take different steps, and the chaotic regimes of the thesis scene
+amplify round-off by ~e^0.2 per relay period.
+"""
+import math
+
+import numpy as np
+import pytest
+
+import maps
+from bifurc.batch import BatchEngine, LaneJob, engine_for
+from bifurc.lyapunov import companion_start, lyapunov_along
+from bifurc.sweep import SweepPoint, sweep
+from maps.parameters import ParameterError
+
+
+@pytest.fixture(scope="module")
+def base():
+    return maps.get_scene("thesis-1dof").parameters(preset="matlab-listing", V=90.0)
+
+
+def _compare(a, b, lyap_tol=1e-3):
+    # lyap_tol: the companion runs 1e-8 (scaled) from the reference, so integration differences
+    # of ~tol between the two paths move each period's log-separation by up to ~1e-2;
+    # averaged over the periods the exponents agree to ~1e-4
+    for x, y in zip(a, b):
+        assert x["status"] == y["status"]
+        assert x["n_impacts"] == y["n_impacts"]
+        assert x["class_label"] == y["class_label"], (x["value"], x["class_label"], y["class_label"])
+        assert np.nanmax(np.abs(x["points"] - y["points"]) / np.maximum(1, np.abs(x["points"]))) < 1e-8
+        assert abs(x["min_gap"] - y["min_gap"]) < 1e-9
+        np.testing.assert_allclose(x["impact_t"], y["impact_t"], rtol=0, atol=1e-9)
+        assert (math.isnan(x["lyapunov"]) and math.isnan(y["lyapunov"])) or abs(x["lyapunov"] - y["lyapunov"]) < lyap_tol
+
+
+@pytest.mark.parametrize("x0", [{}, {"x": 0.0}])
+def test_sweep_point_batch_equals_scalar(base, x0):
+    """11 values in 4 lanes (refilled 2-3 times each), 3 passes (transient, recorded window with
+    every observation guard, Lyapunov companions); x0 = 0 starts on the stop."""
+    point = SweepPoint("thesis-1dof", "relay_hz", base, x0=x0, transient=4, record=6, lyapunov_steps=6)
+    values = np.linspace(2.0, 10.0, 11)
+    scalar = [point(v) for v in values]
+    batch = point.run_many(values)
+    _compare(scalar, batch)
+    assert sum(r["n_impacts"] for r in scalar) > 0
+    assert all(np.isfinite(r["lyapunov"]) for r in batch if r["class_label"] not in ("periodic", "periodic-no-impact"))
+    # steps: the same trajectories need nearly the same number of Taylor steps
+    assert all(abs(b["n_steps"] / a["n_steps"] - 1) < 0.05 for a, b in zip(scalar, batch))
+
+
+def test_escaping_lanes_end_and_are_refilled(base):
+    """Sweeping V to 1000 V throws the bar out: a lane that ends early is refilled, and the escape
+    time is the scalar one (a non-relay parameter swept: the relay frequency is fixed per lane)."""
+    point = SweepPoint("thesis-1dof", "V", dict(base, relay_hz=5.0), transient=2, record=4, lyapunov_steps=4)
+    values = np.linspace(600.0, 1000.0, 9)
+    scalar = [point(v) for v in values]
+    batch = point.run_many(values)
+    assert [r["status"] for r in scalar] == [r["status"] for r in batch]
+    assert 0 < sum(r["status"] == 1 for r in scalar) < values.size
+    for a, b in zip(scalar, batch):
+        if a["status"] == 1:
+            assert abs(a["failure_time"] - b["failure_time"]) < 1e-7
+            assert "escaped" in b["failure"]
+        else:   # hundreds of volts: strongly chaotic, round-off differences grow ~10x per period
+            p, q = a["points"][0], b["points"][0]
+            assert np.max(np.abs(p - q) / np.maximum(1, np.abs(p))) < 1e-8
+
+
+def test_companion_lane_equals_lyapunov_along(base):
+    """The engine's Benettin companion and the scalar lyapunov_along give the same exponent."""
+    point = SweepPoint("thesis-1dof", "relay_hz", base, transient=5, record=8)
+    smap = point.warm()
+    system = smap.system
+    exps = []
+    for W in (3.0, 7.5):
+        p = system.validate(dict(base, relay_hz=W))
+        smap.set_params(**p)
+        o = smap.orbit(point.x0_state(), 8, transient=5)
+        scale = np.maximum(np.max(np.abs(o.points), axis=0), 1e-9)
+        ref = lyapunov_along(smap.step, o.points, scale=scale, k0=5)
+        z0 = companion_start(o.points[0], scale=scale)
+        flags = system.initial_flags(5 / W, p, smap._flags_for(z0, 5 / W))
+        job = LaneJob(p, z0, flags, k0=5, record=8, reference=list(o.points), scale=scale)
+        got = engine_for(system, smap.tol, 4).run([job])[0].lyapunov
+        assert got == pytest.approx(ref, abs=1e-3)   # see _compare
+        exps.append(got)
+    assert all(np.isfinite(exps))
+
+
+def test_batch_refuses_systems_it_cannot_run(base):
+    coulomb = maps.get_scene("thesis-2dof").with_options(soil="coulomb").system   # a reset map (v2 = 0)
+    with pytest.raises(ParameterError, match="reset map"):
+        BatchEngine(coulomb, 1e-10)
+    with pytest.raises(ParameterError, match="batch_size"):
+        sweep("thesis-1dof", "relay_hz", [5.0], preset="matlab-listing", batch_size=0, progress=False)
+
+
+def test_sweep_batch_and_scalar_datasets_agree():
+    """sweep(batch_size=4) and sweep(batch_size=1) store the same diagram on a short horizon."""
+    kw = dict(preset="matlab-listing", params={"V": 90.0}, transient=4, record=6, progress=False,
+              grazing=False, error_sample=0)
+    values = np.linspace(3.0, 9.0, 7)
+    a = sweep("thesis-1dof", "relay_hz", values, batch_size=1, **kw)
+    b = sweep("thesis-1dof", "relay_hz", values, batch_size=4, **kw)
+    assert np.array_equal(a["class_code"].values, b["class_code"].values)
+    assert np.array_equal(a["n_impacts"].values, b["n_impacts"].values)
+    for k in ("x", "v", "i", "z"):
+        np.testing.assert_allclose(a[k].values, b[k].values, rtol=1e-8, atol=1e-10)
