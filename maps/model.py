@@ -236,10 +236,11 @@ def _guards(o: ModelOptions, s):
         gs += [Guard("contact", r - s.e, -1, when={"contact": 0, "stuck_bar": 0}, then={"contact": 1}),
                Guard("lowest", rdot, +1, when={"contact": 0, "stuck_bar": 0}),
                Guard("deepest", rdot, +1, when={"contact": 1}),
-               Guard("release", r - s.e, +1, when={"contact": 1}, then={"contact": 0}),
-               Guard("escape_stop", r - s.e + STOP_ESCAPE, -1, then={"escaped": 1})]
+               Guard("release", r - s.e, +1, when={"contact": 1}, then={"contact": 0})]
+        # one surface for both ends of the domain (one event less at every step): positive
+        # between STOP_ESCAPE into the stop and ESCAPE_MARGIN beyond the DC centre
         far = (r - s.d_dc if o.dc else r) - ESCAPE_MARGIN
-        gs += [Guard("escape_far", far, +1, then={"escaped": 1})]
+        gs += [Guard("escape", (r - s.e + STOP_ESCAPE) * -far, -1, then={"escaped": 1})]
         # heyoka sizes its steps on the state *and* the event functions (their Taylor
         # coefficients enter the norm), so a force-valued surface (tens of N) would loosen the
         # tolerance: the surface is the force over k, the penetration it would give [m].  While
@@ -250,7 +251,7 @@ def _guards(o: ModelOptions, s):
                      when={"stuck_bar": 1}, then={"stuck_bar": 0})]
     else:
         centre = -s.d_ac if o.ac else 0.0
-        gs += [Guard("escape_far", (r - centre) ** 2 - (0.2) ** 2, +1, then={"escaped": 1})]
+        gs += [Guard("escape", (r - centre) ** 2 - (0.2) ** 2, +1, then={"escaped": 1})]
     if o.dof == 2 and o.soil == "coulomb":
         iv2 = 3  # index of v2 in the state
 
