@@ -395,8 +395,15 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
                 def on_chunk(start, chunk):
                     for j, r in enumerate(chunk):
                         keep("independent", missing[start + j], r)
+                warm = None
+                if workers > 1 or scheduler is not None:   # while the workers integrate
+                    import threading
+                    warm = threading.Thread(target=_warm_xarray, daemon=True)
+                    warm.start()
                 map_values(point, values[missing], workers=workers, scheduler=scheduler, on_chunk=on_chunk,
                            collect=False, chunk_size=chunk_size)
+                if warm is not None:
+                    warm.join()
         else:
             start = None
             for b, order in (("up", range(values.size)), ("down", range(values.size - 1, -1, -1))):
@@ -420,6 +427,13 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
         storage.save(ds, path)
         parts.remove()
     return ds
+
+
+def _warm_xarray():
+    """Import what building the Dataset needs (xarray probes its duck-array modules, dask among
+    them: ~1.4 s) while the worker processes integrate, instead of after them."""
+    import xarray as xr
+    xr.Dataset({"a": ("d", np.zeros(1))})
 
 
 def _impact_rate(r) -> float:
