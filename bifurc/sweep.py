@@ -418,6 +418,7 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
     seconds = _time.perf_counter() - clock
     ds = storage.to_dataset(results, values, point, sc, table, mode)
     ds.attrs["sweep_seconds"] = seconds
+    ds.attrs["batch_size"] = batch_size     # SIMD lanes (1: one value at a time); results agree to round-off
     ds.attrs["compile_seconds"] = point.warm()._run.compile_seconds  # once per structure and process
     if grazing:
         ds = storage.add_grazing(ds, _locate_grazing(results, values, point, grazing_xtol))

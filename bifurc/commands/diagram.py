@@ -23,6 +23,9 @@ def register(subparsers):
     p.add_argument("--max-period", type=int, default=16, help="largest period detected (default 16)")
     p.add_argument("--no-lyapunov", action="store_true", help="skip Lyapunov exponents (faster)")
     p.add_argument("--workers", type=int, default=1, help="worker processes (independent mode)")
+    p.add_argument("--batch-size", type=int, default=4,
+                   help="values integrated together in heyoka's batch mode (SIMD lanes; default 4; "
+                        "1: one value at a time)")
     p.add_argument("--scheduler", default=None, help="Dask scheduler address tcp://host:port")
     p.add_argument("-o", "--output", required=True, help="netCDF file to write")
     p.add_argument("--plot", default=None, help="PNG file for the diagram")
@@ -41,7 +44,7 @@ def run(args) -> int:
     values = np.linspace(args.start, args.stop, args.n)
     ds = sweep(args.scene, args.param, values, mode=args.mode, transient=args.transient, record=args.record,
                max_period=args.max_period, lyapunov=not args.no_lyapunov, path=args.output,
-               max_transient=args.max_transient,
+               max_transient=args.max_transient, batch_size=args.batch_size,
                progress=not args.quiet, workers=args.workers, scheduler=args.scheduler, **kw)
     if args.plot:
         from ..plot_diagram import plot_diagram
