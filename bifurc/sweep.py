@@ -108,15 +108,13 @@ class SweepPoint:
         Lyapunov exponent where not periodic (``lyap``: already computed along ``o``), packing."""
         used, steps = self.transient, o.n_steps
         cls = self._classify(o)
-        if o.status == "ok":
-            limit = self.max_transient if self.max_transient is not None else self.transient
-            while (o.status == "ok" and cls["label"] == "not-converged" and used < limit
-                   and cls["convergence_rate"] < DECAY_RATE):  # still converging: integrate on
-                extra = max(1, min(used, limit - used))  # doubling, up to the limit
-                o = smap.orbit(o.final_state, self.record, transient=extra, flags=o.final_flags,
-                               t0=smap.sample_time(used + self.record) - smap.sample_time(0))
-                used, steps, lyap = used + self.record + extra, steps + o.n_steps, None
-                cls = self._classify(o)
+        limit = self.max_transient if self.max_transient is not None else self.transient
+        while self._extends(o, cls, used):  # still converging: integrate on
+            extra = max(1, min(used, limit - used))  # doubling, up to the limit
+            o = smap.orbit(o.final_state, self.record, transient=extra, flags=o.final_flags,
+                           t0=smap.sample_time(used + self.record) - smap.sample_time(0))
+            used, steps, lyap = used + self.record + extra, steps + o.n_steps, None
+            cls = self._classify(o)
         if self._lyapunov_needed(o, cls):
             if lyap is None:
                 scale = self._lyapunov_scale(o)
@@ -223,9 +221,12 @@ class SweepPoint:
             out.append(self._complete(v, smap, o, _time.perf_counter(), lyap=lam, seconds=share))
         return out
 
-    def _extends(self, o, cls) -> bool:
+    def _extends(self, o, cls, used=None) -> bool:
+        """Still converging and allowed to integrate on (``max_transient``) after ``used`` periods."""
+        used = self.transient if used is None else used
         limit = self.max_transient if self.max_transient is not None else self.transient
-        return cls["label"] == "not-converged" and self.transient < limit and cls["convergence_rate"] < DECAY_RATE
+        return (o.status == "ok" and cls["label"] == "not-converged" and used < limit
+                and cls["convergence_rate"] < DECAY_RATE)
 
 
 class SystemScene:

@@ -109,3 +109,14 @@ def test_sweep_batch_and_scalar_datasets_agree():
     assert np.array_equal(a["n_impacts"].values, b["n_impacts"].values)
     for k in ("x", "v", "i", "z"):
         np.testing.assert_allclose(a[k].values, b[k].values, rtol=1e-8, atol=1e-10)
+
+
+def test_values_still_converging_integrate_on_from_the_batch_orbit(base):
+    """4 Hz is not-converged after 300 periods with a decaying recurrence: run_many hands it to the
+    scalar extension (max_transient), which finds the period-2 orbit without impact as the scalar path."""
+    point = SweepPoint("thesis-1dof", "relay_hz", base, transient=300, record=100, max_transient=1000)
+    a, b = point(4.0), point.run_many([4.0])[0]
+    assert a["class_label"] == b["class_label"] == "periodic-no-impact"
+    assert a["class_period"] == b["class_period"] == 2
+    assert a["transient_used"] == b["transient_used"] > 300
+    assert abs(a["min_gap"] - b["min_gap"]) < 1e-6 and b["min_gap"] > 5e-4
