@@ -30,7 +30,7 @@ import numpy as np
 
 from maps.parameters import ParameterError
 
-__all__ = ["LaneJob", "LaneResult", "BatchEngine", "engine_for"]
+__all__ = ["LaneJob", "LaneResult", "BatchEngine", "engine_for", "unsupported"]
 
 
 @dataclass
@@ -80,6 +80,17 @@ class _Lane:
                  "n_events_period", "lyap_sum", "lyap_n", "done", "start_clock")
 
 
+def unsupported(system) -> str | None:
+    """Why ``system`` cannot run in batch mode, or None if it can."""
+    if any(g.reset is not None or callable(g.then) for g in system.guards):
+        return (f"batch mode supports guards that set flags without a reset map; "
+                f"{system.name!r} has others: use the scalar path")
+    if len(system.switches) != 1:
+        return (f"batch mode needs exactly one periodic switch (a relay); "
+                f"{system.name!r} has {len(system.switches)}")
+    return None
+
+
 class BatchEngine:
     """A compiled batch integrator for one system structure and tolerance, and its lane loop."""
 
@@ -87,12 +98,9 @@ class BatchEngine:
                  max_events_per_period: int = 10_000):
         import heyoka as hy
         from maps.hybrid import EVENT_COOLDOWN
-        if any(g.reset is not None or callable(g.then) for g in system.guards):
-            raise ParameterError(f"batch mode supports guards that set flags without a reset map; "
-                                 f"{system.name!r} has others: use the scalar path")
-        if len(system.switches) != 1:
-            raise ParameterError(f"batch mode needs exactly one periodic switch (a relay); "
-                                 f"{system.name!r} has {len(system.switches)}")
+        reason = unsupported(system)
+        if reason:
+            raise ParameterError(reason)
         if batch_size < 1:
             raise ParameterError(f"batch_size = {batch_size}: need at least 1 lane")
         self.system, self.B, self.hy, self.tol = system, int(batch_size), hy, tol
@@ -119,7 +127,6 @@ class BatchEngine:
         self.ta = hy.taylor_adaptive_batch(system.heyoka_system(), np.zeros((n, self.B)), tol=tol,
                                            t_events=events)
         self.state, self.pars, self.time = self.ta.state, self.ta.pars, self.ta.time   # live views
-        self.npar = self.pars.shape[0]
         # per group: [(name, direction, [(flag, value) when], {flag: value} then)]
         self.groups = [[(g.name, g.direction, [(k, float(v)) for k, v in g.when.items()],
                          {k: float(v) for k, v in (g.then or {}).items()}) for g in grp] for grp in groups]

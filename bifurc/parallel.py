@@ -23,13 +23,12 @@ differences on the dataset.
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 import math
 import os
 import time as _time
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 

@@ -103,11 +103,12 @@ class SweepPoint:
         return classify_orbit(o.points, o.impacts_per_step, max_period=self.max_period, rtol=self.rtol,
                               atol=self.atol, status=o.status, **kw)
 
-    def _complete(self, value, smap, o, clock, lyap=None, seconds=None) -> dict:
+    def _complete(self, value, smap, o, clock, lyap=None, seconds=None, cls=None) -> dict:
         """Classification (integrating on while still converging, up to ``max_transient``), the
-        Lyapunov exponent where not periodic (``lyap``: already computed along ``o``), packing."""
+        Lyapunov exponent where not periodic (``lyap``: already computed along ``o``), packing.
+        ``cls``: ``o``'s classification without an exponent, if already made."""
         used, steps = self.transient, o.n_steps
-        cls = self._classify(o)
+        cls = self._classify(o) if cls is None else cls
         limit = self.max_transient if self.max_transient is not None else self.transient
         while self._extends(o, cls, used):  # still converging: integrate on
             extra = max(1, min(used, limit - used))  # doubling, up to the limit
@@ -159,10 +160,11 @@ class SweepPoint:
 
     # ----- many values at once: heyoka batch mode -------------------------------------
     def _batchable(self, smap) -> bool:
+        """Batch mode applies: the engine supports the system, and the map samples at whole relay periods."""
+        from .batch import unsupported
         system = smap.system
-        return (self.batch_size > 1 and len(system.switches) == 1 and smap.phase == 0.0
-                and system.switches[0].frequency == "relay_hz" and smap._period_given is None
-                and not any(g.reset is not None or callable(g.then) for g in system.guards))
+        return (self.batch_size > 1 and unsupported(system) is None and smap.phase == 0.0
+                and system.switches[0].frequency == "relay_hz" and smap._period_given is None)
 
     def run_many(self, values) -> list:
         """The same results as ``[self(v) for v in values]`` (up to round-off), on heyoka's batch
@@ -202,9 +204,9 @@ class SweepPoint:
                 failure_time=r.failure_time, n_steps=steps, final_state=r.final_state, final_flags=r.final_flags))
         # Lyapunov companions where the orbit is not periodic and will not be extended
         lyap = [None] * len(params)
+        classes = [self._classify(o) for o in orbits]
         comp, owners = [], []
-        for i, (p, o) in enumerate(zip(params, orbits)):
-            cls = self._classify(o)
+        for i, (p, o, cls) in enumerate(zip(params, orbits, classes)):
             if self._lyapunov_needed(o, cls) and self.lyapunov_steps <= self.record and not self._extends(o, cls):
                 scale = self._lyapunov_scale(o)
                 ref = list(o.points[:self.lyapunov_steps + 1])
@@ -216,9 +218,9 @@ class SweepPoint:
             lyap[i] = r.lyapunov
         share = (_time.perf_counter() - clock) / max(1, len(params))
         out = []
-        for v, p, o, lam in zip(values, params, orbits, lyap):
+        for v, p, o, lam, cls in zip(values, params, orbits, lyap, classes):
             smap.set_params(**p)
-            out.append(self._complete(v, smap, o, _time.perf_counter(), lyap=lam, seconds=share))
+            out.append(self._complete(v, smap, o, _time.perf_counter(), lyap=lam, seconds=share, cls=cls))
         return out
 
     def _extends(self, o, cls, used=None) -> bool:

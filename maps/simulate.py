@@ -1,10 +1,9 @@
 """Time histories of a scene as xarray Datasets."""
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 import time as _time
 from collections.abc import Mapping
+from typing import TYPE_CHECKING
 
 import heyoka as hy
 import numpy as np
