@@ -15,7 +15,10 @@ decide, the label is "not-converged", never a guess):
 3. Otherwise, for the best candidate n* (smallest d_n), the distances
    e_k = max_j |p_{k+n*,j} - p_{k,j}| / s_j are fitted by log e_k = a + k log rho.
    rho < 0.98 per step (a clear geometric decay): "not-converged" (a transient
-   still approaching a period-n* orbit; rho is stored as ``convergence_rate``).
+   still approaching a period-n* orbit; rho is stored as ``convergence_rate``),
+   unless the Lyapunov exponent is positive (lambda > lyap_tol): trajectories that
+   separate exponentially are not converging, and a chaotic record's recurrence
+   distance can trend down over a short window by chance.
 4. Else the largest Lyapunov exponent of the map lambda [per step] decides:
    lambda > +lyap_tol: "chaotic"; |lambda| <= lyap_tol: "quasi-periodic";
    lambda < -lyap_tol (contracting, yet not periodic within max_period) or NaN:
@@ -108,7 +111,7 @@ def classify_orbit(points, impacts_per_step, *, max_period: int = 16, rtol: floa
                 label = "periodic" if m > 0 else "periodic-no-impact"
                 return _result(label, n, m, d, _decay_rate(p, n, s, atol), rtol, atol)
     rate = _decay_rate(p, best_n, s, atol) if best_n else math.nan
-    if math.isfinite(rate) and rate < DECAY_RATE:
+    if math.isfinite(rate) and rate < DECAY_RATE and not lyapunov > lyap_tol:
         return _result("not-converged", best_n, -1, best_d, rate, rtol, atol)
     if math.isfinite(lyapunov):
         if lyapunov > lyap_tol:

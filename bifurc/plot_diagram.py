@@ -122,11 +122,8 @@ def _title(ds) -> str:
         [k[6:] for k in a if k.startswith("param_") and not k.endswith(("_units", "_source"))][:8]
     params = ", ".join(f"{k} = {a[f'param_{k}']:g} {_unit(a.get(f'param_{k}_units', ''))}".rstrip() for k in keys)
     per = "relay periods" if "param_relay_hz" in a or a.get("swept_parameter") == "relay_hz" else "periods"
-    err = a.get("error_map_points_rel")
-    err_txt = ""
-    if err is not None:
-        err_txt = (f"; map points vs tol/100: {err:.1e} (periodic/converging values)" if np.isfinite(err)
-                   else "; map points vs tol/100: n/a (no periodic or converging value sampled)")
+    err = a.get("error_map_step_rel")
+    err_txt = f"; one map step vs tol/100: {err:.1e}" if err is not None and np.isfinite(err) else ""
     return (f"{a['scene']} ({a['mode']}): {params}\n{a['transient_periods']} transient + "
             f"{a['recorded_periods']} recorded {per}, tol {a['tol']:g}{err_txt}")
 

@@ -98,9 +98,11 @@ def classification_report(ds, at=None) -> str:
               f"{int(np.sum(ds.n_steps.values))} Taylor steps",
               f"- escaped {int((st == 1).sum())}, failed {int((st == 2).sum())}"]
     if "error_estimate_tol" in a:
-        lines.append(f"- error estimate (values re-run at tol {a['error_estimate_tol']:g}): stroboscopic points "
-                     f"differ by up to {a['error_map_points_rel']:.2g} (relative to each state's scale), contact "
-                     f"times by up to {a['error_impact_time_s']:.2g} s, contact counts differ at "
+        lines.append(f"- error estimate (tol {a['error_estimate_tol']:g}): one relay period from the same recorded "
+                     f"states differs by up to {a.get('error_map_step_rel', float('nan')):.2g} (relative to each "
+                     f"state's scale); periodic values re-run whole: stroboscopic points differ by up to "
+                     f"{a['error_map_points_rel']:.2g}, contact times by up to {a['error_impact_time_s']:.2g} s "
+                     f"(nan: no periodic value sampled); contact counts differ at "
                      f"{a['error_impact_count_mismatches']} of the re-run values. On chaotic orbits the points are "
                      "not reproducible at any tolerance (sensitive dependence); the class is.")
     return "\n".join(lines) + "\n"

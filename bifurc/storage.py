@@ -177,21 +177,25 @@ def add_grazing(ds: xr.Dataset, found) -> xr.Dataset:
 
 
 def add_error_estimate(ds, sample_values, point_err, time_err, counts_differ, seconds, tight_tol,
-                       sensitive_err=math.nan, n_sensitive=0) -> xr.Dataset:
+                       sensitive_err=math.nan, n_sensitive=0, step_err=math.nan) -> xr.Dataset:
     """Record the numerical error estimate next to the run time (NaN: nothing of that kind sampled)."""
     ds.attrs.update({
         "error_estimate_values": np.asarray(sample_values, float) if len(sample_values) else np.array([math.nan]),
         "error_estimate_tol": tight_tol,
+        "error_map_step_rel": step_err,
         "error_map_points_rel": point_err,
         "error_impact_time_s": time_err,
         "error_impact_count_mismatches": int(counts_differ),
         "error_map_points_rel_sensitive": sensitive_err,
         "error_sensitive_values": int(n_sensitive),
         "error_estimate_seconds": seconds,
-        "error_estimate_method": "values re-run at tol/100 from the same start; largest scaled |difference| of "
-                                 "stroboscopic points and largest contact-time difference over periodic or "
-                                 "contracting values; at chaotic, quasi-periodic or wandering values the "
-                                 "difference (error_map_points_rel_sensitive) reflects sensitivity, not accuracy",
+        "error_estimate_method": "error_map_step_rel: one relay period from the same recorded states of the "
+                                 "sampled values at tol and at tol/100, largest |difference| scaled by each "
+                                 "state's largest magnitude (the error of every map point, any class); "
+                                 "error_map_points_rel, error_impact_time_s: whole values re-run at tol/100 from "
+                                 "the same start, over periodic values (global error); at chaotic, quasi-periodic "
+                                 "or unconverged values that difference (error_map_points_rel_sensitive) reflects "
+                                 "sensitivity, not accuracy",
     })
     return ds
 

@@ -426,7 +426,7 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
     if grazing:
         ds = storage.add_grazing(ds, _locate_grazing(results, values, point, grazing_xtol))
     if error_sample:
-        ds = storage.add_error_estimate(ds, *_error_estimate(results, values, point, branches[0], error_sample))
+        ds = storage.add_error_estimate(ds, **_error_estimate(results, values, point, branches[0], error_sample))
     if path:
         storage.save(ds, path)
         parts.remove()
@@ -448,9 +448,9 @@ def _impact_rate(r) -> float:
 def _locate_grazing(results, values, point, xtol):
     """Grazing values between neighbours whose number of impacts per period differs.
 
-    From no impact to impacts, neighbours must be periodic or still converging (near a
-    grazing bifurcation convergence is slow); from m > 0 to m' impacts per period both
-    must be periodic.  Between chaotic or quasi-periodic neighbours the sign of the
+    From no impact to impacts, one neighbour must be periodic and the other periodic or
+    not-converged (near a grazing bifurcation convergence is slow); from m > 0 to m'
+    impacts per period both must be periodic.  Between chaotic or quasi-periodic neighbours the sign of the
     clearance brackets nothing meaningful.  The bisection follows the side with fewer impacts (see
     :class:`_BranchFollower`); an attractor that changes under re-computation brackets
     nothing and is skipped.
@@ -466,6 +466,8 @@ def _locate_grazing(results, values, point, xtol):
                 continue
             if ra["class_code"] not in (0, 1, 4) or rb["class_code"] not in (0, 1, 4):
                 continue
+            if ra["class_code"] == rb["class_code"] == 4:
+                continue  # no periodic orbit on either side: no branch whose clearance vanishes
             if _impact_rate(ra) == _impact_rate(rb):
                 continue
             if ra["n_impacts"] and rb["n_impacts"] and not (ra["class_code"] == rb["class_code"] == 0):
@@ -533,33 +535,34 @@ class _BranchFollower:
         return r["min_gap"] if self.impacts == 0 else r["min_flight_gap"]
 
 
-def _insensitive(r) -> bool:
-    """Periodic, or still contracting: a tolerance change moves its points by about the error."""
-    return r["class_code"] in (0, 1) or (r["class_code"] == 4 and r["class_convergence_rate"] < DECAY_RATE)
+def _error_estimate(results, values, point, branch, sample, step_points=32) -> dict:
+    """Re-run ``sample`` values at tol/100 and compare (keywords of storage.add_error_estimate).
 
-
-def _error_estimate(results, values, point, branch, sample):
-    """Re-run ``sample`` values at tol/100: largest differences of map points and impact times.
-
-    Sampled preferably among periodic or contracting values, where the difference measures
-    the integration error; at chaotic, quasi-periodic or wandering values the difference
-    grows to the attractor's size whatever the tolerance, so it is reported apart
-    (``sensitive``).  A continuation value is re-run from the same start (the previous
-    value's final state).  NaN: nothing of that kind was sampled.
+    - ``step_err``: one relay period from the same recorded state at tol and at tol/100, at up
+      to ``step_points`` states of each sampled value: the error of each map step, meaningful
+      for every class (chaotic ones included).
+    - ``point_err``, ``time_err``: whole re-runs from the same start, largest difference of the
+      recorded points and contact times, over periodic values only: there it is the global
+      error.  Elsewhere the difference grows with the dynamics' sensitivity whatever the
+      tolerance; it is reported apart (``sensitive_err``).  Periodic values are sampled first.
+      A continuation value is re-run from the same start (the previous value's final state).
+    NaN: nothing of that kind was sampled.
     """
     ok = [i for i in range(values.size) if results[branch][i] is not None and not results[branch][i]["status"]]
-    good = [i for i in ok if _insensitive(results[branch][i])]
+    good = [i for i in ok if results[branch][i]["class_code"] in (0, 1)]
     pick = lambda pool, k: [pool[j] for j in np.unique(np.linspace(0, len(pool) - 1, k).round().astype(int))] \
         if pool and k > 0 else []  # noqa: E731
     idx = pick(good, min(sample, len(good)))
     idx += pick([i for i in ok if i not in good], sample - len(idx))
+    idx = sorted(idx)
     tight = replace(point, tol=point.tol / 100, lyapunov=False)
-    point_err, sensitive_err, time_err, counts_differ = math.nan, math.nan, 0.0, 0
+    point_err, sensitive_err, step_err, time_err, counts_differ = math.nan, math.nan, math.nan, 0.0, 0
     clock = _time.perf_counter()
     if branch == "independent":      # one batch pass for the whole sample
-        reruns = dict(zip(sorted(idx), tight.run_many([values[i] for i in sorted(idx)]))) if idx else {}
-    for i in sorted(idx):
+        reruns = dict(zip(idx, tight.run_many([values[i] for i in idx]))) if idx else {}
+    for i in idx:
         a = results[branch][i]
+        step_err = np.fmax(step_err, _map_step_error(a, values[i], point, tight, step_points))
         if branch == "independent":
             b = reruns[i]
         else:
@@ -569,19 +572,44 @@ def _error_estimate(results, values, point, branch, sample):
         if b["status"]:
             counts_differ += 1
             continue
-        scale = np.maximum(np.nanmax(np.abs(a["points"]), axis=0), point.atol)
-        err = float(np.nanmax(np.abs(a["points"] - b["points"]) / scale))
+        err = float(np.nanmax(np.abs(a["points"] - b["points"]) / _state_scale(a, point)))
         if i in good:
-            point_err = err if math.isnan(point_err) else max(point_err, err)
+            point_err = np.fmax(point_err, err)
         else:
-            sensitive_err = err if math.isnan(sensitive_err) else max(sensitive_err, err)
+            sensitive_err = np.fmax(sensitive_err, err)
         if a["n_impacts"] == b["n_impacts"]:
             if a["n_impacts"] and i in good:
                 time_err = max(time_err, float(np.nanmax(np.abs(a["impact_t"] - b["impact_t"]))))
         else:
             counts_differ += 1
-    return (values[sorted(idx)], point_err, time_err, counts_differ, _time.perf_counter() - clock, point.tol / 100,
-            sensitive_err, len(idx) - len([i for i in idx if i in good]))
+    return dict(sample_values=values[idx], point_err=float(point_err), time_err=time_err,
+                counts_differ=counts_differ, seconds=_time.perf_counter() - clock, tight_tol=point.tol / 100,
+                sensitive_err=float(sensitive_err), n_sensitive=len([i for i in idx if i not in good]),
+                step_err=float(step_err))
+
+
+def _state_scale(r, point):
+    return np.maximum(np.nanmax(np.abs(r["points"]), axis=0), point.atol)
+
+
+def _map_step_error(r, value, point, tight, n_points) -> float:
+    """Largest scaled difference of one relay period at ``point.tol`` and at ``tight.tol`` from the
+    same recorded states of result ``r`` (flags from the state, as StroboscopicMap.step)."""
+    pts = r["points"][:r["n_recorded"] + 1]
+    ks = np.unique(np.linspace(0, pts.shape[0] - 2, min(n_points, pts.shape[0] - 1)).round().astype(int))
+    scale = _state_scale(r, point)
+    params = dict(point.params, **{point.param: float(value)})
+    worst = math.nan
+    for smap in (point.warm(), tight.warm()):
+        smap.set_params(**params)
+    for k in ks:
+        try:
+            a = point.warm().step(pts[k], r["transient_used"] + int(k))
+            b = tight.warm().step(pts[k], r["transient_used"] + int(k))
+        except Exception:  # noqa: BLE001 - a failed step leaves this point out
+            continue
+        worst = np.fmax(worst, float(np.max(np.abs(a - b) / scale)))
+    return float(worst)
 
 
 class _NoBar:

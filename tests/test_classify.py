@@ -72,6 +72,21 @@ def test_decaying_transient_is_not_converged_with_its_rate():
     assert c["period"] == 1 and c["convergence_rate"] == pytest.approx(rho, rel=1e-6)
 
 
+def test_positive_lyapunov_overrides_a_decaying_recurrence_fit():
+    """A chaotic record whose recurrence distance trends down (here under an envelope 0.95^k) is
+    not a converging transient once the exponent is positive; without one it stays undecided."""
+    u = np.empty(120)
+    u[0] = 0.3
+    for k in range(119):
+        u[k + 1] = 4.0 * u[k] * (1.0 - u[k])  # logistic map, lambda = ln 2
+    k = np.arange(120)
+    pts = np.column_stack([1.0 + 0.95 ** k * u, np.full(k.size, 2.0)])
+    undecided = classify_orbit(pts, np.ones(119, int), rtol=1e-10, atol=1e-14)
+    assert undecided["label"] == "not-converged" and undecided["convergence_rate"] < 0.98
+    assert classify_orbit(pts, np.ones(119, int), rtol=1e-10, atol=1e-14, lyapunov=math.log(2))["label"] == "chaotic"
+    assert classify_orbit(pts, np.ones(119, int), rtol=1e-10, atol=1e-14, lyapunov=-0.05)["label"] == "not-converged"
+
+
 def test_escape_and_failure_pass_through():
     assert classify_orbit(np.zeros((3, 1)), np.zeros(2), status="escaped")["label"] == "escaped"
     assert classify_orbit(np.zeros((3, 1)), np.zeros(2), status="failed")["label"] == "failed"

@@ -72,6 +72,22 @@ def test_grazing_located_where_the_analytic_amplitude_reaches_the_stop(osc):
     assert list(sub.impacts_per_period.values[-2:]) == [1, 1]
 
 
+def test_no_grazing_search_between_two_unconverged_values():
+    """Without a periodic orbit on either side (e.g. intermittent chaos with lyapunov=False, where
+    every non-periodic value is not-converged) there is no branch to follow: nothing is integrated."""
+    from bifurc.sweep import _locate_grazing
+
+    class Forbidden:
+        def __getattr__(self, name):
+            raise AssertionError("no evaluation expected")
+
+    def r(code, n):
+        return {"status": 0, "class_code": code, "n_impacts": n, "n_recorded": 100}
+    values = np.array([2.0, 2.01, 2.02])
+    results = {"independent": [r(4, 0), r(4, 37), r(4, 0)]}
+    assert _locate_grazing(results, values, Forbidden(), 1e-6) == []
+
+
 def test_continuation_finds_coexisting_attractors(osc):
     """Impacts harden the oscillator: above w0 an impacting 1:1 orbit coexists with the
     small non-impacting one; sweeping up follows the first, sweeping down the second."""
@@ -166,6 +182,21 @@ def test_netcdf_round_trip_is_lossless(tmp_path):
         assert "units" in var.attrs, name
     assert back.class_code.attrs["flag_meanings"].split()[:2] == ["periodic", "periodic_no_impact"]
     assert "error_map_points_rel" in back.attrs and back.attrs["sweep_seconds"] > 0
+
+
+def test_map_step_error_follows_the_tolerance_on_a_non_periodic_value():
+    """The one-period error is small and shrinks with tol even where whole re-runs diverge
+    (chaos, torus drift): the whole-run difference is reported apart, as sensitivity."""
+    est = {}
+    for tol in (1e-7, 1e-11):
+        ds = sweep("thesis-1dof", "relay_hz", np.array([5.0]), preset="matlab-listing", params={"V": 90},
+                   transient=60, record=40, tol=tol, grazing=False, error_sample=1, progress=False)
+        est[tol] = ds.attrs
+    assert int(ds.class_code.values.ravel()[0]) in (2, 3)     # not periodic
+    assert np.isnan(est[1e-11]["error_map_points_rel"])       # no periodic value sampled
+    for tol, a in est.items():
+        assert 0 < a["error_map_step_rel"] < 300 * tol, (tol, a["error_map_step_rel"])
+    assert est[1e-7]["error_map_step_rel"] > 100 * est[1e-11]["error_map_step_rel"]
 
 
 def test_bad_sweep_input_names_the_parameter():

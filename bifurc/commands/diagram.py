@@ -56,9 +56,10 @@ def run(args) -> int:
           f"{ds.attrs['sweep_seconds']:.1f} s: {counts}; {_grazing_text(ds)}")
     a = ds.attrs
     if "error_map_points_rel" in a:
-        print(f"  error estimate (tol/100 re-run): map points {a['error_map_points_rel']:.1e} relative, impact "
-              f"times {a['error_impact_time_s']:.1e} s (periodic or contracting values; nan: none sampled)"
-              + (f"; {a['error_sensitive_values']} chaotic/wandering value(s) differ by "
+        print(f"  error estimate (tol/100): one map step {a.get('error_map_step_rel', float('nan')):.1e} relative; "
+              f"whole re-runs of periodic values: map points {a['error_map_points_rel']:.1e}, impact times "
+              f"{a['error_impact_time_s']:.1e} s (nan: none sampled)"
+              + (f"; {a['error_sensitive_values']} non-periodic value(s) re-run differ by "
                  f"{a['error_map_points_rel_sensitive']:.1e} (sensitivity, not error)"
                  if a["error_sensitive_values"] else ""))
     print(f"  wrote {args.output}" + (f" and {args.plot}" if args.plot else ""))
