@@ -28,6 +28,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from maps.hybrid import settle_may_act
 from maps.parameters import ParameterError
 
 __all__ = ["LaneJob", "LaneResult", "BatchEngine", "engine_for", "unsupported"]
@@ -117,6 +118,9 @@ class BatchEngine:
         self.i_next = len(system.param_names) + len(system.flag_names)     # next switch instant [s]
         i_W = system._param_index[sw.frequency]
         self.i_flag = dict(system._flag_index)     # every flag is a runtime parameter (below i_next)
+        # per group: [(name, direction, [(flag, value) when], {flag: value} then)]
+        self.groups = [[(g.name, g.direction, [(k, float(v)) for k, v in g.when.items()],
+                         {k: float(v) for k, v in (g.then or {}).items()}) for g in grp] for grp in groups]
         events = [hy.t_event_batch(grp[0].expr, cooldown=EVENT_COOLDOWN, callback=_GuardCallback(self, gi),
                                    direction=grp[0].heyoka_direction() if len({g.direction for g in grp}) == 1
                                    else hy.event_direction.any) for gi, grp in enumerate(groups)]
@@ -127,9 +131,6 @@ class BatchEngine:
         self.ta = hy.taylor_adaptive_batch(system.heyoka_system(), np.zeros((n, self.B)), tol=tol,
                                            t_events=events)
         self.state, self.pars, self.time = self.ta.state, self.ta.pars, self.ta.time   # live views
-        # per group: [(name, direction, [(flag, value) when], {flag: value} then)]
-        self.groups = [[(g.name, g.direction, [(k, float(v)) for k, v in g.when.items()],
-                         {k: float(v) for k, v in (g.then or {}).items()}) for g in grp] for grp in groups]
         self.halt = tuple(system.halt_flags)
         self.flag_defaults = dict(system.flag_defaults, **{sw.flag: sw.on_value})   # at a period start
         self.lanes: list = [None] * self.B
@@ -146,6 +147,8 @@ class BatchEngine:
     def _settle(self, j, lane, t):
         settle = self.system.settle
         if settle is None:
+            return
+        if not settle_may_act(self.system, lane.flags):
             return
         new = settle(t, self.state[:, j], lane.flags, lane.params)
         if isinstance(new, tuple):
@@ -332,11 +335,22 @@ class _RelayCallback(_Callback):
 
 
 class _GuardCallback(_Callback):
-    """A guard surface crossed in lane j: the active guard's transition; False ends the lane."""
+    """A guard surface crossed in lane j: the active guard's transition; False ends the lane.
+    Which guard is active depends only on the crossing sign and the flags in its ``when``s,
+    so the choice is looked up once per combination."""
 
     def __init__(self, eng, gi):
         super().__init__(eng)
-        self.gi = gi
+        self.group = eng.groups[gi]
+        self.keys = tuple(sorted({k for _, _, when, _ in self.group for k, _ in when}))
+        self.choice: dict = {}
+
+    def _active(self, d_sgn, flags):
+        for guard in self.group:
+            _, direction, when, _ = guard
+            if (direction == 0 or direction == d_sgn) and all(flags[k] == v for k, v in when):
+                return guard
+        return None
 
     def __call__(self, ta, d_sgn, j):
         eng = self.eng
@@ -344,24 +358,29 @@ class _GuardCallback(_Callback):
         if lane is None or lane.done:
             return False
         flags = lane.flags
-        for name, direction, when, then in eng.groups[self.gi]:
-            if (direction == 0 or direction == d_sgn) and all(flags[k] == v for k, v in when):
-                t = float(eng.time[j])
-                lane.res.n_events += 1
-                lane.n_events_period += 1
-                if lane.job.log and lane.k_done >= lane.rec_k:
-                    lane.events.append((name, t, eng.state[:, j].copy()))
-                if then:
-                    eng._set_flags(j, lane, then)
-                    eng._settle(j, lane, t)
-                if any(flags[h] for h in eng.halt):
-                    eng._end(j, lane, "escaped", f"escaped at t = {t:.9g} s ({name})", t)
-                    return False
-                if lane.n_events_period > eng.max_events_per_period:
-                    eng._end(j, lane, "failed", f"more than {eng.max_events_per_period} events in one relay "
-                                                f"period at t = {t:.9g} s (chattering?)", t)
-                    return False
-                return True
+        key = (d_sgn, *[flags[k] for k in self.keys])
+        try:
+            guard = self.choice[key]
+        except KeyError:
+            guard = self.choice[key] = self._active(d_sgn, flags)
+        if guard is None:
+            return True
+        name, _, _, then = guard
+        t = float(eng.time[j])
+        lane.res.n_events += 1
+        lane.n_events_period += 1
+        if lane.job.log and lane.k_done >= lane.rec_k:
+            lane.events.append((name, t, eng.state[:, j].copy()))
+        if then:
+            eng._set_flags(j, lane, then)
+            eng._settle(j, lane, t)
+            if any(flags[h] for h in eng.halt):
+                eng._end(j, lane, "escaped", f"escaped at t = {t:.9g} s ({name})", t)
+                return False
+        if lane.n_events_period > eng.max_events_per_period:
+            eng._end(j, lane, "failed", f"more than {eng.max_events_per_period} events in one relay "
+                                        f"period at t = {t:.9g} s (chattering?)", t)
+            return False
         return True
 
 

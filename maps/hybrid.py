@@ -133,12 +133,26 @@ class EventRecord:
 _COMPILED: dict = {}
 
 
+def settle_may_act(system, flags) -> bool:
+    """False when ``system.settle_if`` rules out any change under ``flags``."""
+    cond = system.settle_if
+    if cond is None:
+        return True
+    for k, v in cond:
+        if flags[k] == v:
+            return True
+    return False
+
+
 class HybridSystem:
     """A piecewise-smooth system: states, parameters, flags, rhs, guards, switches."""
 
     #: flag -> {value: event name}: a ``settle`` that sets the flag to the value is logged as
     #: an event of that name (e.g. ``{"stuck_bar": {1.0: "stick", 0.0: "unstick"}}``)
     settle_events: Mapping[str, Mapping[float, str]] = {}
+    #: ``((flag, value), ...)``: ``settle`` can act only while one of these flags has that
+    #: value, so elsewhere it is not called (it runs after every transition); None: always
+    settle_if: tuple | None = None
 
     def __init__(self, name: str, states: Sequence[State], parameters: Sequence[Parameter],
                  rhs: Callable, flags: Mapping[str, float] | None = None,
@@ -484,7 +498,7 @@ class HybridRun:
         """Make the flags consistent; transitions named in ``system.settle_events`` are
         logged as events (after the guard's own record when ``log`` is False: returned)."""
         records = []
-        if self.system.settle is not None:
+        if self.system.settle is not None and settle_may_act(self.system, self.flags):
             y_minus = np.array(self.ta.state, dtype=float)
             new = self.system.settle(t, y_minus.copy(), dict(self.flags), self.params)
             if isinstance(new, tuple):  # (flags, state): a mode entered with a state projection

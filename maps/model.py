@@ -237,18 +237,18 @@ def _guards(o: ModelOptions, s):
                Guard("lowest", rdot, +1, when={"contact": 0, "stuck_bar": 0}),
                Guard("deepest", rdot, +1, when={"contact": 1}),
                Guard("release", r - s.e, +1, when={"contact": 1}, then={"contact": 0})]
-        # one surface for both ends of the domain (one event less at every step): positive
-        # between STOP_ESCAPE into the stop and ESCAPE_MARGIN beyond the DC centre
+        # Escape and unstick share one surface (every event costs ~5 % of a step, see
+        # docs/model.md "Guards"), chosen by the stuck_bar flag:
+        # - free bar: positive between STOP_ESCAPE into the stop and ESCAPE_MARGIN beyond the
+        #   DC centre (both ends of the domain), crossed downward when the bar leaves it;
+        # - stuck bar (it rides the stop, so it cannot escape): the force pulling it off the
+        #   stop over k [m], crossed upward when that force exceeds unstick_force.
+        # heyoka sizes its steps on the event functions too, hence metres, not newtons.
         far = (r - s.d_dc if o.dc else r) - ESCAPE_MARGIN
-        gs += [Guard("escape", (r - s.e + STOP_ESCAPE) * -far, -1, then={"escaped": 1})]
-        # heyoka sizes its steps on the state *and* the event functions (their Taylor
-        # coefficients enter the norm), so a force-valued surface (tens of N) would loosen the
-        # tolerance: the surface is the force over k, the penetration it would give [m].  While
-        # the bar is free it is the constant -0.5 m, which heyoka's per-step fast exclusion test
-        # discards (an identically zero function defeats that test: root isolation at every
-        # step, ~20 % of the step cost).
-        gs += [Guard("unstick", (f["N_bar"] - o.unstick_force) / s.k * s.stuck_bar + (s.stuck_bar - 1.0) * 0.5, +1,
-                     when={"stuck_bar": 1}, then={"stuck_bar": 0})]
+        escape = (r - s.e + STOP_ESCAPE) * -far
+        surface = escape - escape * s.stuck_bar + (f["N_bar"] - o.unstick_force) / s.k * s.stuck_bar
+        gs += [Guard("escape", surface, -1, when={"stuck_bar": 0}, then={"escaped": 1}),
+               Guard("unstick", surface, +1, when={"stuck_bar": 1}, then={"stuck_bar": 0})]
     else:
         centre = -s.d_ac if o.ac else 0.0
         gs += [Guard("escape", (r - centre) ** 2 - (0.2) ** 2, +1, then={"escaped": 1})]
@@ -407,6 +407,8 @@ def build_system(options: ModelOptions | None = None, **kw) -> HybridSystem:
         stick = _settle_stick(system, o)
         system.settle = stick if system.settle is None else _chain(stick, system.settle)
         system.settle_events = {"stuck_bar": {1.0: "stick", 0.0: "unstick"}}  # logged as events
+        if system.settle is stick:   # sticking acts only in contact or stuck (Coulomb slip: always)
+            system.settle_if = (("contact", 1.0), ("stuck_bar", 1.0))
     system.options = o
     _SYSTEMS[o.key()] = system
     return system
