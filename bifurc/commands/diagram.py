@@ -69,6 +69,6 @@ def run(args) -> int:
 def _grazing_text(ds) -> str:
     n = ds.sizes.get("grazing", 0)
     if not n:
-        return "no grazing located (bisected only between periodic or converging neighbours)"
+        return "no grazing located (bisected only where a neighbour is periodic)"
     ok = int(ds.grazing_confirmed.sum()) if "grazing_confirmed" in ds else n
     return f"grazing at {ok} value(s), impact-count jumps without a graze at {n - ok}"
