@@ -296,6 +296,11 @@ class _Callback:
     def __copy__(self):
         return self
 
+    def live(self, j):
+        """Lane j's state, or None if the lane is free or its job has ended (the event ends it)."""
+        lane = self.eng.lanes[j]
+        return None if lane is None or lane.done else lane
+
 
 class _RelayCallback(_Callback):
     """Lane j reached its relay switch: flip the relay, sample at a period end; False ends the lane."""
@@ -308,8 +313,8 @@ class _RelayCallback(_Callback):
 
     def __call__(self, ta, d_sgn, j):
         eng = self.eng
-        lane = eng.lanes[j]
-        if lane is None or lane.done:
+        lane = self.live(j)
+        if lane is None:
             return False
         n = lane.n_sw
         t = float(eng.time[j])
@@ -354,8 +359,8 @@ class _GuardCallback(_Callback):
 
     def __call__(self, ta, d_sgn, j):
         eng = self.eng
-        lane = eng.lanes[j]
-        if lane is None or lane.done:
+        lane = self.live(j)
+        if lane is None:
             return False
         flags = lane.flags
         key = (d_sgn, *[flags[k] for k in self.keys])

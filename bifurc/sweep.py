@@ -600,12 +600,12 @@ def _map_step_error(r, value, point, tight, n_points) -> float:
     scale = _state_scale(r, point)
     params = dict(point.params, **{point.param: float(value)})
     worst = math.nan
-    for smap in (point.warm(), tight.warm()):
+    maps_ = point.warm(), tight.warm()
+    for smap in maps_:
         smap.set_params(**params)
     for k in ks:
         try:
-            a = point.warm().step(pts[k], r["transient_used"] + int(k))
-            b = tight.warm().step(pts[k], r["transient_used"] + int(k))
+            a, b = (smap.step(pts[k], r["transient_used"] + int(k)) for smap in maps_)
         except Exception:  # noqa: BLE001 - a failed step leaves this point out
             continue
         worst = np.fmax(worst, float(np.max(np.abs(a - b) / scale)))
