@@ -296,10 +296,12 @@ class _Callback:
     def __copy__(self):
         return self
 
-    def live(self, j):
-        """Lane j's state, or None if the lane is free or its job has ended (the event ends it)."""
+    def __call__(self, ta, d_sgn, j):
+        """heyoka's entry: a free or finished lane stops; otherwise :meth:`fire` decides."""
         lane = self.eng.lanes[j]
-        return None if lane is None or lane.done else lane
+        if lane is None or lane.done:
+            return False
+        return self.fire(self.eng, lane, d_sgn, j)
 
 
 class _RelayCallback(_Callback):
@@ -311,11 +313,7 @@ class _RelayCallback(_Callback):
         self.on, self.off, self.duty, self.flag = sw.on_value, sw.off_value, sw.duty, sw.flag
         self.i_flag = eng.i_flag.get(sw.flag)
 
-    def __call__(self, ta, d_sgn, j):
-        eng = self.eng
-        lane = self.live(j)
-        if lane is None:
-            return False
+    def fire(self, eng, lane, d_sgn, j):
         n = lane.n_sw
         t = float(eng.time[j])
         lane.flags[self.flag] = v = self.off if n % 2 else self.on
@@ -357,11 +355,7 @@ class _GuardCallback(_Callback):
                 return guard
         return None
 
-    def __call__(self, ta, d_sgn, j):
-        eng = self.eng
-        lane = self.live(j)
-        if lane is None:
-            return False
+    def fire(self, eng, lane, d_sgn, j):
         flags = lane.flags
         key = (d_sgn, *[flags[k] for k in self.keys])
         try:

@@ -97,7 +97,7 @@ class SweepPoint:
         return self.lyapunov and o.status == "ok" and cls["label"] not in ("periodic", "periodic-no-impact")
 
     def _lyapunov_scale(self, o):
-        return np.maximum(np.max(np.abs(o.points), axis=0), self.atol)
+        return _state_scale(o.points, self.atol)
 
     def _classify(self, o, **kw):
         return classify_orbit(o.points, o.impacts_per_step, max_period=self.max_period, rtol=self.rtol,
@@ -572,7 +572,7 @@ def _error_estimate(results, values, point, branch, sample, step_points=32) -> d
         if b["status"]:
             counts_differ += 1
             continue
-        err = float(np.nanmax(np.abs(a["points"] - b["points"]) / _state_scale(a, point)))
+        err = float(np.nanmax(np.abs(a["points"] - b["points"]) / _state_scale(a["points"], point.atol)))
         if i in good:
             point_err = np.fmax(point_err, err)
         else:
@@ -588,8 +588,9 @@ def _error_estimate(results, values, point, branch, sample, step_points=32) -> d
                 step_err=float(step_err))
 
 
-def _state_scale(r, point):
-    return np.maximum(np.nanmax(np.abs(r["points"]), axis=0), point.atol)
+def _state_scale(points, atol):
+    """Each state component's largest magnitude over recorded ``points`` (NaN padding ignored), >= atol."""
+    return np.maximum(np.nanmax(np.abs(points), axis=0), atol)
 
 
 def _map_step_error(r, value, point, tight, n_points) -> float:
@@ -597,7 +598,7 @@ def _map_step_error(r, value, point, tight, n_points) -> float:
     same recorded states of result ``r`` (flags from the state, as StroboscopicMap.step)."""
     pts = r["points"][:r["n_recorded"] + 1]
     ks = np.unique(np.linspace(0, pts.shape[0] - 2, min(n_points, pts.shape[0] - 1)).round().astype(int))
-    scale = _state_scale(r, point)
+    scale = _state_scale(pts, point.atol)
     params = dict(point.params, **{point.param: float(value)})
     worst = math.nan
     maps_ = point.warm(), tight.warm()
