@@ -26,7 +26,7 @@ import time as _time
 import numpy as np
 import xarray as xr
 
-from maps.hybrid import HybridRun
+from maps.engines.scalar import HybridRun
 from maps.impacts import impact_table
 from maps.parameters import ParameterError
 from maps.simulate import resolve

@@ -8,7 +8,16 @@ import math
 
 import numpy as np
 
-__all__ = ["largest_lyapunov", "lyapunov_along", "companion_start"]
+from maps.tangent import companion_start, renormalise
+
+__all__ = ["largest_lyapunov", "lyapunov_along", "companion_start", "exponent_from_stretch"]
+
+
+def exponent_from_stretch(stretch) -> float:
+    """Largest Lyapunov exponent [per map step]: the mean log stretch of a companion's steps
+    (:meth:`maps.StroboscopicMap.stretch`); NaN if any step failed."""
+    s = np.asarray(stretch, dtype=float)
+    return float(np.mean(s)) if s.size and np.all(np.isfinite(s)) else math.nan
 
 
 def largest_lyapunov(step, y0, n: int, *, d0: float = 1e-8, scale=None, k0: int = 0) -> float:
@@ -28,21 +37,12 @@ def largest_lyapunov(step, y0, n: int, *, d0: float = 1e-8, scale=None, k0: int 
             y1, z1 = step(y, k), step(z, k)
         except Exception:  # a failed step leaves the exponent undetermined
             return math.nan
-        dist = float(np.linalg.norm((z1 - y1) / s))
-        if not math.isfinite(dist) or dist == 0.0:
+        z, stretch = renormalise(y1, z1, d0, s)
+        if not math.isfinite(stretch):
             return math.nan
-        total += math.log(dist / d0)
+        total += stretch
         y = y1
-        z = y1 + (z1 - y1) * (d0 / dist)
     return total / n
-
-
-def companion_start(y0, d0: float = 1e-8, scale=None) -> np.ndarray:
-    """The companion's start: ``d0`` from ``y0`` along a fixed random direction (norm scaled by ``scale``)."""
-    y = np.asarray(y0, dtype=float)
-    s = np.ones_like(y) if scale is None else np.asarray(scale, dtype=float)
-    u = np.random.default_rng(12345).standard_normal(y.size)
-    return y + d0 * (u / np.linalg.norm(u)) * s
 
 
 def lyapunov_along(step, points, *, d0: float = 1e-8, scale=None, k0: int = 0) -> float:
@@ -62,9 +62,8 @@ def lyapunov_along(step, points, *, d0: float = 1e-8, scale=None, k0: int = 0) -
             z1 = step(z, k0 + k)
         except Exception:  # a failed step leaves the exponent undetermined
             return math.nan
-        dist = float(np.linalg.norm((z1 - y[k + 1]) / s))
-        if not math.isfinite(dist) or dist == 0.0:
+        z, stretch = renormalise(y[k + 1], z1, d0, s)
+        if not math.isfinite(stretch):
             return math.nan
-        total += math.log(dist / d0)
-        z = y[k + 1] + (z1 - y[k + 1]) * (d0 / dist)
+        total += stretch
     return total / n

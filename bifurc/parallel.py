@@ -32,7 +32,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from maps.hybrid import Escaped, HybridRun, IntegrationFailure
+from maps.engines.scalar import HybridRun
+from maps.hybrid import Escaped, IntegrationFailure
 from maps.parameters import ParameterError
 from maps.scenes import get_scene
 
@@ -154,8 +155,9 @@ class BatchStroboscopicTask(StroboscopicTask):
     observations: bool = False      # also stop at observation-only guards (free-flight minimum, ...)
 
     def _engine(self):
-        from .batch import engine_for
-        return engine_for(get_scene(self.scene).system, self.tol, self.batch_size, self.observations)
+        from maps.engines import engine_for
+        return engine_for(get_scene(self.scene).system, self.tol, "batch", batch_size=self.batch_size,
+                          observations=self.observations)
 
     def warm(self):
         return self._engine()
@@ -164,15 +166,15 @@ class BatchStroboscopicTask(StroboscopicTask):
         return self.run_many([value])[0]
 
     def run_many(self, values) -> list:
-        from .batch import LaneJob
+        from maps.engines import OrbitJob
         eng = self._engine()
         system = eng.system
         y0 = self._y0()
         jobs = []
         for v in values:
             params = system.validate(dict(self.params, **{self.param: float(v)}))
-            jobs.append(LaneJob(params, y0, system.initial_flags(0.0, params), transient=self.transient,
-                                record=self.record, log=True))
+            jobs.append(OrbitJob(params, y0, system.initial_flags(0.0, params), period=1.0 / params["relay_hz"],
+                                 transient=self.transient, record=self.record, log=True))
         out = []
         cap, n_states = self.impact_capacity, len(system.states)
         for job, r in zip(jobs, eng.run(jobs)):

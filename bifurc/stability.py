@@ -26,7 +26,8 @@ import heyoka as hy
 import numpy as np
 import xarray as xr
 
-from maps.hybrid import Escaped, EventCap, HybridRun, IntegrationFailure
+from maps.engines.scalar import HybridRun
+from maps.hybrid import Escaped, EventCap, IntegrationFailure
 from maps.impacts import free_flight_minima, impact_table
 from maps.scenes import get_scene
 

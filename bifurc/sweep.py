@@ -26,11 +26,11 @@ from pathlib import Path
 import numpy as np
 
 from maps.parameters import ParameterError, validate_value
-from maps.poincare import StroboscopicMap, orbit_from_periods
+from maps.poincare import StroboscopicMap
 from maps.simulate import resolve
 
 from .classify import DECAY_RATE, classify_orbit, lyapunov_threshold
-from .lyapunov import companion_start, largest_lyapunov, lyapunov_along
+from .lyapunov import exponent_from_stretch, largest_lyapunov
 
 __all__ = ["SweepPoint", "sweep", "GRAZING_GAP", "GRAZING_SPEED"]
 
@@ -120,7 +120,8 @@ class SweepPoint:
             if lyap is None:
                 scale = self._lyapunov_scale(o)
                 if self.lyapunov_steps <= self.record:      # along the recorded window
-                    lyap = lyapunov_along(smap.step, o.points[:self.lyapunov_steps + 1], scale=scale, k0=used)
+                    lyap = exponent_from_stretch(smap.stretch([o.points[:self.lyapunov_steps + 1]], [{}], k0=[used],
+                                                              scales=[scale], method="scalar")[0])
                 else:                                        # two trajectories after it
                     lyap = largest_lyapunov(smap.step, o.final_state, self.lyapunov_steps, scale=scale,
                                             k0=used + self.record)
@@ -158,67 +159,35 @@ class SweepPoint:
             "final_state": o.final_state, "final_flags": o.final_flags, **{f"class_{k}": v for k, v in cls.items()},
         }
 
-    # ----- many values at once: heyoka batch mode -------------------------------------
-    def _batchable(self, smap) -> bool:
-        """Batch mode applies: the engine supports the system, and the map samples at whole relay periods."""
-        from .batch import unsupported
-        system = smap.system
-        return (self.batch_size > 1 and unsupported(system) is None and smap.phase == 0.0
-                and system.switches[0].frequency == "relay_hz" and smap._period_given is None)
-
+    # ----- many values at once: the map's ensemble method ----------------------------
     def run_many(self, values) -> list:
-        """The same results as ``[self(v) for v in values]`` (up to round-off), on heyoka's batch
-        integrator: the transient on a lean event set, the recorded window with every
-        observation guard, then Lyapunov companions along the recorded orbits.  Values that
-        are still converging and may integrate on (``max_transient``) continue on the scalar path."""
-        from .batch import LaneJob, engine_for
+        """The same results as ``[self(v) for v in values]`` (up to round-off), with the orbits
+        and the Lyapunov companions of every value integrated together by the map
+        (:meth:`maps.StroboscopicMap.orbits` and ``stretch``: heyoka's batch mode where the
+        engine supports the system).  Values that are still converging and may integrate on
+        (``max_transient``) continue one by one."""
         smap = self.warm()
-        if not self._batchable(smap):
+        if self.batch_size == 1:
             return [self(v) for v in values]
-        system = smap.system
+        method = "auto"
         clock = _time.perf_counter()
-        params = [system.validate({**smap.params, **self.params, self.param: float(v)}) for v in values]
-        y0 = self.x0_state()
-        lean = engine_for(system, self.tol, self.batch_size, observations=False)
-        full = engine_for(system, self.tol, self.batch_size, observations=True)
-
-        def start_flags(y, t, p):      # as StroboscopicMap.orbit: contact inferred from the gap
-            return system.initial_flags(t, p, smap._flags_for(y, t))
-
-        if self.transient:
-            first = lean.run([LaneJob(p, y0, start_flags(y0, 0.0, p), transient=self.transient, record=0)
-                              for p in params])
-        else:
-            first = [None] * len(params)
-        second = full.run([LaneJob(p, r.final_state, r.final_flags, k0=self.transient, record=self.record, log=True)
-                           if r is not None else LaneJob(p, y0, start_flags(y0, 0.0, p), record=self.record, log=True)
-                           for p, r in zip(params, first)])
-        orbits = []
-        for p, pre, r in zip(params, first, second):
-            if pre is not None and pre.status != "ok":      # ended in the transient: nothing recorded
-                r, times, points, steps = pre, [0.0], [y0], pre.n_steps
-            else:
-                times, points, steps = r.times, r.points, r.n_steps + (pre.n_steps if pre is not None else 0)
-            orbits.append(orbit_from_periods(
-                system, p, p["relay_hz"], times, points, r.period_events, status=r.status, failure=r.failure,
-                failure_time=r.failure_time, n_steps=steps, final_state=r.final_state, final_flags=r.final_flags))
-        # Lyapunov companions where the orbit is not periodic and will not be extended
-        lyap = [None] * len(params)
+        over = [dict(self.params, **{self.param: float(v)}) for v in values]
+        orbits = smap.orbits(over, self.x0_state(), self.record, transient=self.transient, method=method,
+                             batch_size=self.batch_size)
         classes = [self._classify(o) for o in orbits]
-        comp, owners = [], []
-        for i, (p, o, cls) in enumerate(zip(params, orbits, classes)):
-            if self._lyapunov_needed(o, cls) and self.lyapunov_steps <= self.record and not self._extends(o, cls):
-                scale = self._lyapunov_scale(o)
-                ref = list(o.points[:self.lyapunov_steps + 1])
-                z0 = companion_start(ref[0], scale=scale)
-                comp.append(LaneJob(p, z0, start_flags(z0, self.transient / p["relay_hz"], p), k0=self.transient,
-                                    record=self.lyapunov_steps, reference=ref, scale=scale))
-                owners.append(i)
-        for i, r in zip(owners, lean.run(comp) if comp else []):
-            lyap[i] = r.lyapunov
-        share = (_time.perf_counter() - clock) / max(1, len(params))
+        lyap = [None] * len(values)
+        want = [i for i, (o, cls) in enumerate(zip(orbits, classes))
+                if self._lyapunov_needed(o, cls) and self.lyapunov_steps <= self.record and not self._extends(o, cls)]
+        if want:
+            stretch = smap.stretch([orbits[i].points[:self.lyapunov_steps + 1] for i in want],
+                                   [over[i] for i in want], k0=[self.transient] * len(want),
+                                   scales=[self._lyapunov_scale(orbits[i]) for i in want],
+                                   method=method, batch_size=self.batch_size)
+            for i, st in zip(want, stretch):
+                lyap[i] = exponent_from_stretch(st)
+        share = (_time.perf_counter() - clock) / max(1, len(values))
         out = []
-        for v, p, o, lam, cls in zip(values, params, orbits, lyap, classes):
+        for v, p, o, lam, cls in zip(values, over, orbits, lyap, classes):
             smap.set_params(**p)
             out.append(self._complete(v, smap, o, _time.perf_counter(), lyap=lam, seconds=share, cls=cls))
         return out
@@ -338,7 +307,7 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
         netCDF output; completed values are kept in ``<path>.parts/`` for resuming.
     workers, scheduler : parallel execution of independent sweeps (bifurc.parallel).
     batch_size : int
-        Values integrated together in heyoka's batch mode (SIMD lanes, :mod:`bifurc.batch`);
+        Values integrated together in heyoka's batch mode (SIMD lanes, :mod:`maps.engines.batch`);
         1: one value at a time.  Results agree to round-off, amplified by chaotic dynamics.
     chunk_size : int
         Values per task (default: 8 x batch_size, or 1 without batch mode, in this process;
@@ -422,7 +391,7 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
     ds = storage.to_dataset(results, values, point, sc, table, mode)
     ds.attrs["sweep_seconds"] = seconds
     ds.attrs["batch_size"] = batch_size     # SIMD lanes (1: one value at a time); results agree to round-off
-    ds.attrs["compile_seconds"] = point.warm()._run.compile_seconds  # once per structure and process
+    ds.attrs["compile_seconds"] = point.warm().compile_seconds  # once per structure and process
     if grazing:
         ds = storage.add_grazing(ds, _locate_grazing(results, values, point, grazing_xtol))
     if error_sample:

@@ -1,12 +1,15 @@
 """maps: hybrid electro-vibro-impact dynamics on heyoka.
 
 Public API: scenes (:func:`get_scene`, :func:`scene_names`), time histories
-(:func:`simulate`), the generic hybrid engine (:class:`HybridSystem`,
-:class:`HybridRun`, :class:`Guard`, :class:`PeriodicSwitch`, :class:`State`) and
-named parameters (:class:`Parameter`, :class:`ParameterError`).
+(:func:`simulate`), hybrid systems (:class:`HybridSystem`, :class:`Guard` with its
+role, :class:`PeriodicSwitch`, :class:`State`, :class:`HybridState`), the engines that
+integrate them (:class:`HybridRun`, :class:`ScalarEngine`, :class:`BatchEngine`, with
+every transition rule in :mod:`maps.transitions`), the maps (:class:`StroboscopicMap`,
+:class:`ImpactMap`) and named parameters (:class:`Parameter`, :class:`ParameterError`).
 """
 from .examples import forced_oscillator_with_stop
-from .hybrid import (Escaped, EventRecord, Guard, HybridRun, HybridSystem, IntegrationFailure,
+from .engines import BatchEngine, HybridRun, OrbitJob, OrbitResult, ScalarEngine, engine_for
+from .hybrid import (ROLES, Escaped, EventCap, EventRecord, Guard, HybridState, HybridSystem, IntegrationFailure,
                      PeriodicSwitch, State)
 from .model import PARAMETERS, ModelOptions, build_system
 from .parameters import Parameter, ParameterError
@@ -19,4 +22,5 @@ __all__ = ["Escaped", "EventRecord", "Guard", "HybridRun", "HybridSystem", "Inte
            "PeriodicSwitch", "State", "PARAMETERS", "ModelOptions", "build_system", "Parameter",
            "ParameterError", "PRESETS", "SCENES", "Scene", "get_scene", "scene_names", "resolve",
            "run_scene", "simulate", "forced_oscillator_with_stop", "StroboscopicMap", "ImpactMap",
-           "MapOrbit"]
+           "MapOrbit", "HybridState", "EventCap", "ROLES", "ScalarEngine", "BatchEngine", "OrbitJob",
+           "OrbitResult", "engine_for"]

@@ -61,10 +61,10 @@ def forced_oscillator_with_stop(stick_speed: float = STICK_SPEED) -> HybridSyste
         return y
 
     def guards(s):
-        return [Guard("contact", s.x - s.e, -1, when={"stuck": 0}, reset=restitute),
-                Guard("lowest", s.v, +1, when={"stuck": 0}),
+        return [Guard("contact", s.x - s.e, -1, when={"stuck": 0}, reset=restitute, role="impact"),
+                Guard("lowest", s.v, +1, when={"stuck": 0}, role="flight_minimum"),
                 Guard("unstick", s.F * hy.cos(s.Omega * s.t) - s.w0**2 * s.e, +1,
-                      when={"stuck": 1}, then={"stuck": 0})]
+                      when={"stuck": 1}, then={"stuck": 0}, role="unstick")]
 
     def settle(t, y, flags, p):
         on_stop = abs(y[0] - p["e"]) <= 1e-12 * max(1.0, abs(p["e"]))

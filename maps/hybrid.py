@@ -13,10 +13,16 @@ A :class:`HybridSystem` is declared with
 - ``switches``: time-scheduled flag changes such as a relay
   (:class:`PeriodicSwitch`), hit exactly by integrating up to each instant.
 
-:class:`HybridRun` integrates one trajectory: it stops on every guard and
-switch, applies the transition and never steps across a mode change with one
-smooth right-hand side.  Compiled integrators are cached per system structure,
-tolerance and floating-point type.
+Guards carry a *role* (impact, release, flight_minimum, deepest, escape, stick,
+unstick, slip, observation, other) that analysis reads instead of guard names.
+The distance to the stop (``gap``) is declared: by default it is the surface of
+the guard whose role is "impact", signed so that > 0 is clear, whichever side
+of the mass the stop is on.
+
+This module only declares.  The rules applied at a transition live in
+:mod:`maps.transitions`; the integrators (:class:`~maps.engines.scalar.HybridRun`,
+the batch engine) in :mod:`maps.engines`.  Compiled integrators are cached per
+system structure, tolerance and floating-point type.
 """
 from __future__ import annotations
 
@@ -30,8 +36,18 @@ import numpy as np
 
 from .parameters import Parameter, ParameterError, validate_value
 
-__all__ = ["State", "Guard", "PeriodicSwitch", "HybridSystem", "HybridRun", "EventRecord",
-           "IntegrationFailure", "Escaped", "EventCap"]
+__all__ = ["State", "Guard", "PeriodicSwitch", "HybridSystem", "HybridState", "EventRecord",
+           "IntegrationFailure", "Escaped", "EventCap", "ROLES"]
+
+#: what a guard crossing means, for analysis (impact logs, clearance, signatures):
+#: impact (contact onset), release (contact ends), flight_minimum (a free-flight minimum of the
+#: gap), deepest (deepest point of a contact), escape (leaves the model's domain), stick /
+#: unstick / slip (sticking modes), observation (recorded only), other
+ROLES = ("impact", "release", "flight_minimum", "deepest", "escape", "stick", "unstick", "slip",
+         "observation", "other")
+#: roles of today's guard names, for guards declared without a role
+ROLE_OF_NAME = {"contact": "impact", "lowest": "flight_minimum", "deepest": "deepest",
+                "release": "release", "escape": "escape", "stick": "stick", "unstick": "unstick"}
 
 #: explicit cooldown of every terminal event [s]; with heyoka's automatic one
 #: an event that starts on its own zero (a bar starting on the stop) re-triggers.
@@ -57,6 +73,9 @@ class Guard:
     at the crossing to the state after it, ``reset(y, params) -> y`` (``None``:
     continuous).  A guard with ``then=None`` and ``reset=None`` only records
     the crossing (an observation, e.g. the deepest point of a contact).
+    ``role`` (one of :data:`ROLES`) says what the crossing means; without it the
+    name decides ("contact": impact, "lowest": flight_minimum, ...; else
+    observation or other).
     """
 
     name: str
@@ -65,6 +84,23 @@ class Guard:
     when: Mapping[str, float] = field(default_factory=dict)
     then: Mapping[str, float] | Callable | None = None
     reset: Callable | None = None
+    role: str | None = None
+
+    def __post_init__(self):
+        if self.direction not in (-1, 0, 1):
+            raise ValueError(f"guard {self.name!r}: direction {self.direction!r}; allowed: -1, 0, +1")
+        role = self.role
+        if role is None:
+            role = ROLE_OF_NAME.get(self.name, "observation" if self.then is None and self.reset is None
+                                    else "other")
+        if role not in ROLES:
+            raise ValueError(f"guard {self.name!r}: role {role!r}; allowed: {', '.join(ROLES)}")
+        object.__setattr__(self, "role", role)
+
+    @property
+    def observes_only(self) -> bool:
+        """True for a guard that changes neither flags nor state (a recorded crossing)."""
+        return self.then is None and self.reset is None
 
     def heyoka_direction(self):
         return {-1: hy.event_direction.negative, 1: hy.event_direction.positive,
@@ -130,6 +166,24 @@ class EventRecord:
     flags: dict
 
 
+@dataclass
+class HybridState:
+    """The state of a hybrid system: the continuous state ``y`` and the flags (the mode).
+
+    Maps take and return it, so that a step restarts exactly from any stored point (a
+    bar stuck on its stop, a rig stuck in the soil).  ``flags=None`` means "not known":
+    the system's declared rule (:meth:`HybridSystem.mode_at`) decides once.
+    """
+
+    y: np.ndarray
+    flags: dict | None = None
+
+    def __post_init__(self):
+        self.y = np.asarray(self.y, dtype=float) if not isinstance(self.y, np.ndarray) else self.y
+        if self.flags is not None:
+            self.flags = dict(self.flags)
+
+
 _COMPILED: dict = {}
 
 
@@ -158,7 +212,8 @@ class HybridSystem:
                  rhs: Callable, flags: Mapping[str, float] | None = None,
                  guards: Callable | Sequence[Guard] = (), switches: Sequence[PeriodicSwitch] = (),
                  settle: Callable | None = None, outputs: Callable | None = None,
-                 structure: tuple = (), halt_flags: Sequence[str] = (), gap: Callable | None = None):
+                 structure: tuple = (), halt_flags: Sequence[str] = (), gap: Callable | None = None,
+                 mode_rule: Callable | None = None):
         """``rhs(sym) -> list of expressions`` and ``guards(sym) -> list of Guard`` receive a
         :class:`Symbols` giving ``sym.x``/``sym['x']`` for states, parameters and flags,
         and ``sym.t`` for time.  ``settle(t, y, flags, params) -> flags`` makes the flags
@@ -168,8 +223,13 @@ class HybridSystem:
         stop: x = e, v = 0).  A guard that sets one of
         ``halt_flags`` to a non-zero value ends the run with :class:`Escaped`.
         ``gap(y, params) -> (gap [m], gap rate [m/s])`` gives the signed distance to the
-        stop (> 0: clear) for impact logs and clearance; by default the state ``x``
-        (or ``x1 - x2``) less the parameter ``e`` (0 if absent).
+        stop (> 0: clear) for impact logs and clearance.  By default it is declared by the
+        guard whose role is "impact": its surface, signed so that the approach to the stop
+        is a decrease (``direction=-1``: the surface itself; ``+1``: its negative), and
+        its rate along the flow in the default mode; without an impact guard there is no gap.
+        ``mode_rule(y, params) -> dict`` gives the flags a bare continuous state starts with
+        (e.g. in contact when it starts inside the stop); by default, beyond an impact
+        surface whose guard sets flags, those flags.
         """
         self.name = name
         self.states = tuple(states)
@@ -178,7 +238,8 @@ class HybridSystem:
         self.switches = tuple(switches)
         self.settle = settle
         self.halt_flags = tuple(halt_flags)
-        self.gap = gap if gap is not None else _default_gap(tuple(s.name for s in states))
+        self._gap_given = gap
+        self._mode_rule = mode_rule
         self.structure = (name,) + tuple(structure)
         names = [s.name for s in self.states] + [p.name for p in self.parameters] + list(self.flag_defaults)
         if len(set(names)) != len(names):
@@ -194,6 +255,10 @@ class HybridSystem:
             raise ValueError(f"rhs of {name!r} has {len(self.rhs)} components for {len(self.states)} states")
         self.guards = tuple(guards(self.sym) if callable(guards) else guards)
         self.outputs = dict(outputs(self.sym)) if outputs else {}
+        impacts = [g for g in self.guards if g.role == "impact"]
+        self.impact_guard = impacts[0] if impacts else None
+        self.gap = gap if gap is not None else (_guard_gap(self, self.impact_guard)
+                                                if self.impact_guard is not None else None)
         for sw in self.switches:
             if sw.flag not in self.flag_defaults or sw.frequency not in self._param_index:
                 raise ValueError(f"switch {sw} names an unknown flag or parameter")
@@ -325,16 +390,44 @@ class HybridSystem:
         raise KeyError(f"no output or guard named {name!r}")
 
     def guard_gradient(self, name: str):
-        """d(guard)/d(state) as heyoka expressions (for saltation matrices)."""
+        """d(guard)/d(state) and d(guard)/dt as heyoka expressions (for saltation matrices)."""
         expr = self._guard_expr(name)
-        return [hy.diff(expr, v) for v in self.sym.state_vars]
+        return [hy.diff(expr, v) for v in self.sym.state_vars], time_derivative(expr)
+
+    def lie_derivative(self, expr):
+        """d(expr)/dt along the flow: grad(expr) . rhs + partial d(expr)/dt (heyoka expression)."""
+        out = time_derivative(expr)
+        for v, f in zip(self.sym.state_vars, self.rhs):
+            out = out + hy.diff(expr, v) * f
+        return out
 
     def initial_flags(self, t: float, params: Mapping[str, float], overrides=None) -> dict:
+        """Default flags with every switch at its value at ``t``, then ``overrides``."""
         flags = dict(self.flag_defaults)
         for sw in self.switches:
             flags[sw.flag] = sw.value_for_index(sw.index_at(t, params[sw.frequency]))
         flags.update(overrides or {})
         return flags
+
+    def mode_at(self, y, params: Mapping[str, float]) -> dict:
+        """Flags that a bare continuous state ``y`` starts with, by the declared rule."""
+        if self._mode_rule is not None:
+            return dict(self._mode_rule(np.asarray(y, dtype=float), params) or {})
+        g = self.impact_guard
+        if g is None or self.gap is None or not isinstance(g.then, Mapping) or not g.then:
+            return {}
+        return dict(g.then) if self.gap(np.asarray(y, dtype=float), params)[0] < 0 else {}
+
+    def role_of(self, name: str) -> str:
+        """The role of a guard or settle event by its name ("other" if unknown)."""
+        roles = self.__dict__.get("_roles")
+        if roles is None:
+            roles = {g.name: g.role for g in self.guards}
+            for names in self.settle_events.values():
+                for ev in names.values():
+                    roles.setdefault(ev, ROLE_OF_NAME.get(ev, "other"))
+            self._roles = roles
+        return roles.get(name, "other")
 
     def __repr__(self):
         return (f"HybridSystem({self.name!r}, states={list(self.state_names)}, "
@@ -373,12 +466,31 @@ def _record_crossing(ta, d_sgn):
     return False
 
 
-def _default_gap(names):
-    if "x1" in names and "x2" in names:
-        i1, v1, i2, v2 = (names.index(n) for n in ("x1", "v1", "x2", "v2"))
-        return lambda y, p: (y[i1] - y[i2] - p.get("e", 0.0), y[v1] - y[v2])
-    ix, iv = names.index("x") if "x" in names else 0, names.index("v") if "v" in names else 1
-    return lambda y, p: (y[ix] - p.get("e", 0.0), y[iv])
+def time_derivative(expr):
+    """Partial derivative of a heyoka expression with respect to time (heyoka differentiates
+    only by variables and parameters: time is swapped for a variable and back)."""
+    tau = hy.make_vars("_time_")
+    d = hy.diff(hy.subs(expr, {hy.time: tau}), tau)
+    return hy.subs(d, {tau: hy.time})
+
+
+def _guard_gap(system: "HybridSystem", guard: Guard):
+    """``gap(y, params) -> (gap, rate)`` from the impact guard's surface, > 0 clear.
+
+    The rate is taken along the flow in the default mode at t = 0 (for the gap of a stop
+    it involves only velocities)."""
+    sign = -1.0 if guard.direction == 1 else 1.0
+    g = guard.expr * sign
+    f = hy.cfunc([g, system.lie_derivative(g)], vars=system.sym.state_vars, compact_mode=True)
+    defaults = dict(system.flag_defaults)
+
+    def gap(y, params):
+        pars = np.asarray(system.par_vector(params, defaults), dtype=float)[:f.nparams]
+        kw = {"time": 0.0} if f.is_time_dependent else {}
+        out = f(np.asarray(y, dtype=float), pars=pars, **kw)
+        return float(out[0]), float(out[1])
+
+    return gap
 
 
 _FP_TYPES = (float, np.float64, np.longdouble, np.float32) + ((hy.real128,) if hasattr(hy, "real128") else ())
@@ -395,228 +507,6 @@ def _np_dtype(fp_type):
     if fp_type is np.longdouble:
         return np.longdouble
     return fp_type
-
-
-class HybridRun:
-    """One trajectory of a :class:`HybridSystem`, advanced through guards and switches.
-
-    >>> run = HybridRun(system, params, x0, tol=1e-12)
-    >>> run.advance(2.0)          # to t = 2 s
-    >>> run.t, run.y, run.events  # time, state, list of EventRecord
-    """
-
-    def __init__(self, system: HybridSystem, params: Mapping[str, float], x0, t0: float = 0.0,
-                 flags: Mapping[str, float] | None = None, tol: float = 1e-12, fp_type=float,
-                 max_events: int | None = 100_000, record_events: bool = True,
-                 max_events_per_period: int | None = None):
-        """``max_events`` caps the events of the whole run, ``max_events_per_period`` those of
-        any one period of the first switch (a relay period); more raise :class:`EventCap`.
-        ``max_period_events`` reports the most events seen in one such period."""
-        self.system = system
-        self.params = system.validate(params)
-        self.tol = validate_tol(tol)
-        if fp_type not in _FP_TYPES:  # else a TypeError from deep inside heyoka
-            raise ParameterError(f"'fp_type' = {fp_type!r} is not supported; allowed: float, "
-                                 f"numpy.longdouble, heyoka.real128 (numpy.float32 also runs)")
-        self.fp_type = fp_type
-        self.ta, self.compile_seconds = system.integrator(tol, fp_type)
-        self.record_events = record_events
-        if max_events is not None:
-            max_events = int(validate_value("max_events", max_events, 1, math.inf))
-        self.max_events = max_events
-        if max_events_per_period is not None:
-            max_events_per_period = int(validate_value("max_events_per_period", max_events_per_period, 1, math.inf))
-        self.max_events_per_period = max_events_per_period
-        self.reset(t0, x0, flags)
-
-    def reset(self, t0: float, x0, flags: Mapping[str, float] | None = None) -> "HybridRun":
-        """Restart this run at time ``t0`` [s] from state ``x0`` (no recompilation).
-
-        Flags default to the system's defaults with switches at their value at ``t0``;
-        the event log, counters and heyoka's event cooldowns are cleared.
-        """
-        system = self.system
-        if not math.isfinite(float(t0)):  # a NaN start time would make advance() a silent no-op
-            raise ParameterError(f"'t0' must be a finite time [s], got {t0}")
-        self.ta.time = _fp(t0, self.fp_type)
-        self.ta.state[:] = np.asarray(system.state_vector(x0), dtype=_np_dtype(self.fp_type))
-        self.ta.reset_cooldowns()
-        self.flags = system.initial_flags(t0, self.params, flags)
-        self._load_pars()
-        self.events = []
-        self.n_events = self.n_steps = self.n_switches = 0
-        self.period_events = self.max_period_events = 0  # events in the current / busiest relay period
-        self.mode_steps: dict = {}  # Taylor steps per mode (tuple of flag values, system order)
-        self.flag_log = [(t0, dict(self.flags))]
-        self._next_switch = {sw.flag: sw.index_at(t0, self.params[sw.frequency]) + 1 for sw in system.switches}
-        self._settle(t0)
-        return self
-
-    # ----- state access ---------------------------------------------------
-    @property
-    def t(self) -> float:
-        return float(self.ta.time)
-
-    @property
-    def y(self) -> np.ndarray:
-        return np.array(self.ta.state, dtype=float)
-
-    def __getitem__(self, name):
-        return float(self.ta.state[self.system.state_names.index(name)])
-
-    def steps_where(self, **flags) -> int:
-        """Taylor steps taken in modes with these flag values, e.g. ``steps_where(contact=1)``."""
-        names = list(self.flags)
-        return sum(n for key, n in self.mode_steps.items()
-                   if all(key[names.index(k)] == v for k, v in flags.items()))
-
-    def set_params(self, **values):
-        """Change parameter values in place (no recompilation)."""
-        merged = dict(self.params, **values)
-        self.params = self.system.validate(merged)
-        self._load_pars()
-
-    def _load_pars(self):
-        n = len(self.ta.pars)
-        self.ta.pars[:] = np.asarray(self.system.par_vector(self.params, self.flags)[:n],
-                                     dtype=_np_dtype(self.fp_type))
-
-    def _set_flags(self, new: Mapping[str, float], t: float):
-        if not new:
-            return
-        changed = {k: v for k, v in new.items() if self.flags.get(k) != v}
-        if not changed:
-            return
-        self.flags.update(changed)
-        n = len(self.ta.pars)
-        for k, v in changed.items():
-            if self.system._flag_index[k] < n:
-                self.ta.pars[self.system._flag_index[k]] = v
-        self.flag_log.append((t, dict(self.flags)))
-
-    def _settle(self, t, log: bool = True) -> list:
-        """Make the flags consistent; transitions named in ``system.settle_events`` are
-        logged as events (after the guard's own record when ``log`` is False: returned)."""
-        records = []
-        if self.system.settle is not None and settle_may_act(self.system, self.flags):
-            y_minus = np.array(self.ta.state, dtype=float)
-            new = self.system.settle(t, y_minus.copy(), dict(self.flags), self.params)
-            if isinstance(new, tuple):  # (flags, state): a mode entered with a state projection
-                new, y = new
-                self.ta.state[:] = np.asarray(y, dtype=_np_dtype(self.fp_type))
-            if new:
-                named = self.system.settle_events
-                for k, v in new.items():
-                    if self.flags.get(k) != v and v in named.get(k, {}):
-                        records.append((named[k][v], y_minus))
-                self._set_flags(new, t)
-        out = []
-        for name, y_minus in records:
-            self._count_event(name)
-            if self.record_events:
-                out.append(EventRecord(t, name, y_minus, np.array(self.ta.state, dtype=float), dict(self.flags)))
-        if log:
-            self.events.extend(out)
-        return out
-
-    def _count_event(self, name: str):
-        self.n_events += 1
-        self.period_events += 1
-        self.max_period_events = max(self.max_period_events, self.period_events)
-        if self.max_events is not None and self.n_events > self.max_events:
-            raise EventCap(f"more than {self.max_events} events by t = {self.t:.9g} s "
-                           f"(last: {name}); chattering or a runaway", self.t, self.y)
-        if self.max_events_per_period is not None and self.period_events > self.max_events_per_period:
-            raise EventCap(f"more than {self.max_events_per_period} events in one relay period, "
-                           f"by t = {self.t:.9g} s (last: {name}); chattering or a runaway", self.t, self.y)
-
-    # ----- integration ------------------------------------------------------
-    def next_switch_time(self) -> tuple[float, PeriodicSwitch | None]:
-        best, which = math.inf, None
-        for sw in self.system.switches:
-            ts = sw.instants(self.params[sw.frequency], self._next_switch[sw.flag])
-            if ts < best:
-                best, which = ts, sw
-        return best, which
-
-    def advance(self, t_end: float, on_segment: Callable | None = None) -> "HybridRun":
-        """Integrate to ``t_end`` [s], stopping on every guard and switch.
-
-        ``on_segment(c_output, t_start, t_stop)`` receives heyoka's continuous
-        output of each smooth segment (dense output; requested only when given).
-        Raises :class:`IntegrationFailure` on a non-finite state or on more than
-        ``max_events`` events.
-        """
-        if not math.isfinite(float(t_end)):  # NaN: silent no-op; inf: ValueError inside heyoka
-            raise ParameterError(f"'t_end' must be a finite time [s], got {t_end}")
-        ta = self.ta
-        sys = self.system
-        c_out = on_segment is not None
-        while float(ta.time) < t_end:
-            t_sw, sw = self.next_switch_time()
-            t_stop = min(t_end, t_sw)
-            t_start = float(ta.time)
-            y_start = np.array(ta.state, dtype=float)
-            if t_stop > t_start:
-                res = ta.propagate_until(_fp(t_stop, self.fp_type), c_output=c_out)
-                outcome, nsteps = res[0], res[3]
-                self.n_steps += nsteps
-                key = tuple(self.flags.values())
-                self.mode_steps[key] = self.mode_steps.get(key, 0) + nsteps
-                if c_out and res[4] is not None:
-                    on_segment(res[4], t_start, float(ta.time))
-            else:
-                outcome = hy.taylor_outcome.time_limit
-            if outcome == hy.taylor_outcome.time_limit:
-                if sw is not None and t_stop == t_sw:
-                    n = self._next_switch[sw.flag]
-                    self._next_switch[sw.flag] = n + 1
-                    self.n_switches += 1
-                    if sw is self.system.switches[0] and n % 2 == 0:
-                        self.period_events = 0  # a new relay period begins
-                    self._set_flags({sw.flag: sw.value_for_index(n)}, t_sw)
-                    self._settle(t_sw)
-                continue
-            code = int(outcome)
-            if -len(sys._groups) - 1 < code < 0:
-                group, mixed = sys._groups[-code - 1], sys._mixed[-code - 1]
-                for g in group:
-                    if (not mixed or g.direction in (0, _CROSSING[0])) and \
-                            all(self.flags.get(k) == v for k, v in g.when.items()):
-                        self._on_guard(g)
-                        break
-                continue
-            state = np.array(ta.state, dtype=float)
-            if outcome == hy.taylor_outcome.err_nf_state:
-                raise IntegrationFailure(f"non-finite state in the step after t = {t_start:.9g} s "
-                                         f"(last finite state {np.array2string(y_start, precision=6)})",
-                                         t_start, y_start)
-            raise IntegrationFailure(f"integration stopped with {outcome} at t = {float(ta.time):.9g} s",
-                                     float(ta.time), state)
-        return self
-
-    def _on_guard(self, g: Guard):
-        self._count_event(g.name)
-        t = self.t
-        y_minus = np.array(self.ta.state, dtype=float) if self.record_events else None
-        if g.reset is not None:
-            self.ta.state[:] = g.reset(np.array(self.ta.state), self.params)
-        if g.then is not None:
-            new = g.then(t, np.array(self.ta.state, dtype=float), dict(self.flags), self.params) \
-                if callable(g.then) else g.then
-            self._set_flags(new, t)
-        y_guard = np.array(self.ta.state, dtype=float) if self.record_events else None
-        flags_guard = dict(self.flags)
-        settled = self._settle(t, log=False)
-        if self.record_events:  # the guard's record, then any settle transition it caused
-            self.events.append(EventRecord(t, g.name, y_minus, y_guard if settled else
-                                           np.array(self.ta.state, dtype=float),
-                                           flags_guard if settled else dict(self.flags)))
-            self.events.extend(settled)
-        for f in self.system.halt_flags:
-            if self.flags.get(f):
-                raise Escaped(f"{g.name}: the state left the model's domain at t = {t:.9g} s",
-                              t, np.array(self.ta.state, dtype=float))
 
 
 def validate_tol(tol) -> float:

@@ -1,7 +1,8 @@
 """The impact log of a run: one row per contact, from the recorded guard crossings.
 
-Relies on the guard names "contact" (onset), "deepest" (maximum penetration)
-and "release", and on ``system.gap(y, params) -> (gap, gap_rate)``.
+Reads events by their role ("impact": onset, "deepest": maximum penetration,
+"release", "flight_minimum"), never by name, and the declared
+``system.gap(y, params) -> (gap, gap_rate)``.
 """
 from __future__ import annotations
 
@@ -14,28 +15,30 @@ def impact_table(run) -> dict:
     """Arrays per contact: onset time [s], impact velocity [m/s] (gap rate at onset,
     negative toward the stop), maximum penetration [m] (>= 0) and contact duration [s]
     (NaN for a contact still open at the end of the run)."""
-    gap = run.system.gap
+    gap = run.system.gap or (lambda y, p: (np.nan, np.nan))
+    role = run.system.role_of
     onset, vel, pen, dur = [], [], [], []
     for ev in run.events:
-        if ev.name == "contact":
+        r = role(ev.name)
+        if r == "impact":
             g, rate = gap(ev.y_minus, run.params)
             onset.append(ev.t)
             vel.append(rate)
             pen.append(max(0.0, -g))
             dur.append(np.nan)
-        elif ev.name == "deepest" and onset:
+        elif r == "deepest" and onset:
             pen[-1] = max(pen[-1], -gap(ev.y_minus, run.params)[0])
-        elif ev.name == "release" and onset and np.isnan(dur[-1]):
+        elif r == "release" and onset and np.isnan(dur[-1]):
             dur[-1] = ev.t - onset[-1]
     return {"t": np.array(onset), "velocity": np.array(vel), "penetration": np.array(pen),
             "duration": np.array(dur)}
 
 
 def free_flight_minima(run) -> dict:
-    """Local minima of the gap in free flight (guard "lowest"): time [s] and gap [m]."""
+    """Local minima of the gap in free flight (role "flight_minimum"): time [s] and gap [m]."""
     t, g = [], []
     for ev in run.events:
-        if ev.name == "lowest":
+        if run.system.role_of(ev.name) == "flight_minimum":
             t.append(ev.t)
             g.append(run.system.gap(ev.y_minus, run.params)[0])
     return {"t": np.array(t), "gap": np.array(g)}

@@ -233,10 +233,11 @@ def _guards(o: ModelOptions, s):
     r, rdot = f["r"], f["rdot"]
     gs = []
     if o.stop:
-        gs += [Guard("contact", r - s.e, -1, when={"contact": 0, "stuck_bar": 0}, then={"contact": 1}),
-               Guard("lowest", rdot, +1, when={"contact": 0, "stuck_bar": 0}),
-               Guard("deepest", rdot, +1, when={"contact": 1}),
-               Guard("release", r - s.e, +1, when={"contact": 1}, then={"contact": 0})]
+        gs += [Guard("contact", r - s.e, -1, when={"contact": 0, "stuck_bar": 0}, then={"contact": 1},
+                     role="impact"),
+               Guard("lowest", rdot, +1, when={"contact": 0, "stuck_bar": 0}, role="flight_minimum"),
+               Guard("deepest", rdot, +1, when={"contact": 1}, role="deepest"),
+               Guard("release", r - s.e, +1, when={"contact": 1}, then={"contact": 0}, role="release")]
         # Escape and unstick share one surface (every event costs ~5 % of a step, see
         # docs/model.md "Guards"), chosen by the stuck_bar flag:
         # - free bar: positive between STOP_ESCAPE into the stop and ESCAPE_MARGIN beyond the
@@ -247,11 +248,11 @@ def _guards(o: ModelOptions, s):
         far = (r - s.d_dc if o.dc else r) - ESCAPE_MARGIN
         escape = (r - s.e + STOP_ESCAPE) * -far
         surface = escape - escape * s.stuck_bar + (f["N_bar"] - o.unstick_force) / s.k * s.stuck_bar
-        gs += [Guard("escape", surface, -1, when={"stuck_bar": 0}, then={"escaped": 1}),
-               Guard("unstick", surface, +1, when={"stuck_bar": 1}, then={"stuck_bar": 0})]
+        gs += [Guard("escape", surface, -1, when={"stuck_bar": 0}, then={"escaped": 1}, role="escape"),
+               Guard("unstick", surface, +1, when={"stuck_bar": 1}, then={"stuck_bar": 0}, role="unstick")]
     else:
         centre = -s.d_ac if o.ac else 0.0
-        gs += [Guard("escape", (r - centre) ** 2 - (0.2) ** 2, +1, then={"escaped": 1})]
+        gs += [Guard("escape", (r - centre) ** 2 - (0.2) ** 2, +1, then={"escaped": 1}, role="escape")]
     if o.dof == 2 and o.soil == "coulomb":
         iv2 = 3  # index of v2 in the state
 
@@ -262,11 +263,11 @@ def _guards(o: ModelOptions, s):
 
         # force surfaces over k (metres), as "unstick": they enter heyoka's step-size norm
         per_k = (lambda F: F / s.k) if o.stop else (lambda F: F)
-        gs += [Guard("rig_stop", s.v2, 0, when={"stuck": 0}, then=None, reset=zero_v2),
+        gs += [Guard("rig_stop", s.v2, 0, when={"stuck": 0}, then=None, reset=zero_v2, role="stick"),
                Guard("rig_slip_back", per_k(f["N_rig"] - s.soil_friction), +1, when={"stuck": 1},
-                     then={"stuck": 0, "slip_dir": 1.0}),
+                     then={"stuck": 0, "slip_dir": 1.0}, role="slip"),
                Guard("rig_slip_fwd", per_k(f["N_rig"] + s.soil_friction), -1, when={"stuck": 1},
-                     then={"stuck": 0, "slip_dir": -1.0})]
+                     then={"stuck": 0, "slip_dir": -1.0}, role="slip")]
     return gs
 
 
@@ -316,6 +317,14 @@ def _gap(o: ModelOptions):
     if o.dof == 1:
         return lambda y, p: (y[0] - p.get("e", 0.0), y[1])
     return lambda y, p: (y[0] - y[2] - p.get("e", 0.0), y[1] - y[3])
+
+
+def _mode_rule(o: ModelOptions):
+    """The flags a bare state starts with: in contact when it starts inside the stop."""
+    gap = _gap(o)
+    if not o.stop:
+        return None
+    return lambda y, p: {"contact": 1.0 if gap(y, p)[0] < 0 else 0.0}
 
 
 def _settle_stick(system: HybridSystem, o: ModelOptions):
@@ -400,7 +409,7 @@ def build_system(options: ModelOptions | None = None, **kw) -> HybridSystem:
         name="electro-vibro-impact", states=o.state_list(), parameters=params,
         flags=flags, rhs=lambda s: _rhs(o, s), guards=lambda s: _guards(o, s),
         switches=switches, outputs=lambda s: _outputs(o, s), structure=o.key(),
-        halt_flags=("escaped",), gap=_gap(o))
+        halt_flags=("escaped",), gap=_gap(o), mode_rule=_mode_rule(o))
     if o.dof == 2 and o.soil == "coulomb":
         system.settle = _settle_coulomb(system)
     if o.stop:

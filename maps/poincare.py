@@ -11,11 +11,13 @@ from __future__ import annotations
 
 import math
 import time as _time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from .hybrid import Escaped, HybridRun, HybridSystem, IntegrationFailure
+from .engines.base import OrbitJob
+from .engines.scalar import ScalarEngine
+from .hybrid import HybridState, HybridSystem
 from .parameters import ParameterError, validate_value
 
 __all__ = ["StroboscopicMap", "MapOrbit", "ImpactMap", "forcing_period_steps", "orbit_from_periods"]
@@ -43,14 +45,15 @@ def forcing_period_steps(f_mains: float, relay_hz: float | None, max_steps: int 
 class MapOrbit:
     """Recorded iterates of a stroboscopic map and what happened between them.
 
-    ``points[k]`` is the state at ``times[k]``; step k runs from ``times[k]`` to
+    ``points[k]`` is the state at ``times[k]``, with the flags ``point_flags[k]`` (columns
+    ``flag_names``; :meth:`state` gives the hybrid state); step k runs from ``times[k]`` to
     ``times[k+1]``.  Gaps are distances to the stop [m] (negative: penetration).
     ``min_gap_per_step`` is the smallest of the gaps at the step's ends, at its
-    free-flight minima (guard "lowest") and, in contact, minus the deepest
+    free-flight minima (role "flight_minimum") and, in contact, minus the deepest
     penetration: never NaN.  ``min_flight_gap_per_step`` keeps only the free-flight
     minima (inf where the step has none): it reaches 0 where a new impact is born
     (a grazing bifurcation), which the total ``min_gap`` does not show on an
-    impacting orbit.
+    impacting orbit.  A system without a declared gap has NaN gaps.
     """
 
     times: np.ndarray                 # (n+1,) [s]
@@ -71,10 +74,30 @@ class MapOrbit:
     run_seconds: float = 0.0
     final_state: np.ndarray | None = None
     final_flags: dict = field(default_factory=dict)
+    flag_names: tuple = ()
+    point_flags: np.ndarray | None = None   # (n+1, len(flag_names)) flags at each point
+    signature: list = field(default_factory=list)  # per step: the ordered roles of its events
 
     @property
     def n(self) -> int:
         return len(self.impacts_per_step)
+
+    def state(self, k: int) -> HybridState:
+        """The hybrid state (continuous state and flags) at point k (negative: from the end)."""
+        flags = None if self.point_flags is None else dict(zip(self.flag_names, self.point_flags[k]))
+        return HybridState(self.points[k].copy(), flags)
+
+    @property
+    def final(self) -> HybridState:
+        """The hybrid state where the orbit ended (to continue it exactly)."""
+        return HybridState(np.asarray(self.final_state, dtype=float), dict(self.final_flags))
+
+
+def _split(state):
+    """(continuous state, flags or None, was a HybridState) of a map argument."""
+    if isinstance(state, HybridState):
+        return state.y, state.flags, True
+    return state, None, False
 
 
 class StroboscopicMap:
@@ -83,9 +106,15 @@ class StroboscopicMap:
     >>> smap = StroboscopicMap("thesis-1dof", params)          # T = 1/relay_hz
     >>> orbit = smap.orbit(x0, n=100, transient=300)
     >>> y1 = smap.step(y0, k=0)                                # one period from t = phase*T
+    >>> s1 = smap.step(orbit.state(-1), k=400)                 # hybrid state in, hybrid state out
+    >>> many = smap.orbits([{"relay_hz": f} for f in (5, 6)], x0, n=100, transient=300)
 
     The period T is ``period`` if given, else 1/relay_hz, else the system's
     ``strobe_period(params)`` (e.g. 2 pi / Omega for a harmonically forced system).
+    The map's state is the continuous state and the flags (:class:`~maps.hybrid.HybridState`);
+    a bare continuous state starts in the mode the system's rule gives it.  Orbits are
+    integrated by an engine of :mod:`maps.engines` (the scalar one here; :meth:`orbits` and
+    :meth:`stretch` use the batch engine for many parameter sets).
     """
 
     def __init__(self, system_or_scene, params: dict, *, period: float | None = None, phase: float = 0.0,
@@ -98,9 +127,10 @@ class StroboscopicMap:
             self.system = self.scene.system
         self.phase = validate_value("phase", phase, 0.0, 1.0, high_open=True, long_name="sampling phase")
         self.max_events_per_period = max_events_per_period
+        self.fp_type = fp_type
         self._period_given = period
-        self._run = HybridRun(self.system, params, np.zeros(len(self.system.states)), tol=tol,
-                              fp_type=fp_type, max_events=None)
+        self._engine = ScalarEngine(self.system, tol, max_events_per_period=max_events_per_period, fp_type=fp_type)
+        self._run = self._engine.hybrid_run(self.system.validate(params))
         self.set_params(**params)
 
     # ----- parameters ----------------------------------------------------------
@@ -112,54 +142,79 @@ class StroboscopicMap:
     def tol(self) -> float:
         return self._run.tol
 
+    @property
+    def compile_seconds(self) -> float:
+        """Seconds heyoka took to compile this map's scalar integrator (0 when cached)."""
+        return self._run.compile_seconds
+
     def set_params(self, **values) -> "StroboscopicMap":
         """Change parameter values (no recompilation); the period follows relay_hz."""
         self._run.set_params(**values)
-        p = self._run.params
-        if self._period_given is not None:
-            self.period = validate_value("period", self._period_given, 0.0, math.inf, low_open=True, unit="s")
-        elif "relay_hz" in p:
-            self.period = 1.0 / p["relay_hz"]
-        elif getattr(self.system, "strobe_period", None) is not None:
-            self.period = float(self.system.strobe_period(p))
-        else:
-            raise ParameterError("this system has no 'relay_hz' nor a strobe_period(params): "
-                                 "give the stroboscopic 'period' [s]")
-        # q: the forcing repeats every q samples (0: never).  A system without a mains
-        # parameter is taken to be forced with the sampling period (q = 1).
-        self.forcing_period_steps = (forcing_period_steps(p["f_mains"], p.get("relay_hz"), period=self.period)
-                                     if "f_mains" in p else 1)
+        self.period = self.period_for(self._run.params)
+        self.forcing_period_steps = self.forcing_period_for(self._run.params)
         return self
 
+    def period_for(self, p: dict) -> float:
+        """The sampling period T [s] under parameter values ``p``."""
+        if self._period_given is not None:
+            return validate_value("period", self._period_given, 0.0, math.inf, low_open=True, unit="s")
+        if "relay_hz" in p:
+            return 1.0 / p["relay_hz"]
+        if getattr(self.system, "strobe_period", None) is not None:
+            return float(self.system.strobe_period(p))
+        raise ParameterError("this system has no 'relay_hz' nor a strobe_period(params): "
+                             "give the stroboscopic 'period' [s]")
+
+    def forcing_period_for(self, p: dict) -> int:
+        """q: the forcing repeats every q samples (0: never).  A system without a mains
+        parameter is taken to be forced with the sampling period (q = 1)."""
+        return forcing_period_steps(p["f_mains"], p.get("relay_hz"), period=self.period_for(p)) \
+            if "f_mains" in p else 1
+
+    def _rate(self, p: dict) -> float | None:
+        """Samples per second when the period is the relay's (exact switch instants), else None."""
+        return p["relay_hz"] if self._period_given is None and "relay_hz" in p else None
+
     def sample_time(self, k: int, t0: float = 0.0) -> float:
+        """t0 + (k + phase) T [s]; k / relay_hz exactly as the relay's switch instants when T = 1/relay_hz."""
+        rate = self._rate(self.params)
+        if rate is not None and self.phase == 0.0:
+            return t0 + k / rate
         return t0 + (k + self.phase) * self.period
 
-    def _flags_for(self, y, t) -> dict | None:
-        """Flags consistent with a state given at time t: in contact if it starts inside the stop."""
-        if "contact" in self.system.flag_names:
-            return {"contact": 1.0 if self.system.gap(np.asarray(y, float), self.params)[0] < 0 else 0.0}
-        return None
+    def _job(self, params, y0, flags, k0, transient, record, t0=0.0, **kw) -> OrbitJob:
+        T = self.period_for(params)
+        rate = self._rate(params) if self.phase == 0.0 else None
+        return OrbitJob(params, np.asarray(y0, dtype=float), flags, period=T, offset=t0 + self.phase * T,
+                        rate=rate, k0=k0, transient=transient, record=record, **kw)
 
     # ----- iteration -------------------------------------------------------------
-    def step(self, y, k: int = 0, t0: float = 0.0) -> np.ndarray:
-        """The state one period after ``y`` given at the k-th sample time t0 + (k + phase) T.
+    def step(self, state, k: int = 0, t0: float = 0.0):
+        """The state one period after ``state`` given at the k-th sample time t0 + (k + phase) T.
 
-        The relay flag follows that time; the contact flag is inferred from the gap.
+        ``state`` is a :class:`~maps.hybrid.HybridState` (returned as one, with the flags at
+        the end) or a bare continuous state (returned bare; its mode from the system's rule).
+        Raises :class:`~maps.hybrid.IntegrationFailure` (or Escaped, EventCap) if the step fails.
         """
+        y, flags, hybrid = _split(state)
         run = self._run
-        ta = self.sample_time(k, t0)
         run.record_events = False
-        run.max_events = self.max_events_per_period
-        run.reset(ta, y, self._flags_for(y, ta))
+        run.reset(self.sample_time(k, t0), y, flags)
+        run.budget.per_period = self.max_events_per_period
         run.advance(self.sample_time(k + 1, t0))
-        return run.y
+        return HybridState(run.y, dict(run.flags)) if hybrid else run.y
 
-    def jacobian(self, y, k: int = 0, *, eps: float | None = None, t0: float = 0.0) -> np.ndarray:
+    def jacobian(self, state, k: int = 0, *, eps: float | None = None, t0: float = 0.0,
+                 method: str = "fd") -> np.ndarray:
         """d(step)/dy by central differences (d x d), steps ``eps`` (default 1e-6 |y_j|, >= 1e-9).
 
-        A placeholder for the variational Jacobian with saltation matrices at every
-        contact and relay event; valid only where no event is grazed within +-eps.
+        ``method="fd"`` is a test oracle: valid only where no event is grazed within +-eps,
+        and its accuracy depends on eps.  The mode of a :class:`~maps.hybrid.HybridState` is
+        kept for every perturbed start.
         """
+        if method != "fd":
+            raise ParameterError(f"jacobian method {method!r}; allowed: fd")
+        y, flags, _ = _split(state)
         y = np.asarray(y, dtype=float)
         d = y.size
         J = np.empty((d, d))
@@ -167,70 +222,157 @@ class StroboscopicMap:
             h = eps if eps is not None else 1e-6 * max(1e-3, abs(y[j]))
             e = np.zeros(d)
             e[j] = h
-            J[:, j] = (self.step(y + e, k, t0) - self.step(y - e, k, t0)) / (2 * h)
+            plus = self.step(HybridState(y + e, flags) if flags is not None else y + e, k, t0)
+            minus = self.step(HybridState(y - e, flags) if flags is not None else y - e, k, t0)
+            J[:, j] = (_split(plus)[0] - _split(minus)[0]) / (2 * h)
         return J
 
     def orbit(self, x0, n: int, *, transient: int = 0, t0: float = 0.0, flags: dict | None = None) -> MapOrbit:
         """Start from ``x0`` at ``t0`` [s], discard the samples before k = ``transient``, record ``n`` steps.
 
+        ``x0`` is a continuous state (mapping or array) or a :class:`~maps.hybrid.HybridState`;
         ``points[0]`` is the state at t0 + (transient + phase) T.  ``flags`` (e.g. the
-        ``final_flags`` of a previous orbit) default to those consistent with ``x0``.
-        Failures (escape, non-finite state, more than ``max_events_per_period`` events
-        in a period) end the orbit early with ``status`` set and never raise; arrays
+        ``final_flags`` of a previous orbit) default to those of a HybridState, else to the
+        system's rule.  Failures (escape, non-finite state, more than ``max_events_per_period``
+        events in a period) end the orbit early with ``status`` set and never raise; arrays
         then hold only the completed steps.
         """
         n = int(validate_value("n", n, 1, 1e8))
         transient = int(validate_value("transient", transient, 0, 1e8))
-        run = self._run
-        params = self.params
+        y0, given, _ = _split(x0)
+        flags = flags if flags is not None else given
+        y0 = self.system.state_vector(y0)
+        job = self._job(self.params, y0, flags, 0, transient, n, t0, log=True)
+        res = self._engine.run([job])[0]
+        return self._orbit_from(res, job)
+
+    def orbits(self, overrides: list, x0, n: int, *, transient: int = 0, flags: dict | None = None,
+               method: str = "auto", batch_size: int = 4) -> list[MapOrbit]:
+        """One orbit per parameter set: ``overrides[i]`` (a dict) changes this map's parameters.
+
+        Every orbit starts from ``x0`` (a state, or a list of one state per set) at t = 0, as
+        :meth:`orbit`.  ``method``: "batch" (heyoka batch mode, ``batch_size`` SIMD lanes: the
+        transient without stops at observation-only guards, then the recorded window with
+        them), "scalar" (one after the other), "auto" (batch where the engine supports the
+        system).  Results agree to round-off, amplified by chaotic dynamics.
+        """
+        n = int(validate_value("n", n, 1, 1e8))
+        transient = int(validate_value("transient", transient, 0, 1e8))
+        params = [self.system.validate(dict(self.params, **o)) for o in overrides]
+        starts = x0 if isinstance(x0, list) else [x0] * len(params)
+        jobs = []
+        for p, s in zip(params, starts):
+            y, given, _ = _split(s)
+            jobs.append(self._job(p, self.system.state_vector(y), flags if flags is not None else given,
+                                  0, transient, n, log=True))
+        method = self._method(method, batch_size)
         clock = _time.perf_counter()
-        run.record_events = False
-        run.max_events = self.max_events_per_period * max(1, transient)
-        run.reset(t0, x0, flags if flags is not None else self._flags_for(self.system.state_vector(x0), t0))
-        times, points, period_events = [], [], []
-        status, failure, t_fail = "ok", "", math.nan
-        try:
-            run.advance(self.sample_time(transient, t0))
-            times.append(run.t)
-            points.append(run.y)
-            run.record_events = True
-            for k in range(transient, transient + n):
-                run.events = []
-                run.max_events = run.n_events + self.max_events_per_period
-                run.advance(self.sample_time(k + 1, t0))
-                times.append(run.t)
-                points.append(run.y)
-                period_events.append([(ev.name, ev.t, ev.y_minus) for ev in run.events])
-        except Escaped as exc:
-            status, failure, t_fail = "escaped", str(exc), exc.t
-        except IntegrationFailure as exc:
-            status, failure, t_fail = "failed", str(exc), exc.t
-        run.events = []
-        if not points:
-            points, times = [np.asarray(self.system.state_vector(x0), float)], [t0]
-        return orbit_from_periods(self.system, params, params.get("relay_hz", 1.0 / self.period), times, points, period_events,
-                                  status=status, failure=failure, failure_time=t_fail, n_steps=run.n_steps,
-                                  run_seconds=_time.perf_counter() - clock, final_state=run.y,
-                                  final_flags=dict(run.flags))
+        if method == "scalar":
+            results = self._engine.run(jobs)
+        else:
+            from .engines import engine_for
+            kw = dict(batch_size=batch_size, max_events_per_period=self.max_events_per_period)
+            full = engine_for(self.system, self.tol, "batch", observations=True, **kw)
+            if transient:
+                lean = engine_for(self.system, self.tol, "batch", observations=False, **kw)
+                first = lean.run([replace(j, record=0, log=False) for j in jobs])
+                second = full.run([replace(j, y0=r.final_state, flags=r.final_flags, k0=transient, transient=0)
+                                   for j, r in zip(jobs, first)])
+                results = []
+                for pre, r in zip(first, second):
+                    if pre.status != "ok":          # ended in the transient: nothing recorded
+                        results.append(pre)
+                    else:
+                        r.n_steps += pre.n_steps
+                        results.append(r)
+            else:
+                results = full.run(jobs)
+        share = (_time.perf_counter() - clock) / max(1, len(jobs))
+        out = []
+        for job, r in zip(jobs, results):
+            o = self._orbit_from(r, job)
+            o.run_seconds = share
+            out.append(o)
+        return out
+
+    def stretch(self, references: list, overrides: list, *, k0: list, scales: list, d0: float = 1e-8,
+                method: str = "auto", batch_size: int = 4) -> list[np.ndarray]:
+        """Tangent growth along recorded orbits (Benettin's companion, :mod:`maps.tangent`).
+
+        ``references[i]`` are ``m + 1`` states of an orbit under ``overrides[i]``, the first at
+        sample ``k0[i]``.  A companion starts ``d0`` from the first (norm scaled by
+        ``scales[i]``), mode by the system's rule, and after each step is moved back to ``d0``
+        from the next; returned: the log stretch of each step (NaN where it failed).
+        """
+        from .tangent import companion_start
+        method = self._method(method, batch_size)
+        jobs = []
+        for ref, o, k, s in zip(references, overrides, k0, scales):
+            p = self.system.validate(dict(self.params, **o))
+            z0 = companion_start(ref[0], d0, s)
+            jobs.append(self._job(p, z0, None, int(k), 0, len(ref) - 1, reference=list(ref), d0=d0, scale=s))
+        if method == "scalar":
+            results = self._engine.run(jobs)
+        else:
+            from .engines import engine_for
+            eng = engine_for(self.system, self.tol, "batch", observations=False, batch_size=batch_size,
+                             max_events_per_period=self.max_events_per_period)
+            results = eng.run(jobs)
+        out = []
+        for job, r in zip(jobs, results):
+            st = np.full(job.record, np.nan)
+            st[:len(r.stretch)] = r.stretch
+            out.append(st)
+        return out
+
+    def _method(self, method, batch_size) -> str:
+        from .engines import unsupported
+        if method not in ("auto", "batch", "scalar"):
+            raise ParameterError(f"method {method!r}; allowed: auto, batch, scalar")
+        batchable = unsupported(self.system) is None and self.fp_type is float
+        if method == "batch" and not batchable:
+            raise ParameterError(unsupported(self.system) or "the batch engine runs in double precision only")
+        if method == "auto":
+            return "batch" if batchable and batch_size > 1 else "scalar"
+        return method
+
+    def _orbit_from(self, r, job) -> MapOrbit:
+        points, times, flags = r.points, r.times, r.flags
+        if not points:     # failed before the first sample
+            points = [np.asarray(job.y0, dtype=float)]
+            times = [job.sample_time(job.k0)]
+            flags = [r.final_flags or {}]
+        names = self.system.flag_names
+        point_flags = np.array([[fl.get(f, np.nan) for f in names] for fl in flags], dtype=float)
+        W = job.params.get("relay_hz", 1.0 / job.period)
+        return orbit_from_periods(self.system, job.params, W, times, points, r.period_events,
+                                  status=r.status, failure=r.failure, failure_time=r.failure_time,
+                                  n_steps=r.n_steps, run_seconds=r.seconds, final_state=r.final_state,
+                                  final_flags=dict(r.final_flags), flag_names=names, point_flags=point_flags)
 
 
 def orbit_from_periods(system, params, W, times, points, period_events, **fields) -> MapOrbit:
     """A :class:`MapOrbit` from the sampled states and each period's guard crossings.
 
-    ``period_events[k]`` lists ``(guard name, t [s], state at the crossing)`` between
-    ``times[k]`` and ``times[k+1]``; ``W`` [Hz] gives the relay phase of each onset.
+    ``period_events[k]`` lists ``(event name, t [s], state at the crossing)`` between
+    ``times[k]`` and ``times[k+1]``; events are read by their role (impact, flight_minimum,
+    deepest, release), never by name.  ``W`` [Hz] gives the relay phase of each onset.
     ``fields`` are MapOrbit's remaining fields (status, n_steps, final_state, ...).
     """
-    gap = system.gap
-    imp_n, min_gap, min_flight, min_speed = [], [], [], []
+    gap = system.gap if system.gap is not None else (lambda y, p: (math.nan, math.nan))
+    role = system.role_of
+    imp_n, min_gap, min_flight, min_speed, signature = [], [], [], [], []
     it, iv, iph, ipen, idur = [], [], [], [], []
     g_prev = gap(points[0], params)[0]
     for k, events in enumerate(period_events):
         g_end = gap(points[k + 1], params)[0]
         g_lo, g_flight = min(g_prev, g_end), math.inf
         count, speed = 0, math.inf
+        roles = []
         for name, t, y in events:
-            if name == "contact":
+            r = role(name)
+            roles.append(r)
+            if r == "impact":
                 g, rate = gap(y, params)
                 count += 1
                 speed = min(speed, abs(rate))
@@ -239,27 +381,28 @@ def orbit_from_periods(system, params, W, times, points, period_events, **fields
                 iph.append((t * W) % 1.0)
                 ipen.append(max(0.0, -g))
                 idur.append(math.nan)
-            elif name == "lowest":
+            elif r == "flight_minimum":
                 g = gap(y, params)[0]
                 g_lo, g_flight = min(g_lo, g), min(g_flight, g)
-            elif name == "deepest":
+            elif r == "deepest":
                 g = gap(y, params)[0]
                 g_lo = min(g_lo, g)
                 if ipen:
                     ipen[-1] = max(ipen[-1], -g)
-            elif name == "release" and idur and math.isnan(idur[-1]):
+            elif r == "release" and idur and math.isnan(idur[-1]):
                 idur[-1] = t - it[-1]
         imp_n.append(count)
         min_gap.append(g_lo)
         min_flight.append(g_flight)
         min_speed.append(speed)
+        signature.append(tuple(roles))
         g_prev = g_end
     return MapOrbit(
         times=np.array(times), points=np.array(points), impacts_per_step=np.array(imp_n, dtype=np.int64),
         min_gap_per_step=np.array(min_gap), min_impact_speed_per_step=np.array(min_speed),
         impact_t=np.array(it), impact_velocity=np.array(iv), impact_phase=np.array(iph),
         impact_penetration=np.array(ipen), impact_duration=np.array(idur),
-        min_flight_gap_per_step=np.array(min_flight), **fields)
+        min_flight_gap_per_step=np.array(min_flight), signature=signature, **fields)
 
 
 class ImpactMap:

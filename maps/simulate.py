@@ -8,7 +8,8 @@ from typing import TYPE_CHECKING
 import heyoka as hy
 import numpy as np
 
-from .hybrid import Escaped, HybridRun, IntegrationFailure
+from .engines.scalar import HybridRun
+from .hybrid import Escaped, IntegrationFailure
 from .impacts import impact_table
 from .parameters import ParameterError, validate_value
 from .scenes import get_scene

@@ -1,4 +1,4 @@
-"""heyoka batch mode (bifurc.batch): lanes, refills, events in callbacks, companions.
+"""heyoka batch mode (maps.engines.batch) under the sweep: lanes, refills, companions.
 
 Every comparison is against the scalar path (HybridRun through StroboscopicMap), which the
 other test files check against analytic solutions, scipy and extended precision.  Horizons
@@ -11,8 +11,11 @@ import numpy as np
 import pytest
 
 import maps
-from bifurc.batch import BatchEngine, LaneJob, engine_for
-from bifurc.lyapunov import companion_start, lyapunov_along
+from bifurc.lyapunov import exponent_from_stretch, lyapunov_along
+from maps.engines import BatchEngine, OrbitJob, engine_for
+from maps.hybrid import Guard, HybridSystem, PeriodicSwitch, State
+from maps.parameters import Parameter
+from maps.tangent import companion_start
 from bifurc.sweep import SweepPoint, sweep
 from maps.parameters import ParameterError
 
@@ -63,7 +66,7 @@ def test_escaping_lanes_end_and_are_refilled(base):
     for a, b in zip(scalar, batch):
         if a["status"] == 1:
             assert abs(a["failure_time"] - b["failure_time"]) < 1e-7
-            assert "escaped" in b["failure"]
+            assert "left the model's domain" in b["failure"] and "left the model's domain" in a["failure"]
         else:   # hundreds of volts: strongly chaotic, round-off differences grow ~10x per period
             p, q = a["points"][0], b["points"][0]
             assert np.max(np.abs(p - q) / np.maximum(1, np.abs(p))) < 1e-8
@@ -82,18 +85,19 @@ def test_companion_lane_equals_lyapunov_along(base):
         scale = np.maximum(np.max(np.abs(o.points), axis=0), 1e-9)
         ref = lyapunov_along(smap.step, o.points, scale=scale, k0=5)
         z0 = companion_start(o.points[0], scale=scale)
-        flags = system.initial_flags(5 / W, p, smap._flags_for(z0, 5 / W))
-        job = LaneJob(p, z0, flags, k0=5, record=8, reference=list(o.points), scale=scale)
-        got = engine_for(system, smap.tol, 4).run([job])[0].lyapunov
+        job = OrbitJob(p, z0, None, period=1 / W, rate=W, k0=5, record=8, reference=list(o.points), scale=scale)
+        got = exponent_from_stretch(engine_for(system, smap.tol, "batch").run([job])[0].stretch)
         assert got == pytest.approx(ref, abs=1e-3)   # see _compare
         exps.append(got)
     assert all(np.isfinite(exps))
 
 
 def test_batch_refuses_systems_it_cannot_run(base):
-    coulomb = maps.get_scene("thesis-2dof").with_options(soil="coulomb").system   # a reset map (v2 = 0)
-    with pytest.raises(ParameterError, match="reset map"):
-        BatchEngine(coulomb, 1e-10)
+    two = HybridSystem("two-switches", [State("x", "m", "x")], [Parameter("f", "Hz", "f"), Parameter("h", "Hz", "h")],
+                       rhs=lambda s: [s.a - s.b], flags={"a": 0.0, "b": 0.0},
+                       switches=[PeriodicSwitch("a", "f"), PeriodicSwitch("b", "h")])
+    with pytest.raises(ParameterError, match="at most one periodic switch"):
+        BatchEngine(two, 1e-10)
     with pytest.raises(ParameterError, match="batch_size"):
         sweep("thesis-1dof", "relay_hz", [5.0], preset="matlab-listing", batch_size=0, progress=False)
 

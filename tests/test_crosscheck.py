@@ -5,7 +5,7 @@ import pytest
 
 import maps
 from bifurc.baselines import rhs_1dof, solve_scipy
-from maps.hybrid import HybridRun
+from maps.engines.scalar import HybridRun
 from maps.impacts import impact_table
 
 PARAMS = {"V": 90.0, "relay_hz": 9.0}

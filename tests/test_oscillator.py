@@ -6,7 +6,7 @@ import pytest
 from scipy.optimize import brentq
 
 import maps
-from maps.hybrid import HybridRun
+from maps.engines.scalar import HybridRun
 
 
 def free_flight(p, t0, x0, v0):

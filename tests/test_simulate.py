@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 import maps
-from maps.hybrid import HybridRun
+from maps.engines.scalar import HybridRun
 
 CASE = dict(preset="matlab-listing", params={"V": 90.0, "relay_hz": 9.0})
 

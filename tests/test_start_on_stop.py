@@ -11,7 +11,7 @@ from scipy.integrate import quad
 from scipy.optimize import brentq
 
 import maps
-from maps.hybrid import HybridRun
+from maps.engines.scalar import HybridRun
 
 
 def _dc_potential(p):

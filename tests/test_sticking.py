@@ -7,7 +7,8 @@ import pytest
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
-from maps.hybrid import EventCap, HybridRun
+from maps.hybrid import EventCap
+from maps.engines.scalar import HybridRun
 from bifurc.stability import CASES, case_scene, run_case
 
 

@@ -1,0 +1,297 @@
+"""The scalar engine: one trajectory at a time on a heyoka ``taylor_adaptive``.
+
+:class:`HybridRun` integrates one trajectory: it stops on every guard surface and switch
+instant, applies the transition rules of :mod:`maps.transitions` and never steps across a
+mode change with one smooth right-hand side.  :class:`ScalarEngine` runs
+:class:`~maps.engines.base.OrbitJob` s with it, one after the other.
+"""
+from __future__ import annotations
+
+import math
+import time as _time
+from typing import Callable, Mapping
+
+import heyoka as hy
+import numpy as np
+
+from .. import transitions as tr
+from ..hybrid import (_CROSSING, _FP_TYPES, Escaped, EventRecord, HybridState, HybridSystem,
+                      IntegrationFailure, _fp, _np_dtype, validate_tol)
+from ..parameters import ParameterError, validate_value
+from ..tangent import renormalise
+from .base import Engine, OrbitJob, OrbitResult
+
+__all__ = ["HybridRun", "ScalarEngine"]
+
+
+class HybridRun:
+    """One trajectory of a :class:`HybridSystem`, advanced through guards and switches.
+
+    >>> run = HybridRun(system, params, x0, tol=1e-12)
+    >>> run.advance(2.0)          # to t = 2 s
+    >>> run.t, run.y, run.events  # time, state, list of EventRecord
+    """
+
+    def __init__(self, system: HybridSystem, params: Mapping[str, float], x0, t0: float = 0.0,
+                 flags: Mapping[str, float] | None = None, tol: float = 1e-12, fp_type=float,
+                 max_events: int | None = 100_000, record_events: bool = True,
+                 max_events_per_period: int | None = None):
+        """``x0`` is a continuous state (mapping, array) or a :class:`HybridState`.
+        ``max_events`` caps the events of the whole run, ``max_events_per_period`` those of
+        any one period of the first switch (a relay period); more raise :class:`EventCap`.
+        ``max_period_events`` reports the most events seen in one such period."""
+        self.system = system
+        self.params = system.validate(params)
+        self.tol = validate_tol(tol)
+        if fp_type not in _FP_TYPES:  # else a TypeError from deep inside heyoka
+            raise ParameterError(f"'fp_type' = {fp_type!r} is not supported; allowed: float, "
+                                 f"numpy.longdouble, heyoka.real128 (numpy.float32 also runs)")
+        self.fp_type = fp_type
+        self.ta, self.compile_seconds = system.integrator(tol, fp_type)
+        self.record_events = record_events
+        if max_events is not None:
+            max_events = int(validate_value("max_events", max_events, 1, math.inf))
+        self.max_events = max_events
+        if max_events_per_period is not None:
+            max_events_per_period = int(validate_value("max_events_per_period", max_events_per_period, 1, math.inf))
+        self.max_events_per_period = max_events_per_period
+        self._choices = [tr.GuardChoice(g) for g in system._groups]
+        self.reset(t0, x0, flags)
+
+    def reset(self, t0: float, x0, flags: Mapping[str, float] | None = None) -> "HybridRun":
+        """Restart this run at time ``t0`` [s] from state ``x0`` (no recompilation).
+
+        Flags: ``flags``, else those of a :class:`HybridState` ``x0``, else the system's rule
+        (:func:`maps.transitions.start_flags`), with switches at their value at ``t0``; the
+        event log, counters and heyoka's event cooldowns are cleared.
+        """
+        system = self.system
+        if not math.isfinite(float(t0)):  # a NaN start time would make advance() a silent no-op
+            raise ParameterError(f"'t0' must be a finite time [s], got {t0}")
+        if isinstance(x0, HybridState):
+            flags = x0.flags if flags is None else flags
+            x0 = x0.y
+        y0 = system.state_vector(x0)
+        self.ta.time = _fp(t0, self.fp_type)
+        self.ta.state[:] = np.asarray(y0, dtype=_np_dtype(self.fp_type))
+        self.ta.reset_cooldowns()
+        self.flags = tr.start_flags(system, t0, y0, self.params, flags)
+        self._load_pars()
+        self.events = []
+        self.n_steps = self.n_switches = 0
+        self.budget = tr.EventBudget(self.max_events, self.max_events_per_period)
+        self.mode_steps: dict = {}  # Taylor steps per mode (tuple of flag values, system order)
+        self.flag_log = [(t0, dict(self.flags))]
+        self._next_switch = {sw.flag: sw.index_at(t0, self.params[sw.frequency]) + 1 for sw in system.switches}
+        self._apply(tr.settle(system, t0, self.y, self.flags, self.params), t0)
+        return self
+
+    # ----- state access ---------------------------------------------------
+    @property
+    def t(self) -> float:
+        return float(self.ta.time)
+
+    @property
+    def y(self) -> np.ndarray:
+        return np.array(self.ta.state, dtype=float)
+
+    @property
+    def state(self) -> HybridState:
+        """The hybrid state now: continuous state and flags."""
+        return HybridState(self.y, dict(self.flags))
+
+    @property
+    def n_events(self) -> int:
+        return self.budget.total
+
+    @property
+    def max_period_events(self) -> int:
+        return self.budget.busiest
+
+    def __getitem__(self, name):
+        return float(self.ta.state[self.system.state_names.index(name)])
+
+    def steps_where(self, **flags) -> int:
+        """Taylor steps taken in modes with these flag values, e.g. ``steps_where(contact=1)``."""
+        names = list(self.flags)
+        return sum(n for key, n in self.mode_steps.items()
+                   if all(key[names.index(k)] == v for k, v in flags.items()))
+
+    def set_params(self, **values):
+        """Change parameter values in place (no recompilation)."""
+        merged = dict(self.params, **values)
+        self.params = self.system.validate(merged)
+        self._load_pars()
+
+    def _load_pars(self):
+        n = len(self.ta.pars)
+        self.ta.pars[:] = np.asarray(self.system.par_vector(self.params, self.flags)[:n],
+                                     dtype=_np_dtype(self.fp_type))
+
+    def _set_flags(self, changed: Mapping[str, float], t: float):
+        if not changed:
+            return
+        self.flags.update(changed)
+        n = len(self.ta.pars)
+        index = self.system._flag_index
+        for k, v in changed.items():
+            if index[k] < n:
+                self.ta.pars[index[k]] = v
+        self.flag_log.append((t, dict(self.flags)))
+
+    def _apply(self, out: tr.Outcome, t: float):
+        """Write a transition's outcome into the integrator, count and log its records."""
+        if out.y is not None:
+            self.ta.state[:] = np.asarray(out.y, dtype=_np_dtype(self.fp_type))
+        self._set_flags(out.changes, t)
+        for name, y_minus, y_plus, flags in out.records:
+            cap = self.budget.count(name, t, self.y)
+            if cap is not None:
+                raise cap
+            if self.record_events:
+                self.events.append(EventRecord(t, name, y_minus, np.array(y_plus, dtype=float), flags))
+
+    # ----- integration ------------------------------------------------------
+    def next_switch_time(self):
+        return tr.next_switch(self.system, self.params, self._next_switch)
+
+    def advance(self, t_end: float, on_segment: Callable | None = None) -> "HybridRun":
+        """Integrate to ``t_end`` [s], stopping on every guard and switch.
+
+        ``on_segment(c_output, t_start, t_stop)`` receives heyoka's continuous
+        output of each smooth segment (dense output; requested only when given).
+        Raises :class:`IntegrationFailure` on a non-finite state, :class:`EventCap` beyond
+        the event caps and :class:`Escaped` when a halt flag is set.
+        """
+        if not math.isfinite(float(t_end)):  # NaN: silent no-op; inf: ValueError inside heyoka
+            raise ParameterError(f"'t_end' must be a finite time [s], got {t_end}")
+        ta = self.ta
+        sys = self.system
+        c_out = on_segment is not None
+        n_groups = len(sys._groups)
+        while float(ta.time) < t_end:
+            t_sw, sw = self.next_switch_time()
+            t_stop = min(t_end, t_sw)
+            t_start = float(ta.time)
+            y_start = np.array(ta.state, dtype=float)
+            if t_stop > t_start:
+                res = ta.propagate_until(_fp(t_stop, self.fp_type), c_output=c_out)
+                outcome, nsteps = res[0], res[3]
+                self.n_steps += nsteps
+                key = tuple(self.flags.values())
+                self.mode_steps[key] = self.mode_steps.get(key, 0) + nsteps
+                if c_out and res[4] is not None:
+                    on_segment(res[4], t_start, float(ta.time))
+            else:
+                outcome = hy.taylor_outcome.time_limit
+            if outcome == hy.taylor_outcome.time_limit:
+                if sw is not None and t_stop == t_sw:
+                    n = self._next_switch[sw.flag]
+                    self._next_switch[sw.flag] = n + 1
+                    self.n_switches += 1
+                    if sw is sys.switches[0] and n % 2 == 0:
+                        self.budget.new_period()  # a new relay period begins
+                    self._set_flags({sw.flag: sw.value_for_index(n)}, t_sw)
+                    self._apply(tr.settle(sys, t_sw, self.y, self.flags, self.params), t_sw)
+                continue
+            code = int(outcome)
+            if -n_groups - 1 < code < 0:
+                guard = self._choices[-code - 1](_CROSSING[0], self.flags)
+                if guard is not None:
+                    t = self.t
+                    out = tr.fire(sys, guard, t, self.y, self.flags, self.params)
+                    self._apply(out, t)
+                    if out.halted:
+                        raise Escaped(f"{guard.name}: the state left the model's domain at t = {t:.9g} s",
+                                      t, self.y)
+                continue
+            state = np.array(ta.state, dtype=float)
+            if outcome == hy.taylor_outcome.err_nf_state:
+                raise IntegrationFailure(f"non-finite state in the step after t = {t_start:.9g} s "
+                                         f"(last finite state {np.array2string(y_start, precision=6)})",
+                                         t_start, y_start)
+            raise IntegrationFailure(f"integration stopped with {outcome} at t = {float(ta.time):.9g} s",
+                                     float(ta.time), state)
+        return self
+
+
+class ScalarEngine(Engine):
+    """Runs jobs one after the other on one :class:`HybridRun` (any system, any sampling)."""
+
+    name = "scalar"
+
+    def __init__(self, system, tol: float, *, max_events_per_period: int = 10_000,
+                 observations: bool = True, fp_type=float):
+        super().__init__(system, tol, max_events_per_period=max_events_per_period, observations=observations)
+        self.fp_type = fp_type
+        self._run: HybridRun | None = None
+
+    def hybrid_run(self, params) -> HybridRun:
+        """This engine's reusable run, with ``params`` loaded (compiled once per structure)."""
+        if self._run is None:
+            self._run = HybridRun(self.system, params, np.zeros(len(self.system.states)), tol=self.tol,
+                                  fp_type=self.fp_type, max_events=None)
+        else:
+            self._run.set_params(**params)
+        return self._run
+
+    @property
+    def compile_seconds(self) -> float:
+        return self._run.compile_seconds if self._run is not None else 0.0
+
+    def run(self, jobs: list[OrbitJob]) -> list[OrbitResult]:
+        return [self._one(job) for job in jobs]
+
+    def _one(self, job: OrbitJob) -> OrbitResult:
+        clock = _time.perf_counter()
+        res = OrbitResult()
+        run = self.hybrid_run(job.params)
+        run.max_events_per_period = self.max_events_per_period
+        run.record_events = False
+        k = job.k0
+        try:
+            run.reset(job.sample_time(k), job.y0, job.flags)
+            run.budget.per_period = self.max_events_per_period
+            end_transient = k + job.transient
+            while k < end_transient:     # period by period: the event cap counts per period
+                k += 1
+                run.advance(job.sample_time(k))
+                run.budget.new_period()
+            if job.reference is None:
+                self._sample(res, run)
+            else:
+                z = job.y0
+            run.record_events = job.log
+            for i in range(job.record):
+                run.events = []
+                k += 1
+                run.advance(job.sample_time(k))
+                run.budget.new_period()
+                if job.reference is None:
+                    self._sample(res, run)
+                    if job.log:
+                        res.period_events.append([(ev.name, ev.t, ev.y_minus) for ev in run.events])
+                else:
+                    z, stretch = renormalise(job.reference[i + 1], run.y, job.d0, job.scale)
+                    res.stretch.append(stretch)
+                    if not math.isfinite(stretch):
+                        break
+                    run.reset(run.t, z)          # flags by the system's rule, as a bare map step
+                    run.budget.per_period = self.max_events_per_period
+        except Escaped as exc:
+            res.status, res.failure, res.failure_time = "escaped", str(exc), exc.t
+        except IntegrationFailure as exc:
+            res.status, res.failure, res.failure_time = "failed", str(exc), exc.t
+        if job.log and res.status != "ok":
+            res.tail_events = [(ev.name, ev.t, ev.y_minus) for ev in run.events]
+        run.events = []
+        res.final_time, res.final_state, res.final_flags = run.t, run.y, dict(run.flags)
+        res.n_steps, res.n_events, res.n_switches = run.n_steps, run.n_events, run.n_switches
+        res.seconds = _time.perf_counter() - clock
+        return res
+
+    @staticmethod
+    def _sample(res: OrbitResult, run: HybridRun):
+        res.times.append(run.t)
+        res.points.append(run.y)
+        res.flags.append(dict(run.flags))

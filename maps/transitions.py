@@ -1,0 +1,189 @@
+"""The transition rules of a hybrid system: the one place every engine takes them from.
+
+An engine (:mod:`maps.engines`) integrates smooth segments and stops at guard surfaces
+and switch instants.  What happens there is decided here, the same way for every engine:
+
+- :func:`event_surfaces`: guards grouped by surface, one integrator event per surface;
+- :class:`GuardChoice`: which guard of a surface acts, by the crossing's sign and the flags;
+- :func:`fire`: a guard's transition (reset map, new flags), then :func:`settle`;
+- :func:`settle`: the system's consistency rule after any transition (stick/unstick, slip),
+  which may project the state, and the names of the settle transitions it logs;
+- :func:`halted`: a halt flag ends the run (an escape);
+- :class:`EventBudget`: the caps on events per run and per relay period;
+- :func:`start_flags`: the mode a run starts in (given flags, else the system's rule);
+- :func:`next_switch`: the schedule of periodic switches.
+
+Relay switches happen at fixed times: they move no state and, since their instants do not
+depend on the state, need no saltation for derivatives with respect to the state.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Mapping
+
+import numpy as np
+
+from .hybrid import EventCap, Guard, HybridSystem, settle_may_act
+
+__all__ = ["event_surfaces", "GuardChoice", "Outcome", "fire", "settle", "halted", "EventBudget",
+           "start_flags", "next_switch"]
+
+
+def event_surfaces(system: HybridSystem, observations: bool = True) -> list[list[Guard]]:
+    """Guards grouped by identical surface, in declaration order: one integrator event each.
+
+    ``observations=False`` leaves out guards that change neither flags nor state, so an
+    engine that needs no record of them takes no stop there (a transient).  A surface whose
+    guards have different directions is one event of direction "any" (see
+    :meth:`HybridSystem.event_groups` for why surfaces are never split).
+    """
+    groups: dict = {}
+    for g in system.guards:
+        if observations or not g.observes_only:
+            groups.setdefault(str(g.expr), []).append(g)
+    return list(groups.values())
+
+
+class GuardChoice:
+    """Which guard of one surface acts on a crossing: the first whose direction matches the
+    crossing's sign and whose ``when`` flags hold (None: the crossing is passed over).
+
+    The answer depends only on the sign and the flags named in the ``when`` s, so it is
+    looked up once per combination."""
+
+    def __init__(self, group: list[Guard]):
+        self.group = group
+        self.mixed = len({g.direction for g in group}) > 1
+        self.direction = 0 if self.mixed else group[0].direction
+        self.keys = tuple(sorted({k for g in group for k in g.when}))
+        self._cache: dict = {}
+
+    def __call__(self, sign: int, flags: Mapping[str, float]) -> Guard | None:
+        sign = int(sign) if self.mixed else 0
+        key = (sign, *[flags[k] for k in self.keys])
+        try:
+            return self._cache[key]
+        except KeyError:
+            pass
+        chosen = None
+        for g in self.group:
+            if (not self.mixed or g.direction in (0, sign)) and all(flags.get(k) == v for k, v in g.when.items()):
+                chosen = g
+                break
+        self._cache[key] = chosen
+        return chosen
+
+
+@dataclass
+class Outcome:
+    """What a transition did: the state after it (None: unchanged), the flags that change,
+    the log ``[(name, y_before, y_after, flags_after)]`` (the guard's own record first, then
+    any settle transition it caused) and whether a halt flag is now set."""
+
+    y: np.ndarray | None = None
+    changes: dict = field(default_factory=dict)
+    records: list = field(default_factory=list)
+    halted: bool = False
+
+
+def settle(system: HybridSystem, t: float, y: np.ndarray, flags: Mapping[str, float],
+           params: Mapping[str, float]) -> Outcome:
+    """The system's ``settle`` rule at time ``t`` in state ``y`` under ``flags``.
+
+    Returns the projected state (if the rule projects), the flags it changes, and one record
+    per change named in ``system.settle_events`` (e.g. "stick", "unstick")."""
+    out = Outcome()
+    if system.settle is None or not settle_may_act(system, flags):
+        return out
+    y_minus = np.array(y, dtype=float)
+    new = system.settle(t, y_minus.copy(), dict(flags), params)
+    if isinstance(new, tuple):      # (flags, state): a mode entered with a state projection
+        new, y_plus = new
+        out.y = np.asarray(y_plus, dtype=float)
+    if new:
+        out.changes = {k: v for k, v in new.items() if flags.get(k) != v}
+        named = system.settle_events
+        after = dict(flags, **out.changes)
+        for k, v in out.changes.items():
+            if v in named.get(k, {}):
+                out.records.append((named[k][v], y_minus, out.y if out.y is not None else y_minus, after))
+    out.halted = halted(system, dict(flags, **out.changes))
+    return out
+
+
+def fire(system: HybridSystem, guard: Guard, t: float, y: np.ndarray, flags: Mapping[str, float],
+         params: Mapping[str, float]) -> Outcome:
+    """The transition of ``guard`` crossed at ``t`` in state ``y``: its reset map, its new
+    flags, then :func:`settle`.  Every guard, an observation too, gets one record."""
+    y_minus = np.array(y, dtype=float)
+    y_guard = guard.reset(y_minus.copy(), params) if guard.reset is not None else None
+    here = y_minus if y_guard is None else np.asarray(y_guard, dtype=float)
+    changes: dict = {}
+    if guard.then is not None:
+        new = guard.then(t, here.copy(), dict(flags), params) if callable(guard.then) else guard.then
+        changes = {k: v for k, v in (new or {}).items() if flags.get(k) != v}
+    flags_guard = dict(flags, **changes)
+    s = settle(system, t, here, flags_guard, params)
+    y_after = s.y if s.y is not None else y_guard
+    out = Outcome(y=None if y_after is None else np.asarray(y_after, dtype=float),
+                  changes=dict(changes, **s.changes))
+    # the guard's record shows the state and flags it left (before any settle transition)
+    out.records.append((guard.name, y_minus, here if s.records else
+                        (out.y if out.y is not None else y_minus), flags_guard if s.records else
+                        dict(flags, **out.changes)))
+    out.records.extend(s.records)
+    out.halted = halted(system, dict(flags, **out.changes))
+    return out
+
+
+def halted(system: HybridSystem, flags: Mapping[str, float]) -> bool:
+    """True when a halt flag (e.g. "escaped") is set: the state left the model's domain."""
+    return any(flags.get(f) for f in system.halt_flags)
+
+
+class EventBudget:
+    """Caps on the events of one run (``per_run``) and of any one relay period (``per_period``).
+
+    :meth:`count` returns an :class:`~maps.hybrid.EventCap` to raise (or to end a lane with)
+    when a cap is exceeded, else None; ``busiest`` is the most events seen in one period."""
+
+    __slots__ = ("per_run", "per_period", "total", "in_period", "busiest")
+
+    def __init__(self, per_run: int | None = None, per_period: int | None = None):
+        self.per_run, self.per_period = per_run, per_period
+        self.total = self.in_period = self.busiest = 0
+
+    def new_period(self):
+        self.in_period = 0
+
+    def count(self, name: str, t: float, y=None) -> EventCap | None:
+        self.total += 1
+        self.in_period += 1
+        if self.in_period > self.busiest:
+            self.busiest = self.in_period
+        if self.per_run is not None and self.total > self.per_run:
+            return EventCap(f"more than {self.per_run} events by t = {t:.9g} s (last: {name}); "
+                            f"chattering or a runaway", t, y)
+        if self.per_period is not None and self.in_period > self.per_period:
+            return EventCap(f"more than {self.per_period} events in one relay period, by t = {t:.9g} s "
+                            f"(last: {name}); chattering or a runaway", t, y)
+        return None
+
+
+def start_flags(system: HybridSystem, t: float, y, params: Mapping[str, float],
+                flags: Mapping[str, float] | None = None) -> dict:
+    """The flags of a run starting at ``t`` [s] in state ``y``: defaults, every switch at its
+    value at ``t``, then the given ``flags``, or without them the system's rule
+    (:meth:`HybridSystem.mode_at`, e.g. in contact when starting inside the stop)."""
+    return system.initial_flags(t, params, flags if flags is not None else system.mode_at(y, params))
+
+
+def next_switch(system: HybridSystem, params: Mapping[str, float], counters: Mapping[str, int]):
+    """``(time [s], switch)`` of the next periodic switch, given each switch's next index."""
+    best, which = math.inf, None
+    for sw in system.switches:
+        ts = sw.instants(params[sw.frequency], counters[sw.flag])
+        if ts < best:
+            best, which = ts, sw
+    return best, which
