@@ -70,8 +70,10 @@ class Guard:
     ``when`` lists flag values under which the guard is active (inactive
     crossings are passed over).  ``then`` gives the new flag values, or is a
     callable ``then(t, y, flags, params) -> dict``.  ``reset`` maps the state
-    at the crossing to the state after it, ``reset(y, params) -> y`` (``None``:
-    continuous).  A guard with ``then=None`` and ``reset=None`` only records
+    at the crossing to the state after it (``None``: continuous): a list of heyoka
+    expressions, one per state (e.g. ``[s.x, -s.r * s.v]``, differentiable
+    symbolically), or a Python function ``reset(y, params) -> y`` (traced on heyoka
+    symbols where it can be, see :meth:`HybridSystem.reset_expressions`).  A guard with ``then=None`` and ``reset=None`` only records
     the crossing (an observation, e.g. the deepest point of a contact).
     ``role`` (one of :data:`ROLES`) says what the crossing means; without it the
     name decides ("contact": impact, "lowest": flight_minimum, ...; else
@@ -393,6 +395,52 @@ class HybridSystem:
         """d(guard)/d(state) and d(guard)/dt as heyoka expressions (for saltation matrices)."""
         expr = self._guard_expr(name)
         return [hy.diff(expr, v) for v in self.sym.state_vars], time_derivative(expr)
+
+    def reset_expressions(self, guard: Guard) -> list:
+        """The reset map of ``guard`` as heyoka expressions of the state and parameters.
+
+        Given as expressions, they are returned; a Python ``reset(y, params)`` is traced by
+        calling it on the symbols (an object array of state variables and a dict of
+        parameter symbols).  Raises :class:`ParameterError` naming the guard when the
+        function cannot be traced (then declare ``reset`` as expressions for an exact
+        Jacobian).  No reset: the identity."""
+        if guard.reset is None:
+            return list(self.sym.state_vars)
+        if not callable(guard.reset):
+            return list(guard.reset)
+        cache = self.__dict__.setdefault("_traced", {})
+        if guard.name not in cache:
+            y = np.empty(len(self.state_names), dtype=object)
+            y[:] = self.sym.state_vars
+            params = {p: self.sym[p] for p in self.param_names}
+            try:
+                out = guard.reset(y, params)
+                exprs = [v if isinstance(v, hy.expression) else hy.expression(float(v)) for v in out]
+            except Exception as exc:  # noqa: BLE001 - any failure means: not traceable
+                raise ParameterError(f"the reset of guard {guard.name!r} cannot be traced on heyoka symbols "
+                                     f"({type(exc).__name__}: {exc}); declare reset= as a list of heyoka "
+                                     f"expressions for an exact Jacobian") from None
+            if len(exprs) != len(self.state_names):
+                raise ParameterError(f"the reset of guard {guard.name!r} returns {len(exprs)} components "
+                                     f"for {len(self.state_names)} states")
+            cache[guard.name] = exprs
+        return cache[guard.name]
+
+    def reset_function(self, guard: Guard) -> Callable:
+        """``reset(y, params) -> y`` for ``guard`` (compiled once when declared as expressions)."""
+        if guard.reset is None or callable(guard.reset):
+            return guard.reset
+        cache = self.__dict__.setdefault("_reset_cfuncs", {})
+        if guard.name not in cache:
+            f = hy.cfunc(list(guard.reset), vars=self.sym.state_vars, compact_mode=True)
+            defaults = dict(self.flag_defaults)
+
+            def reset(y, params, f=f):
+                pars = np.asarray(self.par_vector(params, defaults), dtype=float)[:f.nparams]
+                kw = {"time": 0.0} if f.is_time_dependent else {}
+                return f(np.asarray(y, dtype=float), pars=pars, **kw)
+            cache[guard.name] = reset
+        return cache[guard.name]
 
     def lie_derivative(self, expr):
         """d(expr)/dt along the flow: grad(expr) . rhs + partial d(expr)/dt (heyoka expression)."""

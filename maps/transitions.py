@@ -26,7 +26,7 @@ import numpy as np
 
 from .hybrid import EventCap, Guard, HybridSystem, settle_may_act
 
-__all__ = ["event_surfaces", "GuardChoice", "Outcome", "fire", "settle", "halted", "EventBudget",
+__all__ = ["event_surfaces", "GuardChoice", "Outcome", "NOTHING", "fire", "settle", "halted", "EventBudget",
            "start_flags", "next_switch"]
 
 
@@ -87,15 +87,20 @@ class Outcome:
     halted: bool = False
 
 
+#: the outcome of a transition that changes nothing (shared: never modify it)
+NOTHING = Outcome()
+
+
 def settle(system: HybridSystem, t: float, y: np.ndarray, flags: Mapping[str, float],
            params: Mapping[str, float]) -> Outcome:
     """The system's ``settle`` rule at time ``t`` in state ``y`` under ``flags``.
 
     Returns the projected state (if the rule projects), the flags it changes, and one record
-    per change named in ``system.settle_events`` (e.g. "stick", "unstick")."""
-    out = Outcome()
+    per change named in ``system.settle_events`` (e.g. "stick", "unstick"); :data:`NOTHING`
+    when the rule cannot act or changes nothing."""
     if system.settle is None or not settle_may_act(system, flags):
-        return out
+        return NOTHING
+    out = Outcome()
     y_minus = np.array(y, dtype=float)
     new = system.settle(t, y_minus.copy(), dict(flags), params)
     if isinstance(new, tuple):      # (flags, state): a mode entered with a state projection
@@ -108,6 +113,8 @@ def settle(system: HybridSystem, t: float, y: np.ndarray, flags: Mapping[str, fl
         for k, v in out.changes.items():
             if v in named.get(k, {}):
                 out.records.append((named[k][v], y_minus, out.y if out.y is not None else y_minus, after))
+    if out.y is None and not out.changes:
+        return NOTHING
     out.halted = halted(system, dict(flags, **out.changes))
     return out
 
@@ -117,7 +124,7 @@ def fire(system: HybridSystem, guard: Guard, t: float, y: np.ndarray, flags: Map
     """The transition of ``guard`` crossed at ``t`` in state ``y``: its reset map, its new
     flags, then :func:`settle`.  Every guard, an observation too, gets one record."""
     y_minus = np.array(y, dtype=float)
-    y_guard = guard.reset(y_minus.copy(), params) if guard.reset is not None else None
+    y_guard = system.reset_function(guard)(y_minus.copy(), params) if guard.reset is not None else None
     here = y_minus if y_guard is None else np.asarray(y_guard, dtype=float)
     changes: dict = {}
     if guard.then is not None:

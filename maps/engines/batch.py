@@ -93,6 +93,8 @@ class BatchEngine(Engine):
 
     def _apply(self, j, lane, out: tr.Outcome, t) -> bool:
         """Write a transition's outcome into lane j, count and log its records; False: the lane ended."""
+        if out is tr.NOTHING:
+            return True
         if out.y is not None:
             self.state[:, j] = out.y
         if out.changes:
@@ -109,9 +111,6 @@ class BatchEngine(Engine):
             self._end(j, lane, "escaped", f"{name}: the state left the model's domain at t = {t:.9g} s", t)
             return False
         return True
-
-    def _set_clock(self, j, lane):
-        self.pars[self.i_next, j] = min(lane.t_sw, lane.t_k, _FAR)
 
     def _sample(self, j, lane, t):
         res = lane.res
@@ -269,27 +268,35 @@ class _Callback:
 class _ClockCallback(_Callback):
     """Lane j reached its next clock instant: the periodic switch and/or a sample."""
 
+    def __init__(self, eng):
+        super().__init__(eng)
+        self.sw, self.system = eng.sw, eng.system
+        self.i_flag = eng.i_flag[eng.sw.flag] if eng.sw is not None else None
+
     def fire(self, eng, lane, d_sgn, j):
-        t_next = min(lane.t_sw, lane.t_k)
-        t = float(eng.time[j])
+        t_sw, t_k = lane.t_sw, lane.t_k
+        t_next = t_sw if t_sw < t_k else t_k
         # a switch and a sample computed apart (n / (2 W) against k T) may differ by rounding:
         # instants this close are one instant (a later one would fall inside the event cooldown)
-        close = t_next + _SAME_INSTANT * max(1.0, abs(t_next))
-        if lane.t_sw <= close:
-            sw, n = eng.sw, lane.n_sw
-            eng._set_flags(j, lane, {sw.flag: sw.value_for_index(n)})
+        close = t_next + _SAME_INSTANT * (t_next if t_next > 1.0 else 1.0)
+        t = float(eng.time[j])
+        if t_sw <= close:
+            sw, n = self.sw, lane.n_sw
+            lane.flags[sw.flag] = v = sw.off_value if n % 2 else sw.on_value
+            eng.pars[self.i_flag, j] = v
             if n % 2 == 0:
-                lane.budget.new_period()              # a new relay period begins
+                lane.budget.in_period = 0             # a new relay period begins
             lane.n_sw = n + 1
             lane.t_sw = sw.instants(lane.W, n + 1)
             lane.res.n_switches += 1
-            if not eng._apply(j, lane, tr.settle(eng.system, t, eng.state[:, j], lane.flags, lane.params), t):
+            out = tr.settle(self.system, t, eng.state[:, j], lane.flags, lane.params)
+            if out is not tr.NOTHING and not eng._apply(j, lane, out, t):
                 return False
-        if lane.t_k <= close:
+        if t_k <= close:
             k = lane.k_next
             lane.k_next = k + 1
             lane.t_k = lane.job.sample_time(k + 1)
-            lane.budget.new_period()
+            lane.budget.in_period = 0
             if k >= lane.rec_k:
                 if lane.job.reference is None:
                     if k == lane.rec_k:
@@ -303,7 +310,8 @@ class _ClockCallback(_Callback):
             if k >= lane.last:
                 eng._end(j, lane)
                 return False
-        eng._set_clock(j, lane)
+        t_sw, t_k = lane.t_sw, lane.t_k
+        eng.pars[eng.i_next, j] = t_sw if t_sw < t_k else t_k
         return True
 
 
