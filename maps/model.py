@@ -327,6 +327,23 @@ def _mode_rule(o: ModelOptions):
     return lambda y, p: {"contact": 1.0 if gap(y, p)[0] < 0 else 0.0}
 
 
+def _stick_projection(o: ModelOptions):
+    """The stick transition's state projection as expressions (for exact Jacobians): 1-DOF
+    x = e, v = 0; 2-DOF r = e with bar and rig at their common momentum velocity (the rig's
+    own velocity if the soil holds it).  The circuit is untouched."""
+
+    def projection(s, flags):
+        rows = list(s.state_vars)
+        if o.dof == 1:
+            rows[0], rows[1] = s.e + 0.0 * s.x, hy.expression(0.0)
+        else:
+            v = s.v2 if flags.get("stuck") == 1 else (s.v1 * s.m1 + s.v2 * s.m2) / (s.m1 + s.m2)
+            rows[0], rows[1], rows[3] = s.x2 + s.e, v, v
+        return rows
+
+    return projection
+
+
 def _settle_stick(system: HybridSystem, o: ModelOptions):
     """End chattering: the bar sticks on the stop (x = e, v = 0) while pressed on it, when
 
@@ -416,6 +433,7 @@ def build_system(options: ModelOptions | None = None, **kw) -> HybridSystem:
         stick = _settle_stick(system, o)
         system.settle = stick if system.settle is None else _chain(stick, system.settle)
         system.settle_events = {"stuck_bar": {1.0: "stick", 0.0: "unstick"}}  # logged as events
+        system.projections = {"stick": _stick_projection(o)}                    # their Jacobians
         if system.settle is stick:   # sticking acts only in contact or stuck (Coulomb slip: always)
             system.settle_if = (("contact", 1.0), ("stuck_bar", 1.0))
     system.options = o

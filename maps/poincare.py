@@ -20,7 +20,8 @@ from .engines.scalar import ScalarEngine
 from .hybrid import HybridState, HybridSystem
 from .parameters import ParameterError, validate_value
 
-__all__ = ["StroboscopicMap", "MapOrbit", "ImpactMap", "forcing_period_steps", "orbit_from_periods"]
+__all__ = ["StroboscopicMap", "MapOrbit", "MapLinearization", "ImpactMap", "forcing_period_steps",
+           "orbit_from_periods"]
 
 
 def forcing_period_steps(f_mains: float, relay_hz: float | None, max_steps: int = 1000,
@@ -93,6 +94,19 @@ class MapOrbit:
         return HybridState(np.asarray(self.final_state, dtype=float), dict(self.final_flags))
 
 
+@dataclass
+class MapLinearization:
+    """One map step and its derivatives: the next state, J = d(step)/dy, J_p = d(step)/dp
+    (columns in the order asked), rank of J, the step's event roles, compile time [s]."""
+
+    state: HybridState
+    J: np.ndarray
+    J_p: np.ndarray
+    rank: int
+    signature: tuple
+    compile_seconds: float = 0.0
+
+
 def _split(state):
     """(continuous state, flags or None, was a HybridState) of a map argument."""
     if isinstance(state, HybridState):
@@ -130,6 +144,7 @@ class StroboscopicMap:
         self.fp_type = fp_type
         self._period_given = period
         self._engine = ScalarEngine(self.system, tol, max_events_per_period=max_events_per_period, fp_type=fp_type)
+        self._var_runs: dict = {}
         self._run = self._engine.hybrid_run(self.system.validate(params))
         self.set_params(**params)
 
@@ -204,16 +219,53 @@ class StroboscopicMap:
         run.advance(self.sample_time(k + 1, t0))
         return HybridState(run.y, dict(run.flags)) if hybrid else run.y
 
-    def jacobian(self, state, k: int = 0, *, eps: float | None = None, t0: float = 0.0,
-                 method: str = "fd") -> np.ndarray:
-        """d(step)/dy by central differences (d x d), steps ``eps`` (default 1e-6 |y_j|, >= 1e-9).
+    def linearize(self, state, k: int = 0, *, params=(), t0: float = 0.0, n: int = 1) -> MapLinearization:
+        """``n`` steps (default one) from ``state`` at sample k with their exact derivatives
+        (variational equations with saltation at every state event, :mod:`maps.variational`).
 
-        ``method="fd"`` is a test oracle: valid only where no event is grazed within +-eps,
-        and its accuracy depends on eps.  The mode of a :class:`~maps.hybrid.HybridState` is
-        kept for every perturbed start.
+        Returns the next hybrid state, J = d(step)/dy (d x d), J_p = d(step)/d(params) (d x m,
+        at a fixed sample index and start time), the numerical rank of J (deficient where a
+        settle projection, e.g. a bar that sticks, collapses directions) and the step's
+        signature (its events' roles in order).
         """
+        y, flags, _ = _split(state)
+        params = tuple(params)
+        run = self._var_runs.get(params)
+        if run is None:
+            from .engines.scalar import VariationalRun
+            run = self._var_runs[params] = VariationalRun(self.system, self.params, y, wrt=params, tol=self.tol,
+                                                          max_events=None)
+        else:
+            run.set_params(**self.params)
+        run.record_events = True
+        run.reset(self.sample_time(k, t0), y, flags)
+        run.budget.per_period = self.max_events_per_period
+        for j in range(1, int(validate_value("n", n, 1, 1e6)) + 1):
+            run.advance(self.sample_time(k + j, t0))
+            run.budget.new_period()
+        Y = run.sensitivities
+        n = Y.shape[0]
+        J = Y[:, :n]
+        sv = np.linalg.svd(J, compute_uv=False)
+        rank = int(np.sum(sv > sv[0] * 1e-10)) if sv.size and sv[0] > 0 else 0
+        signature = tuple(self.system.role_of(ev.name) for ev in run.events)
+        run.events = []
+        return MapLinearization(HybridState(run.y, dict(run.flags)), J, Y[:, n:], rank, signature,
+                                run.compile_seconds)
+
+    def jacobian(self, state, k: int = 0, *, eps: float | None = None, t0: float = 0.0,
+                 method: str = "exact") -> np.ndarray:
+        """d(step)/dy (d x d) at the k-th sample.
+
+        ``method="exact"``: from the variational equations with saltation (:meth:`linearize`).
+        ``method="fd"``: central differences with steps ``eps`` (default 1e-6 |y_j|, >= 1e-9),
+        a test oracle only: valid where no event is grazed within +-eps, and its accuracy
+        depends on eps.  The mode of a :class:`~maps.hybrid.HybridState` is kept.
+        """
+        if method == "exact":
+            return self.linearize(state, k, t0=t0).J
         if method != "fd":
-            raise ParameterError(f"jacobian method {method!r}; allowed: fd")
+            raise ParameterError(f"jacobian method {method!r}; allowed: exact, fd")
         y, flags, _ = _split(state)
         y = np.asarray(y, dtype=float)
         d = y.size

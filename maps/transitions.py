@@ -11,7 +11,8 @@ and switch instants.  What happens there is decided here, the same way for every
 - :func:`halted`: a halt flag ends the run (an escape);
 - :class:`EventBudget`: the caps on events per run and per relay period;
 - :func:`start_flags`: the mode a run starts in (given flags, else the system's rule);
-- :func:`next_switch`: the schedule of periodic switches.
+- :func:`next_switch`: the schedule of periodic switches;
+- :func:`saltation`: how the sensitivities dy/d(y0, p) jump at a state event.
 
 Relay switches happen at fixed times: they move no state and, since their instants do not
 depend on the state, need no saltation for derivatives with respect to the state.
@@ -27,7 +28,7 @@ import numpy as np
 from .hybrid import EventCap, Guard, HybridSystem, settle_may_act
 
 __all__ = ["event_surfaces", "GuardChoice", "Outcome", "NOTHING", "fire", "settle", "halted", "EventBudget",
-           "start_flags", "next_switch"]
+           "start_flags", "next_switch", "saltation", "projected"]
 
 
 def event_surfaces(system: HybridSystem, observations: bool = True) -> list[list[Guard]]:
@@ -85,6 +86,7 @@ class Outcome:
     changes: dict = field(default_factory=dict)
     records: list = field(default_factory=list)
     halted: bool = False
+    projection: str | None = None     # name of the settle transition that projected the state
 
 
 #: the outcome of a transition that changes nothing (shared: never modify it)
@@ -106,6 +108,7 @@ def settle(system: HybridSystem, t: float, y: np.ndarray, flags: Mapping[str, fl
     if isinstance(new, tuple):      # (flags, state): a mode entered with a state projection
         new, y_plus = new
         out.y = np.asarray(y_plus, dtype=float)
+        out.projection = "settle"
     if new:
         out.changes = {k: v for k, v in new.items() if flags.get(k) != v}
         named = system.settle_events
@@ -115,6 +118,8 @@ def settle(system: HybridSystem, t: float, y: np.ndarray, flags: Mapping[str, fl
                 out.records.append((named[k][v], y_minus, out.y if out.y is not None else y_minus, after))
     if out.y is None and not out.changes:
         return NOTHING
+    if out.y is not None and out.records:
+        out.projection = out.records[0][0]
     out.halted = halted(system, dict(flags, **out.changes))
     return out
 
@@ -134,7 +139,7 @@ def fire(system: HybridSystem, guard: Guard, t: float, y: np.ndarray, flags: Map
     s = settle(system, t, here, flags_guard, params)
     y_after = s.y if s.y is not None else y_guard
     out = Outcome(y=None if y_after is None else np.asarray(y_after, dtype=float),
-                  changes=dict(changes, **s.changes))
+                  changes=dict(changes, **s.changes), projection=s.projection)
     # the guard's record shows the state and flags it left (before any settle transition)
     out.records.append((guard.name, y_minus, here if s.records else
                         (out.y if out.y is not None else y_minus), flags_guard if s.records else
@@ -194,3 +199,36 @@ def next_switch(system: HybridSystem, params: Mapping[str, float], counters: Map
         if ts < best:
             best, which = ts, sw
     return best, which
+
+
+def saltation(Y: np.ndarray, f_minus, f_plus, grad, g_t: float, g_p, R_y, R_p) -> np.ndarray:
+    """Sensitivities after a state event: ``Y`` (n x (n + m)) holds dy/d(y0, p) just before it.
+
+    A guard g(y, t; p) = 0 crossed at t_e moves with the perturbation: dt_e = -(grad g . dy +
+    g_p dp) / (grad g . f- + dg/dt).  The state after the event, compared at the same time,
+    moves by R_y dy + R_p dp + (R_y f- - f+) dt_e, hence (Y's parameter columns carry dp = 1)
+
+        Y+ = R_y Y- + [0 | R_p] + (f+ - R_y f-) (grad g . Y- + [0 | g_p]) / (grad g . f- + dg/dt).
+
+    ``R`` is the whole transition: the guard's reset composed with any settle projection, and
+    ``f+`` the vector field of the mode entered.  A grazing crossing (denominator 0) has no
+    finite saltation: ZeroDivisionError.
+    """
+    n = Y.shape[0]
+    rate = float(grad @ f_minus) + g_t
+    if rate == 0.0:
+        raise ZeroDivisionError("grazing event: grad(g) . f + dg/dt = 0, the saltation matrix is unbounded")
+    dt_row = grad @ Y
+    dt_row[n:] += g_p
+    out = R_y @ Y
+    out[:, n:] += R_p
+    out += np.outer(f_plus - R_y @ f_minus, dt_row / rate)
+    return out
+
+
+def projected(Y: np.ndarray, P_y, P_p) -> np.ndarray:
+    """Sensitivities after a projection at a fixed time (a settle at a relay switch): P_y Y + [0 | P_p]."""
+    n = Y.shape[0]
+    out = P_y @ Y
+    out[:, n:] += P_p
+    return out

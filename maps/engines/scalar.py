@@ -21,7 +21,7 @@ from ..parameters import ParameterError, validate_value
 from ..tangent import renormalise
 from .base import Engine, OrbitJob, OrbitResult
 
-__all__ = ["HybridRun", "ScalarEngine"]
+__all__ = ["HybridRun", "VariationalRun", "ScalarEngine"]
 
 
 class HybridRun:
@@ -47,7 +47,8 @@ class HybridRun:
             raise ParameterError(f"'fp_type' = {fp_type!r} is not supported; allowed: float, "
                                  f"numpy.longdouble, heyoka.real128 (numpy.float32 also runs)")
         self.fp_type = fp_type
-        self.ta, self.compile_seconds = system.integrator(tol, fp_type)
+        self._n = len(system.states)
+        self.ta, self.compile_seconds = self._integrator(tol, fp_type)
         self.record_events = record_events
         if max_events is not None:
             max_events = int(validate_value("max_events", max_events, 1, math.inf))
@@ -73,7 +74,8 @@ class HybridRun:
             x0 = x0.y
         y0 = system.state_vector(x0)
         self.ta.time = _fp(t0, self.fp_type)
-        self.ta.state[:] = np.asarray(y0, dtype=_np_dtype(self.fp_type))
+        self.ta.state[:self._n] = np.asarray(y0, dtype=_np_dtype(self.fp_type))
+        self._start_sensitivities()
         self.ta.reset_cooldowns()
         self.flags = tr.start_flags(system, t0, y0, self.params, flags)
         self._load_pars()
@@ -91,9 +93,15 @@ class HybridRun:
     def t(self) -> float:
         return float(self.ta.time)
 
+    def _integrator(self, tol, fp_type):
+        return self.system.integrator(tol, fp_type)
+
+    def _start_sensitivities(self):
+        """Hook: a run that carries derivatives starts them here (see VariationalRun)."""
+
     @property
     def y(self) -> np.ndarray:
-        return np.array(self.ta.state, dtype=float)
+        return np.array(self.ta.state[:self._n], dtype=float)
 
     @property
     def state(self) -> HybridState:
@@ -139,10 +147,12 @@ class HybridRun:
                 self.ta.pars[index[k]] = v
         self.flag_log.append((t, dict(self.flags)))
 
-    def _apply(self, out: tr.Outcome, t: float):
-        """Write a transition's outcome into the integrator, count and log its records."""
+    def _apply(self, out: tr.Outcome, t: float, guard=None, y_minus=None, flags_before=None):
+        """Write a transition's outcome into the integrator, count and log its records.
+        ``guard`` (a state event: crossed in ``y_minus`` under ``flags_before``) or None (a
+        transition at a fixed time) matters only to runs that carry derivatives."""
         if out.y is not None:
-            self.ta.state[:] = np.asarray(out.y, dtype=_np_dtype(self.fp_type))
+            self.ta.state[:self._n] = np.asarray(out.y, dtype=_np_dtype(self.fp_type))
         self._set_flags(out.changes, t)
         for name, y_minus, y_plus, flags in out.records:
             cap = self.budget.count(name, t, self.y)
@@ -173,7 +183,7 @@ class HybridRun:
             t_sw, sw = self.next_switch_time()
             t_stop = min(t_end, t_sw)
             t_start = float(ta.time)
-            y_start = np.array(ta.state, dtype=float)
+            y_start = self.y
             if t_stop > t_start:
                 res = ta.propagate_until(_fp(t_stop, self.fp_type), c_output=c_out)
                 outcome, nsteps = res[0], res[3]
@@ -198,14 +208,14 @@ class HybridRun:
             if -n_groups - 1 < code < 0:
                 guard = self._choices[-code - 1](_CROSSING[0], self.flags)
                 if guard is not None:
-                    t = self.t
-                    out = tr.fire(sys, guard, t, self.y, self.flags, self.params)
-                    self._apply(out, t)
+                    t, y_minus, flags_before = self.t, self.y, dict(self.flags)
+                    out = tr.fire(sys, guard, t, y_minus, flags_before, self.params)
+                    self._apply(out, t, guard, y_minus, flags_before)
                     if out.halted:
                         raise Escaped(f"{guard.name}: the state left the model's domain at t = {t:.9g} s",
                                       t, self.y)
                 continue
-            state = np.array(ta.state, dtype=float)
+            state = self.y
             if outcome == hy.taylor_outcome.err_nf_state:
                 raise IntegrationFailure(f"non-finite state in the step after t = {t_start:.9g} s "
                                          f"(last finite state {np.array2string(y_start, precision=6)})",
@@ -213,6 +223,65 @@ class HybridRun:
             raise IntegrationFailure(f"integration stopped with {outcome} at t = {float(ta.time):.9g} s",
                                      float(ta.time), state)
         return self
+
+
+class VariationalRun(HybridRun):
+    """A :class:`HybridRun` that also carries the sensitivities Y = dy/d(y0, p) (n x (n + m)):
+    heyoka's variational equations between events, the saltation rule of
+    :func:`maps.transitions.saltation` at every state event, the projection's Jacobian where a
+    settle transition projects the state.  Double precision; ``wrt`` names the parameters p.
+
+    Parameters that schedule switches (a relay frequency) are refused: their derivative needs
+    the switch instants' own terms."""
+
+    def __init__(self, system, params, x0, *, wrt: tuple = (), **kw):
+        from ..variational import Derivatives
+        self.wrt = tuple(wrt)
+        for sw in system.switches:
+            if sw.frequency in self.wrt:
+                raise ParameterError(f"derivatives with respect to the switch frequency {sw.frequency!r} are not "
+                                     f"available: the switch instants move with it")
+        self.derivatives = Derivatives(system, self.wrt)
+        super().__init__(system, params, x0, **kw)
+
+    def _integrator(self, tol, fp_type):
+        if fp_type is not float:
+            raise ParameterError("exact Jacobians run in double precision (fp_type=float)")
+        from ..variational import variational_integrator
+        return variational_integrator(self.system, tol, self.wrt)
+
+    def _start_sensitivities(self):
+        n, m = self._n, len(self.wrt)
+        self.ta.state[n:] = np.hstack([np.eye(n), np.zeros((n, m))]).ravel()
+
+    @property
+    def sensitivities(self) -> np.ndarray:
+        """dy/d(y0, p) now: n x (n + m), the state's columns first."""
+        n = self._n
+        return np.array(self.ta.state[n:], dtype=float).reshape(n, n + len(self.wrt))
+
+    def _apply(self, out, t, guard=None, y_minus=None, flags_before=None):
+        if out is tr.NOTHING or (out.y is None and not out.changes):
+            super()._apply(out, t, guard, y_minus, flags_before)
+            return
+        d, p = self.derivatives, self.params
+        Y = self.sensitivities
+        flags_after = dict(self.flags, **out.changes)
+        if guard is not None:
+            R_y, R_p = d.reset(guard, t, y_minus, p, flags_before)
+            if out.projection is not None:
+                here = out.records[0][2]            # the state the guard left, before the projection
+                P_y, P_p = d.projection(out.projection, t, here, p, flags_after)
+                R_y, R_p = P_y @ R_y, P_y @ R_p + P_p
+            y_after = out.y if out.y is not None else y_minus
+            grad, g_t, g_p = d.guard(guard, t, y_minus, p, flags_before)
+            Y = tr.saltation(Y, d.rhs(t, y_minus, p, flags_before), d.rhs(t, y_after, p, flags_after),
+                             grad, g_t, g_p, R_y, R_p)
+        elif out.projection is not None:            # a projection at a fixed time
+            P_y, P_p = d.projection(out.projection, t, self.y, p, flags_after)
+            Y = tr.projected(Y, P_y, P_p)
+        super()._apply(out, t, guard, y_minus, flags_before)
+        self.ta.state[self._n:] = Y.ravel()
 
 
 class ScalarEngine(Engine):

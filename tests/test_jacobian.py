@@ -1,0 +1,161 @@
+"""Exact map Jacobians (variational equations with saltation) against independent truths:
+the restitution oscillator's closed-form saltation and linear flow, and Richardson-extrapolated
+central differences computed in long double at tol 1e-18 on thesis-1dof."""
+import math
+
+import numpy as np
+import pytest
+from scipy.linalg import expm
+
+import maps
+from bifurc.stability import CASES, case_scene
+from maps.engines.scalar import HybridRun
+
+OSC = dict(w0=1.0, zeta=0.05, F=0.5, Omega=2.5, e=0.0, r=0.7)     # a stable 1:1 impacting orbit
+
+
+@pytest.fixture(scope="module")
+def osc_orbit():
+    system = maps.forced_oscillator_with_stop()
+    smap = maps.StroboscopicMap(system, OSC, tol=1e-14)
+    o = smap.orbit({"x": 0.2, "v": 0.0}, 3, transient=200)
+    return system, smap, o
+
+
+def test_oscillator_det_is_restitution_squared_times_the_damping(osc_orbit):
+    """Over one forcing period with m impacts: det J = r^(2m) exp(-2 zeta w0 T) (each impact's
+    saltation has det r^2, the flow's Liouville factor is exp(trace A t))."""
+    system, smap, o = osc_orbit
+    T = 2 * math.pi / OSC["Omega"]
+    for k in range(3):
+        L = smap.linearize(o.state(k), 200 + k)
+        m = L.signature.count("impact")
+        assert m == 1 and L.rank == 2
+        want = OSC["r"] ** (2 * m) * math.exp(-2 * OSC["zeta"] * OSC["w0"] * T)
+        assert abs(np.linalg.det(L.J) / want - 1) < 1e-10       # measured 1e-15
+
+
+def test_oscillator_jacobian_is_the_hand_composed_product(osc_orbit):
+    """J = Phi(T - t_i) S Phi(t_i) with Phi the exact flow map of the linear part, expm(A t), and
+    S = [[-r, 0], [(a+ + r a-)/v-, -r]] the saltation derived by hand (a: accelerations just
+    before and after the impact, v-: the impact velocity)."""
+    system, smap, o = osc_orbit
+    w0, z, F, W, e, r = (OSC[k] for k in ("w0", "zeta", "F", "Omega", "e", "r"))
+    A = np.array([[0.0, 1.0], [-w0 * w0, -2 * z * w0]])
+    T = 2 * math.pi / W
+    k = 201
+    t0 = k * T
+    run = HybridRun(system, OSC, o.points[1], t0=t0, tol=1e-14)
+    run.advance(t0 + T)
+    hits = [ev for ev in run.events if ev.name == "contact"]
+    assert len(hits) == 1
+    ti, vm = hits[0].t, hits[0].y_minus[1]
+    force = F * math.cos(W * ti) - w0 * w0 * e
+    a_minus = force - 2 * z * w0 * vm
+    a_plus = force - 2 * z * w0 * (-r * vm)
+    S = np.array([[-r, 0.0], [(a_plus + r * a_minus) / vm, -r]])
+    want = expm(A * (t0 + T - ti)) @ S @ expm(A * (ti - t0))
+    J = smap.linearize(o.state(1), k).J
+    assert np.max(np.abs(J - want)) / np.max(np.abs(want)) < 1e-10     # measured 4e-15
+    # the finite difference is only an oracle: it agrees to ~1e-8, and moves with its step
+    fd = smap.jacobian(o.points[1], k, method="fd", eps=1e-6)
+    assert np.max(np.abs(fd - want)) / np.max(np.abs(want)) < 1e-6
+
+
+# ----- thesis-1dof, matlab-listing, 90 V, 9 Hz: a relay period with one contact at 0.6 m/s ----------
+K = 8
+
+
+@pytest.fixture(scope="module")
+def thesis():
+    sc = maps.get_scene("thesis-1dof")
+    p = sc.parameters(preset="matlab-listing", V=90.0, relay_hz=9.0)
+    smap = maps.StroboscopicMap(sc, p, tol=1e-12)
+    o = smap.orbit(sc.initial_state(), 12)
+    assert o.impacts_per_step[K] == 1 and o.min_impact_speed_per_step[K] > 0.5   # not near grazing
+    return sc, p, smap, o
+
+
+def _ld_end(system, params, y, t0, t1):
+    run = HybridRun(system, params, np.array(y, dtype=np.longdouble), t0=t0, tol=1e-18, fp_type=np.longdouble,
+                    max_events=None)
+    run.advance(t1)
+    return np.array(run.ta.state, dtype=np.longdouble)
+
+
+def _richardson(f, h):
+    """Central differences at h and h/2, Richardson-extrapolated (error O(h^4))."""
+    d1 = (f(h) - f(-h)) / (2 * h)
+    d2 = (f(h / 2) - f(-h / 2)) / h
+    return (4 * d2 - d1) / 3
+
+
+def test_thesis_jacobian_against_long_double_differences(thesis):
+    sc, p, smap, o = thesis
+    y = o.points[K].astype(np.longdouble)
+    t0, t1 = smap.sample_time(K), smap.sample_time(K + 1)
+    cols = []
+    for j in range(4):
+        e = np.zeros(4, dtype=np.longdouble)
+        e[j] = 1
+
+        def f(h, e=e):
+            return _ld_end(sc.system, p, y + h * e, t0, t1)
+        cols.append(_richardson(f, np.longdouble(1e-5) * max(abs(y[j]), np.longdouble(1e-3))))
+    oracle = np.array(cols, dtype=float).T
+    L = smap.linearize(o.state(K), K)
+    assert L.signature.count("impact") == 1 and L.rank == 4
+    err = np.linalg.norm(L.J - oracle) / np.linalg.norm(oracle)
+    assert err < 1e-8                                   # measured ~1e-10
+
+
+def test_nine_periods_compose(thesis):
+    sc, p, smap, o = thesis
+    Js, state = [], o.state(K)
+    for j in range(9):
+        L = smap.linearize(state, K + j)
+        Js.append(L.J)
+        state = L.state
+    prod = np.linalg.multi_dot(Js[::-1])
+    J9 = smap.linearize(o.state(K), K, n=9).J
+    assert np.linalg.norm(prod - J9) / np.linalg.norm(J9) < 1e-9
+
+
+def test_parameter_derivative_against_long_double_differences(thesis):
+    sc, p, smap, o = thesis
+    y = o.points[K].astype(np.longdouble)
+    t0, t1 = smap.sample_time(K), smap.sample_time(K + 1)
+    oracle = {}
+    for name, h in (("V", 1e-4), ("k", 1e-1)):
+        def f(dh, name=name):
+            return _ld_end(sc.system, dict(p, **{name: p[name] + float(dh)}), y, t0, t1)
+        oracle[name] = np.array(_richardson(f, np.longdouble(h)), dtype=float)
+    L = smap.linearize(o.state(K), K, params=("V", "k"))
+    for j, name in enumerate(("V", "k")):
+        err = np.linalg.norm(L.J_p[:, j] - oracle[name]) / np.linalg.norm(oracle[name])
+        assert err < 1e-7, (name, err)
+
+
+def test_switch_frequency_derivative_is_refused_by_name(thesis):
+    sc, p, smap, o = thesis
+    with pytest.raises(maps.ParameterError, match="relay_hz"):
+        smap.linearize(o.state(K), K, params=("relay_hz",))
+
+
+def test_a_stick_makes_the_step_rank_deficient_along_the_projected_directions():
+    """chatter-relay: the bar sticks on the stop in the first relay period (x = e, v = 0 exactly).
+    J has rank 2 of 4, the signature records the stick, and the map itself does not move along
+    J's null directions (central differences of whole steps along them vanish)."""
+    case = next(c for c in CASES if c.name == "chatter-relay")
+    sc, p = case_scene(case)
+    smap = maps.StroboscopicMap(sc.system, p, tol=1e-12)
+    y0 = sc.system.state_vector(sc.initial_state(**case.x0))
+    L = smap.linearize(y0, 0)
+    assert "stick" in L.signature and L.rank == 2
+    _, s, vt = np.linalg.svd(L.J)
+    for null in vt[2:]:
+        h = 1e-7
+        d = (smap.step(y0 + h * null, 0) - smap.step(y0 - h * null, 0)) / (2 * h)
+        assert np.max(np.abs(d)) < 1e-6 * s[0]
+    moving = (smap.step(y0 + 1e-7 * vt[0], 0) - smap.step(y0 - 1e-7 * vt[0], 0)) / 2e-7
+    assert np.max(np.abs(moving)) > 0.1 * s[0]
