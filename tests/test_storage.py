@@ -24,10 +24,10 @@ def escaping_sweep():
 
 @pytest.fixture(scope="module")
 def grazing_sweep():
-    """Continuation over the oscillator's grazing: branch and grazing dimensions both filled."""
+    """Follow mode over the oscillator's grazing: branch and grazing dimensions both filled."""
     W = OSC["Omega"]
     F_graze = abs(OSC["e"]) * math.hypot(1 - W**2, 2 * OSC["zeta"] * W)
-    return sweep(maps.forced_oscillator_with_stop(), "F", np.array([0.9, 1.1]) * F_graze, mode="continuation",
+    return sweep(maps.forced_oscillator_with_stop(), "F", np.array([0.9, 1.1]) * F_graze, mode="follow",
                  params=OSC, transient=200, record=10, tol=1e-12, lyapunov=False, error_sample=0,
                  grazing_xtol=1e-4, progress=False)
 
