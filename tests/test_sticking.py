@@ -8,7 +8,7 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
 from maps.hybrid import EventCap, HybridRun
-from bifurc.stability import CASES, case_scene, run_case
+from bifurc.verification.suite import CASES, case_scene, run_case
 
 
 def _case(name):
