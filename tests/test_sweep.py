@@ -183,6 +183,27 @@ def test_interrupted_sweep_resumes_to_the_same_dataset(tmp_path, monkeypatch):
         sweep("thesis-1dof", "relay_hz", values, path=tmp_path / "e.nc", **args)
 
 
+def test_an_unreadable_resume_part_is_recomputed_with_a_warning(tmp_path, monkeypatch):
+    from bifurc.resume import Parts
+    args = dict(preset="matlab-listing", params={"V": 90}, transient=20, record=10, lyapunov=False, grazing=False,
+                error_sample=0, progress=False, batch_size=1, workers=1, chunk_size=1)
+    values = np.linspace(4, 9, 4)
+    path = tmp_path / "d.nc"
+    monkeypatch.setattr(Parts, "remove", lambda self: None)      # keep the parts, as after a late interruption
+    first = sweep("thesis-1dof", "relay_hz", values, path=path, **args)
+    parts = sorted((tmp_path / "d.nc.parts").glob("*.nc"))
+    assert len(parts) == 4
+    parts[1].write_bytes(parts[1].read_bytes()[:100])           # a truncated part
+    path.unlink()
+    seen, original = [], ValueJob.__call__
+    monkeypatch.setattr(ValueJob, "__call__", lambda self, v, s=None: seen.append(v) or original(self, v, s))
+    with pytest.warns(RuntimeWarning, match="discarding the unreadable resume part"):
+        again = sweep("thesis-1dof", "relay_hz", values, path=path, **args)
+    assert seen == [values[1]] and again.attrs["resumed_values"] == 3
+    for name in ("x", "v", "i", "z", "impact_t", "class_code", "period", "min_gap", "n_impacts", "status"):
+        np.testing.assert_array_equal(again[name].values, first[name].values, err_msg=name)
+
+
 def test_a_resumed_value_keeps_the_time_spent_computing_it(tmp_path, monkeypatch, capsys):
     """Every value done before the interruption: the resumed dataset stores (and the command prints)
     the time spent on the values when they were computed, not the moment it took to load them."""
