@@ -83,7 +83,7 @@ class Parts:
         if mfile.exists():
             if mfile.read_text() != text:
                 stored = json.loads(mfile.read_text() or "{}")
-                version = stored.get("version", stored.get("arguments", {}).get("parts_format", "unknown"))
+                version = stored.get("version") or stored.get("parts_format") or "unknown"
                 raise ParameterError(f"{self.dir} holds a sweep with other arguments (or parts of format version "
                                      f"{version}, this bifurc writes {PARTS_FORMAT}); remove it or change -o")
         else:
