@@ -87,16 +87,7 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
     values = np.asarray(values, dtype=float).ravel()
     job, sc, table = _job(scene, param, values, transient, record, preset, params, x0, tol, max_period, rtol, atol,
                           lyapunov, circuit, ac_sign, max_transient, batch_size)
-    if scheduler is not None:
-        workers = 0           # the cluster's
-    elif workers is None:     # a bare HybridSystem is not picklable: it runs in this process
-        workers = default_workers(values.size) if isinstance(job.scene, str) else 1
-    else:
-        workers = int(validate_value("workers", workers, 1, 1024))
-    if chunk_size is None and workers == 1 and scheduler is None:
-        chunk_size = 8 * batch_size if batch_size > 1 else 1
-    if chunk_size is not None:
-        chunk_size = int(validate_value("chunk_size", chunk_size, 1, 1e9))
+    workers, chunk_size = _execution(job, values.size, workers, scheduler, chunk_size)
     branches = MODES[mode]
     parts = Parts(path, manifest(job, values, mode)) if path else None
     results = {b: [None] * values.size for b in branches}
@@ -159,6 +150,23 @@ def _job(scene, param, values, transient, record, preset, params, x0, tol, max_p
     job = ValueJob(name, param, base, options, dict(x0 or {}), transient, record, float(tol), max_period,
                    rtol, atol, lyapunov, max_transient=max_transient, batch_size=batch_size)
     return job, sc, table
+
+
+def _execution(job, n_values, workers, scheduler, chunk_size):
+    """(worker processes, values per task): 0 workers with a Dask ``scheduler`` (the cluster's);
+    by default every available core (:func:`bifurc.executor.default_workers`), 1 for a bare
+    HybridSystem (not picklable).  In this process a task holds 8 batches of values."""
+    if scheduler is not None:
+        workers = 0
+    elif workers is None:
+        workers = default_workers(n_values) if isinstance(job.scene, str) else 1
+    else:
+        workers = int(validate_value("workers", workers, 1, 1024))
+    if chunk_size is None and workers == 1:
+        chunk_size = 8 * job.batch_size if job.batch_size > 1 else 1
+    if chunk_size is not None:
+        chunk_size = int(validate_value("chunk_size", chunk_size, 1, 1e9))
+    return workers, chunk_size
 
 
 def _run_independent(job, values, results, keep, workers, scheduler, chunk_size):

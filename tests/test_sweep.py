@@ -361,3 +361,15 @@ def test_grazing_of_an_impacting_orbit_where_a_new_impact_is_born(osc):
     assert list(down.impacts_per_period.values) == [5] * 4 and list(down.period.values) == [1] * 4
     root = min(np.roots(np.polyfit(d, down.min_flight_gap.values[:3], 2)), key=abs)
     assert abs(root) < 20 * xtol  # measured 3.5e-6 (quadratic fit error)
+
+
+def test_resume_refuses_parts_of_another_format(tmp_path):
+    """Parts written by an older bifurc (pickles, manifest format 2) are not read as today's."""
+    import json
+    parts = tmp_path / "old.nc.parts"
+    parts.mkdir()
+    (parts / "manifest.json").write_text(json.dumps({"parts_format": 2, "mode": "independent"}))
+    (parts / "independent-000000.pkl").write_bytes(b"\x80\x04N.")
+    with pytest.raises(maps.ParameterError, match="format version 2"):
+        sweep("thesis-1dof", "relay_hz", [5.0], transient=1, record=3, progress=False, path=tmp_path / "old.nc")
+    assert (parts / "independent-000000.pkl").exists()     # nothing lost
