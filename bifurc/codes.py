@@ -39,6 +39,11 @@ class ClassCode(_Coded):
     ESCAPED = 5
     FAILED = 6
 
+    @property
+    def periodic(self) -> bool:
+        """Periodic, with or without impacts."""
+        return self in (ClassCode.PERIODIC, ClassCode.PERIODIC_NO_IMPACT)
+
 
 class Status(_Coded):
     """How the integration of one parameter value ended."""

@@ -12,7 +12,7 @@ from dataclasses import replace
 import numpy as np
 
 from .classify import state_scale
-from .codes import ClassCode, Status
+from .codes import Status
 
 __all__ = ["error_estimate", "map_step_error"]
 
@@ -43,7 +43,7 @@ def error_estimate(results, values, job, branch, sample, step_points=32) -> dict
     """
     res = results[branch]
     ok = [i for i in range(values.size) if res[i] is not None and res[i].status == Status.OK]
-    good = [i for i in ok if res[i].class_code in (ClassCode.PERIODIC, ClassCode.PERIODIC_NO_IMPACT)]
+    good = [i for i in ok if res[i].class_code.periodic]
     idx = _spread(good, min(sample, len(good)))
     idx = sorted(idx + _spread([i for i in ok if i not in good], sample - len(idx)))
     tight = replace(job, tol=job.tol / TIGHTER, lyapunov=False)

@@ -121,7 +121,7 @@ class ValueJob:
         return self._complete(value, smap, o, clock)
 
     def _lyapunov_needed(self, o, cls) -> bool:
-        return self.lyapunov and o.status == "ok" and cls["label"] not in ("periodic", "periodic-no-impact")
+        return self.lyapunov and o.status == "ok" and not ClassCode(cls["code"]).periodic
 
     def _lyapunov_scale(self, o):
         return state_scale(o.points, self.atol)
@@ -165,7 +165,7 @@ class ValueJob:
         points[:n_rec] = o.points
         gaps = o.min_gap_per_step
         speeds = o.min_impact_speed_per_step
-        periodic = cls["label"] in ("periodic", "periodic-no-impact")
+        periodic = ClassCode(cls["code"]).periodic
         return ValueResult(
             value=float(value), points=points, n_recorded=n_rec - 1, class_code=ClassCode(cls["code"]),
             period=cls["period"] if periodic else 0, candidate_period=cls["period"],

@@ -21,7 +21,6 @@ __all__ = ["Variable", "PARAM", "SWEEP", "SWEEP_COORDS", "GRAZING", "HISTORY", "
 
 #: placeholder for the swept parameter's dimension
 PARAM = "<param>"
-_BOOL = {"flag_values": np.array([0, 1], np.int8)}
 
 
 @dataclass(frozen=True)
@@ -52,7 +51,8 @@ def _flags(codes) -> tuple:
 
 
 def _yes_no(meanings: str) -> tuple:
-    return (("flag_values", _BOOL["flag_values"]), ("flag_meanings", meanings))
+    """CF flags of a 0/1 variable, ``meanings`` = "<0> <1>"."""
+    return (("flag_values", np.array([0, 1], np.int8)), ("flag_meanings", meanings))
 
 
 V = ("branch", PARAM)
