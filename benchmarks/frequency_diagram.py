@@ -1,19 +1,22 @@
-"""Frequency diagram throughput: process ensemble vs a serial loop vs a bare heyoka ensemble.
+"""Frequency diagram throughput: what `bifurc diagram` runs, against a serial loop and bare heyoka.
 
 thesis-1dof, preset matlab-listing, V = 90 V, N relay frequencies in [2, 10] Hz,
 300 transient + 100 recorded relay periods, tol 1e-10.  Measured side by side in one run:
 
-1. the diagram: ``bifurc.parallel.sweep_dataset`` with ``--workers`` processes, wall time
-   including the process pool start and one compilation per worker, with the scalar task and
-   with the batch task (heyoka batch mode, 4 SIMD lanes per pass);
-2. ``bifurc.sweep`` (the ``bifurc diagram`` command: orbits, classification, Lyapunov
-   exponents where not periodic, grazing bisection, error estimate) on the same processes;
-3. bare heyoka ensembles: the same trajectories with the least Python possible (flip the
-   contact flag at contact/release, switch the relay, nothing else: no event log, no
-   classification, no storage) in the same number of processes, on the scalar integrator
-   (a propagate_until loop) and on the batch integrator (4 lanes, event callbacks);
-4. a serial loop (one process, compiled once) over every ``--serial-stride``-th value,
-   extrapolated to all N values (the full serial loop takes ~2 minutes).
+1. the product path, ``bifurc.sweep.sweep`` (= ``bifurc diagram``), on ``--workers`` processes,
+   wall time including the process pool start and one compilation per worker:
+   a. in full: orbits, classification, Lyapunov exponents where not periodic, grazing
+      bisection, error estimate (heyoka batch mode, 4 SIMD lanes);
+   b. the stroboscopic diagram alone (``lyapunov=False, grazing=False, error_sample=0``), in
+      batch mode and with ``batch_size=1`` (one ``HybridRun`` per value);
+2. baselines OUTSIDE the product, defined in this file: bare heyoka ensembles of the same
+   trajectories with the least Python possible (flip the contact flag at contact/release,
+   switch the relay, nothing else: no event log, no classification, no storage) in the same
+   number of processes, on the scalar integrator (a propagate_until loop) and on the batch
+   integrator (4 lanes, event callbacks), the latter also with the Lyapunov companions that
+   1a integrates;
+3. a serial loop: 1b with ``batch_size=1`` in one process over every ``--serial-stride``-th
+   value, extrapolated to all N values.
 
     python benchmarks/frequency_diagram.py [--n 1000] [--workers 2] [--serial-stride 10]
 """
@@ -23,18 +26,33 @@ import argparse
 import math
 import os
 import time
+from dataclasses import dataclass, field
 
 import numpy as np
 
 import maps
-from bifurc.parallel import BatchStroboscopicTask, StroboscopicTask, map_values, sweep_dataset
+from bifurc.executor import map_values
+from bifurc.sweep import sweep
 
 
-def make_task(transient=300, record=100, tol=1e-10, batch=False):
-    sc = maps.get_scene("thesis-1dof")
-    params = sc.parameters(preset="matlab-listing", V=90.0)
-    cls = BatchStroboscopicTask if batch else StroboscopicTask
-    return cls("thesis-1dof", "relay_hz", params, transient=transient, record=record, tol=tol)
+@dataclass(frozen=True)
+class Problem:
+    """The benchmark's problem, for the bare baselines (picklable)."""
+
+    params: dict
+    scene: str = "thesis-1dof"
+    transient: int = 300
+    record: int = 100
+    tol: float = 1e-10
+    x0: dict = field(default_factory=dict)
+
+
+def par_index(system, name) -> int:
+    """Index of a parameter or flag in the integrator's ``pars``: the layout of the public
+    ``HybridSystem.par_vector`` (parameters, then flags)."""
+    if name in system.param_names:
+        return list(system.param_names).index(name)
+    return len(system.param_names) + list(system.flag_names).index(name)
 
 
 class BareTrajectory:
@@ -48,13 +66,13 @@ class BareTrajectory:
         system = maps.get_scene(self.task.scene).system
         ta, _ = system.integrator(self.task.tol)
         self.system, self._ta = system, ta
-        groups = system._groups
+        groups = system.event_groups()        # public: one heyoka event per surface, in this order
         self.on_contact = {i for i, g in enumerate(groups) if any(x.name == "contact" for x in g)}
         self.on_release = {i for i, g in enumerate(groups) if any(x.name == "release" for x in g)}
         self.on_escape = {i for i, g in enumerate(groups) if any(x.name.startswith("escape") for x in g)}
         self.n_groups = len(groups)
-        self.i_contact = system._flag_index["contact"]
-        self.i_relay = system._flag_index["P"]
+        self.i_contact = par_index(system, "contact")
+        self.i_relay = par_index(system, "P")
         self.y0 = system.state_vector(maps.get_scene(self.task.scene).initial_state(**self.task.x0))
 
     def __call__(self, W):
@@ -118,7 +136,7 @@ class BareBatch(_Same):
         import heyoka as hy
         system = maps.get_scene(self.task.scene).system
         contact = next(g for g in system.guards if g.name == "contact")
-        self.i_contact, self.i_P = system._flag_index["contact"], system._flag_index["P"]
+        self.i_contact, self.i_P = par_index(system, "contact"), par_index(system, "P")
         self.i_next = len(system.param_names) + len(system.flag_names)
         me = self
 
@@ -142,7 +160,7 @@ class BareBatch(_Same):
 
         events = [hy.t_event_batch(contact.expr, direction=hy.event_direction.any, cooldown=1e-10,
                                    callback=Contact()),
-                  hy.t_event_batch((hy.time - hy.par[self.i_next]) * hy.par[system._param_index["relay_hz"]],
+                  hy.t_event_batch((hy.time - hy.par[self.i_next]) * hy.par[par_index(system, "relay_hz")],
                                    direction=hy.event_direction.positive, cooldown=1e-10, callback=Relay())]
         self._ta = hy.taylor_adaptive_batch(system.heyoka_system(), np.zeros((len(system.states), 4)),
                                             tol=self.task.tol, t_events=events)
@@ -256,74 +274,63 @@ def main(argv=None):
     ap.add_argument("--serial-stride", type=int, default=10)
     ap.add_argument("--transient", type=int, default=300)
     ap.add_argument("--record", type=int, default=100)
-    ap.add_argument("--skip-sweep", action="store_true", help="do not time bifurc.sweep")
-    ap.add_argument("--no-lyapunov", action="store_true", help="bifurc.sweep without Lyapunov exponents")
-    ap.add_argument("--output", default=None, help="netCDF path for the diagram (default: in memory)")
+    ap.add_argument("--output", default=None, help="netCDF path prefix for the diagrams (default: in memory)")
     args = ap.parse_args(argv)
     print(f"load average before: {os.getloadavg()}, cores: {os.cpu_count()}")
     values = np.linspace(2.0, 10.0, args.n)
-    task = make_task(args.transient, args.record)
+    problem = Problem(maps.get_scene("thesis-1dof").parameters(preset="matlab-listing", V=90.0),
+                      transient=args.transient, record=args.record)
+    base = dict(preset="matlab-listing", params={"V": 90.0}, transient=args.transient, record=args.record,
+                tol=problem.tol, progress=False)
+    lean = dict(lyapunov=False, grazing=False, error_sample=0)
+
+    def timed(label, vals, workers, **kw):
+        path = args.output and f"{args.output}.{label.replace(' ', '-')}.nc"
+        t0 = time.perf_counter()
+        ds = sweep("thesis-1dof", "relay_hz", vals, workers=workers, path=path, **base, **kw)
+        wall = time.perf_counter() - t0
+        codes = ds["class_code"].values.ravel()
+        print(f"bifurc.sweep, {label}: {vals.size} values, {workers} workers: {wall:.2f} s wall "
+              f"(per-value times sum to {float(ds['run_seconds'].sum()):.1f} s; status ok "
+              f"{int((ds['status'] == 0).sum())}/{vals.size}; {int(ds['n_steps'].sum())} Taylor steps; "
+              f"classes {dict(zip(*np.unique(codes, return_counts=True)))})")
+        return wall, ds
 
     walls = {}
-    for label, batch in (("scalar", False), ("batch", True)):
-        t0 = time.perf_counter()
-        ds = sweep_dataset(make_task(args.transient, args.record, batch=batch), values, workers=args.workers,
-                           path=args.output)
-        walls[label] = time.perf_counter() - t0
-        print(f"diagram ({label} task): {args.n} values, {args.workers} workers: {walls[label]:.2f} s wall "
-              f"(sum of per-value times {float(ds['run_seconds'].sum()):.1f} s; "
-              f"status ok {int((ds['status'] == 0).sum())}/{args.n}; "
-              f"{int(ds['n_steps'].sum())} Taylor steps)")
-        if label == "scalar":
-            x_scalar = ds["x"].isel(period=-1).values
-    if not args.skip_sweep:
-        from bifurc.sweep import sweep
-        t0 = time.perf_counter()
-        sw = sweep("thesis-1dof", "relay_hz", values, preset="matlab-listing", params={"V": 90.0},
-                   transient=args.transient, record=args.record, tol=1e-10, workers=args.workers,
-                   lyapunov=not args.no_lyapunov, progress=False, path=args.output and args.output + ".sweep.nc")
-        walls["bifurc.sweep"] = time.perf_counter() - t0
-        codes = sw["class_code"].values.ravel()
-        print(f"bifurc.sweep (orbits + classification{'' if args.no_lyapunov else ' + Lyapunov'} + grazing + "
-              f"error estimate), {args.workers} workers: {walls['bifurc.sweep']:.2f} s wall; "
-              f"class codes {dict(zip(*np.unique(codes, return_counts=True)))}")
+    walls["full"], _ = timed("full (bifurc diagram)", values, args.workers)
+    walls["batch"], _ = timed("stroboscopic only, batch mode", values, args.workers, **lean)
+    walls["scalar"], scalar = timed("stroboscopic only, batch_size=1", values, args.workers, batch_size=1, **lean)
+    x_scalar = scalar["x"].isel(branch=0, sample=-1).values
+
     bares = {}
-    bare_kinds = [("scalar", BareTrajectory), ("batch", BareBatch)]
-    if not args.skip_sweep and not args.no_lyapunov:
-        bare_kinds.append(("batch + Lyapunov companions", BareBatchLyapunov))
-    for label, bare_cls in bare_kinds:
+    for label, bare_cls in (("scalar", BareTrajectory), ("batch", BareBatch),
+                            ("batch + Lyapunov companions", BareBatchLyapunov)):
         t0 = time.perf_counter()
-        final_x = map_values(bare_cls(task), values, workers=args.workers)
+        final = map_values(bare_cls(problem), values, workers=args.workers)
         bares[label] = time.perf_counter() - t0
-        print(f"bare heyoka ensemble ({label}), same trajectories, {args.workers} workers: {bares[label]:.2f} s wall")
+        print(f"bare heyoka ensemble ({label}; outside the product), {args.workers} workers: {bares[label]:.2f} s wall")
         if label == "scalar":
-            print(f"  bare scalar vs scalar diagram final x: max |diff| = "
-                  f"{np.nanmax(np.abs(np.array(final_x) - x_scalar)):.2e} m (same steps and events)")
+            print(f"  bare scalar vs bifurc.sweep (batch_size=1) final x: max |diff| = "
+                  f"{np.nanmax(np.abs(np.array(final) - x_scalar)):.2e} m")
 
     sub = values[::args.serial_stride]
-    task.warm()
     t0 = time.perf_counter()
-    for v in sub:
-        task(v)
+    sweep("thesis-1dof", "relay_hz", sub, workers=1, batch_size=1, **base, **lean)
     serial = (time.perf_counter() - t0) * values.size / sub.size
-    print(f"serial loop over {sub.size} of the values (compiled), extrapolated to {args.n}: {serial:.1f} s")
+    print(f"serial loop (bifurc.sweep, batch_size=1, 1 process) over {sub.size} of the values, extrapolated to "
+          f"{args.n}: {serial:.1f} s")
     print(f"load average after: {os.getloadavg()}")
-    wall = walls["batch"]
-    print(f"\ntarget wall <= 20 s (batch diagram):       {wall:7.2f} s   {'met' if wall <= 20 else 'NOT met'}")
-    print(f"throughput vs serial loop >= 3x:           {serial / wall:7.2f} x   {'met' if serial / wall >= 3 else 'NOT met'}"
-          f"  (processes alone, scalar task: {serial / walls['scalar']:.2f} x)")
+    full, wall = walls["full"], walls["batch"]
+    print(f"\nbifurc diagram (full) wall:                {full:7.2f} s")
+    print(f"stroboscopic diagram wall <= 20 s:          {wall:7.2f} s   {'met' if wall <= 20 else 'NOT met'}")
+    print(f"throughput vs serial loop >= 3x:            {serial / wall:7.2f} x   "
+          f"{'met' if serial / wall >= 3 else 'NOT met'}  (processes alone, batch_size=1: {serial / walls['scalar']:.2f} x)")
     eff = walls["batch"] / bares["batch"]
-    print(f"diagram / bare ensemble <= 1.5 (batch):    {eff:7.2f}     {'met' if eff <= 1.5 else 'NOT met'}"
-          f"  (scalar diagram / scalar bare: {walls['scalar'] / bares['scalar']:.2f})")
-    if "bifurc.sweep" in walls:
-        r = walls["bifurc.sweep"] / bares["batch"]
-        print(f"bifurc.sweep / bare batch ensemble:        {r:7.2f}     (the bare ensemble has no Lyapunov "
-              f"companions: 400 periods per value instead of up to 500)")
-        key = "batch + Lyapunov companions"
-        if key in bares:
-            r = walls["bifurc.sweep"] / bares[key]
-            print(f"bifurc.sweep / bare batch ensemble of the same trajectories, companions included <= 1.5: "
-                  f"{r:5.2f}   {'met' if r <= 1.5 else 'NOT met'}")
+    print(f"stroboscopic diagram / bare ensemble <= 1.5: {eff:6.2f}     {'met' if eff <= 1.5 else 'NOT met'}"
+          f"  (batch_size=1 / bare scalar: {walls['scalar'] / bares['scalar']:.2f})")
+    r = full / bares["batch + Lyapunov companions"]
+    print(f"full diagram / bare ensemble of the same trajectories, companions included <= 1.5: "
+          f"{r:5.2f}   {'met' if r <= 1.5 else 'NOT met'}")
     return 0
 
 

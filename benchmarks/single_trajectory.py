@@ -16,7 +16,7 @@ import time
 import numpy as np
 
 import maps
-from bifurc.accuracy import work_precision
+from bifurc.verification.accuracy import work_precision
 
 LADDERS = {
     "heyoka": [1e-8, 3e-9, 1e-9, 3e-10, 1e-10, 1e-11, 1e-12],

@@ -33,10 +33,13 @@ import math
 
 import numpy as np
 
-__all__ = ["CLASS_LABELS", "FLAG_MEANINGS", "classify_orbit", "describe", "code_of", "lyapunov_threshold"]
+from .codes import ClassCode
 
-CLASS_LABELS = ("periodic", "periodic-no-impact", "quasi-periodic", "chaotic", "not-converged",
-                "escaped", "failed")
+__all__ = ["CLASS_LABELS", "FLAG_MEANINGS", "classify_orbit", "describe", "code_of", "lyapunov_threshold",
+           "state_scale", "ClassCode"]
+
+#: class labels in code order (ClassCode(c).label)
+CLASS_LABELS = tuple(c.label for c in ClassCode)
 FLAG_MEANINGS = " ".join(CLASS_LABELS)
 #: per-step decay below which a non-periodic record counts as a converging transient
 DECAY_RATE = 0.98
@@ -49,8 +52,14 @@ def lyapunov_threshold(n_steps: int) -> float:
     return max(LYAP_TOL, 2.0 * math.log(max(n_steps, 2)) / max(n_steps, 2))
 
 
-def code_of(label: str) -> int:
-    return CLASS_LABELS.index(label)
+def code_of(label: str) -> ClassCode:
+    return ClassCode.of(label)
+
+
+def state_scale(points, atol: float) -> np.ndarray:
+    """Each state component's largest magnitude over ``points`` (N, d), NaN padding ignored, >= ``atol``:
+    the scale s_j of the recurrence test, the Lyapunov norm and the error estimates."""
+    return np.maximum(np.nanmax(np.abs(points), axis=0), atol)
 
 
 def describe(code: int, period: int = 0, impacts: int = -1) -> str:
@@ -90,7 +99,7 @@ def classify_orbit(points, impacts_per_step, *, max_period: int = 16, rtol: floa
         raise ValueError(f"impacts_per_step must have N - 1 = {p.shape[0] - 1} entries, got {imp.shape}")
     if not np.all(np.isfinite(p)):
         return _result("failed", rtol=rtol, atol=atol)
-    s = np.maximum(np.max(np.abs(p), axis=0), atol) if scale is None else np.asarray(scale, float)
+    s = state_scale(p, atol) if scale is None else np.asarray(scale, float)
     N = p.shape[0]
     max_n = min(int(max_period), (N - 1) // 2)
     best_n, best_d = 0, math.inf

@@ -17,7 +17,7 @@ from . import __version__
 __all__ = ["COMMANDS", "UsageError", "build_parser", "main"]
 
 #: subcommand modules in bifurc.commands, each with register(subparsers); missing ones are skipped
-COMMANDS = ["scenes", "simulate", "diagram", "report", "accuracy", "stability", "study"]
+COMMANDS = ["scenes", "simulate", "diagram", "report", "accuracy", "verify", "study"]
 
 #: user-facing failures: one line on stderr, exit code 2
 USER_ERRORS = (ParameterError, FileNotFoundError, FileExistsError, IsADirectoryError,

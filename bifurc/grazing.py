@@ -1,11 +1,38 @@
-"""Locating grazing parameter values by bisection on a signed clearance."""
+"""Grazing: the thresholds that flag a grazing orbit, and locating grazing parameter values.
+
+A located graze is a parameter value between two grid neighbours whose impacts per period
+differ, found by bisection (:func:`locate_grazing`) on the signed clearance of the branch
+with fewer impacts (:class:`BranchFollower`); :func:`locate_grazing_values` picks the
+neighbour pairs of a sweep where that is meaningful.
+"""
 from __future__ import annotations
 
 import math
+from dataclasses import replace
+
+import numpy as np
 
 from maps.parameters import ParameterError
 
-__all__ = ["locate_grazing"]
+from .codes import ClassCode, Status
+
+__all__ = ["GRAZING_GAP", "GRAZING_SPEED", "GRAZE_SHRINK", "grazing_flag", "locate_grazing",
+           "locate_grazing_values", "BranchFollower"]
+
+#: an orbit grazes when its smallest clearance is below GRAZING_GAP [m] without contact,
+#: or its slowest impact is below GRAZING_SPEED [m/s]
+GRAZING_GAP = 1e-6
+GRAZING_SPEED = 1e-3
+#: a located sign change counts as a graze when the bisection shrank the clearance at its end
+#: with fewer impacts to this fraction of its value at the grid neighbour
+GRAZE_SHRINK = 0.1
+#: classes between which a bracket can hold a graze (a periodic orbit on at least one side)
+_BRACKETABLE = (ClassCode.PERIODIC, ClassCode.PERIODIC_NO_IMPACT, ClassCode.NOT_CONVERGED)
+
+
+def grazing_flag(min_gap, min_impact_speed):
+    """1 where an orbit grazes: slowest impact < GRAZING_SPEED [m/s] or clearance in [0, GRAZING_GAP) [m]."""
+    return (min_impact_speed < GRAZING_SPEED) | ((min_gap >= 0) & (min_gap < GRAZING_GAP))
 
 
 def locate_grazing(signed_clearance, a: float, b: float, *, xtol: float) -> dict:
@@ -35,3 +62,98 @@ def locate_grazing(signed_clearance, a: float, b: float, *, xtol: float) -> dict
         else:
             hi = mid
     return {"value": 0.5 * (lo + hi), "bracket": (min(lo, hi), max(lo, hi)), "xtol": xtol, "evaluations": evals}
+
+
+def _impact_rate(r) -> float:
+    """Contacts per recorded period."""
+    return r.n_impacts / max(1, r.n_recorded)
+
+
+def locate_grazing_values(results, values, job, xtol):
+    """Grazing values between neighbours whose number of impacts per period differs.
+
+    ``results``: {branch: [ValueResult or None per value]}; ``job``: the sweep's ValueJob.
+    From no impact to impacts, one neighbour must be periodic and the other periodic or
+    not-converged (near a grazing bifurcation convergence is slow); from m > 0 to m'
+    impacts per period both must be periodic.  Between chaotic or quasi-periodic neighbours the sign of the
+    clearance brackets nothing meaningful.  The bisection follows the side with fewer impacts (see
+    :class:`BranchFollower`); an attractor that changes under re-computation brackets
+    nothing and is skipped.  Returns [(branch, locate_grazing result + neighbour data), ...].
+    """
+    found = []
+    if xtol is None and values.size > 1:  # default: a thousandth of the grid spacing
+        xtol = float(np.min(np.abs(np.diff(values)))) * 1e-3
+    for b, res in results.items():
+        for i in range(values.size - 1):
+            ra, rb = res[i], res[i + 1]
+            if ra is None or rb is None or ra.status != Status.OK or rb.status != Status.OK:
+                continue
+            if ra.class_code not in _BRACKETABLE or rb.class_code not in _BRACKETABLE:
+                continue
+            if ra.class_code == rb.class_code == ClassCode.NOT_CONVERGED:
+                continue  # no periodic orbit on either side: no branch whose clearance vanishes
+            if _impact_rate(ra) == _impact_rate(rb):
+                continue
+            if ra.n_impacts and rb.n_impacts and not (ra.class_code == rb.class_code == ClassCode.PERIODIC):
+                continue  # m -> m' > 0 impacts: only between periodic orbits (a transient's count drifts)
+            clear = (values[i], ra) if _impact_rate(ra) < _impact_rate(rb) else (values[i + 1], rb)
+            follower = BranchFollower(job, clear[0], clear[1])
+            try:
+                g = locate_grazing(follower, values[i], values[i + 1], xtol=xtol)
+            except ParameterError:
+                continue
+            g["impacts_below"], g["impacts_above"] = ra.n_impacts, rb.n_impacts
+            g["clearance"], g["impact_speed"] = follower.clearance[-1], follower.speed[-1]
+            # a graze: the clearance of the branch with fewer impacts vanishes as the bracket shrinks;
+            # if it stays finite the branch ends otherwise (a jump, e.g. a saddle-node).  The impact
+            # speed past a graze need not be small: the orbit may jump to a distant impacting attractor.
+            g["confirmed"] = follower.clearance[-1] <= GRAZE_SHRINK * follower.clearance[0]
+            g["clearance_start"] = follower.clearance[0]
+            found.append((b, g))
+    return found
+
+
+class BranchFollower:
+    """Signed clearance along the branch with fewer impacts, for bisection.
+
+    On that branch (``m`` contacts in the record, possibly 0) it is the smallest
+    clearance: the whole orbit's for m = 0, the lowest free-flight minimum for m > 0;
+    both reach 0 at the graze.  Past it (more contacts) it is minus the slowest impact
+    speed, which also reaches 0 at the graze.
+    An orbit with more impacts may coexist just before grazing, and a parameter jump excites a
+    transient about as large as the change of the forced response, which can touch the
+    stop and land on it.  So each evaluation ramps the parameter from the last clear
+    value in ``substeps`` steps (transient split between them) and, when the result is
+    clear, becomes the new starting point: the branch is followed up to its graze.
+    """
+
+    def __init__(self, job, value, result, substeps=8):
+        self.job, self.substeps = replace(job, lyapunov=False), substeps
+        self.value, self.start = value, result.end_state
+        self.impacts = result.n_impacts
+        self.clearance, self.speed = [], []  # every positive and negative value returned, in order
+
+    def __call__(self, p):
+        f = self._evaluate(p)
+        if math.isfinite(f):
+            (self.clearance if f > 0 else self.speed).append(abs(f))
+        return f
+
+    def _evaluate(self, p):
+        if p == self.value:
+            r = self.job(p, self.start)
+        else:
+            start, short = self.start, replace(self.job, transient=max(1, self.job.transient // self.substeps),
+                                               record=3)
+            for j in range(1, self.substeps):
+                r = short(self.value + (p - self.value) * j / self.substeps, start)
+                if r.status != Status.OK:
+                    return math.nan
+                start = r.end_state
+            r = self.job(p, start)
+        if r.status != Status.OK:
+            return math.nan
+        if r.n_impacts > self.impacts:
+            return -r.min_impact_speed
+        self.value, self.start = p, r.end_state
+        return r.min_gap if self.impacts == 0 else r.min_flight_gap

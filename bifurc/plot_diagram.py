@@ -25,7 +25,7 @@ def plot_diagram(ds, path=None, state=None, branch=None):
     below, one row per branch.
 
     ``branch``: which branch to show ("up", "down", "independent"); default all
-    (continuation: "up" filled dots, "down" open circles). Saves a PNG to ``path``
+    (follow mode: "up" filled dots, "down" open circles). Saves a PNG to ``path``
     if given; returns the Figure.
     """
     par = ds.attrs["swept_parameter"]

@@ -3,7 +3,7 @@
 Independent of maps.model (no heyoka expression is reused): the charge ("kvl") circuit form
 of the 1-DOF model with its energy quadratures and stored energy, and the 2-DOF horizontal
 model (viscous soil, "thesis" circuit form, eq 4.16 on the relative position r = x1 - x2).
-bifurc.baselines.rhs_1dof covers the 1-DOF "thesis" form.
+bifurc.verification.baselines.rhs_1dof covers the 1-DOF "thesis" form.
 """
 from __future__ import annotations
 

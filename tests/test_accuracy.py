@@ -3,8 +3,8 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from bifurc.accuracy import reference_solution, work_precision
-from bifurc.baselines import solve_rk4_bisection, solve_scipy
+from bifurc.verification.accuracy import reference_solution, work_precision
+from bifurc.verification.baselines import solve_rk4_bisection, solve_scipy
 
 SETUP = dict(preset="matlab-listing", params={"V": 90.0, "relay_hz": 9.0})
 T_END = 1.0     # two contacts (0.85 s and 0.97 s)

@@ -11,12 +11,13 @@ import numpy as np
 import pytest
 
 import maps
+from bifurc.job import ValueJob
 from bifurc.lyapunov import exponent_from_stretch, lyapunov_along
+from bifurc.sweep import sweep
 from maps.engines import BatchEngine, OrbitJob, engine_for
 from maps.hybrid import Guard, HybridSystem, PeriodicSwitch, State
 from maps.parameters import Parameter
 from maps.tangent import companion_start
-from bifurc.sweep import SweepPoint, sweep
 from maps.parameters import ParameterError
 
 
@@ -30,51 +31,51 @@ def _compare(a, b, lyap_tol=1e-3):
     # of ~tol between the two paths move each period's log-separation by up to ~1e-2;
     # averaged over the periods the exponents agree to ~1e-4
     for x, y in zip(a, b):
-        assert x["status"] == y["status"]
-        assert x["n_impacts"] == y["n_impacts"]
-        assert x["class_label"] == y["class_label"], (x["value"], x["class_label"], y["class_label"])
-        assert np.nanmax(np.abs(x["points"] - y["points"]) / np.maximum(1, np.abs(x["points"]))) < 1e-8
-        assert abs(x["min_gap"] - y["min_gap"]) < 1e-9
-        np.testing.assert_allclose(x["impact_t"], y["impact_t"], rtol=0, atol=1e-9)
-        assert (math.isnan(x["lyapunov"]) and math.isnan(y["lyapunov"])) or abs(x["lyapunov"] - y["lyapunov"]) < lyap_tol
+        assert x.status == y.status
+        assert x.n_impacts == y.n_impacts
+        assert x.label == y.label, (x.value, x.label, y.label)
+        assert np.nanmax(np.abs(x.points - y.points) / np.maximum(1, np.abs(x.points))) < 1e-8
+        assert abs(x.min_gap - y.min_gap) < 1e-9
+        np.testing.assert_allclose(x.impact_t, y.impact_t, rtol=0, atol=1e-9)
+        assert (math.isnan(x.lyapunov) and math.isnan(y.lyapunov)) or abs(x.lyapunov - y.lyapunov) < lyap_tol
 
 
 @pytest.mark.parametrize("x0", [{}, {"x": 0.0}])
 def test_sweep_point_batch_equals_scalar(base, x0):
     """11 values in 4 lanes (refilled 2-3 times each), 3 passes (transient, recorded window with
     every observation guard, Lyapunov companions); x0 = 0 starts on the stop."""
-    point = SweepPoint("thesis-1dof", "relay_hz", base, x0=x0, transient=4, record=6, lyapunov_steps=6)
+    point = ValueJob("thesis-1dof", "relay_hz", base, x0=x0, transient=4, record=6, lyapunov_steps=6)
     values = np.linspace(2.0, 10.0, 11)
     scalar = [point(v) for v in values]
     batch = point.run_many(values)
     _compare(scalar, batch)
-    assert sum(r["n_impacts"] for r in scalar) > 0
-    assert all(np.isfinite(r["lyapunov"]) for r in batch if r["class_label"] not in ("periodic", "periodic-no-impact"))
+    assert sum(r.n_impacts for r in scalar) > 0
+    assert all(np.isfinite(r.lyapunov) for r in batch if r.label not in ("periodic", "periodic-no-impact"))
     # steps: the same trajectories need nearly the same number of Taylor steps
-    assert all(abs(b["n_steps"] / a["n_steps"] - 1) < 0.05 for a, b in zip(scalar, batch))
+    assert all(abs(b.n_steps / a.n_steps - 1) < 0.05 for a, b in zip(scalar, batch))
 
 
 def test_escaping_lanes_end_and_are_refilled(base):
     """Sweeping V to 1000 V throws the bar out: a lane that ends early is refilled, and the escape
     time is the scalar one (a non-relay parameter swept: the relay frequency is fixed per lane)."""
-    point = SweepPoint("thesis-1dof", "V", dict(base, relay_hz=5.0), transient=2, record=4, lyapunov_steps=4)
+    point = ValueJob("thesis-1dof", "V", dict(base, relay_hz=5.0), transient=2, record=4, lyapunov_steps=4)
     values = np.linspace(600.0, 1000.0, 9)
     scalar = [point(v) for v in values]
     batch = point.run_many(values)
-    assert [r["status"] for r in scalar] == [r["status"] for r in batch]
-    assert 0 < sum(r["status"] == 1 for r in scalar) < values.size
+    assert [r.status for r in scalar] == [r.status for r in batch]
+    assert 0 < sum(r.status == 1 for r in scalar) < values.size
     for a, b in zip(scalar, batch):
-        if a["status"] == 1:
-            assert abs(a["failure_time"] - b["failure_time"]) < 1e-7
-            assert "left the model's domain" in b["failure"] and "left the model's domain" in a["failure"]
+        if a.status == 1:
+            assert abs(a.failure_time - b.failure_time) < 1e-7
+            assert "left the model's domain" in b.failure and "left the model's domain" in a.failure
         else:   # hundreds of volts: strongly chaotic, round-off differences grow ~10x per period
-            p, q = a["points"][0], b["points"][0]
+            p, q = a.points[0], b.points[0]
             assert np.max(np.abs(p - q) / np.maximum(1, np.abs(p))) < 1e-8
 
 
 def test_companion_lane_equals_lyapunov_along(base):
     """The engine's Benettin companion and the scalar lyapunov_along give the same exponent."""
-    point = SweepPoint("thesis-1dof", "relay_hz", base, transient=5, record=8)
+    point = ValueJob("thesis-1dof", "relay_hz", base, transient=5, record=8)
     smap = point.warm()
     system = smap.system
     exps = []
@@ -109,8 +110,8 @@ def test_sweep_batch_and_scalar_datasets_agree():
     values = np.linspace(3.0, 9.0, 7)
     a = sweep("thesis-1dof", "relay_hz", values, batch_size=1, **kw)
     b = sweep("thesis-1dof", "relay_hz", values, batch_size=4, **kw)
-    assert np.array_equal(a["class_code"].values, b["class_code"].values)
-    assert np.array_equal(a["n_impacts"].values, b["n_impacts"].values)
+    assert np.array_equal(a.class_code.values, b.class_code.values)
+    assert np.array_equal(a.n_impacts.values, b.n_impacts.values)
     for k in ("x", "v", "i", "z"):
         np.testing.assert_allclose(a[k].values, b[k].values, rtol=1e-8, atol=1e-10)
 
@@ -118,9 +119,9 @@ def test_sweep_batch_and_scalar_datasets_agree():
 def test_values_still_converging_integrate_on_from_the_batch_orbit(base):
     """4 Hz is not-converged after 300 periods with a decaying recurrence: run_many hands it to the
     scalar extension (max_transient), which finds the period-2 orbit without impact as the scalar path."""
-    point = SweepPoint("thesis-1dof", "relay_hz", base, transient=300, record=100, max_transient=1000)
+    point = ValueJob("thesis-1dof", "relay_hz", base, transient=300, record=100, max_transient=1000)
     a, b = point(4.0), point.run_many([4.0])[0]
-    assert a["class_label"] == b["class_label"] == "periodic-no-impact"
-    assert a["class_period"] == b["class_period"] == 2
-    assert a["transient_used"] == b["transient_used"] > 300
-    assert abs(a["min_gap"] - b["min_gap"]) < 1e-6 and b["min_gap"] > 5e-4
+    assert a.label == b.label == "periodic-no-impact"
+    assert a.period == b.period == 2
+    assert a.transient_used == b.transient_used > 300
+    assert abs(a.min_gap - b.min_gap) < 1e-6 and b.min_gap > 5e-4

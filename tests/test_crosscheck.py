@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import maps
-from bifurc.baselines import rhs_1dof, solve_scipy
+from bifurc.verification.baselines import rhs_1dof, solve_scipy
 from maps.engines.scalar import HybridRun
 from maps.impacts import impact_table
 
@@ -12,7 +12,7 @@ PARAMS = {"V": 90.0, "relay_hz": 9.0}
 
 
 def test_contact_times_agree_with_scipy_dop853_at_rtol_1e12():
-    """bifurc.baselines writes the right-hand side again from MODEL.md (no heyoka) and restarts
+    """bifurc.verification.baselines writes the right-hand side again from MODEL.md (no heyoka) and restarts
     solve_ivp at every contact and relay switch."""
     scene = maps.get_scene("thesis-1dof")
     p = scene.parameters(preset="matlab-listing", **PARAMS)

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import maps
-from bifurc.stability import CASES, case_scene
+from bifurc.verification.suite import CASES, case_scene
 from maps.engines import ENGINES, OrbitJob, engine_for
 
 

@@ -8,7 +8,7 @@ import pytest
 from scipy.linalg import expm
 
 import maps
-from bifurc.stability import CASES, case_scene
+from bifurc.verification.suite import CASES, case_scene
 from maps.engines.scalar import HybridRun
 
 OSC = dict(w0=1.0, zeta=0.05, F=0.5, Omega=2.5, e=0.0, r=0.7)     # a stable 1:1 impacting orbit

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import maps
-from bifurc.stability import CASES, case_scene
+from bifurc.verification.suite import CASES, case_scene
 from maps import Guard, HybridState, HybridSystem, Parameter, ParameterError, State
 
 

@@ -9,7 +9,7 @@ from scipy.optimize import brentq
 
 from maps.hybrid import EventCap
 from maps.engines.scalar import HybridRun
-from bifurc.stability import CASES, case_scene, run_case
+from bifurc.verification.suite import CASES, case_scene, run_case
 
 
 def _case(name):

@@ -24,10 +24,10 @@ def escaping_sweep():
 
 @pytest.fixture(scope="module")
 def grazing_sweep():
-    """Continuation over the oscillator's grazing: branch and grazing dimensions both filled."""
+    """Follow mode over the oscillator's grazing: branch and grazing dimensions both filled."""
     W = OSC["Omega"]
     F_graze = abs(OSC["e"]) * math.hypot(1 - W**2, 2 * OSC["zeta"] * W)
-    return sweep(maps.forced_oscillator_with_stop(), "F", np.array([0.9, 1.1]) * F_graze, mode="continuation",
+    return sweep(maps.forced_oscillator_with_stop(), "F", np.array([0.9, 1.1]) * F_graze, mode="follow",
                  params=OSC, transient=200, record=10, tol=1e-12, lyapunov=False, error_sample=0,
                  grazing_xtol=1e-4, progress=False)
 
@@ -90,3 +90,32 @@ def test_missing_values_are_flagged_never_silent(escaping_sweep):
     n = int(ok.n_impacts)
     assert np.isfinite(ok.impact_t.values[:n]).all() and np.isnan(ok.impact_t.values[n:]).all()
     assert ok.impacts_per_step.values.sum() == n
+
+
+def test_time_history_attributes_follow_the_schema_table():
+    """maps.simulate writes its own attributes (maps never imports bifurc); they must agree with
+    the history rows of bifurc.schema, which its to_dataset will later draw from."""
+    from bifurc.schema import HISTORY
+    rows = {v.name: v for v in HISTORY}
+    for scene in ("thesis-1dof", "thesis-2dof"):
+        ds = maps.simulate(scene, periods=2, preset="matlab-listing", params={"V": 90, "relay_hz": 9})
+        states = set(maps.get_scene(scene).system.state_names)
+        for name, var in ds.variables.items():
+            if name in states:
+                continue
+            row = rows[name]          # every other variable has a row
+            assert var.dims == row.dims, name
+            assert var.attrs["units"] == row.units and var.attrs["long_name"] == row.long_name, name
+            if "flag_meanings" in var.attrs:
+                assert var.attrs["flag_meanings"] == dict(row.extra)["flag_meanings"], name
+                np.testing.assert_array_equal(var.attrs["flag_values"], dict(row.extra)["flag_values"])
+    assert {"rig_stuck", "progression", "relay", "contact", "impact_time"} <= set(rows)
+
+
+def test_param_attributes_have_one_writer():
+    """The sweep's param_* attributes are schema.param_attrs of its parameter table, swept one excluded."""
+    from bifurc.schema import param_attrs
+    table = {"V": (90.0, "set by user"), "k": (1e5, "preset matlab-listing")}
+    system = maps.get_scene("thesis-1dof").system
+    assert param_attrs(table, system, skip=("k",)) == {"param_V": 90.0, "param_V_units": "V",
+                                                       "param_V_source": "set by user"}

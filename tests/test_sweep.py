@@ -1,4 +1,4 @@
-"""Stroboscopic maps, sweeps, grazing, continuation, resume and storage against independent truths."""
+"""Stroboscopic maps, sweeps, grazing, follow mode, resume and storage against independent truths."""
 import math
 
 import numpy as np
@@ -8,7 +8,8 @@ import xarray as xr
 import maps
 from bifurc import storage
 from bifurc.classify import CLASS_LABELS
-from bifurc.sweep import SweepPoint, sweep
+from bifurc.job import ValueJob
+from bifurc.sweep import sweep
 from maps.impacts import impact_table
 
 OSC = dict(w0=1.0, zeta=0.02, F=0.1, Omega=1.0, e=-1.0, r=0.8)
@@ -75,24 +76,26 @@ def test_grazing_located_where_the_analytic_amplitude_reaches_the_stop(osc):
 def test_no_grazing_search_between_two_unconverged_values():
     """Without a periodic orbit on either side (e.g. intermittent chaos with lyapunov=False, where
     every non-periodic value is not-converged) there is no branch to follow: nothing is integrated."""
-    from bifurc.sweep import _locate_grazing
+    from types import SimpleNamespace
+
+    from bifurc.grazing import locate_grazing_values
 
     class Forbidden:
         def __getattr__(self, name):
             raise AssertionError("no evaluation expected")
 
     def r(code, n):
-        return {"status": 0, "class_code": code, "n_impacts": n, "n_recorded": 100}
+        return SimpleNamespace(status=0, class_code=code, n_impacts=n, n_recorded=100)
     values = np.array([2.0, 2.01, 2.02])
     results = {"independent": [r(4, 0), r(4, 37), r(4, 0)]}
-    assert _locate_grazing(results, values, Forbidden(), 1e-6) == []
+    assert locate_grazing_values(results, values, Forbidden(), 1e-6) == []
 
 
-def test_continuation_finds_coexisting_attractors(osc):
+def test_follow_mode_finds_coexisting_attractors(osc):
     """Impacts harden the oscillator: above w0 an impacting 1:1 orbit coexists with the
     small non-impacting one; sweeping up follows the first, sweeping down the second."""
     values = np.linspace(0.9, 1.3, 9)
-    ds = sweep(osc, "Omega", values, mode="continuation", params=OSC, transient=150, record=30, tol=1e-12,
+    ds = sweep(osc, "Omega", values, mode="follow", params=OSC, transient=150, record=30, tol=1e-12,
                lyapunov=False, error_sample=0, grazing=False, progress=False)
     up, down = ds.sel(branch="up"), ds.sel(branch="down")
     both = (up.class_code == 0) & (up.impacts_per_period == 1) & (down.class_code == 1)
@@ -105,13 +108,22 @@ def test_continuation_finds_coexisting_attractors(osc):
         assert float(down.x.sel(Omega=W).isel(sample=-1)) == pytest.approx(x, abs=1e-8)
 
 
+def _completed(parts) -> int:
+    """Values saved in the resume parts (one netCDF file per completed chunk)."""
+    n = 0
+    for f in parts.glob("*.nc"):
+        with xr.open_dataset(f) as ds:
+            n += ds.sizes["value"]
+    return n
+
+
 def test_interrupted_batch_sweep_resumes_to_the_same_dataset(tmp_path, monkeypatch):
     """Batch mode saves each completed chunk: after an interruption only the rest runs."""
     args = dict(preset="matlab-listing", params={"V": 90}, transient=20, record=10, grazing=False,
                 error_sample=0, progress=False, chunk_size=2)
     values = np.linspace(4, 9, 6)
     path = tmp_path / "d.nc"
-    original = SweepPoint.run_many
+    original = ValueJob.run_many
     seen = []
 
     def flaky(self, vals):
@@ -120,16 +132,16 @@ def test_interrupted_batch_sweep_resumes_to_the_same_dataset(tmp_path, monkeypat
         seen.extend(vals)
         return original(self, vals)
 
-    monkeypatch.setattr(SweepPoint, "run_many", flaky)
+    monkeypatch.setattr(ValueJob, "run_many", flaky)
     with pytest.raises(KeyboardInterrupt):
         sweep("thesis-1dof", "relay_hz", values, path=path, **args)
     assert not path.exists()
-    assert len(list((tmp_path / "d.nc.parts").glob("independent-*.pkl"))) == 4
+    assert _completed(tmp_path / "d.nc.parts") == 4
     seen.clear()
-    monkeypatch.setattr(SweepPoint, "run_many", lambda self, vals: seen.extend(vals) or original(self, vals))
+    monkeypatch.setattr(ValueJob, "run_many", lambda self, vals: seen.extend(vals) or original(self, vals))
     resumed = sweep("thesis-1dof", "relay_hz", values, path=path, **args)
     assert seen == list(values[4:])
-    monkeypatch.setattr(SweepPoint, "run_many", original)
+    monkeypatch.setattr(ValueJob, "run_many", original)
     fresh = sweep("thesis-1dof", "relay_hz", values, **args)
     for name in ("x", "v", "i", "z", "impact_t", "class_code", "min_gap", "lyapunov"):
         np.testing.assert_allclose(resumed[name].values, fresh[name].values, rtol=0, atol=1e-12, equal_nan=True)
@@ -141,7 +153,7 @@ def test_interrupted_sweep_resumes_to_the_same_dataset(tmp_path, monkeypatch):
     values = np.linspace(4, 9, 6)
     path = tmp_path / "d.nc"
     calls = {"n": 0}
-    original = SweepPoint.__call__
+    original = ValueJob.__call__
 
     def flaky(self, value, start=None):
         if calls["n"] == 4:
@@ -149,18 +161,18 @@ def test_interrupted_sweep_resumes_to_the_same_dataset(tmp_path, monkeypatch):
         calls["n"] += 1
         return original(self, value, start)
 
-    monkeypatch.setattr(SweepPoint, "__call__", flaky)
+    monkeypatch.setattr(ValueJob, "__call__", flaky)
     with pytest.raises(KeyboardInterrupt):
         sweep("thesis-1dof", "relay_hz", values, path=path, **args)
     assert not path.exists()
-    assert len(list((tmp_path / "d.nc.parts").glob("independent-*.pkl"))) == 4
-    monkeypatch.setattr(SweepPoint, "__call__", original)
+    assert _completed(tmp_path / "d.nc.parts") == 4
+    monkeypatch.setattr(ValueJob, "__call__", original)
     calls["n"] = 0
     seen = []
-    monkeypatch.setattr(SweepPoint, "__call__", lambda self, v, s=None: seen.append(v) or original(self, v, s))
+    monkeypatch.setattr(ValueJob, "__call__", lambda self, v, s=None: seen.append(v) or original(self, v, s))
     resumed = sweep("thesis-1dof", "relay_hz", values, path=path, **args)
     assert seen == list(values[4:])  # only the missing values ran
-    monkeypatch.setattr(SweepPoint, "__call__", original)
+    monkeypatch.setattr(ValueJob, "__call__", original)
     fresh = sweep("thesis-1dof", "relay_hz", values, **args)
     for name in ("x", "v", "i", "z", "impact_t", "class_code", "min_gap"):
         np.testing.assert_allclose(resumed[name].values, fresh[name].values, rtol=0, atol=1e-12, equal_nan=True)
@@ -169,6 +181,61 @@ def test_interrupted_sweep_resumes_to_the_same_dataset(tmp_path, monkeypatch):
         (tmp_path / "e.nc.parts").mkdir()
         (tmp_path / "e.nc.parts" / "manifest.json").write_text("{}")
         sweep("thesis-1dof", "relay_hz", values, path=tmp_path / "e.nc", **args)
+
+
+def test_an_unreadable_resume_part_is_recomputed_with_a_warning(tmp_path, monkeypatch):
+    from bifurc.resume import Parts
+    args = dict(preset="matlab-listing", params={"V": 90}, transient=20, record=10, lyapunov=False, grazing=False,
+                error_sample=0, progress=False, batch_size=1, workers=1, chunk_size=1)
+    values = np.linspace(4, 9, 4)
+    path = tmp_path / "d.nc"
+    monkeypatch.setattr(Parts, "remove", lambda self: None)      # keep the parts, as after a late interruption
+    first = sweep("thesis-1dof", "relay_hz", values, path=path, **args)
+    parts = sorted((tmp_path / "d.nc.parts").glob("*.nc"))
+    assert len(parts) == 4
+    parts[1].write_bytes(parts[1].read_bytes()[:100])           # a truncated part
+    path.unlink()
+    seen, original = [], ValueJob.__call__
+    monkeypatch.setattr(ValueJob, "__call__", lambda self, v, s=None: seen.append(v) or original(self, v, s))
+    with pytest.warns(RuntimeWarning, match="discarding the unreadable resume part"):
+        again = sweep("thesis-1dof", "relay_hz", values, path=path, **args)
+    assert seen == [values[1]] and again.attrs["resumed_values"] == 3
+    for name in ("x", "v", "i", "z", "impact_t", "class_code", "period", "min_gap", "n_impacts", "status"):
+        np.testing.assert_array_equal(again[name].values, first[name].values, err_msg=name)
+
+
+def test_a_resumed_value_keeps_the_time_spent_computing_it(tmp_path, monkeypatch, capsys):
+    """Every value done before the interruption: the resumed dataset stores (and the command prints)
+    the time spent on the values when they were computed, not the moment it took to load them."""
+    from bifurc.cli import main
+    from bifurc.resume import Parts
+    argv = ["diagram", "--preset", "matlab-listing", "--set", "V=90", "--from", "4", "--to", "9", "--n", "4",
+            "--transient", "400", "--record", "20", "--no-lyapunov", "--quiet", "--workers", "1"]
+    path = tmp_path / "d.nc"
+    monkeypatch.setattr(Parts, "remove", lambda self: None)      # keep the parts, as after a late interruption
+    assert main(argv + ["-o", str(path)]) == 0
+    first = storage.load(path)
+    out = capsys.readouterr().out
+    path.unlink()
+    assert main(argv + ["-o", str(path)]) == 0
+    again = storage.load(path)
+    np.testing.assert_array_equal(again.run_seconds.values, first.run_seconds.values)
+    assert again.attrs["resumed_values"] == 4 and first.attrs["resumed_values"] == 0
+    spent = float(first.run_seconds.sum())
+    assert spent > 0.1 and again.attrs["values_seconds"] == pytest.approx(spent, rel=1e-12)
+    assert again.attrs["sweep_seconds"] < 0.1 * spent    # this run only loaded them
+    printed = f"in {spent:.1f} s of computation"
+    assert printed in out and printed in capsys.readouterr().out
+
+
+def test_continuation_is_a_deprecated_alias_of_follow(osc):
+    kw = dict(params=dict(OSC, Omega=0.7, e=-5.0), transient=5, record=4, lyapunov=False, grazing=False,
+              error_sample=0, progress=False)
+    with pytest.warns(DeprecationWarning, match="follow"):
+        old = sweep(osc, "Omega", [0.7, 0.8], mode="continuation", **kw)
+    new = sweep(osc, "Omega", [0.7, 0.8], mode="follow", **kw)
+    assert old.attrs["mode"] == new.attrs["mode"] == "follow" and list(old.branch.values) == ["up", "down"]
+    np.testing.assert_array_equal(old.x.values, new.x.values)
 
 
 def test_netcdf_round_trip_is_lossless(tmp_path):
@@ -194,6 +261,7 @@ def test_map_step_error_follows_the_tolerance_on_a_non_periodic_value():
         est[tol] = ds.attrs
     assert int(ds.class_code.values.ravel()[0]) in (2, 3)     # not periodic
     assert np.isnan(est[1e-11]["error_map_points_rel"])       # no periodic value sampled
+    assert np.isnan(est[1e-11]["error_impact_time_s"])        # no contact time compared: unmeasured, not 0
     for tol, a in est.items():
         assert 0 < a["error_map_step_rel"] < 300 * tol, (tol, a["error_map_step_rel"])
     assert est[1e-7]["error_map_step_rel"] > 100 * est[1e-11]["error_map_step_rel"]
@@ -221,6 +289,7 @@ def test_a_still_converging_transient_is_extended_until_it_decides(osc):
     # the decaying free oscillation (w_d ~ w0) nearly repeats every 7 samples of T = 2 pi / 0.7,
     # the best candidate; its distance decays at the analytic rate per period
     assert float(short.convergence_rate) == pytest.approx(rate, rel=1e-3)
+    assert int(short.period) == 0 and int(short.candidate_period) == 7  # not periodic: period 0
     assert int(short.transient_used) == 20
     long = sweep(osc, "Omega", [0.7], max_transient=1000, **args).isel(branch=0, Omega=0)
     assert CLASS_LABELS[int(long.class_code)] == "periodic-no-impact" and int(long.period) == 1
@@ -251,23 +320,23 @@ def test_killed_sweep_keeps_completed_values_and_resumes(tmp_path):
     proc = subprocess.Popen([sys.executable, "-c", KILL_SCRIPT.format(args=repr(args)), str(path)])
     try:
         deadline = time.monotonic() + 60
-        while len(list(parts.glob("*.pkl"))) < 2 and time.monotonic() < deadline and proc.poll() is None:
+        while _completed(parts) < 2 and time.monotonic() < deadline and proc.poll() is None:
             time.sleep(0.01)
     finally:
         os.kill(proc.pid, signal.SIGKILL)
         proc.wait()
-    done = sorted(parts.glob("*.pkl"))
-    if not 2 <= len(done) < 8:
-        pytest.skip(f"the kill came too late to test a resume ({len(done)} values done)")
-    assert not path.exists()  # a .tmp cut by the kill may remain: only whole .pkl parts count
+    done = _completed(parts)
+    if not 2 <= done < 8:
+        pytest.skip(f"the kill came too late to test a resume ({done} values done)")
+    assert not path.exists()  # a .tmp cut by the kill may remain: only whole .nc parts count
     seen = []
-    original = SweepPoint.run_many
+    original = ValueJob.run_many
     try:
-        SweepPoint.run_many = lambda self, vals: seen.extend(vals) or original(self, vals)
+        ValueJob.run_many = lambda self, vals: seen.extend(vals) or original(self, vals)
         resumed = sweep("thesis-1dof", "relay_hz", np.linspace(4, 9, 8), path=path, **args)
     finally:
-        SweepPoint.run_many = original
-    assert len(seen) == 8 - len(done)
+        ValueJob.run_many = original
+    assert len(seen) == 8 - done
     fresh = sweep("thesis-1dof", "relay_hz", np.linspace(4, 9, 8), **args)
     for name in ("x", "v", "i", "z", "impact_t", "impact_velocity", "class_code", "min_gap", "n_impacts"):
         np.testing.assert_allclose(resumed[name].values, fresh[name].values, rtol=0, atol=1e-12, equal_nan=True)
@@ -288,7 +357,19 @@ def test_grazing_of_an_impacting_orbit_where_a_new_impact_is_born(osc):
     g = float(ds.grazing_value[0])
     assert 0.42 < g < 0.44 and float(ds.grazing_clearance[0]) < 1e-4
     d = np.array([2e-3, 4e-3, 8e-3])
-    down = sweep(osc, "Omega", np.append(g + d, 0.44), mode="continuation", grazing=False, **kw).sel(branch="down")
+    down = sweep(osc, "Omega", np.append(g + d, 0.44), mode="follow", grazing=False, **kw).sel(branch="down")
     assert list(down.impacts_per_period.values) == [5] * 4 and list(down.period.values) == [1] * 4
     root = min(np.roots(np.polyfit(d, down.min_flight_gap.values[:3], 2)), key=abs)
     assert abs(root) < 20 * xtol  # measured 3.5e-6 (quadratic fit error)
+
+
+def test_resume_refuses_parts_of_another_format(tmp_path):
+    """Parts written by an older bifurc (pickles, manifest format 2) are not read as today's."""
+    import json
+    parts = tmp_path / "old.nc.parts"
+    parts.mkdir()
+    (parts / "manifest.json").write_text(json.dumps({"parts_format": 2, "mode": "independent"}))
+    (parts / "independent-000000.pkl").write_bytes(b"\x80\x04N.")
+    with pytest.raises(maps.ParameterError, match="format version 2"):
+        sweep("thesis-1dof", "relay_hz", [5.0], transient=1, record=3, progress=False, path=tmp_path / "old.nc")
+    assert (parts / "independent-000000.pkl").exists()     # nothing lost

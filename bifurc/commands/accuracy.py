@@ -23,7 +23,7 @@ def _parse_floats(text, what):
 
 
 def register(subparsers):
-    from ..accuracy import DEFAULT_LADDERS
+    from ..verification.accuracy import DEFAULT_LADDERS
     p = subparsers.add_parser(NAME, help="error against run time: toolkit vs scipy and fixed-step RK4",
                               description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--scene", default="thesis-1dof", help="scene name (default thesis-1dof)")
@@ -51,7 +51,7 @@ def register(subparsers):
 
 
 def run(args) -> int:
-    from ..accuracy import DEFAULT_LADDERS, plot_work_precision, work_precision
+    from ..verification.accuracy import DEFAULT_LADDERS, plot_work_precision, work_precision
     methods = [m.strip() for m in args.methods.split(",") if m.strip()]
     ladders = {}
     for m in methods:

@@ -19,10 +19,13 @@ def register(subparsers):
     p.add_argument("--record", type=int, default=100, help="relay periods recorded per value")
     p.add_argument("--max-transient", type=int, default=None,
                    help="extend the transient of values still converging, up to this many relay periods")
-    p.add_argument("--mode", choices=("independent", "continuation"), default="independent")
+    p.add_argument("--mode", choices=("independent", "follow"), default="independent",
+                   help="independent: every value from x0; follow: each value from the previous one's final "
+                        "state, up then down")
     p.add_argument("--max-period", type=int, default=16, help="largest period detected (default 16)")
     p.add_argument("--no-lyapunov", action="store_true", help="skip Lyapunov exponents (faster)")
-    p.add_argument("--workers", type=int, default=1, help="worker processes (independent mode)")
+    p.add_argument("--workers", type=int, default=None,
+                   help="worker processes (independent mode; default: every available core, at least 16 values each)")
     p.add_argument("--batch-size", type=int, default=4,
                    help="values integrated together in heyoka's batch mode (SIMD lanes; default 4; "
                         "1: one value at a time)")
@@ -52,9 +55,11 @@ def run(args) -> int:
     codes = ds.class_code.values.ravel()
     counts = ", ".join(f"{CLASS_LABELS[c]} {int((codes == c).sum())}" for c in range(len(CLASS_LABELS))
                        if (codes == c).any())
-    print(f"{ds.attrs['scene']}: {args.param} {args.start:g}..{args.stop:g} ({args.n} values, {args.mode}) in "
-          f"{ds.attrs['sweep_seconds']:.1f} s: {counts}; {_grazing_text(ds)}")
     a = ds.attrs
+    resumed = f", {a['resumed_values']} resumed" if a["resumed_values"] else ""
+    print(f"{a['scene']}: {args.param} {args.start:g}..{args.stop:g} ({args.n} values, {args.mode}) in "
+          f"{a['values_seconds']:.1f} s of computation ({a['sweep_seconds']:.1f} s wall this run{resumed}): "
+          f"{counts}; {_grazing_text(ds)}")
     if "error_map_points_rel" in a:
         print(f"  error estimate (tol/100): one map step {a.get('error_map_step_rel', float('nan')):.1e} relative; "
               f"whole re-runs of periodic values: map points {a['error_map_points_rel']:.1e}, impact times "

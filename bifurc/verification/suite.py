@@ -396,7 +396,7 @@ def _stick_sentence(r) -> str:
 
 def write_report(ds: xr.Dataset, folder) -> Path:
     """Write ``stability.md`` and ``stability.nc`` into ``folder``."""
-    from .storage_io import write_netcdf_atomic
+    from ..storage_io import write_netcdf_atomic
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     write_netcdf_atomic(ds, folder / "stability.nc")

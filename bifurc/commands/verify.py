@@ -1,16 +1,16 @@
-"""`bifurc stability`: the numerical stability suite, a markdown report and a dataset."""
+"""`bifurc verify`: the numerical stability suite, a markdown report and a dataset."""
 
 
 def register(subparsers):
-    p = subparsers.add_parser("stability", help="numerical stability suite on stiff and extreme cases")
+    p = subparsers.add_parser("verify", help="numerical stability suite on stiff and extreme cases")
     p.add_argument("--quick", action="store_true", help="the reduced suite (a few minutes)")
     p.add_argument("--case", action="append", default=None, help="run only this case (repeatable)")
-    p.add_argument("-o", "--output", default="out/stability", help="output folder")
+    p.add_argument("-o", "--output", default="out/verify", help="output folder")
     p.set_defaults(func=run)
 
 
 def run(args) -> int:
-    from ..stability import VERDICTS, run_suite, write_report
+    from ..verification.suite import VERDICTS, run_suite, write_report
     ds = run_suite(quick=args.quick, names=args.case)
     path = write_report(ds, args.output)
     verdicts = [VERDICTS[int(v)] for v in ds.verdict.values]

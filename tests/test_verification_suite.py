@@ -7,7 +7,7 @@ from scipy.integrate import solve_ivp
 
 import maps
 from bifurc.cli import main
-from bifurc.stability import CASES, QUICK, VERDICTS, run_case, run_suite
+from bifurc.verification.suite import CASES, QUICK, VERDICTS, run_case, run_suite
 
 
 @pytest.fixture(scope="module")
@@ -97,8 +97,8 @@ def test_non_finite_state_is_a_reported_failure_not_a_crash_nor_a_nan():
     assert not np.isnan(ds.x.values).any()
 
 
-def test_stability_command_writes_report_and_dataset(tmp_path, capsys):
-    assert main(["stability", "--case", "stuck-held", "--case", "thrown-out", "-o", str(tmp_path)]) == 0
+def test_verify_command_writes_report_and_dataset(tmp_path, capsys):
+    assert main(["verify", "--case", "stuck-held", "--case", "thrown-out", "-o", str(tmp_path)]) == 0
     text = (tmp_path / "stability.md").read_text()
     assert "| stuck-held |" in text and "escaped (escaped)" in text
     assert "[2/2] thrown-out ... escaped" in capsys.readouterr().err

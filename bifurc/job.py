@@ -1,0 +1,224 @@
+"""The work for one parameter value: orbit, classification, Lyapunov exponent, as a ValueResult.
+
+:class:`ValueJob` is picklable, so it runs in any worker process (:mod:`bifurc.executor`);
+calling it with a value returns a :class:`ValueResult`, whose fields are named as the
+sweep dataset's variables (:mod:`bifurc.schema`).
+"""
+from __future__ import annotations
+
+import math
+import time as _time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from maps.poincare import StroboscopicMap
+
+from .classify import DECAY_RATE, classify_orbit, lyapunov_threshold, state_scale
+from .codes import ClassCode, Status
+from .lyapunov import exponent_from_stretch, largest_lyapunov
+from .scene import resolve_scene
+
+__all__ = ["ValueJob", "ValueResult"]
+
+_MAPS: dict = {}
+
+
+@dataclass
+class ValueResult:
+    """Everything computed at one parameter value (arrays padded to the job's record and impact sizes).
+
+    Units: gaps [m], speeds [m/s], times [s], ``lyapunov`` [1/relay period], ``run_seconds`` [s].
+    """
+
+    value: float
+    points: np.ndarray                      # (record + 1, states) stroboscopic samples, NaN after an escape
+    n_recorded: int                         # relay periods actually recorded
+    class_code: ClassCode
+    period: int                             # period n of the orbit in relay periods (0: not periodic)
+    candidate_period: int                   # period of the best recurrence candidate (0: none)
+    impacts_per_period: int                 # impacts per period m (-1: not periodic)
+    recurrence: float                       # scaled recurrence distance at the candidate period
+    convergence_rate: float                 # fitted per-period decay of that distance
+    lyapunov: float                         # NaN: not computed
+    forcing_period: int                     # forcing period in relay periods (0: incommensurate)
+    impacts_per_step: np.ndarray            # (record,) contacts per recorded period, -1: not reached
+    min_gap_per_step: np.ndarray            # (record,)
+    min_impact_speed_per_step: np.ndarray   # (record,)
+    min_gap: float
+    min_flight_gap: float
+    min_impact_speed: float
+    impact_t: np.ndarray                    # (max_impacts,) NaN-padded
+    impact_velocity: np.ndarray
+    impact_phase: np.ndarray
+    impact_penetration: np.ndarray
+    impact_duration: np.ndarray
+    n_impacts: int
+    status: Status
+    failure_time: float
+    failure: str
+    n_steps: int
+    transient_used: int
+    run_seconds: float                      # time spent on this value (a batch's share, plus its own extension)
+    final_state: np.ndarray
+    final_flags: dict
+
+    @property
+    def label(self) -> str:
+        """Class label, e.g. "periodic-no-impact"."""
+        return ClassCode(self.class_code).label
+
+    @property
+    def end_state(self):
+        """``(final_state, final_flags)``: the start of a value that follows this one."""
+        return self.final_state, self.final_flags
+
+
+@dataclass(frozen=True)
+class ValueJob:
+    """The work for one parameter value (picklable, so it runs in any worker process).
+
+    Calling it with a value returns a :class:`ValueResult`: the recorded orbit, its
+    impacts, clearance, classification and run time.
+    """
+
+    scene: object  # scene name, or a HybridSystem (runs in this process only)
+    param: str
+    params: dict
+    options: dict = field(default_factory=dict)   # circuit, ac_sign
+    x0: dict = field(default_factory=dict)
+    transient: int = 300
+    record: int = 100
+    tol: float = 1e-10
+    max_period: int = 16
+    rtol: float = 1e-6
+    atol: float = 1e-9
+    lyapunov: bool = True
+    lyapunov_steps: int = 100
+    max_impacts: int = 400
+    max_transient: int | None = None  # extend a still-converging transient up to this [relay periods]
+    batch_size: int = 4               # SIMD lanes of run_many (heyoka batch mode); 1: scalar path
+
+    def warm(self) -> StroboscopicMap:
+        """The process-wide map for this scene structure and tolerance (compiled once)."""
+        sc, _ = resolve_scene(self.scene, self.params, **self.options)
+        key = (sc.options if sc.options is not None else id(sc.system), self.tol)
+        if key not in _MAPS:
+            _MAPS[key] = StroboscopicMap(sc if sc.options is not None else sc.system, self.params, tol=self.tol)
+        return _MAPS[key]
+
+    def x0_state(self):
+        sc, _ = resolve_scene(self.scene, self.params, **self.options)
+        return sc.system.state_vector(sc.initial_state(**self.x0))
+
+    def __call__(self, value, start=None) -> ValueResult:
+        """Orbit and class at ``param = value``; ``start = (state, flags)`` overrides x0."""
+        smap = self.warm()
+        smap.set_params(**dict(self.params, **{self.param: float(value)}))
+        y0, flags = (self.x0_state(), None) if start is None else start
+        clock = _time.perf_counter()
+        o = smap.orbit(y0, self.record, transient=self.transient, flags=flags)
+        return self._complete(value, smap, o, clock)
+
+    def _lyapunov_needed(self, o, cls) -> bool:
+        return self.lyapunov and o.status == "ok" and not ClassCode(cls["code"]).periodic
+
+    def _lyapunov_scale(self, o):
+        return state_scale(o.points, self.atol)
+
+    def _classify(self, o, **kw):
+        return classify_orbit(o.points, o.impacts_per_step, max_period=self.max_period, rtol=self.rtol,
+                              atol=self.atol, status=o.status, **kw)
+
+    def _complete(self, value, smap, o, clock, lyap=None, seconds=None, cls=None) -> ValueResult:
+        """Classification (integrating on while still converging, up to ``max_transient``), the
+        Lyapunov exponent where not periodic (``lyap``: already computed along ``o``), packing.
+        ``cls``: ``o``'s classification without an exponent, if already made.  The value's run
+        time is the time since ``clock``, plus ``seconds`` already spent on it (a batch's share)."""
+        used, steps = self.transient, o.n_steps
+        cls = self._classify(o) if cls is None else cls
+        limit = self.max_transient if self.max_transient is not None else self.transient
+        while self._extends(o, cls, used):  # still converging: integrate on
+            extra = max(1, min(used, limit - used))  # doubling, up to the limit
+            o = smap.orbit(o.final_state, self.record, transient=extra, flags=o.final_flags,
+                           t0=smap.sample_time(used + self.record) - smap.sample_time(0))
+            used, steps, lyap = used + self.record + extra, steps + o.n_steps, None
+            cls = self._classify(o)
+        if self._lyapunov_needed(o, cls):
+            if lyap is None:
+                scale = self._lyapunov_scale(o)
+                if self.lyapunov_steps <= self.record:      # along the recorded window
+                    lyap = exponent_from_stretch(smap.stretch([o.points[:self.lyapunov_steps + 1]], [{}], k0=[used],
+                                                              scales=[scale], method="scalar")[0])
+                else:                                        # two trajectories after it
+                    lyap = largest_lyapunov(smap.step, o.final_state, self.lyapunov_steps, scale=scale,
+                                            k0=used + self.record)
+            cls = self._classify(o, lyapunov=lyap, lyap_tol=lyapunov_threshold(self.lyapunov_steps))
+        else:
+            lyap = math.nan
+        return self._pack(value, smap, o, cls, lyap, used, steps, _time.perf_counter() - clock + (seconds or 0.0))
+
+    def _pack(self, value, smap, o, cls, lyap, used, steps, seconds) -> ValueResult:
+        cap = self.max_impacts
+        pad = lambda a: np.concatenate([a[:cap], np.full(max(0, cap - a.size), np.nan)])  # noqa: E731
+        n_rec = o.points.shape[0]
+        points = np.full((self.record + 1, o.points.shape[1]), np.nan)
+        points[:n_rec] = o.points
+        gaps = o.min_gap_per_step
+        speeds = o.min_impact_speed_per_step
+        periodic = ClassCode(cls["code"]).periodic
+        return ValueResult(
+            value=float(value), points=points, n_recorded=n_rec - 1, class_code=ClassCode(cls["code"]),
+            period=cls["period"] if periodic else 0, candidate_period=cls["period"],
+            impacts_per_period=cls["impacts_per_period"], recurrence=cls["recurrence"],
+            convergence_rate=cls["convergence_rate"], lyapunov=lyap, forcing_period=smap.forcing_period_steps,
+            impacts_per_step=np.pad(o.impacts_per_step, (0, self.record - o.n), constant_values=-1),
+            min_gap_per_step=np.pad(gaps, (0, self.record - gaps.size), constant_values=np.nan),
+            min_impact_speed_per_step=np.pad(speeds, (0, self.record - speeds.size), constant_values=np.nan),
+            min_gap=float(np.min(gaps)) if gaps.size else math.nan,
+            min_flight_gap=float(np.min(o.min_flight_gap_per_step)) if gaps.size else math.nan,
+            min_impact_speed=float(np.min(speeds)) if speeds.size else math.nan,  # NaN: no step recorded
+            impact_t=pad(o.impact_t), impact_velocity=pad(o.impact_velocity), impact_phase=pad(o.impact_phase),
+            impact_penetration=pad(o.impact_penetration), impact_duration=pad(o.impact_duration),
+            n_impacts=o.impact_t.size, status=Status.of(o.status), failure_time=o.failure_time,
+            failure=o.failure, n_steps=steps, transient_used=used, run_seconds=seconds,
+            final_state=o.final_state, final_flags=o.final_flags)
+
+    # ----- many values at once: the map's ensemble method ----------------------------
+    def run_many(self, values) -> list:
+        """The same results as ``[self(v) for v in values]`` (up to round-off), with the orbits
+        and the Lyapunov companions of every value integrated together by the map
+        (:meth:`maps.StroboscopicMap.orbits` and ``stretch``: heyoka's batch mode where the
+        engine supports the system).  Values that are still converging and may integrate on
+        (``max_transient``) continue one by one."""
+        smap = self.warm()
+        if self.batch_size == 1:
+            return [self(v) for v in values]
+        clock = _time.perf_counter()
+        over = [dict(self.params, **{self.param: float(v)}) for v in values]
+        orbits = smap.orbits(over, self.x0_state(), self.record, transient=self.transient,
+                             batch_size=self.batch_size)
+        classes = [self._classify(o) for o in orbits]
+        lyap = [None] * len(values)
+        want = [i for i, (o, cls) in enumerate(zip(orbits, classes))
+                if self._lyapunov_needed(o, cls) and self.lyapunov_steps <= self.record and not self._extends(o, cls)]
+        if want:
+            stretch = smap.stretch([orbits[i].points[:self.lyapunov_steps + 1] for i in want],
+                                   [over[i] for i in want], k0=[self.transient] * len(want),
+                                   scales=[self._lyapunov_scale(orbits[i]) for i in want],
+                                   batch_size=self.batch_size)
+            for i, st in zip(want, stretch):
+                lyap[i] = exponent_from_stretch(st)
+        share = (_time.perf_counter() - clock) / max(1, len(values))
+        out = []
+        for v, p, o, lam, cls in zip(values, over, orbits, lyap, classes):
+            smap.set_params(**p)
+            out.append(self._complete(v, smap, o, _time.perf_counter(), lyap=lam, seconds=share, cls=cls))
+        return out
+
+    def _extends(self, o, cls, used=None) -> bool:
+        """Still converging and allowed to integrate on (``max_transient``) after ``used`` periods."""
+        used = self.transient if used is None else used
+        limit = self.max_transient if self.max_transient is not None else self.transient
+        return (o.status == "ok" and cls["label"] == "not-converged" and used < limit
+                and cls["convergence_rate"] < DECAY_RATE)

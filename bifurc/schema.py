@@ -1,0 +1,160 @@
+"""One table of stored variables: name, dims, dtype, fill value, units, long_name (CF attributes).
+
+Dimension names in a row are literal except ``PARAM``, which stands for the swept
+parameter's dimension (named after the parameter, e.g. ``relay_hz``).  The sweep
+dataset (:mod:`bifurc.storage`) is assembled from :data:`SWEEP`, :data:`SWEEP_COORDS` and
+:data:`GRAZING`; :data:`HISTORY` describes the time-history dataset of
+:func:`maps.simulate.simulate` (which still writes its own attributes: ``maps`` never
+imports ``bifurc``; the test suite checks the two agree).  :func:`param_attrs` is the one
+writer of the ``param_<name>`` attributes.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .codes import ClassCode, Status, flag_attrs
+from .grazing import GRAZING_GAP, GRAZING_SPEED
+
+__all__ = ["Variable", "PARAM", "SWEEP", "SWEEP_COORDS", "GRAZING", "HISTORY", "param_attrs", "state_variable"]
+
+#: placeholder for the swept parameter's dimension
+PARAM = "<param>"
+
+
+@dataclass(frozen=True)
+class Variable:
+    """One stored variable: its dims (``PARAM``: the swept parameter), dtype, fill and CF attributes."""
+
+    name: str
+    dims: tuple
+    dtype: type
+    fill: object
+    units: str
+    long_name: str
+    extra: tuple = ()        # further attributes, e.g. flag_values / flag_meanings, as (key, value) pairs
+
+    def dims_for(self, param: str) -> tuple:
+        return tuple(param if d == PARAM else d for d in self.dims)
+
+    def attrs(self, **override) -> dict:
+        return {"units": self.units, "long_name": self.long_name, **dict(self.extra), **override}
+
+    def empty(self, sizes: dict, param: str) -> np.ndarray:
+        """An array of this variable filled with ``fill``, shaped by ``sizes`` {dim: length}."""
+        return np.full(tuple(sizes[d] for d in self.dims_for(param)), self.fill, dtype=self.dtype)
+
+
+def _flags(codes) -> tuple:
+    return tuple(flag_attrs(codes).items())
+
+
+def _yes_no(meanings: str) -> tuple:
+    """CF flags of a 0/1 variable, ``meanings`` = "<0> <1>"."""
+    return (("flag_values", np.array([0, 1], np.int8)), ("flag_meanings", meanings))
+
+
+V = ("branch", PARAM)
+#: per-value variables of a sweep; each is also a field of :class:`bifurc.job.ValueResult`
+SWEEP = [
+    Variable("class_code", V, np.int8, -1, "1", "orbit class (-1: not computed)", _flags(ClassCode)),
+    Variable("period", V, np.int16, -1, "relay periods", "period n of the orbit (0: not periodic)"),
+    Variable("candidate_period", V, np.int16, -1, "relay periods",
+             "period of the best recurrence candidate, at which recurrence and convergence_rate are measured "
+             "(0: none)"),
+    Variable("impacts_per_period", V, np.int16, -1, "1", "impacts per period m (-1: not periodic)"),
+    Variable("recurrence", V, float, np.nan, "1",
+             "max recurrence distance at the (candidate) period / (rtol*scale + atol)"),
+    Variable("convergence_rate", V, float, np.nan, "1", "fitted per-period decay factor of the recurrence distance"),
+    Variable("lyapunov", V, float, np.nan, "1/relay period", "largest Lyapunov exponent of the map (NaN: not computed)"),
+    Variable("forcing_period", V, np.int32, 0, "relay periods",
+             "period of the forcing in relay periods (0: incommensurate)"),
+    Variable("impacts_per_step", V + ("step",), np.int32, -1, "1",
+             "contacts in each recorded relay period (-1: not reached)"),
+    Variable("min_gap_per_step", V + ("step",), float, np.nan, "m",
+             "smallest gap to the stop in each recorded relay period (< 0: penetration)"),
+    Variable("min_impact_speed_per_step", V + ("step",), float, np.nan, "m s-1",
+             "slowest impact in each recorded relay period (inf: no impact)"),
+    Variable("min_gap", V, float, np.nan, "m", "smallest gap to the stop over the record (< 0: penetration)"),
+    Variable("min_flight_gap", V, float, np.nan, "m",
+             "lowest free-flight minimum of the gap over the record (inf: none; NaN: no period recorded)"),
+    Variable("min_impact_speed", V, float, np.nan, "m s-1",
+             "slowest impact over the record (inf: no impact; NaN: no period recorded, see status)"),
+    Variable("impact_t", V + ("impact",), float, np.nan, "s", "contact onset time"),
+    Variable("impact_velocity", V + ("impact",), float, np.nan, "m s-1",
+             "gap rate at contact onset (< 0: toward the stop)"),
+    Variable("impact_phase", V + ("impact",), float, np.nan, "1", "relay phase of the contact onset, in [0, 1)"),
+    Variable("impact_penetration", V + ("impact",), float, np.nan, "m", "maximum penetration of the contact"),
+    Variable("impact_duration", V + ("impact",), float, np.nan, "s",
+             "contact duration (NaN: padding, or still in contact at the record's end)"),
+    Variable("n_impacts", V, np.int32, -1, "1", "contacts in the recorded window (may exceed the impact dimension)"),
+    Variable("status", V, np.int8, -1, "1", "integration status (-1: not computed)", _flags(Status)),
+    Variable("failure_time", V, float, np.nan, "s", "time of escape or failure (NaN: none)"),
+    Variable("n_steps", V, np.int64, 0, "1", "Taylor steps"),
+    Variable("transient_used", V, np.int64, -1, "relay periods",
+             "transient discarded before the record (extended where still converging)"),
+    Variable("run_seconds", V, float, np.nan, "s",
+             "time spent computing the value (a resumed value keeps the time of the run that computed it)"),
+]
+#: derived from the per-value minima (bifurc.grazing.grazing_flag), not a ValueResult field
+GRAZING_FLAG = Variable("grazing_flag", V, np.int8, 0, "1",
+                        f"orbit grazes: slowest impact < {GRAZING_SPEED} m/s or clearance < {GRAZING_GAP} m",
+                        _yes_no("clear grazing"))
+
+SWEEP_COORDS = [
+    Variable("branch", ("branch",), str, "", "1", "sweep branch"),
+    Variable("sample", ("sample",), np.int64, 0, "1", "stroboscopic sample k: t = (transient_used + k) / relay_hz"),
+    Variable("step", ("step",), np.int64, 0, "1", "recorded relay period"),
+    Variable("impact", ("impact",), np.int64, 0, "1", "contact in the record"),
+]
+
+G = ("grazing",)
+#: located grazing values (units of the swept parameter written where PARAM units are known)
+GRAZING = [
+    Variable("grazing", G, np.int64, 0, "1", "located grazing"),
+    Variable("grazing_value", G, float, np.nan, PARAM, "{param} at which the orbit grazes the stop (bisection)"),
+    Variable("grazing_xtol", G, float, np.nan, PARAM, "width of the final bisection bracket"),
+    Variable("grazing_impacts_below", G, np.int32, -1, "1", "contacts in the record at the lower neighbour"),
+    Variable("grazing_impacts_above", G, np.int32, -1, "1", "contacts in the record at the upper neighbour"),
+    Variable("grazing_clearance", G, float, np.nan, "m",
+             "clearance of the orbit at the bracket's end with fewer impacts"),
+    Variable("grazing_impact_speed", G, float, np.nan, "m s-1", "slowest impact at the bracket's end with more impacts"),
+    Variable("grazing_confirmed", G, np.int8, 0, "1",
+             "the clearance shrank with the bracket (1: a graze; 0: the branch with fewer impacts ends otherwise, "
+             "a jump)", _yes_no("jump graze")),
+    Variable("grazing_branch", G, str, "", "1", "sweep branch"),
+]
+
+T = ("time",)
+I = ("impact",)  # noqa: E741
+#: the time-history dataset of maps.simulate (states: their own units and long names, see state_variable)
+HISTORY = [
+    Variable("time", T, float, np.nan, "s", "time"),
+    Variable("relay", T, np.int8, 0, "1", "relay state (1: AC solenoid powered)", _yes_no("off on")),
+    Variable("contact", T, np.int8, 0, "1", "bar in contact with the stop", _yes_no("off on")),
+    Variable("rig_stuck", T, np.int8, 0, "1", "rig stuck in the soil", _yes_no("slipping stuck")),
+    Variable("impact", I, np.int64, 0, "1", "contact number in time order"),
+    Variable("impact_time", I, float, np.nan, "s", "contact onset time"),
+    Variable("impact_velocity", I, float, np.nan, "m s-1", "bar velocity relative to the stop at contact onset"),
+    Variable("impact_penetration", I, float, np.nan, "m", "maximum penetration into the stop"),
+    Variable("impact_duration", I, float, np.nan, "s", "contact duration (NaN: still in contact at the end)"),
+    Variable("progression", T, float, np.nan, "m", "forward progression into the soil x2(0) - x2(t)"),
+]
+
+
+def state_variable(state, dims, suffix="") -> Variable:
+    """The row of a state component (its own unit and long name), e.g. stroboscopic samples."""
+    return Variable(state.name, dims, float, np.nan, state.unit, state.long_name + suffix)
+
+
+def param_attrs(table, system, skip=()) -> dict:
+    """``param_<name>``, ``param_<name>_units`` and ``param_<name>_source`` attributes of the
+    parameter values ``table`` {name: (value, provenance)} of ``system``, except ``skip``."""
+    attrs = {}
+    for k, (v, src) in table.items():
+        if k not in skip:
+            attrs[f"param_{k}"] = v
+            attrs[f"param_{k}_units"] = system.parameter(k).unit
+            attrs[f"param_{k}_source"] = src
+    return attrs

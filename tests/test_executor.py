@@ -1,0 +1,95 @@
+"""The executor (serial, process pool, Dask) runs the product's sweep: same numbers everywhere.
+
+Independent truths: a fresh time history (maps.run_scene) for the recorded map points, the
+recorded window's bounds for the contact times, and the serial loop for every parallel path.
+"""
+import numpy as np
+import pytest
+
+import maps
+from bifurc.executor import MIN_VALUES_PER_WORKER, chunks_of, default_workers, map_values
+from bifurc.sweep import sweep
+
+STATES = ("x", "v", "i", "z")
+KW = dict(preset="matlab-listing", params={"V": 90.0}, transient=15, record=8, progress=False, grazing=False,
+          error_sample=0)
+VALUES = np.linspace(2.0, 10.0, 6)
+
+
+@pytest.fixture(scope="module")
+def serial():
+    return sweep("thesis-1dof", "relay_hz", VALUES, workers=1, **KW)
+
+
+def _assert_same(a, b):
+    for k in a.data_vars:
+        if k == "run_seconds":
+            continue
+        x, y = a[k].values, b[k].values
+        if x.dtype.kind == "f":
+            fin = np.isfinite(x)
+            assert np.array_equal(fin, np.isfinite(y)) and np.array_equal(x[~fin], y[~fin], equal_nan=True), k
+            assert np.max(np.abs(x[fin] - y[fin]), initial=0.0) <= 1e-12 * max(1.0, np.max(np.abs(x[fin]), initial=0.0)), k
+        else:
+            assert np.array_equal(x, y), k
+
+
+def test_recorded_points_are_the_state_at_whole_relay_periods(serial):
+    """A fresh time history to t = (transient + k) / W gives the recorded map point k."""
+    p = maps.get_scene("thesis-1dof").parameters(preset="matlab-listing", V=90.0)
+    for j in (0, 4):
+        W = VALUES[j]
+        for k in (0, 5):
+            run = maps.run_scene("thesis-1dof", (KW["transient"] + k) / W, params=dict(p, relay_hz=W), tol=1e-10)
+            got = np.array([serial[s].values[0, j, k] for s in STATES])
+            assert np.max(np.abs(got - run.y) / np.maximum(1, abs(run.y))) < 1e-8
+
+
+def test_impacts_lie_in_the_recorded_window(serial):
+    W = serial["relay_hz"].values[None, :, None]
+    t = serial["impact_t"].values
+    ok = np.isfinite(t)
+    lo = np.broadcast_to(KW["transient"] / W, t.shape)
+    hi = np.broadcast_to((KW["transient"] + KW["record"]) / W, t.shape)
+    assert ok.any() and np.all((t[ok] >= lo[ok]) & (t[ok] <= hi[ok]))
+    assert np.all(serial["impact_velocity"].values[ok] < 0)
+    assert np.array_equal(ok.sum(axis=-1), np.minimum(serial["n_impacts"].values, t.shape[-1]))
+
+
+def test_process_pool_equals_serial(serial):
+    par = sweep("thesis-1dof", "relay_hz", VALUES, workers=2, chunk_size=2, **KW)
+    _assert_same(serial, par)
+    assert par.attrs["workers"] == 2 and serial.attrs["workers"] == 1
+
+
+@pytest.fixture(scope="module")
+def cluster():
+    distributed = pytest.importorskip("dask.distributed")
+    with distributed.LocalCluster(n_workers=2, processes=True, threads_per_worker=1,
+                                  dashboard_address=None) as c:
+        yield c
+
+
+def test_dask_local_cluster_equals_serial(serial, cluster):
+    from dask.distributed import Client
+    with Client(cluster) as client:
+        a = sweep("thesis-1dof", "relay_hz", VALUES, scheduler=client, chunk_size=3, **KW)
+    b = sweep("thesis-1dof", "relay_hz", VALUES, scheduler=cluster.scheduler_address, **KW)
+    _assert_same(serial, a)
+    _assert_same(serial, b)
+
+
+def test_map_values_returns_grid_order_and_streams_every_chunk():
+    seen = []
+    out = map_values(abs, np.arange(-7.0, 0.0), chunk_size=3, on_chunk=lambda a, r: seen.append((a, list(r))))
+    assert out == [7.0, 6.0, 5.0, 4.0, 3.0, 2.0, 1.0]
+    assert seen == [(0, [7.0, 6.0, 5.0]), (3, [4.0, 3.0, 2.0]), (6, [1.0])]
+    assert chunks_of(7, 3) == [(0, 3), (3, 6), (6, 7)]
+
+
+def test_default_workers_use_every_core_once_there_is_work_for_them(monkeypatch):
+    import bifurc.executor as ex
+    monkeypatch.setattr(ex, "available_cores", lambda: 8)
+    assert default_workers(1000) == 8
+    assert default_workers(3 * MIN_VALUES_PER_WORKER) == 3
+    assert default_workers(MIN_VALUES_PER_WORKER - 1) == 1
