@@ -33,6 +33,7 @@ class ValueResult:
 
     value: float
     points: np.ndarray                      # (record + 1, states) stroboscopic samples, NaN after an escape
+    point_flags: np.ndarray                 # (record + 1, flags) the mode at each sample, NaN after an escape
     n_recorded: int                         # relay periods actually recorded
     class_code: ClassCode
     period: int                             # period n of the orbit in relay periods (0: not periodic)
@@ -164,11 +165,14 @@ class ValueJob:
         n_rec = o.points.shape[0]
         points = np.full((self.record + 1, o.points.shape[1]), np.nan)
         points[:n_rec] = o.points
+        point_flags = np.full((self.record + 1, len(o.flag_names)), np.nan)
+        if o.point_flags is not None:
+            point_flags[:n_rec] = o.point_flags
         gaps = o.min_gap_per_step
         speeds = o.min_impact_speed_per_step
         periodic = ClassCode(cls["code"]).periodic
         return ValueResult(
-            value=float(value), points=points, n_recorded=n_rec - 1, class_code=ClassCode(cls["code"]),
+            value=float(value), points=points, point_flags=point_flags, n_recorded=n_rec - 1, class_code=ClassCode(cls["code"]),
             period=cls["period"] if periodic else 0, candidate_period=cls["period"],
             impacts_per_period=cls["impacts_per_period"], recurrence=cls["recurrence"],
             convergence_rate=cls["convergence_rate"], lyapunov=lyap, forcing_period=smap.forcing_period_steps,

@@ -17,7 +17,7 @@ import numpy as np
 from .codes import ClassCode, Status, flag_attrs
 from .grazing import GRAZING_GAP, GRAZING_SPEED
 
-__all__ = ["Variable", "PARAM", "SWEEP", "SWEEP_COORDS", "GRAZING", "HISTORY", "param_attrs", "state_variable"]
+__all__ = ["Variable", "PARAM", "SWEEP", "SWEEP_COORDS", "GRAZING", "HISTORY", "param_attrs", "state_variable", "flag_variable"]
 
 #: placeholder for the swept parameter's dimension
 PARAM = "<param>"
@@ -146,6 +146,13 @@ HISTORY = [
 def state_variable(state, dims, suffix="") -> Variable:
     """The row of a state component (its own unit and long name), e.g. stroboscopic samples."""
     return Variable(state.name, dims, float, np.nan, state.unit, state.long_name + suffix)
+
+
+def flag_variable(flag: str, dims) -> Variable:
+    """The row of a mode flag at each sample (``flag_<name>``): with the states, the exact
+    hybrid state a map step restarts from."""
+    return Variable(f"flag_{flag}", dims, float, np.nan, "1",
+                    f"mode flag {flag!r} at the stroboscopic sample (NaN: not reached)")
 
 
 def param_attrs(table, system, skip=()) -> dict:

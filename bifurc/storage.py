@@ -20,7 +20,7 @@ from . import __version__
 from .classify import lyapunov_threshold
 from .codes import Status
 from .grazing import GRAZING_GAP, GRAZING_SPEED, grazing_flag
-from .schema import GRAZING, GRAZING_FLAG, PARAM, SWEEP, SWEEP_COORDS, param_attrs, state_variable
+from .schema import GRAZING, GRAZING_FLAG, PARAM, SWEEP, SWEEP_COORDS, flag_variable, param_attrs, state_variable
 from .storage_io import write_netcdf_atomic
 
 __all__ = ["to_dataset", "add_grazing", "add_error_estimate", "save", "load", "STATUS_MEANINGS"]
@@ -55,6 +55,10 @@ def to_dataset(results, values, job, scene, table, mode) -> xr.Dataset:
         var = state_variable(st, ("branch", PARAM, "sample"), ", stroboscopic")
         ds[st.name] = (var.dims_for(par), _stack(results, branches, var, sizes, par, lambda r: r.points[:, j]),
                        var.attrs())
+    for j, name in enumerate(system.flag_names):     # the mode at each sample: a step restarts exactly there
+        var = flag_variable(name, ("branch", PARAM, "sample"))
+        ds[var.name] = (var.dims_for(par), _stack(results, branches, var, sizes, par,
+                                                  lambda r: r.point_flags[:, j]), var.attrs())
     for var in SWEEP:
         ds[var.name] = (var.dims_for(par), _stack(results, branches, var, sizes, par), var.attrs())
     ds[GRAZING_FLAG.name] = grazing_flag(ds.min_gap, ds.min_impact_speed).astype(np.int8).assign_attrs(

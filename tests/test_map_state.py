@@ -78,3 +78,23 @@ def test_resets_are_traced_or_refused_by_name():
     ball = _ball(lambda s: opaque)
     with pytest.raises(ParameterError, match="guard 'floor' cannot be traced"):
         ball.reset_expressions(ball.guards[0])
+
+
+def test_a_sweep_stores_the_mode_at_every_sample_and_a_step_restarts_from_it():
+    """chatter-relay as a one-value sweep: the stored states and flags at sample k restart the map
+    and reproduce sample k + 1, including samples where the bar is stuck."""
+    from bifurc.sweep import sweep
+    case = next(c for c in CASES if c.name == "chatter-relay")
+    sc, p = case_scene(case)
+    ds = sweep(sc.system, "V", [p["V"]], params=p, x0=case.x0, transient=0, record=4, progress=False,
+               grazing=False, error_sample=0, lyapunov=False).isel(branch=0, V=0)
+    names = sc.system.flag_names
+    assert all(f"flag_{n}" in ds for n in names) and ds["flag_stuck_bar"].attrs["units"] == "1"
+    assert (ds["flag_stuck_bar"].values[1:] == 1).all()
+    smap = maps.StroboscopicMap(sc.system, p, tol=float(ds.attrs["tol"]))
+    for k in range(4):
+        y = np.array([float(ds[s].values[k]) for s in sc.system.state_names])
+        flags = {n: float(ds[f"flag_{n}"].values[k]) for n in names}
+        nxt = smap.step(HybridState(y, flags), k)
+        want = np.array([float(ds[s].values[k + 1]) for s in sc.system.state_names])
+        assert np.max(np.abs(nxt.y - want) / np.maximum(1, np.abs(want))) < 1e-10
