@@ -227,6 +227,10 @@ class StroboscopicMap:
         at a fixed sample index and start time), the numerical rank of J (deficient where a
         settle projection, e.g. a bar that sticks, collapses directions) and the step's
         signature (its events' roles in order).
+
+        With respect to ``relay_hz`` the derivative is taken at a fixed sample index k, with all
+        three effects: the start t_k = k/W and end t_{k+n} move, every relay switch n/(2W) moves,
+        and so does the mains phase at the start (the forcing is in absolute time).
         """
         y, flags, _ = _split(state)
         params = tuple(params)
@@ -240,10 +244,14 @@ class StroboscopicMap:
         run.record_events = True
         run.reset(self.sample_time(k, t0), y, flags)
         run.budget.per_period = self.max_events_per_period
-        for j in range(1, int(validate_value("n", n, 1, 1e6)) + 1):
+        n = int(validate_value("n", n, 1, 1e6))
+        for j in range(1, n + 1):
             run.advance(self.sample_time(k + j, t0))
             run.budget.new_period()
-        Y = run.sensitivities
+        t1 = self.sample_time(k + n, t0)
+        moving = {} if self._rate(self.params) is None or "relay_hz" not in params else \
+            {"relay_hz": -(t1 - t0) / self.params["relay_hz"]}      # t_k = t0 + k / W
+        Y = run.end_time_term(t1, moving)
         n = Y.shape[0]
         J = Y[:, :n]
         sv = np.linalg.svd(J, compute_uv=False)

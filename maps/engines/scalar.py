@@ -75,10 +75,10 @@ class HybridRun:
         y0 = system.state_vector(x0)
         self.ta.time = _fp(t0, self.fp_type)
         self.ta.state[:self._n] = np.asarray(y0, dtype=_np_dtype(self.fp_type))
-        self._start_sensitivities()
         self.ta.reset_cooldowns()
         self.flags = tr.start_flags(system, t0, y0, self.params, flags)
         self._load_pars()
+        self._start_sensitivities(t0)
         self.events = []
         self.n_steps = self.n_switches = 0
         self.budget = tr.EventBudget(self.max_events, self.max_events_per_period)
@@ -96,8 +96,11 @@ class HybridRun:
     def _integrator(self, tol, fp_type):
         return self.system.integrator(tol, fp_type)
 
-    def _start_sensitivities(self):
+    def _start_sensitivities(self, t0):
         """Hook: a run that carries derivatives starts them here (see VariationalRun)."""
+
+    def _on_switch(self, sw, t, flags_before):
+        """Hook: a periodic switch at ``t`` has just changed the flags (see VariationalRun)."""
 
     @property
     def y(self) -> np.ndarray:
@@ -201,7 +204,9 @@ class HybridRun:
                     self.n_switches += 1
                     if sw is sys.switches[0] and n % 2 == 0:
                         self.budget.new_period()  # a new relay period begins
+                    flags_before = dict(self.flags)
                     self._set_flags({sw.flag: sw.value_for_index(n)}, t_sw)
+                    self._on_switch(sw, t_sw, flags_before)
                     self._apply(tr.settle(sys, t_sw, self.y, self.flags, self.params), t_sw)
                 continue
             code = int(outcome)
@@ -231,17 +236,17 @@ class VariationalRun(HybridRun):
     :func:`maps.transitions.saltation` at every state event, the projection's Jacobian where a
     settle transition projects the state.  Double precision; ``wrt`` names the parameters p.
 
-    Parameters that schedule switches (a relay frequency) are refused: their derivative needs
-    the switch instants' own terms."""
+    A switch frequency W among ``wrt`` (the relay's) moves every switch instant t_s = n/(2W):
+    each switch adds (f- - f+) dt_s/dW to its column, with dt_s/dW = -t_s/W, and a run started at
+    a switch instant t0 starts its column at f(t0, y0) t0/W (the start moves with the schedule).
+    The end time's own term belongs to the caller that fixes the end (the map: f(t1) dt1/dW)."""
 
     def __init__(self, system, params, x0, *, wrt: tuple = (), **kw):
         from ..variational import Derivatives
         self.wrt = tuple(wrt)
-        for sw in system.switches:
-            if sw.frequency in self.wrt:
-                raise ParameterError(f"derivatives with respect to the switch frequency {sw.frequency!r} are not "
-                                     f"available: the switch instants move with it")
         self.derivatives = Derivatives(system, self.wrt)
+        self._freq_cols = {sw.flag: len(system.states) + self.wrt.index(sw.frequency)
+                           for sw in system.switches if sw.frequency in self.wrt}
         super().__init__(system, params, x0, **kw)
 
     def _integrator(self, tol, fp_type):
@@ -250,9 +255,36 @@ class VariationalRun(HybridRun):
         from ..variational import variational_integrator
         return variational_integrator(self.system, tol, self.wrt)
 
-    def _start_sensitivities(self):
+    def _start_sensitivities(self, t0):
         n, m = self._n, len(self.wrt)
-        self.ta.state[n:] = np.hstack([np.eye(n), np.zeros((n, m))]).ravel()
+        Y = np.hstack([np.eye(n), np.zeros((n, m))])
+        if self._freq_cols:
+            f = self.derivatives.rhs(t0, self.y, self.params, self.flags)
+            for sw in self.system.switches:
+                col = self._freq_cols.get(sw.flag)
+                if col is not None:
+                    Y[:, col] = f * (t0 / self.params[sw.frequency])
+        self.ta.state[n:] = Y.ravel()
+
+    def _on_switch(self, sw, t, flags_before):
+        col = self._freq_cols.get(sw.flag)
+        if col is None:
+            return
+        d, y = self.derivatives, self.y
+        jump = d.rhs(t, y, self.params, flags_before) - d.rhs(t, y, self.params, self.flags)
+        Y = self.sensitivities
+        Y[:, col] += jump * (-t / self.params[sw.frequency])
+        self.ta.state[self._n:] = Y.ravel()
+
+    def end_time_term(self, t1: float, dt1: dict) -> np.ndarray:
+        """Sensitivities of the state at an end time t1 that moves with parameters: Y + f(t1) dt1/dp
+        for ``dt1`` {parameter: dt1/dp}."""
+        Y = self.sensitivities
+        if dt1:
+            f = self.derivatives.rhs(t1, self.y, self.params, self.flags)
+            for name, dt in dt1.items():
+                Y[:, self._n + self.wrt.index(name)] += f * dt
+        return Y
 
     @property
     def sensitivities(self) -> np.ndarray:
