@@ -17,7 +17,8 @@ import numpy as np
 from .codes import ClassCode, Status, flag_attrs
 from .grazing import GRAZING_GAP, GRAZING_SPEED
 
-__all__ = ["Variable", "PARAM", "SWEEP", "SWEEP_COORDS", "GRAZING", "HISTORY", "param_attrs", "state_variable", "flag_variable"]
+__all__ = ["Variable", "PARAM", "SWEEP", "SWEEP_COORDS", "GRAZING", "HISTORY", "param_attrs", "state_variable", "flag_variable",
+           "ORBIT", "ORBIT_SCALARS"]
 
 #: placeholder for the swept parameter's dimension
 PARAM = "<param>"
@@ -124,6 +125,32 @@ GRAZING = [
              "the clearance shrank with the bracket (1: a graze; 0: the branch with fewer impacts ends otherwise, "
              "a jump)", _yes_no("jump graze")),
     Variable("grazing_branch", G, str, "", "1", "sweep branch"),
+]
+
+N, MU, IMP = ("node",), ("multiplier",), ("impact",)
+#: a periodic orbit (bifurc.orbit): its strobe nodes, multipliers and impacts; states and flags per node
+#: come from state_variable / flag_variable with dims ("node",)
+ORBIT = [
+    Variable("multiplier_abs", MU, float, np.nan, "1", "modulus of the Floquet multiplier"),
+    Variable("multiplier_arg", MU, float, np.nan, "rad", "argument of the Floquet multiplier"),
+    Variable("signature", N, str, "", "1",
+             "roles of the events in the strobe period starting at the node, in order (comma-separated)"),
+    Variable("impact_time", IMP, float, np.nan, "s", "contact onset time within the orbit's period"),
+    Variable("impact_velocity", IMP, float, np.nan, "m s-1", "gap rate at contact onset (< 0: toward the stop)"),
+    Variable("impact_phase", IMP, float, np.nan, "1", "phase of the contact onset in the strobe period, in [0, 1)"),
+]
+ORBIT_SCALARS = [
+    Variable("period", (), np.int32, 0, "1", "period of the orbit in strobe periods (relay periods for relay scenes)"),
+    Variable("impacts_per_period", (), np.int32, -1, "1", "contacts in one period of the orbit"),
+    Variable("stable", (), np.int8, -1, "1", "all Floquet multipliers inside the unit circle", _yes_no("unstable stable")),
+    Variable("newton_residual", (), float, np.nan, "1",
+             "largest shooting residual at the solution, scaled per state component by the orbit's magnitude"),
+    Variable("multiplier_error", (), float, np.nan, "1",
+             "largest change of a multiplier when the orbit is solved again at tol/100 (NaN: not measured)"),
+    Variable("min_clearance", (), float, np.nan, "m",
+             "smallest distance to the stop over the orbit (< 0: penetration of a compliant stop)"),
+    Variable("min_flight_clearance", (), float, np.nan, "m", "lowest free-flight minimum of the gap (inf: none)"),
+    Variable("run_seconds", (), float, np.nan, "s", "time spent finding the orbit"),
 ]
 
 T = ("time",)

@@ -1,0 +1,179 @@
+"""Periodic orbits of a stroboscopic map, stable or unstable, with their Floquet multipliers.
+
+A period-n orbit of P (n strobe periods: relay periods for the relay scenes) solves
+P_{k0+n-1} o ... o P_{k0}(y) = y.  Single shooting over n periods multiplies the one-period
+Jacobians (spectral radius ~5 per relay period on thesis-1dof), so the solver shoots from
+every strobe sample: unknowns y_0 ... y_{n-1}, residuals r_j = P_{k0+j}(y_j) - y_{j+1 mod n},
+a block-cyclic Jacobian with the exact one-period Jacobians J_j (variational equations with
+saltation, :meth:`maps.StroboscopicMap.linearize`) on its diagonal and -I beside it.  Newton
+with a backtracking line search on the scaled residual.  Each node carries its mode (flags),
+taken from the previous iterate's step that ends there.
+
+The forcing of a relay scene repeats after q relay periods (``forcing_period_steps``): n must
+be a multiple of q.  The multipliers are the eigenvalues of J_{n-1} ... J_0 (the monodromy
+matrix at node 0).  The solver never returns an unconverged orbit: it says why it stopped
+(singular Jacobian, a transition signature that kept changing, residual stalled, iteration cap,
+the integration failing).
+"""
+from __future__ import annotations
+
+import math
+import time as _time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from maps.hybrid import HybridState, IntegrationFailure
+from maps.parameters import ParameterError, validate_value
+
+__all__ = ["PeriodicOrbit", "OrbitNotFound", "find_periodic_orbit"]
+
+
+class OrbitNotFound(RuntimeError):
+    """Newton did not converge to a periodic orbit; ``reason`` says why."""
+
+    def __init__(self, reason: str, iterations: int = 0, residual: float = math.nan):
+        super().__init__(reason)
+        self.reason, self.iterations, self.residual = reason, iterations, residual
+
+
+@dataclass
+class PeriodicOrbit:
+    """A converged periodic orbit of a stroboscopic map.
+
+    ``nodes[j]`` is the hybrid state at sample k0 + j (j < n); ``jacobians[j]`` the exact
+    one-period Jacobian there; ``signatures[j]`` the roles of the events of that period, in
+    order.  ``multipliers`` are the Floquet multipliers (eigenvalues of the monodromy matrix),
+    ``stable`` is max |multiplier| < 1.  ``residual`` is the largest scaled residual
+    |P(y_j) - y_{j+1}| / scale at the solution; ``conditioning`` compares the multiple-shooting
+    matrix with single shooting's (monodromy - I)."""
+
+    nodes: list
+    k0: int
+    period: int
+    jacobians: list
+    signatures: list
+    multipliers: np.ndarray
+    residual: float
+    iterations: int
+    scale: np.ndarray
+    conditioning: dict = field(default_factory=dict)
+    seconds: float = 0.0
+
+    @property
+    def stable(self) -> bool:
+        return bool(np.max(np.abs(self.multipliers)) < 1.0)
+
+    @property
+    def monodromy(self) -> np.ndarray:
+        M = np.eye(self.jacobians[0].shape[0])
+        for J in self.jacobians:
+            M = J @ M
+        return M
+
+    @property
+    def impacts_per_period(self) -> int:
+        return sum(sig.count("impact") for sig in self.signatures)
+
+
+def _scale(states, atol):
+    return np.maximum(np.max(np.abs(np.asarray(states)), axis=0), atol)
+
+
+def find_periodic_orbit(smap, start, period: int, *, k0: int = 0, tol: float = 1e-10, max_iter: int = 40,
+                        atol: float = 1e-9) -> PeriodicOrbit:
+    """Newton by multiple shooting for a period-``period`` orbit of ``smap`` through samples
+    k0 ... k0 + period - 1, from ``start`` (a :class:`~maps.hybrid.HybridState` or a bare state
+    at sample k0: the first guess of the nodes is the map's own iteration from it).
+
+    Converged when the largest residual, scaled per state component by the orbit's magnitude
+    (at least ``atol``), is below ``tol``.  Raises :class:`OrbitNotFound` with the reason
+    otherwise, and :class:`~maps.parameters.ParameterError` for a period that is not a multiple
+    of the forcing period q (or q = 0: the forcing never repeats).
+    """
+    n = int(validate_value("period", period, 1, 100_000))
+    q = smap.forcing_period_steps
+    if q == 0:
+        raise ParameterError("the forcing never repeats within 1000 strobe periods at these parameters (q = 0): "
+                             "no periodic orbit exists; choose a relay frequency with f_mains/relay_hz rational")
+    if n % q:
+        raise ParameterError(f"period = {n} strobe periods is not a multiple of the forcing period q = {q}: "
+                             f"periodic orbits here have periods {q}, {2 * q}, {3 * q}, ...")
+    y0 = start.y if isinstance(start, HybridState) else np.asarray(smap.system.state_vector(start), dtype=float)
+    if not np.all(np.isfinite(y0)):
+        raise ParameterError(f"the start state has a non-finite component: {y0}")
+    clock = _time.perf_counter()
+    nodes = [start if isinstance(start, HybridState) else HybridState(y0, None)]
+    try:
+        for j in range(n - 1):
+            nodes.append(smap.step(nodes[-1], k0 + j))
+    except IntegrationFailure as exc:
+        raise OrbitNotFound(f"the first guess fails to integrate: {exc}") from None
+    d = y0.size
+    scale = _scale([s.y for s in nodes], atol)
+    signatures_seen = []
+    best = math.inf
+    for it in range(max_iter + 1):
+        try:
+            lins = [smap.linearize(s, k0 + j) for j, s in enumerate(nodes)]
+        except (IntegrationFailure, ZeroDivisionError) as exc:
+            raise OrbitNotFound(f"iteration {it}: {exc}", it) from None
+        res = np.concatenate([(lins[j].state.y - nodes[(j + 1) % n].y) / scale for j in range(n)])
+        norm = float(np.max(np.abs(res)))
+        sig = [L.signature for L in lins]
+        signatures_seen.append(sig)
+        # the mode of each node: the flags its incoming step ends in
+        nodes = [HybridState(nodes[j].y, dict(lins[j - 1].state.flags)) for j in range(n)]
+        if norm < tol:
+            return _solution(nodes, lins, k0, n, norm, it, scale, clock)
+        if it == max_iter:
+            break
+        M = np.zeros((n * d, n * d))
+        for j, L in enumerate(lins):
+            M[j * d:(j + 1) * d, j * d:(j + 1) * d] = L.J / scale[:, None] * scale[None, :]
+            k = (j + 1) % n
+            M[j * d:(j + 1) * d, k * d:(k + 1) * d] -= np.eye(d)
+        cond = np.linalg.cond(M)
+        if not np.isfinite(cond) or cond > 1e14:
+            raise OrbitNotFound(f"singular Jacobian at iteration {it} (condition number {cond:.3g}): a fold, "
+                                f"a grazing or a stick makes the orbit degenerate", it, norm)
+        step = np.linalg.solve(M, -res).reshape(n, d) * scale
+        lam, accepted = 1.0, False
+        while lam >= 1.0 / 64:
+            trial = [HybridState(nodes[j].y + lam * step[j], nodes[j].flags) for j in range(n)]
+            try:
+                ends = [smap.step(s, k0 + j) for j, s in enumerate(trial)]
+                tn = max(float(np.max(np.abs((ends[j].y - trial[(j + 1) % n].y) / scale))) for j in range(n))
+            except IntegrationFailure:
+                tn = math.inf
+            if tn < (1 - 1e-4 * lam) * norm:
+                nodes, accepted = trial, True
+                break
+            lam /= 2
+        if not accepted:
+            changing = len({tuple(s) for s in signatures_seen[-3:]}) > 1
+            why = ("the transition signature keeps changing (an impact born or lost between iterates)"
+                   if changing else "the residual stalled: no step along the Newton direction reduces it")
+            raise OrbitNotFound(f"{why}; scaled residual {norm:.3g} after {it} iterations", it, norm)
+        best = min(best, norm)
+    changing = len({tuple(s) for s in signatures_seen[-3:]}) > 1
+    raise OrbitNotFound(f"no convergence in {max_iter} iterations (scaled residual {norm:.3g}"
+                        f"{'; the transition signature keeps changing' if changing else ''})", max_iter, norm)
+
+
+def _solution(nodes, lins, k0, n, norm, it, scale, clock) -> PeriodicOrbit:
+    Js = [L.J for L in lins]
+    orbit = PeriodicOrbit(nodes=nodes, k0=k0, period=n, jacobians=Js, signatures=[L.signature for L in lins],
+                          multipliers=np.array([]), residual=norm, iterations=it, scale=scale,
+                          seconds=_time.perf_counter() - clock)
+    M = orbit.monodromy
+    orbit.multipliers = np.linalg.eigvals(M)
+    d = M.shape[0]
+    big = np.zeros((n * d, n * d))
+    for j, J in enumerate(Js):
+        big[j * d:(j + 1) * d, j * d:(j + 1) * d] = J / scale[:, None] * scale[None, :]
+        k = (j + 1) % n
+        big[j * d:(j + 1) * d, k * d:(k + 1) * d] -= np.eye(d)
+    orbit.conditioning = {"multiple_shooting": float(np.linalg.cond(big)),
+                          "single_shooting": float(np.linalg.cond(M / scale[:, None] * scale[None, :] - np.eye(d)))}
+    return orbit
