@@ -5,7 +5,12 @@ import math
 
 from maps.parameters import ParameterError
 
-__all__ = ["locate_grazing"]
+__all__ = ["locate_grazing", "GRAZING_GAP", "GRAZING_SPEED"]
+
+#: an orbit grazes when its smallest clearance is below GRAZING_GAP [m] without contact,
+#: or its slowest impact is below GRAZING_SPEED [m/s]
+GRAZING_GAP = 1e-6
+GRAZING_SPEED = 1e-3
 
 
 def locate_grazing(signed_clearance, a: float, b: float, *, xtol: float) -> dict:

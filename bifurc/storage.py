@@ -15,8 +15,12 @@ import heyoka as hy
 import numpy as np
 import xarray as xr
 
+from maps.provenance import cf_attrs
+
 from .classify import CLASS_LABELS, FLAG_MEANINGS
-from .storage_io import write_netcdf_atomic
+from ._version import __version__
+from .files import write_netcdf
+from .grazing import GRAZING_GAP, GRAZING_SPEED
 
 __all__ = ["to_dataset", "add_grazing", "add_error_estimate", "save", "load", "STATUS_MEANINGS"]
 
@@ -36,16 +40,16 @@ def _stack(results, branches, key, fill=np.nan, dtype=float):
 
 #: per-value variables: (name, result key, per recorded step?, fill, dtype, units, long_name)
 _PER_VALUE = [
-    ("period", "class_period", False, -1, np.int16, "relay periods", "period n of the orbit (0: not periodic)"),
+    ("period", "class_period", False, -1, np.int16, "1", "period n of the orbit in relay periods (0: not periodic)"),
     ("impacts_per_period", "class_impacts_per_period", False, -1, np.int16, "1",
      "impacts per period m (-1: not periodic)"),
     ("recurrence", "class_recurrence", False, np.nan, float, "1",
      "max recurrence distance at the (candidate) period / (rtol*scale + atol)"),
     ("convergence_rate", "class_convergence_rate", False, np.nan, float, "1",
      "fitted per-period decay factor of the recurrence distance"),
-    ("lyapunov", "lyapunov", False, np.nan, float, "1/relay period",
-     "largest Lyapunov exponent of the map (NaN: not computed)"),
-    ("forcing_period", "forcing_period_steps", False, 0, np.int32, "relay periods",
+    ("lyapunov", "lyapunov", False, np.nan, float, "1",
+     "largest Lyapunov exponent of the map, per relay period (NaN: not computed)"),
+    ("forcing_period", "forcing_period_steps", False, 0, np.int32, "1",
      "period of the forcing in relay periods (0: incommensurate)"),
     ("impacts_per_step", "impacts_per_step", True, -1, np.int32, "1",
      "contacts in each recorded relay period (-1: not reached)"),
@@ -63,7 +67,6 @@ _PER_VALUE = [
 
 def to_dataset(results, values, point, scene, table, mode) -> xr.Dataset:
     """Assemble per-value result dicts (see SweepPoint) into the sweep Dataset."""
-    import bifurc
     branches = list(results)
     system = scene.system
     par = point.param
@@ -86,7 +89,6 @@ def to_dataset(results, values, point, scene, table, mode) -> xr.Dataset:
     for name, key, step, fill, dtype, units, long_name in _PER_VALUE:
         ds[name] = (dims + (("step",) if step else ()), _stack(results, branches, key, fill, dtype),
                     {"units": units, "long_name": long_name})
-    from .sweep import GRAZING_GAP, GRAZING_SPEED
     graze = ((ds.min_impact_speed < GRAZING_SPEED) | ((ds.min_gap >= 0) & (ds.min_gap < GRAZING_GAP)))
     ds["grazing_flag"] = graze.astype(np.int8).assign_attrs(
         units="1", long_name=f"orbit grazes: slowest impact < {GRAZING_SPEED} m/s or clearance < {GRAZING_GAP} m",
@@ -107,7 +109,8 @@ def to_dataset(results, values, point, scene, table, mode) -> xr.Dataset:
                           {"units": "s", "long_name": "time of escape or failure (NaN: none)"})
     ds["n_steps"] = (dims, _stack(results, branches, "n_steps", 0, np.int64), {"units": "1", "long_name": "Taylor steps"})
     ds["transient_used"] = (dims, _stack(results, branches, "transient_used", -1, np.int64), {
-        "units": "relay periods", "long_name": "transient discarded before the record (extended where still converging)"})
+        "units": "1", "long_name": "transient discarded before the record, in relay periods (extended where still "
+        "converging)"})
     ds["run_seconds"] = (dims, _stack(results, branches, "seconds"), {"units": "s", "long_name": "wall time of the value"})
     o = scene.options
     circuit = (o.circuit if o.ac else "none") if o is not None else "none"
@@ -122,9 +125,9 @@ def to_dataset(results, values, point, scene, table, mode) -> xr.Dataset:
         "circuit": circuit, "ac_sign": ac_sign,
         "initial_state": ", ".join(f"{k}={v:g}" for k, v in scene.initial_state(**point.x0).items()),
         "grazing_gap_threshold_m": _graze_gap(), "grazing_speed_threshold_m_s": _graze_speed(),
-        "bifurc_version": bifurc.__version__, "heyoka_version": hy.__version__, "numpy_version": np.__version__,
+        "bifurc_version": __version__, "heyoka_version": hy.__version__, "numpy_version": np.__version__,
         "xarray_version": xr.__version__, "python_version": platform.python_version(),
-        "Conventions": "CF-1.10",
+        **cf_attrs(f"scene {scene.name}, {par} sweep ({mode})"),
     })
     for k, (v, src) in table.items():
         if k != par:
@@ -140,12 +143,10 @@ def _lyap_thr(n):
 
 
 def _graze_gap():
-    from .sweep import GRAZING_GAP
     return GRAZING_GAP
 
 
 def _graze_speed():
-    from .sweep import GRAZING_SPEED
     return GRAZING_SPEED
 
 
@@ -200,9 +201,9 @@ def add_error_estimate(ds, sample_values, point_err, time_err, counts_differ, se
     return ds
 
 
-def save(ds: xr.Dataset, path) -> None:
-    """Write atomically to netCDF (a reader never sees a partial file)."""
-    write_netcdf_atomic(ds, path)
+def save(ds: xr.Dataset, path, overwrite: bool = False) -> None:
+    """Write atomically to compressed netCDF (a reader never sees a partial file; see bifurc.files)."""
+    write_netcdf(ds, path, overwrite=overwrite)
 
 
 #: attributes that are arrays: netCDF gives a one-element array back as a scalar

@@ -20,24 +20,25 @@ import pickle
 import shutil
 import sys
 import time as _time
+import warnings
 from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 
 import numpy as np
 
+from maps.hybrid import validate_tol
 from maps.parameters import ParameterError, validate_value
 from maps.poincare import StroboscopicMap, orbit_from_periods
+from maps.provenance import recorded
 from maps.simulate import resolve
 
 from .classify import DECAY_RATE, classify_orbit, lyapunov_threshold
+from .files import guarded_output
+from .grazing import GRAZING_GAP, GRAZING_SPEED
 from .lyapunov import companion_start, largest_lyapunov, lyapunov_along
 
 __all__ = ["SweepPoint", "sweep", "GRAZING_GAP", "GRAZING_SPEED"]
 
-#: an orbit grazes when its smallest clearance is below GRAZING_GAP [m] without contact,
-#: or its slowest impact is below GRAZING_SPEED [m/s]
-GRAZING_GAP = 1e-6
-GRAZING_SPEED = 1e-3
 STATUS = ("ok", "escaped", "failed")
 #: a located sign change counts as a graze when the bisection shrank the clearance at its end
 #: with fewer impacts to this fraction of its value at the grid neighbour
@@ -291,8 +292,13 @@ class _Parts:
     def load(self, branch, i):
         f = self._file(branch, i)
         if f.exists():
-            with open(f, "rb") as fh:
-                return pickle.load(fh)
+            try:
+                with open(f, "rb") as fh:
+                    return pickle.load(fh)
+            except Exception as exc:  # noqa: BLE001 - a damaged part is recomputed, not fatal
+                warnings.warn(f"discarding unreadable part {f.name} ({type(exc).__name__}); recomputing it",
+                              stacklevel=2)
+                f.unlink()
         return None
 
     def save(self, branch, i, result):
@@ -306,18 +312,20 @@ class _Parts:
         shutil.rmtree(self.dir, ignore_errors=True)
 
 
+@recorded("bifurc.sweep")
+@guarded_output("path")
 def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independent", transient=300,
           record=100, preset=None, params=None, x0=None, tol=1e-10, max_period=16, rtol=1e-6, atol=1e-9,
           lyapunov=True, grazing=True, grazing_xtol=None, circuit=None, ac_sign=None, path=None,
           progress=True, workers=1, scheduler=None, error_sample=3, max_transient=None, batch_size=4,
-          chunk_size=None):
+          chunk_size=None, overwrite=False):
     """Sweep ``param`` over ``values``; returns an xarray Dataset (see bifurc.storage).
 
     Parameters
     ----------
     scene, preset, params, x0, circuit, ac_sign : as in maps.simulate.
     param : str
-        Parameter name to sweep (MODEL.md section 6), e.g. "relay_hz", "V", "k".
+        Parameter name to sweep (``bifurc params`` lists them), e.g. "relay_hz", "V", "k".
     values : array
         The grid (ascending for continuation).
     mode : "independent" or "continuation".
@@ -335,7 +343,9 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
         Locate grazing values between neighbours where the orbit changes between
         impacting and not impacting, by bisection to ``grazing_xtol``.
     path : str
-        netCDF output; completed values are kept in ``<path>.parts/`` for resuming.
+        netCDF output; completed values are kept in ``<path>.parts/`` for resuming.  An existing
+        file is refused unless ``overwrite``; a second sweep into the same path at once is refused
+        (``<path>.lock``, POSIX only; see :mod:`bifurc.files`).
     workers, scheduler : parallel execution of independent sweeps (bifurc.parallel).
     batch_size : int
         Values integrated together in heyoka's batch mode (SIMD lanes, :mod:`bifurc.batch`);
@@ -357,6 +367,7 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
     for v in values:  # every value must be valid before anything runs
         sc.parameters(preset, **dict(params or {}, **{param: v}))
     sc.initial_state(**(x0 or {}))
+    tol = validate_tol(tol)
     transient = int(validate_value("transient", transient, 0, 1e7))
     record = int(validate_value("record", record, 3, 1e7))
     if scheduler is None:
@@ -428,7 +439,7 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
     if error_sample:
         ds = storage.add_error_estimate(ds, **_error_estimate(results, values, point, branches[0], error_sample))
     if path:
-        storage.save(ds, path)
+        storage.save(ds, path, overwrite=True)  # refused earlier unless overwrite (guarded_output)
         parts.remove()
     return ds
 

@@ -1,0 +1,140 @@
+"""Output files: nothing overwritten silently, one writer at a time, resume, umask, compression."""
+import os
+import stat
+
+import netCDF4
+import numpy as np
+import pytest
+import xarray as xr
+
+import bifurc
+import maps
+from bifurc.cli import main
+from bifurc.files import OutputBusy, guarded_output, output_lock, write_netcdf
+from bifurc.sweep import SweepPoint
+
+ARGS = dict(preset="matlab-listing", params={"V": 90}, transient=10, record=6, lyapunov=False, grazing=False,
+            error_sample=0, progress=False, batch_size=1)
+VALUES = np.array([5.0, 7.0, 9.0])
+DIAGRAM = ["diagram", "--preset", "matlab-listing", "--set", "V=90", "--from", "5", "--to", "9", "--n", "3",
+           "--transient", "10", "--record", "6", "--no-lyapunov", "--quiet"]
+
+
+def test_api_and_cli_refuse_an_existing_output_and_replace_it_when_told(tmp_path, capsys):
+    path = tmp_path / "d.nc"
+    path.write_text("not mine to replace")
+    with pytest.raises(FileExistsError, match="overwrite=True"):
+        bifurc.sweep("thesis-1dof", "relay_hz", VALUES, path=path, **ARGS)
+    assert main([*DIAGRAM, "-o", str(path)]) == 2
+    assert "--force" in capsys.readouterr().err
+    assert path.read_text() == "not mine to replace" and not (tmp_path / "d.nc.parts").exists()
+    ds = bifurc.sweep("thesis-1dof", "relay_hz", VALUES, path=path, overwrite=True, **ARGS)
+    assert bifurc.load(path).class_code.shape == ds.class_code.shape == (1, 3)
+    png = tmp_path / "d.png"
+    png.write_text("x")
+    with pytest.raises(FileExistsError):
+        bifurc.plot_diagram(ds, png)
+    bifurc.plot_diagram(ds, png, overwrite=True)
+    assert png.stat().st_size > 10_000
+    with pytest.raises(FileExistsError):
+        write_netcdf(ds, path)
+    assert main([*DIAGRAM, "-o", str(path), "--force"]) == 0
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["d.nc", "d.png"]  # no lock, parts or temporary left
+
+
+def test_a_refused_argument_leaves_no_parts_that_block_the_corrected_command(tmp_path, capsys):
+    out = tmp_path / "d.nc"
+    assert main([*DIAGRAM, "-o", str(out), "--tol", "-1"]) == 2
+    assert not (tmp_path / "d.nc.parts").exists()
+    assert main([*DIAGRAM, "-o", str(out), "--tol", "1e-9"]) == 0
+    assert out.exists()
+
+
+def test_a_failure_after_the_parts_folder_is_made_removes_it_only_if_nothing_was_completed(tmp_path):
+    @guarded_output("path")
+    def work(path, completed, overwrite=False):
+        parts = tmp_path / (path.name + ".parts")
+        parts.mkdir()
+        (parts / "manifest.json").write_text("{}")
+        if completed:
+            (parts / "independent-000000.pkl").write_bytes(b"done")
+        raise maps.ParameterError("refused")
+
+    with pytest.raises(maps.ParameterError):
+        work(tmp_path / "a.nc", False)
+    assert not (tmp_path / "a.nc.parts").exists()
+    with pytest.raises(maps.ParameterError):
+        work(tmp_path / "b.nc", True)
+    assert (tmp_path / "b.nc.parts" / "independent-000000.pkl").exists()  # completed work is kept
+
+
+def test_a_second_writer_of_the_same_output_is_refused_at_once(tmp_path, capsys):
+    out = tmp_path / "d.nc"
+    with output_lock(out):
+        assert (tmp_path / "d.nc.lock").exists()
+        with pytest.raises(OutputBusy, match="another run"):
+            bifurc.sweep("thesis-1dof", "relay_hz", VALUES, path=out, **ARGS)
+        assert main([*DIAGRAM, "-o", str(out)]) == 2
+        err = capsys.readouterr().err
+        assert "being written by another run" in err and len(err.strip().splitlines()) == 1
+        with output_lock(tmp_path / "other.nc"):  # another output is free
+            pass
+    assert not (tmp_path / "d.nc.lock").exists() and not out.exists()
+    with output_lock(out):  # released: taken again
+        pass
+
+
+def test_a_corrupt_part_is_discarded_with_a_warning_and_recomputed(tmp_path, monkeypatch):
+    path = tmp_path / "d.nc"
+    original = SweepPoint.__call__
+    calls = []
+
+    def interrupt_after_two(self, value, start=None):
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+        calls.append(value)
+        return original(self, value, start)
+
+    monkeypatch.setattr(SweepPoint, "__call__", interrupt_after_two)
+    with pytest.raises(KeyboardInterrupt):
+        bifurc.sweep("thesis-1dof", "relay_hz", VALUES, path=path, **ARGS)
+    parts = sorted((tmp_path / "d.nc.parts").glob("independent-*.pkl"))
+    assert len(parts) == 2
+    parts[0].write_bytes(parts[0].read_bytes()[:20])  # truncated, as by a full disk
+    monkeypatch.setattr(SweepPoint, "__call__", lambda self, v, s=None: calls.append(v) or original(self, v, s))
+    calls.clear()
+    with pytest.warns(UserWarning, match="discarding unreadable part independent-000000"):
+        resumed = bifurc.sweep("thesis-1dof", "relay_hz", VALUES, path=path, **ARGS)
+    assert calls == [5.0, 9.0]  # the damaged value and the missing one
+    fresh = bifurc.sweep("thesis-1dof", "relay_hz", VALUES, **ARGS)
+    np.testing.assert_allclose(resumed.x.values, fresh.x.values, rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize("umask, mode", [(0o022, 0o644), (0o077, 0o600), (0o002, 0o664)])
+def test_files_get_the_mode_of_the_users_umask(tmp_path, umask, mode):
+    ds = xr.Dataset({"a": ("n", np.arange(3.0), {"units": "m"})})
+    old = os.umask(umask)
+    try:
+        write_netcdf(ds, tmp_path / "a.nc")
+        bifurc.files.write_text(tmp_path / "a.md", "text")
+    finally:
+        os.umask(old)
+    assert stat.S_IMODE((tmp_path / "a.nc").stat().st_mode) == mode
+    assert stat.S_IMODE((tmp_path / "a.md").stat().st_mode) == mode
+
+
+def test_netcdf_files_are_zlib_compressed_and_read_back_unchanged(tmp_path):
+    t = np.linspace(0, 1, 20_000)
+    ds = xr.Dataset({"x": ("time", np.round(np.sin(40 * t), 3), {"units": "m"}),
+                     "flag": ("time", (t > 0.5).astype(np.int8), {"units": "1"})},
+                    coords={"time": ("time", t, {"units": "s"})})
+    write_netcdf(ds, tmp_path / "z.nc")
+    ds.to_netcdf(tmp_path / "plain.nc")
+    with netCDF4.Dataset(tmp_path / "z.nc") as nc:
+        for name in ("x", "flag", "time"):
+            assert nc.variables[name].filters()["zlib"], name
+    assert (tmp_path / "z.nc").stat().st_size < 0.5 * (tmp_path / "plain.nc").stat().st_size
+    back = xr.load_dataset(tmp_path / "z.nc")
+    for name in ("x", "flag", "time"):
+        np.testing.assert_array_equal(back[name].values, ds[name].values)
+        assert back[name].dtype == ds[name].dtype
