@@ -4,7 +4,6 @@ import sys
 from pathlib import Path
 
 import numpy as np
-import pytest
 
 from bifurc.cli import main
 
@@ -25,7 +24,7 @@ def test_diagram_and_report_commands(tmp_path, capsys):
     text = md.read_text()
     assert "| 7 | independent |" in text and "Class counts" in text and "error estimate" in text
     assert main(["report", str(tmp_path / "missing.nc")]) == 2
-    assert main(["diagram", "--from", "2", "--to", "3", "--n", "2", "--param", "bogus", "-o", str(nc)]) == 2
+    assert main(["diagram", "--from", "2", "--to", "3", "--n", "2", "--param", "bogus", "-o", str(tmp_path / "e.nc")]) == 2
     assert "bogus" in capsys.readouterr().err
 
 
@@ -46,14 +45,17 @@ def test_quick_study_compares_every_frequency(tmp_path):
         assert (tmp_path / f).exists()
 
 
-def test_notebook_executes(tmp_path):
-    nbformat = pytest.importorskip("nbformat")
-    nbclient = pytest.importorskip("nbclient")
+def test_notebook_executes_and_shows_its_figures(tmp_path):
+    """The kernel runs with Jupyter's inline backend (CI exports MPLBACKEND=Agg, which a user's
+    notebook does not have): if any import switched the backend, no figure would reach the outputs."""
+    import nbclient
+    import nbformat
     nb = nbformat.read(ROOT / "notebooks" / "explore_thesis_1dof.ipynb", as_version=4)
+    assert "sys.path" not in nb.cells[1].source  # the public API is importable as is
     env_before = dict(os.environ)
     os.environ["BIFURC_NOTEBOOK_OUT"] = str(tmp_path)
     os.environ["PYTHONPATH"] = os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")])
-    os.environ["MPLBACKEND"] = "Agg"
+    os.environ["MPLBACKEND"] = "module://matplotlib_inline.backend_inline"
     try:
         nbclient.NotebookClient(nb, timeout=600, kernel_name="python3",
                                 resources={"metadata": {"path": str(ROOT / "notebooks")}}).execute()
@@ -63,3 +65,9 @@ def test_notebook_executes(tmp_path):
     outputs = "".join(o.get("text", "") for c in nb.cells if c.cell_type == "code" for o in c.get("outputs", []))
     assert "toolkit" in outputs and " 6 " in outputs and "impacts" in outputs
     assert (tmp_path / "matlab-listing-90V.nc").exists()
+    images = [o for c in nb.cells if c.cell_type == "code" for o in c.get("outputs", [])
+              if "image/png" in o.get("data", {})]
+    assert len(images) >= 2  # the diagram and the time history
+    tables = [o for c in nb.cells if c.cell_type == "code" for o in c.get("outputs", [])
+              if "text/html" in o.get("data", {}) and "relay_hz" in o["data"]["text/html"]]
+    assert tables  # ds.bifurc.table() rendered
