@@ -72,9 +72,9 @@ def test_t_end_is_the_same_run_as_periods(tmp_path, reference):
 
 
 def test_time_history_figure_draws_the_dataset(reference):
-    """Into a caller's Axes: the displacement curve is x in mm, one marker per impact on the stop."""
+    """Into a caller's Axes (returned): the displacement curve is x in mm, one marker per impact on the stop."""
     fig, ax = plt.subplots()
-    assert plot_time_history(reference, ax=ax) is fig
+    assert plot_time_history(reference, ax=ax) is ax
     curve, stop_marks = ax.lines[0], ax.lines[-1]
     np.testing.assert_allclose(curve.get_ydata(), 1e3 * reference.x.values, rtol=1e-15)
     np.testing.assert_allclose(stop_marks.get_xdata(), reference.impact_time.values, rtol=0)
