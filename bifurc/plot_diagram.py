@@ -8,9 +8,10 @@ from .files import check_figure_output, save_figure
 
 __all__ = ["plot_diagram", "CLASS_COLOURS"]
 
-#: Okabe & Ito's colour-blind-safe palette (distinct under protanopia, deuteranopia, tritanopia)
+#: Okabe & Ito's colour-blind-safe palette, a darker grey for not-converged (distinct from the grazing
+#: purple under deuteranopia); tests/test_api.py checks every pair under simulated colour blindness
 CLASS_COLOURS = {"periodic": "#0072B2", "periodic-no-impact": "#56B4E9", "quasi-periodic": "#009E73",
-                 "chaotic": "#D55E00", "not-converged": "#999999", "escaped": "#E69F00", "failed": "#000000"}
+                 "chaotic": "#D55E00", "not-converged": "#666666", "escaped": "#E69F00", "failed": "#000000"}
 GRAZE = "#CC79A7"
 
 

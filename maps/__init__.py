@@ -5,6 +5,7 @@ Public API: scenes (:func:`get_scene`, :func:`scene_names`), time histories
 :class:`HybridRun`, :class:`Guard`, :class:`PeriodicSwitch`, :class:`State`) and
 named parameters (:class:`Parameter`, :class:`ParameterError`).
 """
+from ._version import __version__
 from .examples import forced_oscillator_with_stop
 from .hybrid import (Escaped, EventRecord, Guard, HybridRun, HybridSystem, IntegrationFailure,
                      PeriodicSwitch, State)
@@ -15,7 +16,7 @@ from .presets import PRESETS
 from .scenes import SCENES, Scene, get_scene, scene_names
 from .simulate import resolve, run_scene, simulate
 
-__all__ = ["Escaped", "EventRecord", "Guard", "HybridRun", "HybridSystem", "IntegrationFailure",
+__all__ = ["__version__", "Escaped", "EventRecord", "Guard", "HybridRun", "HybridSystem", "IntegrationFailure",
            "PeriodicSwitch", "State", "PARAMETERS", "ModelOptions", "build_system", "Parameter",
            "ParameterError", "PRESETS", "SCENES", "Scene", "get_scene", "scene_names", "resolve",
            "run_scene", "simulate", "forced_oscillator_with_stop", "StroboscopicMap", "ImpactMap",
