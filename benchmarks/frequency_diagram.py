@@ -268,7 +268,7 @@ def main(argv=None):
     for label, batch in (("scalar", False), ("batch", True)):
         t0 = time.perf_counter()
         ds = sweep_dataset(make_task(args.transient, args.record, batch=batch), values, workers=args.workers,
-                           path=args.output)
+                           path=args.output, overwrite=True)  # the batch run replaces the scalar one
         walls[label] = time.perf_counter() - t0
         print(f"diagram ({label} task): {args.n} values, {args.workers} workers: {walls[label]:.2f} s wall "
               f"(sum of per-value times {float(ds['run_seconds'].sum()):.1f} s; "
@@ -281,7 +281,8 @@ def main(argv=None):
         t0 = time.perf_counter()
         sw = sweep("thesis-1dof", "relay_hz", values, preset="matlab-listing", params={"V": 90.0},
                    transient=args.transient, record=args.record, tol=1e-10, workers=args.workers,
-                   lyapunov=not args.no_lyapunov, progress=False, path=args.output and args.output + ".sweep.nc")
+                   lyapunov=not args.no_lyapunov, progress=False, path=args.output and args.output + ".sweep.nc",
+                   overwrite=True)
         walls["bifurc.sweep"] = time.perf_counter() - t0
         codes = sw["class_code"].values.ravel()
         print(f"bifurc.sweep (orbits + classification{'' if args.no_lyapunov else ' + Lyapunov'} + grazing + "

@@ -34,6 +34,7 @@ import numpy as np
 
 from maps.hybrid import Escaped, HybridRun, IntegrationFailure
 from maps.parameters import ParameterError
+from maps.provenance import cf_attrs
 from maps.scenes import get_scene
 
 if TYPE_CHECKING:  # xarray is imported where used: worker processes start faster
@@ -296,7 +297,8 @@ def _skeleton(task: StroboscopicTask, values) -> xr.Dataset:
     ds["n_steps"] = (task.param, np.zeros(nv, np.int64), {"units": "1", "long_name": "Taylor steps"})
     ds["run_seconds"] = (task.param, np.zeros(nv), {"units": "s", "long_name": "wall time of this value"})
     ds.attrs.update({"scene": sc.name, "swept_parameter": task.param, "transient_periods": task.transient,
-                     "recorded_periods": task.record, "tol": task.tol})
+                     "recorded_periods": task.record, "tol": task.tol,
+                     **cf_attrs(f"scene {sc.name}, {task.param} sweep (stroboscopic states)")})
     for k, v in task.params.items():
         if k != task.param:
             ds.attrs[f"param_{k}"] = v
@@ -338,13 +340,17 @@ def _create_file(path, template: xr.Dataset, dim: str, values):
 
 
 def sweep_dataset(task: StroboscopicTask, values, workers: int = 1, scheduler=None,
-                  chunk_size: int | None = None, path=None, progress=None) -> xr.Dataset:
+                  chunk_size: int | None = None, path=None, progress=None, overwrite=False) -> xr.Dataset:
     """Run ``task`` over ``values`` and return one Dataset (dims: parameter, period, impact).
 
     With ``path`` the netCDF file is created first and each chunk is written into it as it
-    completes (memory stays bounded by a chunk); the file is then opened lazily.
+    completes (memory stays bounded by a chunk); the file is then opened lazily. An existing file
+    is refused unless ``overwrite``.
     """
     import xarray as xr
+    if path is not None:
+        from .files import refuse_existing
+        refuse_existing(path, overwrite)
     values = np.asarray(values, dtype=float).ravel()
     ds = _skeleton(task, values if path is None else values[:1])   # on disk: metadata only
     names = list(get_scene(task.scene).system.state_names)

@@ -66,6 +66,9 @@ def test_streamed_file_equals_in_memory(task, serial, tmp_path):
     streamed = sweep_dataset(task, VALUES, workers=2, chunk_size=3, path=tmp_path / "sweep.nc")
     _assert_same(serial, streamed)
     assert streamed["x"].attrs["units"] == "m" and streamed["status"].attrs["flag_meanings"] == "ok escaped failed"
+    assert streamed.attrs["Conventions"] == "CF-1.10" and "bifurc" in streamed.attrs["source"]
+    with pytest.raises(FileExistsError, match="overwrite=True"):  # refused before any work
+        sweep_dataset(task, VALUES, path=tmp_path / "sweep.nc")
 
 
 @pytest.fixture(scope="module")

@@ -4,6 +4,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from bifurc.cli import main
 
@@ -43,6 +44,10 @@ def test_quick_study_compares_every_frequency(tmp_path):
     assert int(ds.n_impacts.max()) == 0 and "does not reach the stop" in text
     for f in ("thesis-text.nc", "thesis-text.png", "thesis-text.md"):
         assert (tmp_path / f).exists()
+    before = (tmp_path / "comparison.md").read_text()
+    with pytest.raises(FileExistsError, match="not empty"):  # refused before any work
+        run_study("thesis-1dof-relay", tmp_path, quick=True, progress=False, cases=["thesis-text"])
+    assert (tmp_path / "comparison.md").read_text() == before
 
 
 def test_notebook_executes_and_shows_its_figures(tmp_path):
