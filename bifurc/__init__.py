@@ -10,12 +10,14 @@ top of the dynamics in :mod:`maps`.
 Importing bifurc never selects a matplotlib backend; it registers the ``ds.bifurc`` accessor.
 """
 from ._version import __version__
-from . import accessor  # noqa: F401 - registers ds.bifurc
+from ._xarray_hook import register_accessor_with_xarray
 from .datasets import load
 from .plot_diagram import plot_diagram
 from .plot_history import plot_time_history
 from .report import class_at, classification_report
 from .sweep import sweep
+
+register_accessor_with_xarray()  # ds.bifurc, without importing xarray in worker processes
 
 __all__ = ["__version__", "sweep", "load", "plot_diagram", "plot_time_history", "classification_report",
            "class_at"]

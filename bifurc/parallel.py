@@ -34,7 +34,7 @@ import numpy as np
 
 from maps.hybrid import Escaped, HybridRun, IntegrationFailure
 from maps.parameters import ParameterError
-from maps.provenance import cf_attrs
+from maps.provenance import cf_attrs, recorded
 from maps.scenes import get_scene
 
 if TYPE_CHECKING:  # xarray is imported where used: worker processes start faster
@@ -339,6 +339,7 @@ def _create_file(path, template: xr.Dataset, dim: str, values):
     return nc
 
 
+@recorded("bifurc.parallel.sweep_dataset")
 def sweep_dataset(task: StroboscopicTask, values, workers: int = 1, scheduler=None,
                   chunk_size: int | None = None, path=None, progress=None, overwrite=False) -> xr.Dataset:
     """Run ``task`` over ``values`` and return one Dataset (dims: parameter, period, impact).

@@ -24,15 +24,22 @@ CONVENTIONS = "CF-1.10"
 _CALL: contextvars.ContextVar = contextvars.ContextVar("bifurc_call", default=None)
 
 
-@functools.lru_cache(maxsize=1)
-def git_commit() -> str | None:
-    """Short commit of the checkout holding this package (None: not a git checkout, or no git)."""
+def _git(*args) -> str | None:
     try:
-        out = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=Path(__file__).resolve().parent,
-                             capture_output=True, text=True, timeout=5)
+        out = subprocess.run(["git", *args], cwd=Path(__file__).resolve().parent, capture_output=True, text=True,
+                             timeout=5)
     except (OSError, subprocess.SubprocessError):
         return None
     return out.stdout.strip() or None if out.returncode == 0 else None
+
+
+@functools.lru_cache(maxsize=1)
+def git_commit() -> str | None:
+    """Commit of the checkout this package runs from, ``-dirty`` if it has local changes (None: an
+    installed copy, not tracked by git; a package installed inside another repository is not tracked)."""
+    if _git("ls-files", "--error-unmatch", Path(__file__).name) is None:
+        return None
+    return _git("describe", "--always", "--dirty", "--abbrev=7")
 
 
 def _short(value) -> str:

@@ -127,9 +127,13 @@ def _modules():
 
 
 def test_importing_any_module_leaves_the_matplotlib_backend_alone():
+    """Also: import bifurc loads neither pyplot nor xarray (worker processes start faster), and
+    ds.bifurc exists as soon as xarray is imported."""
     names = [m for m, _ in _modules() if not m.endswith("__main__")]
     code = ("import matplotlib, importlib, sys; matplotlib.use('svg')\n"
             "import bifurc; assert 'matplotlib.pyplot' not in sys.modules, 'pyplot imported by bifurc'\n"
+            "assert 'xarray' not in sys.modules, 'xarray imported by bifurc: slower worker processes'\n"
+            "import xarray; assert xarray.Dataset().bifurc.kind is None  # registered once xarray loads\n"
             f"for m in {names!r}: importlib.import_module(m)\n"
             "assert matplotlib.get_backend() == 'svg', matplotlib.get_backend()\n")
     env = dict(os.environ, PYTHONPATH=str(ROOT))
