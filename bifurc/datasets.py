@@ -45,6 +45,6 @@ def load(path, kind: str | None = None):
         raise BadFileError(f"{path} is not a readable netCDF file (truncated or corrupt?): {reason}") from None
     found = kind_of(ds)
     if kind is not None and found != kind:
-        what = f"a {found} dataset (from {KINDS[found]})" if found else "no bifurc dataset"
+        what = f"a {found} dataset (from {KINDS[found]})" if found else "another kind of dataset"
         raise BadFileError(f"{path} holds {what}; this needs a {kind} dataset (from {KINDS[kind]})")
     return ds

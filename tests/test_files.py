@@ -82,6 +82,8 @@ def test_a_second_writer_of_the_same_output_is_refused_at_once(tmp_path, capsys)
     assert not (tmp_path / "d.nc.lock").exists() and not out.exists()
     with output_lock(out):  # released: taken again
         pass
+    (tmp_path / "d.nc.lock").write_text("")  # left by a run killed with SIGKILL: its flock died with it
+    assert main([*DIAGRAM, "-o", str(out)]) == 0 and out.exists() and not (tmp_path / "d.nc.lock").exists()
 
 
 def test_a_corrupt_part_is_discarded_with_a_warning_and_recomputed(tmp_path, monkeypatch):
