@@ -5,12 +5,12 @@ import argparse
 
 from maps.parameters import ParameterError
 
-__all__ = ["add_scene_options", "add_force_option", "parse_sets", "parse_x0", "parse_floats", "scene_kwargs",
+__all__ = ["add_parameter_options", "add_scene_options", "add_force_option", "parse_sets", "parse_x0", "parse_floats", "scene_kwargs",
            "check_outputs", "check_plot", "check_scheduler"]
 
 
-def add_scene_options(parser: argparse.ArgumentParser, default_scene: str = "thesis-1dof",
-                      default_tol: float = 1e-12) -> None:
+def add_parameter_options(parser, default_scene: str = "thesis-1dof"):
+    """--scene, --preset, --set in a group "scene and parameters"; returns the group."""
     g = parser.add_argument_group("scene and parameters")
     g.add_argument("--scene", default=default_scene, help="scene name (see `bifurc scenes`)")
     g.add_argument("--preset", default=None,
@@ -18,6 +18,13 @@ def add_scene_options(parser: argparse.ArgumentParser, default_scene: str = "the
                         "(default: the scene's own)")
     g.add_argument("--set", dest="sets", action="append", default=[], metavar="NAME=VALUE",
                    help="override a parameter by its name (repeatable), e.g. --set V=90")
+    return g
+
+
+def add_scene_options(parser: argparse.ArgumentParser, default_scene: str = "thesis-1dof",
+                      default_tol: float = 1e-12) -> None:
+    """The parameter options, --relay-hz, --x0, --circuit, --ac-sign and --tol."""
+    g = add_parameter_options(parser, default_scene)
     g.add_argument("--relay-hz", type=float, default=None, help="shortcut for --set relay_hz=...")
     g.add_argument("--x0", default=None, metavar="x=0.001,v=0",
                    help="initial state components by name (others: the scene's default)")

@@ -1,17 +1,14 @@
 """`bifurc params`: every parameter of a scene with its value, unit, allowed range and provenance."""
 import maps
 
-from ._common import parse_sets
+from ._common import add_parameter_options, parse_sets
 
 
 def register(subparsers):
     p = subparsers.add_parser("params", help="list a scene's parameters: value, unit, range, provenance",
                               description="List every parameter of a scene: name, value, unit, allowed range "
                                           "and where the value comes from (preset, scene or --set).")
-    p.add_argument("--scene", default="thesis-1dof", help="scene name (see `bifurc scenes`)")
-    p.add_argument("--preset", default=None, help="parameter preset (default: the scene's own)")
-    p.add_argument("--set", dest="sets", action="append", default=[], metavar="NAME=VALUE",
-                   help="override a parameter by its name (repeatable), e.g. --set V=90")
+    add_parameter_options(p)
     p.set_defaults(func=run)
 
 
