@@ -1,6 +1,9 @@
 """Output files: nothing overwritten silently, one writer at a time, resume, umask, compression."""
 import os
 import stat
+import subprocess
+import sys
+from pathlib import Path
 
 import netCDF4
 import numpy as np
@@ -84,6 +87,25 @@ def test_a_second_writer_of_the_same_output_is_refused_at_once(tmp_path, capsys)
         pass
     (tmp_path / "d.nc.lock").write_text("")  # left by a run killed with SIGKILL: its flock died with it
     assert main([*DIAGRAM, "-o", str(out)]) == 0 and out.exists() and not (tmp_path / "d.nc.lock").exists()
+
+
+def test_another_process_holding_the_lock_is_refused_in_one_line(tmp_path, capsys):
+    """Across processes (fcntl.flock): the holder runs in a child process until its stdin closes."""
+    out = tmp_path / "d.nc"
+    code = ("import sys; from bifurc.files import output_lock\n"
+            f"with output_lock({str(out)!r}):\n    print('held', flush=True); sys.stdin.read()\n")
+    env = dict(os.environ, PYTHONPATH=str(Path(__file__).resolve().parents[1]))
+    holder = subprocess.Popen([sys.executable, "-c", code], stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True,
+                              env=env)
+    try:
+        assert holder.stdout.readline().strip() == "held"
+        assert main([*DIAGRAM, "-o", str(out)]) == 2
+        err = capsys.readouterr().err
+        assert "being written by another run" in err and len(err.strip().splitlines()) == 1
+    finally:
+        holder.communicate("", timeout=60)
+    assert holder.returncode == 0 and not out.exists()
+    assert main([*DIAGRAM, "-o", str(out)]) == 0 and out.exists()
 
 
 def test_a_corrupt_part_is_discarded_with_a_warning_and_recomputed(tmp_path, monkeypatch):
