@@ -42,7 +42,7 @@ class BifurcAccessor:
         """The figure of this dataset: bifurcation diagram, time history or work-precision plot.
 
         Keywords go to :func:`bifurc.plot_diagram`, :func:`bifurc.plot_time_history` or
-        :func:`bifurc.accuracy.plot_work_precision` (``ax=``, ``path=``, ...); returns what it drew on.
+        :func:`bifurc.accuracy.plot_work_precision` (``ax=``, ``path=``, ...); returns the Axes it drew on.
         """
         kind = self.kind
         if kind == "diagram":

@@ -188,14 +188,14 @@ def _to_dataset(rows, ref, t_end) -> xr.Dataset:
 def plot_work_precision(ds: xr.Dataset, path=None, error="final_state_error", ax=None, overwrite=False):
     """Log-log error against run time, one line per method, into ``ax`` (default: a new figure);
     ``path``: also save it there (an existing file is refused unless ``overwrite``).
-    Returns what it drew on: ``ax`` as given, else the new Figure."""
+    Returns the Axes it drew on (``ax`` as given, or the new one)."""
     from .files import check_figure_output, save_figure
     if path is not None:
         check_figure_output(path, overwrite)
     own = ax is None
     if own:
         import matplotlib.pyplot as plt
-        fig, ax = plt.subplots(figsize=(7, 5))
+        ax = plt.subplots(figsize=(7, 5))[1]
     fig = ax.figure
     floor = max(float(ds.attrs.get("reference_error_bound", 0.0)), 1e-18)
     for method in dict.fromkeys(ds["method"].values.tolist()):
@@ -218,4 +218,4 @@ def plot_work_precision(ds: xr.Dataset, path=None, error="final_state_error", ax
         fig.tight_layout()
     if path is not None:
         save_figure(fig, path, overwrite=overwrite, dpi=120, close=own)
-    return fig if own else ax
+    return ax

@@ -26,7 +26,9 @@ def plot_diagram(ds, path=None, state=None, branch=None, ax=None, overwrite=Fals
     ``ax``: draw into this Axes (the diagram only) or pair of Axes (diagram, class strip)
     instead of a new figure. ``path``: also save the figure there (format from the
     extension; an existing file is refused unless ``overwrite``) and close it.
-    Returns what it drew on: ``ax`` as given, else the new Figure.
+    Returns what it drew on: ``ax`` as given, else the new Axes as an array (diagram, class
+    strip; the figure is ``axes[0].figure``). Returning Axes, not the Figure, shows the figure
+    once in Jupyter (a returned Figure is displayed again by the inline backend).
     """
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
@@ -37,11 +39,12 @@ def plot_diagram(ds, path=None, state=None, branch=None, ax=None, overwrite=Fals
     branches = [branch] if branch else [str(b) for b in ds.branch.values]
     if ax is None:
         import matplotlib.pyplot as plt
-        fig, (ax, strip) = plt.subplots(2, 1, sharex=True, figsize=(10, 6.5),
-                                        gridspec_kw={"height_ratios": [5, 1 + 0.5 * (len(branches) - 1)]})
-        drawn = fig
+        fig, drawn = plt.subplots(2, 1, sharex=True, figsize=(10, 6.5),
+                                  gridspec_kw={"height_ratios": [5, 1 + 0.5 * (len(branches) - 1)]})
+        ax, strip = drawn
+        own = True
     else:
-        drawn = ax
+        drawn, own = ax, False
         ax, strip = (ax, None) if not np.iterable(ax) else tuple(ax)
         fig = ax.figure
     pvals = ds[par].values
@@ -97,11 +100,11 @@ def plot_diagram(ds, path=None, state=None, branch=None, ax=None, overwrite=Fals
         ax.set_xlabel(xlabel)
     else:
         _class_strip(ds, strip, branches, pvals, xlabel)
-    if drawn is fig:
+    if own:
         fig.suptitle(_title(ds), fontsize=9)
         fig.tight_layout()
     if path is not None:
-        save_figure(fig, path, overwrite=overwrite, dpi=130, close=drawn is fig)
+        save_figure(fig, path, overwrite=overwrite, dpi=130, close=own)
     return drawn
 
 

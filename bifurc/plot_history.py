@@ -128,7 +128,8 @@ def plot_time_history(ds, path=None, ax=None, overwrite=False):
 
     Returns
     -------
-    What it drew on: ``ax`` as given, else the new matplotlib Figure.
+    What it drew on: ``ax`` as given, else the new Axes, one per panel, as an array (the figure
+    is ``axes[0].figure``; returning Axes shows the figure once in Jupyter).
     """
     if path is not None:
         check_figure_output(path, overwrite)
@@ -161,4 +162,4 @@ def plot_time_history(ds, path=None, ax=None, overwrite=False):
         fig.tight_layout()
     if path is not None:
         save_figure(fig, path, overwrite=overwrite, dpi=120, close=own)
-    return fig if own else ax
+    return np.array(axes) if own else ax

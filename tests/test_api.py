@@ -60,9 +60,9 @@ def test_accessor_class_at_report_and_plot(diagram):
         diagram.bifurc.class_at(7.0, branch="up")
     text = diagram.bifurc.report()
     assert text == bifurc.classification_report(diagram) and text._repr_markdown_().startswith("# Classification")
-    fig = diagram.bifurc.plot()
-    assert isinstance(fig, matplotlib.figure.Figure) and len(fig.axes) == 2
-    plt.close(fig)
+    axes = diagram.bifurc.plot()  # Axes, not the Figure: Jupyter shows it once
+    assert all(isinstance(a, matplotlib.axes.Axes) for a in axes) and list(axes) == axes[0].figure.axes
+    plt.close(axes[0].figure)
     history = maps.simulate("thesis-1dof", t_end=0.05, dt=1e-3, preset="matlab-listing")
     fig, ax = plt.subplots()
     assert history.bifurc.plot(ax=ax) is ax and ax.lines
@@ -84,8 +84,8 @@ def test_plot_diagram_draws_into_given_axes_and_returns_them(diagram):
 
 
 def test_diagram_figure_labels_the_strip_by_its_content_and_says_the_error_in_words(diagram):
-    fig = bifurc.plot_diagram(diagram)
-    strip = fig.axes[1]
+    ax, strip = bifurc.plot_diagram(diagram)
+    fig = ax.figure
     assert "class" in strip.get_ylabel()
     assert all("independent" not in t.get_text() for t in strip.get_yticklabels())
     title = fig._suptitle.get_text()

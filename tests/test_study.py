@@ -73,6 +73,10 @@ def test_notebook_executes_and_shows_its_figures(tmp_path):
     images = [o for c in nb.cells if c.cell_type == "code" for o in c.get("outputs", [])
               if "image/png" in o.get("data", {})]
     assert len(images) >= 2  # the diagram and the time history
+    assert nb.cells[5].source.startswith("ds.bifurc.plot()")  # a returned Figure would show twice here
+    for cell in nb.cells:  # each figure once
+        if cell.cell_type == "code":
+            assert sum("image/png" in o.get("data", {}) for o in cell.get("outputs", [])) <= 1, cell.source
     tables = [o for c in nb.cells if c.cell_type == "code" for o in c.get("outputs", [])
               if "text/html" in o.get("data", {}) and "relay_hz" in o["data"]["text/html"]]
     assert tables  # ds.bifurc.table() rendered
