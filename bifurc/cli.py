@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import shlex
 import sys
 import warnings
@@ -93,7 +94,12 @@ def main(argv=None) -> int:
     try:
         with command(shlex.join(["bifurc", *argv])), warnings.catch_warnings():
             warnings.showwarning = _warn
-            return int(args.func(args) or 0)
+            code = int(args.func(args) or 0)
+            sys.stdout.flush()  # a closed pipe shows here, not at interpreter exit
+            return code
+    except BrokenPipeError:  # e.g. `bifurc report d.nc | head`: the reader left; say nothing more
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 141  # 128 + SIGPIPE, as a shell reports a writer stopped by a closed pipe
     except (UsageError, *USER_ERRORS) as exc:
         return _fail(exc)
     except KeyboardInterrupt:

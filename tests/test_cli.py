@@ -123,6 +123,18 @@ def test_bad_input_is_one_line_naming_the_parameter(argv, named, capsys):
     assert "Traceback" not in err and len(err.strip().splitlines()) == 1
 
 
+def test_output_into_a_closed_pipe_ends_quietly(monkeypatch, capsys):
+    """`bifurc params | head -1`: the reader closes the pipe; no BrokenPipeError traceback."""
+    import os
+    import sys
+    read, write = os.pipe()
+    os.close(read)
+    with os.fdopen(write, "w") as pipe:
+        monkeypatch.setattr(sys, "stdout", pipe)
+        assert main(["params"]) == 141
+    assert capsys.readouterr().err == ""
+
+
 def test_version(capsys):
     assert main(["--version"]) == 0
     assert capsys.readouterr().out.strip() == f"bifurc {__version__}"
