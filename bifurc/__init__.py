@@ -2,5 +2,22 @@
 
 Sweeps, classification, grazing, storage, plotting and the command line, on
 top of the dynamics in :mod:`maps`.
+
+>>> import numpy as np, bifurc
+>>> d = bifurc.sweep("thesis-1dof", "relay_hz", np.linspace(2, 10, 41), preset="matlab-listing")
+>>> d.bifurc.plot(); d.bifurc.table(); d.bifurc.class_at(6.0)
+
+Importing bifurc never selects a matplotlib backend; it registers the ``ds.bifurc`` accessor.
 """
-__version__ = "0.1.0"
+from ._version import __version__
+from ._xarray_hook import register_accessor_with_xarray
+from .datasets import load
+from .plot_diagram import plot_diagram
+from .plot_history import plot_time_history
+from .report import class_at, classification_report
+from .sweep import sweep
+
+register_accessor_with_xarray()  # ds.bifurc, without importing xarray in worker processes
+
+__all__ = ["__version__", "sweep", "load", "plot_diagram", "plot_time_history", "classification_report",
+           "class_at"]

@@ -2,25 +2,31 @@
 
 Each subcommand lives in ``bifurc.commands.<name>`` with ``register(subparsers)``; a user
 mistake (a bad parameter, option, scene or file) prints one line ``bifurc: error: ...`` on
-stderr and exits 2, never a traceback.
+stderr and exits 2, never a traceback. An existing output file is refused unless ``--force``.
+The command line is recorded in every file's ``history`` attribute.
 """
 from __future__ import annotations
 
 import argparse
 import importlib
+import os
+import shlex
 import sys
+import warnings
 
 from maps.parameters import ParameterError
+from maps.provenance import command
 
-from . import __version__
+from ._version import __version__
+from .files import BadFileError
 
 __all__ = ["COMMANDS", "UsageError", "build_parser", "main"]
 
 #: subcommand modules in bifurc.commands, each with register(subparsers); missing ones are skipped
-COMMANDS = ["scenes", "simulate", "diagram", "report", "accuracy", "verify", "study"]
+COMMANDS = ["scenes", "params", "simulate", "diagram", "report", "accuracy", "verify", "study"]
 
 #: user-facing failures: one line on stderr, exit code 2
-USER_ERRORS = (ParameterError, FileNotFoundError, FileExistsError, IsADirectoryError,
+USER_ERRORS = (ParameterError, BadFileError, FileNotFoundError, FileExistsError, IsADirectoryError,
                NotADirectoryError, PermissionError)
 
 
@@ -53,13 +59,27 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _warn(message, category, filename, lineno, file=None, line=None) -> None:
+    """Warnings as one line each: ``bifurc: warning: ...``."""
+    print(f"bifurc: warning: {' '.join(str(message).split())}", file=sys.stderr)
+
+
 def _fail(message) -> int:
     print(f"bifurc: error: {' '.join(str(message).split())}", file=sys.stderr)
     return 2
 
 
+def _file_backend() -> None:
+    """Figures go to files: the non-interactive Agg backend, unless pyplot already runs
+    (main called from a notebook keeps the notebook's backend)."""
+    if "matplotlib.pyplot" not in sys.modules:
+        import matplotlib
+        matplotlib.use("Agg")
+
+
 def main(argv=None) -> int:
     """Run the command line on ``argv`` (default ``sys.argv[1:]``); return the exit code."""
+    argv = list(sys.argv[1:] if argv is None else argv)
     parser = build_parser()
     try:
         args = parser.parse_args(argv)
@@ -70,8 +90,16 @@ def main(argv=None) -> int:
     if not getattr(args, "func", None):
         parser.print_help()
         return 2
+    _file_backend()
     try:
-        return int(args.func(args) or 0)
+        with command(shlex.join(["bifurc", *argv])), warnings.catch_warnings():
+            warnings.showwarning = _warn
+            code = int(args.func(args) or 0)
+            sys.stdout.flush()  # a closed pipe shows here, not at interpreter exit
+            return code
+    except BrokenPipeError:  # e.g. `bifurc report d.nc | head`: the reader left; say nothing more
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 141  # 128 + SIGPIPE, as a shell reports a writer stopped by a closed pipe
     except (UsageError, *USER_ERRORS) as exc:
         return _fail(exc)
     except KeyboardInterrupt:

@@ -4,11 +4,9 @@ from __future__ import annotations
 import textwrap
 from collections import Counter
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+from .files import check_figure_output, save_figure
 
 __all__ = ["plot_time_history", "history_panels"]
 
@@ -112,7 +110,7 @@ def _title(ds):
     return f"{head}\n{line2}\n{line3}"
 
 
-def plot_time_history(ds, path=None, ax=None):
+def plot_time_history(ds, path=None, ax=None, overwrite=False):
     """Stacked time histories of a simulated scene: the displacement the stop acts on (x, or
     x1 - x2 for 2-DOF) with the stop and the impacts marked, the rig's progression (2-DOF), the
     AC current i and the relay state. Lengths are shown in mm (µm when below 1 mm).
@@ -122,17 +120,22 @@ def plot_time_history(ds, path=None, ax=None):
     ds : xarray.Dataset
         From :func:`maps.simulate` (or reopened from its netCDF file).
     path : str or Path, optional
-        Write the figure there (PNG, 120 dpi) and close it.
+        Also write the figure there (format from the extension, 120 dpi; an existing file is
+        refused unless ``overwrite``) and close it if it is this function's own.
     ax : matplotlib Axes or sequence of Axes, optional
         Draw into these instead of a new figure, one per panel of :func:`history_panels`
         in that order; a single Axes gets the displacement panel only.
 
     Returns
     -------
-    matplotlib.figure.Figure
+    What it drew on: ``ax`` as given, else the new Axes, one per panel, as an array (the figure
+    is ``axes[0].figure``; returning Axes shows the figure once in Jupyter).
     """
+    if path is not None:
+        check_figure_output(path, overwrite)
     panels = history_panels(ds)
     if ax is None:
+        import matplotlib.pyplot as plt
         heights = [3 if p == "displacement" else (1 if p == "relay" else 2) for p in panels]
         fig, axes = plt.subplots(len(panels), 1, sharex=True, figsize=(9, 2.0 + 0.75 * sum(heights)),
                                  gridspec_kw={"height_ratios": heights}, squeeze=False)
@@ -158,6 +161,5 @@ def plot_time_history(ds, path=None, ax=None):
         fig.align_ylabels(axes)
         fig.tight_layout()
     if path is not None:
-        fig.savefig(path, dpi=120)
-        plt.close(fig)
-    return fig
+        save_figure(fig, path, overwrite=overwrite, dpi=120, close=own)
+    return np.array(axes) if own else ax

@@ -60,16 +60,17 @@ V = ("branch", PARAM)
 #: per-value variables of a sweep; each is also a field of :class:`bifurc.job.ValueResult`
 SWEEP = [
     Variable("class_code", V, np.int8, -1, "1", "orbit class (-1: not computed)", _flags(ClassCode)),
-    Variable("period", V, np.int16, -1, "relay periods", "period n of the orbit (0: not periodic)"),
-    Variable("candidate_period", V, np.int16, -1, "relay periods",
-             "period of the best recurrence candidate, at which recurrence and convergence_rate are measured "
+    Variable("period", V, np.int16, -1, "1", "period n of the orbit in relay periods (0: not periodic)"),
+    Variable("candidate_period", V, np.int16, -1, "1",
+             "period in relay periods of the best recurrence candidate, at which recurrence and convergence_rate are measured "
              "(0: none)"),
     Variable("impacts_per_period", V, np.int16, -1, "1", "impacts per period m (-1: not periodic)"),
     Variable("recurrence", V, float, np.nan, "1",
              "max recurrence distance at the (candidate) period / (rtol*scale + atol)"),
     Variable("convergence_rate", V, float, np.nan, "1", "fitted per-period decay factor of the recurrence distance"),
-    Variable("lyapunov", V, float, np.nan, "1/relay period", "largest Lyapunov exponent of the map (NaN: not computed)"),
-    Variable("forcing_period", V, np.int32, 0, "relay periods",
+    Variable("lyapunov", V, float, np.nan, "1",
+             "largest Lyapunov exponent of the map, per relay period (NaN: not computed)"),
+    Variable("forcing_period", V, np.int32, 0, "1",
              "period of the forcing in relay periods (0: incommensurate)"),
     Variable("impacts_per_step", V + ("step",), np.int32, -1, "1",
              "contacts in each recorded relay period (-1: not reached)"),
@@ -93,8 +94,8 @@ SWEEP = [
     Variable("status", V, np.int8, -1, "1", "integration status (-1: not computed)", _flags(Status)),
     Variable("failure_time", V, float, np.nan, "s", "time of escape or failure (NaN: none)"),
     Variable("n_steps", V, np.int64, 0, "1", "Taylor steps"),
-    Variable("transient_used", V, np.int64, -1, "relay periods",
-             "transient discarded before the record (extended where still converging)"),
+    Variable("transient_used", V, np.int64, -1, "1",
+             "transient discarded before the record, in relay periods (extended where still converging)"),
     Variable("run_seconds", V, float, np.nan, "s",
              "time spent computing the value (a resumed value keeps the time of the run that computed it)"),
 ]

@@ -16,12 +16,14 @@ import heyoka as hy
 import numpy as np
 import xarray as xr
 
-from . import __version__
+from maps.provenance import cf_attrs
+
+from ._version import __version__
 from .classify import lyapunov_threshold
 from .codes import Status
 from .grazing import GRAZING_GAP, GRAZING_SPEED, grazing_flag
 from .schema import GRAZING, GRAZING_FLAG, PARAM, SWEEP, SWEEP_COORDS, flag_variable, param_attrs, state_variable
-from .storage_io import write_netcdf_atomic
+from .files import write_netcdf
 
 __all__ = ["to_dataset", "add_grazing", "add_error_estimate", "save", "load", "STATUS_MEANINGS"]
 
@@ -78,7 +80,7 @@ def to_dataset(results, values, job, scene, table, mode) -> xr.Dataset:
         "grazing_gap_threshold_m": GRAZING_GAP, "grazing_speed_threshold_m_s": GRAZING_SPEED,
         "bifurc_version": __version__, "heyoka_version": hy.__version__, "numpy_version": np.__version__,
         "xarray_version": xr.__version__, "python_version": platform.python_version(),
-        "Conventions": "CF-1.10",
+        **cf_attrs(f"scene {scene.name}, {par} sweep ({mode})"),
     })
     ds.attrs.update(param_attrs(table, system, skip=(par,)))
     return ds
@@ -126,9 +128,9 @@ def add_error_estimate(ds, sample_values, point_err, time_err, counts_differ, se
     return ds
 
 
-def save(ds: xr.Dataset, path) -> None:
+def save(ds: xr.Dataset, path, overwrite: bool = False) -> None:
     """Write atomically to netCDF (a reader never sees a partial file)."""
-    write_netcdf_atomic(ds, path)
+    write_netcdf(ds, path, overwrite=overwrite)
 
 
 #: attributes that are arrays: netCDF gives a one-element array back as a scalar

@@ -21,12 +21,14 @@ import warnings
 
 import numpy as np
 
+from maps.hybrid import validate_tol
 from maps.parameters import ParameterError, validate_value
+from maps.provenance import recorded
 
-from . import storage
 from .codes import Status
 from .errors import error_estimate
 from .executor import default_workers, map_values
+from .files import guarded_output
 from .grazing import GRAZING_GAP, GRAZING_SPEED, locate_grazing_values
 from .job import ValueJob
 from .resume import Parts, manifest
@@ -38,11 +40,13 @@ __all__ = ["sweep", "MODES", "GRAZING_GAP", "GRAZING_SPEED"]
 MODES = {"independent": ("independent",), "follow": ("up", "down")}
 
 
+@recorded("bifurc.sweep")
+@guarded_output("path")
 def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independent", transient=300,
           record=100, preset=None, params=None, x0=None, tol=1e-10, max_period=16, rtol=1e-6, atol=1e-9,
           lyapunov=True, grazing=True, grazing_xtol=None, circuit=None, ac_sign=None, path=None,
           progress=True, workers=None, scheduler=None, error_sample=3, max_transient=None, batch_size=4,
-          chunk_size=None):
+          chunk_size=None, overwrite=False):
     """Sweep ``param`` over ``values``; returns an xarray Dataset (see bifurc.storage).
 
     Parameters
@@ -67,7 +71,9 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
         Locate grazing values between neighbours where the orbit changes between
         impacting and not impacting, by bisection to ``grazing_xtol``.
     path : str
-        netCDF output; completed values are kept in ``<path>.parts/`` for resuming.
+        netCDF output; completed values are kept in ``<path>.parts/`` for resuming.  An existing
+        file is refused unless ``overwrite``; a second sweep into the same path at once is refused
+        (``<path>.lock``, POSIX only; see :mod:`bifurc.files`).
     workers : int
         Worker processes of an independent sweep (default: every available core, with at
         least 16 values per worker; a bare HybridSystem runs in this process).
@@ -112,6 +118,7 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
     finally:
         bar.close()
     seconds = _time.perf_counter() - clock
+    from . import storage      # xarray: imported where the Dataset is built (worker processes start faster)
     ds = storage.to_dataset(results, values, job, sc, table, mode)
     ds.attrs["sweep_seconds"] = seconds     # wall time of this call's integrations
     ds.attrs["values_seconds"] = float(np.nansum(ds.run_seconds.values))  # resumed values included
@@ -124,7 +131,7 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
     if error_sample:
         ds = storage.add_error_estimate(ds, **error_estimate(results, values, job, branches[0], error_sample))
     if path:
-        storage.save(ds, path)
+        storage.save(ds, path, overwrite=True)  # refused earlier unless overwrite (guarded_output)
         parts.remove()
     return ds
 
@@ -132,6 +139,7 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
 def _job(scene, param, values, transient, record, preset, params, x0, tol, max_period, rtol, atol, lyapunov,
          circuit, ac_sign, max_transient, batch_size):
     """The ValueJob of a sweep, its scene and parameter table, every argument checked before anything runs."""
+    tol = validate_tol(tol)
     if values.size == 0 or not np.all(np.isfinite(values)):
         raise ParameterError("values must be a non-empty array of finite numbers")
     sc, table = resolve_scene(scene, params, preset, circuit, ac_sign)

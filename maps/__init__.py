@@ -7,6 +7,7 @@ integrate them (:class:`HybridRun`, :class:`ScalarEngine`, :class:`BatchEngine`,
 every transition rule in :mod:`maps.transitions`), the maps (:class:`StroboscopicMap`,
 :class:`ImpactMap`) and named parameters (:class:`Parameter`, :class:`ParameterError`).
 """
+from ._version import __version__
 from .examples import forced_oscillator_with_stop
 from .engines import BatchEngine, HybridRun, OrbitJob, OrbitResult, ScalarEngine, engine_for
 from .hybrid import (ROLES, Escaped, EventCap, EventRecord, Guard, HybridState, HybridSystem, IntegrationFailure,
@@ -18,7 +19,7 @@ from .presets import PRESETS
 from .scenes import SCENES, Scene, get_scene, scene_names
 from .simulate import resolve, run_scene, simulate
 
-__all__ = ["Escaped", "EventRecord", "Guard", "HybridRun", "HybridSystem", "IntegrationFailure",
+__all__ = ["__version__", "Escaped", "EventRecord", "Guard", "HybridRun", "HybridSystem", "IntegrationFailure",
            "PeriodicSwitch", "State", "PARAMETERS", "ModelOptions", "build_system", "Parameter",
            "ParameterError", "PRESETS", "SCENES", "Scene", "get_scene", "scene_names", "resolve",
            "run_scene", "simulate", "forced_oscillator_with_stop", "StroboscopicMap", "ImpactMap",

@@ -1,4 +1,4 @@
-"""The electro-vibro-impact model (docs/model.md; MODEL.md sections 1-3).
+"""The electro-vibro-impact model (docs/model.md).
 
 :func:`build_system` assembles a :class:`~maps.hybrid.HybridSystem` from
 structural options.  It compiles only the states and terms a scene needs: a
@@ -22,7 +22,7 @@ from .parameters import Parameter
 __all__ = ["ModelOptions", "PARAMETERS", "build_system", "ESCAPE_MARGIN"]
 
 INF = math.inf
-#: the table of every model parameter: name -> Parameter (MODEL.md section 6)
+#: the table of every model parameter: name -> Parameter (``bifurc params`` lists them)
 PARAMETERS = {p.name: p for p in [
     Parameter("m", "kg", "bar mass", 0, INF, low_open=True),
     Parameter("m1", "kg", "bar mass", 0, INF, low_open=True),

@@ -1,4 +1,4 @@
-"""Parameter presets found in the thesis, each value with its provenance (MODEL.md section 4)."""
+"""Parameter presets found in the thesis, each value with its provenance (docs/model.md, Presets)."""
 from __future__ import annotations
 
 import math

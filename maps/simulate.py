@@ -12,6 +12,7 @@ from .engines.scalar import HybridRun
 from .hybrid import Escaped, IntegrationFailure
 from .impacts import impact_table
 from .parameters import ParameterError, validate_value
+from .provenance import cf_attrs, recorded
 from .scenes import get_scene
 
 if TYPE_CHECKING:  # xarray is imported where used: worker processes start faster
@@ -64,6 +65,7 @@ def run_scene(scene, t_end, params=None, preset=None, x0=None, tol=1e-12, circui
     return run
 
 
+@recorded("maps.simulate")
 def simulate(scene, *, periods=None, t_end=None, params=None, preset=None, x0=None, tol=1e-12,
              dt=None, t_eval=None, circuit=None, ac_sign=None, energy=None,
              max_events_per_period=None) -> xr.Dataset:
@@ -76,7 +78,7 @@ def simulate(scene, *, periods=None, t_end=None, params=None, preset=None, x0=No
     periods, t_end : float
         Duration in relay periods or in seconds (exactly one of them).
     params : dict
-        Parameter overrides by name (MODEL.md section 6), e.g. ``{"V": 90}``.
+        Parameter overrides by name (``bifurc params --scene S`` lists them; docs/model.md), e.g. ``{"V": 90}``.
     preset : str
         ``thesis-text``, ``matlab-listing`` or ``dynamics-listing``.
     x0 : dict
@@ -175,6 +177,7 @@ def to_dataset(run, t_eval, samples, table) -> xr.Dataset:
         "run_seconds": run.run_seconds, "compile_seconds": run.compile_seconds,
         "n_steps": run.n_steps, "n_events": run.n_events, "n_relay_switches": run.n_switches,
         "status": run.status, "t_end_reached": run.t,
+        "title": f"{sc.name}: time history", **cf_attrs(f"scene {sc.name}, time history"),
     }
     if run.failure is not None:
         attrs["failure"] = str(run.failure)

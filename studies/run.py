@@ -22,27 +22,38 @@ def load_study(name):
     return importlib.import_module(STUDIES[name])
 
 
-def run_study(name, out, quick=False, progress=True, cases=None):
-    """Run every case of a study into folder ``out``; returns {case: dataset}."""
+def run_study(name, out, quick=False, progress=True, cases=None, overwrite=False, hint="pass overwrite=True"):
+    """Run every case of a study into folder ``out``; returns {case: dataset}.
+
+    A folder holding anything but interrupted sweeps (``*.parts``, which resume) is refused
+    unless ``overwrite`` (then its files are replaced); ``hint`` completes the refusal.
+    """
+    from bifurc.files import write_text
     from bifurc.plot_diagram import plot_diagram
     from bifurc.report import classification_report
     from bifurc.sweep import sweep
     study = load_study(name)
     size = study.QUICK if quick else study.FULL
     out = Path(out)
+    if out.exists() and not out.is_dir():
+        raise NotADirectoryError(f"{out} is a file, not a folder")
+    held = sorted(p.name for p in out.iterdir() if not p.name.endswith(".parts")) if out.is_dir() else []
+    if held and not overwrite:
+        raise FileExistsError(f"{out} is not empty ({len(held)} entries, e.g. {held[0]}); {hint} to write into it")
     out.mkdir(parents=True, exist_ok=True)
     results = {}
     for case, preset, overrides in study.CASES:
         if cases and case not in cases:
             continue
         ds = sweep(study.SCENE, study.PARAM, size["values"], preset=preset, params=overrides,
-                   transient=size["transient"], record=size["record"], path=out / f"{case}.nc", progress=progress)
+                   transient=size["transient"], record=size["record"], path=out / f"{case}.nc", progress=progress,
+                   overwrite=overwrite)
         ds.attrs["study"] = name
         ds.attrs["study_case"] = case
-        plot_diagram(ds, out / f"{case}.png")
-        (out / f"{case}.md").write_text(classification_report(ds, at=study.AT))
+        plot_diagram(ds, out / f"{case}.png", overwrite=overwrite)
+        write_text(out / f"{case}.md", classification_report(ds, at=study.AT), overwrite=overwrite)
         results[case] = ds
-    (out / "comparison.md").write_text(comparison(study, results, quick))
+    write_text(out / "comparison.md", comparison(study, results, quick), overwrite=overwrite)
     return results
 
 
@@ -108,8 +119,9 @@ def main(argv=None) -> int:
     p.add_argument("--quick", action="store_true", help="the reduced size (integer frequencies only, short runs)")
     p.add_argument("-o", "--output", default="out/study", help="output folder (default out/study)")
     p.add_argument("--case", action="append", default=None, help="run only this case (repeatable)")
+    p.add_argument("--force", action="store_true", help="write into a non-empty output folder, replacing files")
     args = p.parse_args(argv)
-    run_study(args.study, args.output, quick=args.quick, cases=args.case)
+    run_study(args.study, args.output, quick=args.quick, cases=args.case, overwrite=args.force, hint="use --force")
     print(f"wrote {args.output}/comparison.md and one .nc/.png/.md per case")
     return 0
 

@@ -1,4 +1,4 @@
-"""The model's equations written again in plain numpy from MODEL.md, for the tests.
+"""The model's equations written again in plain numpy from docs/model.md, for the tests.
 
 Independent of maps.model (no heyoka expression is reused): the charge ("kvl") circuit form
 of the 1-DOF model with its energy quadratures and stored energy, and the 2-DOF horizontal

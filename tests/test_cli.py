@@ -72,15 +72,17 @@ def test_t_end_is_the_same_run_as_periods(tmp_path, reference):
 
 
 def test_time_history_figure_draws_the_dataset(reference):
-    """Into a caller's Axes: the displacement curve is x in mm, one marker per impact on the stop."""
+    """Into a caller's Axes (returned): the displacement curve is x in mm, one marker per impact on the stop."""
     fig, ax = plt.subplots()
-    assert plot_time_history(reference, ax=ax) is fig
+    assert plot_time_history(reference, ax=ax) is ax
     curve, stop_marks = ax.lines[0], ax.lines[-1]
     np.testing.assert_allclose(curve.get_ydata(), 1e3 * reference.x.values, rtol=1e-15)
     np.testing.assert_allclose(stop_marks.get_xdata(), reference.impact_time.values, rtol=0)
     assert "[mm]" in ax.get_ylabel()
     plt.close(fig)
-    full = plot_time_history(reference)  # own figure: displacement, current, relay
+    axes = plot_time_history(reference)  # own figure: displacement, current, relay
+    full = axes[0].figure
+    assert list(axes) == full.axes
     labels = [a.get_ylabel() for a in full.axes]
     assert len(labels) == 3 and "[A]" in labels[1] and "V* = 90 V" in full._suptitle.get_text()
     plt.close(full)
@@ -119,6 +121,18 @@ def test_bad_input_is_one_line_naming_the_parameter(argv, named, capsys):
     err = capsys.readouterr().err
     assert err.startswith("bifurc: error:") and named in err, err
     assert "Traceback" not in err and len(err.strip().splitlines()) == 1
+
+
+def test_output_into_a_closed_pipe_ends_quietly(monkeypatch, capsys):
+    """`bifurc params | head -1`: the reader closes the pipe; no BrokenPipeError traceback."""
+    import os
+    import sys
+    read, write = os.pipe()
+    os.close(read)
+    with os.fdopen(write, "w") as pipe:
+        monkeypatch.setattr(sys, "stdout", pipe)
+        assert main(["params"]) == 141
+    assert capsys.readouterr().err == ""
 
 
 def test_version(capsys):

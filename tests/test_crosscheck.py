@@ -12,7 +12,7 @@ PARAMS = {"V": 90.0, "relay_hz": 9.0}
 
 
 def test_contact_times_agree_with_scipy_dop853_at_rtol_1e12():
-    """bifurc.verification.baselines writes the right-hand side again from MODEL.md (no heyoka) and restarts
+    """bifurc.verification.baselines writes the right-hand side again from docs/model.md (no heyoka) and restarts
     solve_ivp at every contact and relay switch."""
     scene = maps.get_scene("thesis-1dof")
     p = scene.parameters(preset="matlab-listing", **PARAMS)
@@ -50,7 +50,7 @@ def test_double_agrees_with_extended_precision(fp_type, tol, slow, request):
 
 @pytest.mark.parametrize("relay, contact", [(1.0, 0.0), (0.0, 0.0), (1.0, 1.0), (0.0, 1.0)])
 def test_heyoka_rhs_equals_the_independent_numpy_rhs(relay, contact):
-    """The compiled equations are MODEL.md's: forces, inductance derivatives, eq 4.16, contact law."""
+    """The compiled equations are docs/model.md's: forces, inductance derivatives, eq 4.16, contact law."""
     scene = maps.get_scene("thesis-1dof")
     system = scene.system
     p = scene.parameters(preset="matlab-listing", **PARAMS)

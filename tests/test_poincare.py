@@ -96,7 +96,7 @@ def test_orbit_impacts_equal_the_time_history(scene, relay_hz):
 
 
 def test_forcing_period_in_relay_periods():
-    """q relay periods hold a whole number of mains cycles (MODEL.md: 4 Hz: 2, 6: 3, 8: 4, 9: 9)."""
+    """q relay periods hold a whole number of mains cycles (docs/model.md: 4 Hz: 2, 6: 3, 8: 4, 9: 9)."""
     for relay_hz, q in ((2, 1), (4, 2), (5, 1), (6, 3), (7, 7), (8, 4), (9, 9), (10, 1), (7.5, 3)):
         assert forcing_period_steps(50.0, relay_hz) == q, relay_hz
     assert forcing_period_steps(50.0, math.pi) == 0  # incommensurate: never repeats

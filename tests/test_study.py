@@ -25,7 +25,7 @@ def test_diagram_and_report_commands(tmp_path, capsys):
     text = md.read_text()
     assert "| 7 | independent |" in text and "Class counts" in text and "error estimate" in text
     assert main(["report", str(tmp_path / "missing.nc")]) == 2
-    assert main(["diagram", "--from", "2", "--to", "3", "--n", "2", "--param", "bogus", "-o", str(nc)]) == 2
+    assert main(["diagram", "--from", "2", "--to", "3", "--n", "2", "--param", "bogus", "-o", str(tmp_path / "e.nc")]) == 2
     assert "bogus" in capsys.readouterr().err
 
 
@@ -44,16 +44,23 @@ def test_quick_study_compares_every_frequency(tmp_path):
     assert int(ds.n_impacts.max()) == 0 and "does not reach the stop" in text
     for f in ("thesis-text.nc", "thesis-text.png", "thesis-text.md"):
         assert (tmp_path / f).exists()
+    before = (tmp_path / "comparison.md").read_text()
+    with pytest.raises(FileExistsError, match="not empty"):  # refused before any work
+        run_study("thesis-1dof-relay", tmp_path, quick=True, progress=False, cases=["thesis-text"])
+    assert (tmp_path / "comparison.md").read_text() == before
 
 
-def test_notebook_executes(tmp_path):
-    nbformat = pytest.importorskip("nbformat")
-    nbclient = pytest.importorskip("nbclient")
+def test_notebook_executes_and_shows_its_figures(tmp_path):
+    """The kernel runs with Jupyter's inline backend (CI exports MPLBACKEND=Agg, which a user's
+    notebook does not have): if any import switched the backend, no figure would reach the outputs."""
+    import nbclient
+    import nbformat
     nb = nbformat.read(ROOT / "notebooks" / "explore_thesis_1dof.ipynb", as_version=4)
+    assert "sys.path" not in nb.cells[1].source  # the public API is importable as is
     env_before = dict(os.environ)
     os.environ["BIFURC_NOTEBOOK_OUT"] = str(tmp_path)
     os.environ["PYTHONPATH"] = os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")])
-    os.environ["MPLBACKEND"] = "Agg"
+    os.environ["MPLBACKEND"] = "module://matplotlib_inline.backend_inline"
     try:
         nbclient.NotebookClient(nb, timeout=600, kernel_name="python3",
                                 resources={"metadata": {"path": str(ROOT / "notebooks")}}).execute()
@@ -63,3 +70,13 @@ def test_notebook_executes(tmp_path):
     outputs = "".join(o.get("text", "") for c in nb.cells if c.cell_type == "code" for o in c.get("outputs", []))
     assert "toolkit" in outputs and " 6 " in outputs and "impacts" in outputs
     assert (tmp_path / "matlab-listing-90V.nc").exists()
+    images = [o for c in nb.cells if c.cell_type == "code" for o in c.get("outputs", [])
+              if "image/png" in o.get("data", {})]
+    assert len(images) >= 2  # the diagram and the time history
+    assert nb.cells[5].source.startswith("ds.bifurc.plot()")  # a returned Figure would show twice here
+    for cell in nb.cells:  # each figure once
+        if cell.cell_type == "code":
+            assert sum("image/png" in o.get("data", {}) for o in cell.get("outputs", [])) <= 1, cell.source
+    tables = [o for c in nb.cells if c.cell_type == "code" for o in c.get("outputs", [])
+              if "text/html" in o.get("data", {}) and "relay_hz" in o["data"]["text/html"]]
+    assert tables  # ds.bifurc.table() rendered

@@ -210,7 +210,7 @@ def test_a_resumed_value_keeps_the_time_spent_computing_it(tmp_path, monkeypatch
     from bifurc.cli import main
     from bifurc.resume import Parts
     argv = ["diagram", "--preset", "matlab-listing", "--set", "V=90", "--from", "4", "--to", "9", "--n", "4",
-            "--transient", "400", "--record", "20", "--no-lyapunov", "--quiet", "--workers", "1"]
+            "--transient", "1500", "--record", "20", "--no-lyapunov", "--quiet", "--workers", "1"]
     path = tmp_path / "d.nc"
     monkeypatch.setattr(Parts, "remove", lambda self: None)      # keep the parts, as after a late interruption
     assert main(argv + ["-o", str(path)]) == 0

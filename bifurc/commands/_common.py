@@ -5,10 +5,12 @@ import argparse
 
 from maps.parameters import ParameterError
 
-__all__ = ["add_scene_options", "parse_sets", "parse_x0", "scene_kwargs"]
+__all__ = ["add_parameter_options", "add_scene_options", "add_force_option", "parse_sets", "parse_x0", "parse_floats", "scene_kwargs",
+           "check_outputs", "check_plot", "check_scheduler"]
 
 
-def add_scene_options(parser: argparse.ArgumentParser, default_scene: str = "thesis-1dof") -> None:
+def add_parameter_options(parser, default_scene: str = "thesis-1dof"):
+    """--scene, --preset, --set in a group "scene and parameters"; returns the group."""
     g = parser.add_argument_group("scene and parameters")
     g.add_argument("--scene", default=default_scene, help="scene name (see `bifurc scenes`)")
     g.add_argument("--preset", default=None,
@@ -16,6 +18,13 @@ def add_scene_options(parser: argparse.ArgumentParser, default_scene: str = "the
                         "(default: the scene's own)")
     g.add_argument("--set", dest="sets", action="append", default=[], metavar="NAME=VALUE",
                    help="override a parameter by its name (repeatable), e.g. --set V=90")
+    return g
+
+
+def add_scene_options(parser: argparse.ArgumentParser, default_scene: str = "thesis-1dof",
+                      default_tol: float = 1e-12) -> None:
+    """The parameter options, --relay-hz, --x0, --circuit, --ac-sign and --tol."""
+    g = add_parameter_options(parser, default_scene)
     g.add_argument("--relay-hz", type=float, default=None, help="shortcut for --set relay_hz=...")
     g.add_argument("--x0", default=None, metavar="x=0.001,v=0",
                    help="initial state components by name (others: the scene's default)")
@@ -23,7 +32,7 @@ def add_scene_options(parser: argparse.ArgumentParser, default_scene: str = "the
                    help="circuit form: thesis (eq 4.16, i and di/dt) or kvl (charge form)")
     g.add_argument("--ac-sign", choices=("physical", "listing"), default=None,
                    help="AC force sign: physical (default) or as in listing C.2")
-    g.add_argument("--tol", type=float, default=1e-12, help="heyoka tolerance (default 1e-12)")
+    g.add_argument("--tol", type=float, default=default_tol, help=f"heyoka tolerance (default {default_tol:g})")
 
 
 def _parse_pairs(items, option: str) -> dict:
@@ -38,6 +47,14 @@ def _parse_pairs(items, option: str) -> dict:
         except ValueError:
             raise ParameterError(f"{option} {item!r}: value of {name!r} is not a number") from None
     return out
+
+
+def parse_floats(text, option: str) -> list:
+    """'5,6.5' -> [5.0, 6.5]; anything else names the option."""
+    try:
+        return [float(v) for v in text.split(",") if v.strip()]
+    except ValueError:
+        raise ParameterError(f"{option} expects comma-separated numbers, got {text!r}") from None
 
 
 def parse_sets(items) -> dict:
@@ -62,3 +79,50 @@ def scene_kwargs(args) -> dict:
         params["relay_hz"] = args.relay_hz
     return dict(params=params, preset=args.preset, x0=parse_x0(args.x0), tol=args.tol,
                 circuit=args.circuit, ac_sign=args.ac_sign)
+
+
+def add_force_option(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--force", action="store_true", help="replace existing output files")
+
+
+def check_outputs(args, *paths) -> None:
+    """Before any long work: refuse existing outputs unless --force (one line naming --force)."""
+    from ..files import refuse_existing
+    for path in paths:
+        refuse_existing(path, args.force, hint="use --force")
+
+
+def check_plot(args) -> None:
+    """``--plot``: a format matplotlib writes, not in the way of an existing file (unless --force)."""
+    if args.plot:
+        from ..files import check_figure_output
+        check_figure_output(args.plot, args.force, what="--plot")
+
+
+#: seconds to wait for a Dask scheduler before saying it is unreachable
+SCHEDULER_TIMEOUT = 3.0
+
+
+def check_scheduler(address) -> None:
+    """A ``tcp://host:port`` (or ``tls://``, or ``host:port``) scheduler must accept a connection
+    within :data:`SCHEDULER_TIMEOUT` s; other schemes are left to Dask."""
+    import socket
+    from urllib.parse import urlsplit
+    if address is None:
+        return
+    text = address if "://" in address else f"tcp://{address}"
+    parts = urlsplit(text)
+    if parts.scheme not in ("tcp", "tls"):
+        return
+    try:
+        host, port = parts.hostname, parts.port
+    except ValueError:
+        host = port = None
+    if not host or port is None:
+        raise ParameterError(f"--scheduler {address!r}: expected tcp://host:port")
+    try:
+        socket.create_connection((host, port), timeout=SCHEDULER_TIMEOUT).close()
+    except OSError as exc:
+        reason = exc.strerror or type(exc).__name__
+        raise ParameterError(f"--scheduler {address}: no Dask scheduler reachable there within "
+                             f"{SCHEDULER_TIMEOUT:g} s ({reason})") from None

@@ -12,14 +12,11 @@ from pathlib import Path
 
 from maps.parameters import ParameterError
 
+from ._common import add_force_option, check_outputs, parse_floats
+
 NAME = "accuracy"
-
-
-def _parse_floats(text, what):
-    try:
-        return [float(v) for v in text.split(",") if v.strip()]
-    except ValueError:
-        raise ParameterError(f"{what} expects comma-separated numbers, got {text!r}") from None
+#: files written into the output folder
+OUTPUTS = ("accuracy.csv", "accuracy.nc", "accuracy.png")
 
 
 def register(subparsers):
@@ -46,6 +43,7 @@ def register(subparsers):
     p.add_argument("--max-seconds", type=float, default=30.0,
                    help="stop a method's ladder after a run longer than this [s]")
     p.add_argument("-o", "--output", required=True, help="output directory")
+    add_force_option(p)
     p.set_defaults(func=run)
     return p
 
@@ -58,9 +56,9 @@ def run(args) -> int:
         if m not in DEFAULT_LADDERS:
             raise ParameterError(f"unknown method {m!r}; methods: {', '.join(DEFAULT_LADDERS)}")
         if m == "rk4-bisection" and args.steps:
-            ladders[m] = _parse_floats(args.steps, "--steps")
+            ladders[m] = parse_floats(args.steps, "--steps")
         elif m != "rk4-bisection" and args.tols:
-            ladders[m] = _parse_floats(args.tols, "--tols")
+            ladders[m] = parse_floats(args.tols, "--tols")
         else:
             ladders[m] = DEFAULT_LADDERS[m]
     from ._common import parse_sets, parse_x0
@@ -69,6 +67,7 @@ def run(args) -> int:
         params["relay_hz"] = args.relay_hz
     x0 = parse_x0(args.x0)
     out = Path(args.output)
+    check_outputs(args, *(out / f for f in OUTPUTS))
     out.mkdir(parents=True, exist_ok=True)
 
     def progress(row):
@@ -79,9 +78,10 @@ def run(args) -> int:
     ds = work_precision(args.scene, args.t_end, preset=args.preset, params=params, x0=x0, ladders=ladders,
                         reference=args.reference, max_seconds=args.max_seconds, progress=progress,
                         circuit=args.circuit, ac_sign=args.ac_sign)
-    ds.to_dataframe().to_csv(out / "accuracy.csv")
-    ds.to_netcdf(out / "accuracy.nc")
-    plot_work_precision(ds, out / "accuracy.png")
+    from ..files import write_netcdf, write_text
+    write_text(out / "accuracy.csv", ds.to_dataframe().to_csv(), overwrite=args.force)
+    write_netcdf(ds, out / "accuracy.nc", overwrite=args.force)
+    plot_work_precision(ds, out / "accuracy.png", overwrite=args.force)
     print(f"reference ({ds.attrs['reference_precision']}, tol {ds.attrs['reference_tol']:g}): "
           f"{ds.attrs['reference_n_impacts']} impacts, error bound {ds.attrs['reference_error_bound']:.1e}")
     print(f"wrote {out / 'accuracy.csv'}, {out / 'accuracy.nc'}, {out / 'accuracy.png'}")

@@ -1,16 +1,17 @@
 """`bifurc diagram`: a one-parameter bifurcation diagram to netCDF and a figure."""
 import numpy as np
 
-from ._common import add_scene_options, scene_kwargs
+from ._common import add_force_option, add_scene_options, check_outputs, check_plot, check_scheduler, scene_kwargs
 
 
 def register(subparsers):
     p = subparsers.add_parser("diagram", help="bifurcation diagram over one parameter",
                               description="Sweep one parameter; record the stroboscopic map, impacts and the "
                                           "class of each orbit; write netCDF and a figure. Interrupted sweeps "
-                                          "resume from <output>.parts/.")
-    add_scene_options(p)
-    p.set_defaults(tol=1e-10)
+                                          "resume from <output>.parts/. An existing output is refused unless --force; "
+                                          "a second run into the same output at once is refused (<output>.lock, "
+                                          "POSIX only).")
+    add_scene_options(p, default_tol=1e-10)
     p.add_argument("--param", default="relay_hz", help="parameter to sweep (default relay_hz)")
     p.add_argument("--from", dest="start", type=float, required=True, help="first value")
     p.add_argument("--to", dest="stop", type=float, required=True, help="last value")
@@ -31,8 +32,9 @@ def register(subparsers):
                         "1: one value at a time)")
     p.add_argument("--scheduler", default=None, help="Dask scheduler address tcp://host:port")
     p.add_argument("-o", "--output", required=True, help="netCDF file to write")
-    p.add_argument("--plot", default=None, help="PNG file for the diagram")
+    p.add_argument("--plot", default=None, help="figure file for the diagram (.png, .pdf, .svg, ...)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_force_option(p)
     p.set_defaults(func=run)
 
 
@@ -44,14 +46,18 @@ def run(args) -> int:
     if args.n < 1:
         raise ParameterError(f"--n {args.n}: need at least 1 value")
     kw = scene_kwargs(args)
+    check_outputs(args, args.output)
+    check_plot(args)
+    check_scheduler(args.scheduler)
     values = np.linspace(args.start, args.stop, args.n)
     ds = sweep(args.scene, args.param, values, mode=args.mode, transient=args.transient, record=args.record,
                max_period=args.max_period, lyapunov=not args.no_lyapunov, path=args.output,
                max_transient=args.max_transient, batch_size=args.batch_size,
-               progress=not args.quiet, workers=args.workers, scheduler=args.scheduler, **kw)
+               progress=not args.quiet, workers=args.workers, scheduler=args.scheduler, overwrite=args.force,
+               **kw)
     if args.plot:
         from ..plot_diagram import plot_diagram
-        plot_diagram(ds, args.plot)
+        plot_diagram(ds, args.plot, overwrite=args.force)
     codes = ds.class_code.values.ravel()
     counts = ", ".join(f"{CLASS_LABELS[c]} {int((codes == c).sum())}" for c in range(len(CLASS_LABELS))
                        if (codes == c).any())

@@ -1,4 +1,5 @@
 """`bifurc report`: markdown classification report of a diagram dataset."""
+from ._common import add_force_option, check_outputs, parse_floats
 
 
 def register(subparsers):
@@ -6,21 +7,20 @@ def register(subparsers):
     p.add_argument("dataset", help="netCDF written by `bifurc diagram`")
     p.add_argument("-o", "--output", default=None, help="markdown file (default: print)")
     p.add_argument("--at", default=None, help="comma-separated parameter values to tabulate")
+    add_force_option(p)
     p.set_defaults(func=run)
 
 
 def run(args) -> int:
-    from pathlib import Path
-
+    from ..datasets import load
+    from ..files import write_text
     from ..report import classification_report
-    from ..storage import load
-    if not Path(args.dataset).exists():
-        raise FileNotFoundError(f"no dataset at {args.dataset}")
-    ds = load(args.dataset)
-    at = [float(v) for v in args.at.split(",")] if args.at else None
+    at = parse_floats(args.at, "--at") if args.at else None
+    check_outputs(args, args.output)
+    ds = load(args.dataset, kind="diagram")
     text = classification_report(ds, at=at)
     if args.output:
-        Path(args.output).write_text(text)
+        write_text(args.output, text, overwrite=args.force)
         print(f"wrote {args.output}")
     else:
         print(text)

@@ -1,7 +1,7 @@
 """`bifurc simulate`: a time history to netCDF and a figure."""
 import maps
 
-from ._common import add_scene_options, scene_kwargs
+from ._common import add_force_option, add_scene_options, check_outputs, check_plot, scene_kwargs
 
 
 def register(subparsers):
@@ -13,23 +13,26 @@ def register(subparsers):
     span.add_argument("--t-end", type=float, default=None, help="duration [s]")
     p.add_argument("--dt", type=float, default=None, help="sampling step [s] (default 2e-4)")
     p.add_argument("-o", "--output", default=None, help="netCDF file to write")
-    p.add_argument("--plot", default=None, help="PNG file for the time-history figure")
+    p.add_argument("--plot", default=None, help="figure file for the time history (.png, .pdf, .svg, ...)")
+    add_force_option(p)
     p.set_defaults(func=run)
 
 
 def run(args) -> int:
     kw = scene_kwargs(args)
+    check_outputs(args, args.output)
+    check_plot(args)
     periods, t_end = args.periods, args.t_end
     if periods is None and t_end is None:
         periods = 20.0 if "relay_hz" in maps.get_scene(args.scene).system.param_names else None
         t_end = None if periods else 2.0
     ds = maps.simulate(args.scene, periods=periods, t_end=t_end, dt=args.dt, **kw)
     if args.output:
-        from ..storage_io import write_netcdf_atomic
-        write_netcdf_atomic(ds, args.output)
+        from ..files import write_netcdf
+        write_netcdf(ds, args.output, overwrite=args.force)
     if args.plot:
         from ..plot_history import plot_time_history
-        plot_time_history(ds, args.plot)
+        plot_time_history(ds, args.plot, overwrite=args.force)
     a = ds.attrs
     print(f"{a['scene']}: status {a['status']}, t = {a['t_end_reached']:.6g} s, {ds.sizes['impact']} impacts, "
           f"{a['n_steps']} steps, run {a['run_seconds']:.3g} s (compile {a['compile_seconds']:.3g} s once)")

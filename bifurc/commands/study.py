@@ -1,4 +1,5 @@
 """`bifurc study`: run a named study from studies/ (diagram, report, comparison with the thesis)."""
+from ._common import add_force_option
 
 
 def register(subparsers):
@@ -7,6 +8,7 @@ def register(subparsers):
     p.add_argument("--quick", action="store_true", help="reduced size")
     p.add_argument("-o", "--output", default="out/study", help="output folder")
     p.add_argument("--case", action="append", default=None, help="run only this case (repeatable)")
+    add_force_option(p)
     p.set_defaults(func=run)
 
 
@@ -16,6 +18,7 @@ def run(args) -> int:
     except ModuleNotFoundError:
         from maps.parameters import ParameterError
         raise ParameterError("the studies/ folder is not importable: run from the repository root") from None
-    run_study(args.name, args.output, quick=args.quick, cases=args.case)
+    run_study(args.name, args.output, quick=args.quick, cases=args.case, overwrite=args.force,
+              hint="use --force")
     print(f"wrote {args.output}/comparison.md and one .nc/.png/.md per case")
     return 0

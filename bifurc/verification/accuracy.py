@@ -29,6 +29,7 @@ import xarray as xr
 from maps.engines.scalar import HybridRun
 from maps.impacts import impact_table
 from maps.parameters import ParameterError
+from maps.provenance import cf_attrs, recorded
 from maps.simulate import resolve
 
 from . import baselines
@@ -109,6 +110,7 @@ def _impact_error(t, t_ref):
     return float(np.max(np.abs(t - t_ref))) if t.size else 0.0
 
 
+@recorded("bifurc.accuracy.work_precision")
 def work_precision(scene="thesis-1dof", t_end=2.0, preset=None, params=None, x0=None,
                    ladders=None, methods=None, reference="longdouble", repeats=3,
                    max_seconds=30.0, progress=None, circuit=None, ac_sign=None) -> xr.Dataset:
@@ -175,6 +177,7 @@ def _to_dataset(rows, ref, t_end) -> xr.Dataset:
         "reference_n_impacts": int(ref["impact_times"].size),
         "reference_final_state": np.array(ref["y"], dtype=float),
         "reference_run_seconds": ref["run_seconds"], "initial_state": np.asarray(ref["y0"], float),
+        **cf_attrs(f"scene {sc.name}, work-precision study"),
     })
     for k, v in ref["params"].items():
         ds.attrs[f"param_{k}"] = v
@@ -182,12 +185,18 @@ def _to_dataset(rows, ref, t_end) -> xr.Dataset:
     return ds
 
 
-def plot_work_precision(ds: xr.Dataset, path=None, error="final_state_error"):
-    """Log-log error against run time, one line per method; returns the figure."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(figsize=(7, 5))
+def plot_work_precision(ds: xr.Dataset, path=None, error="final_state_error", ax=None, overwrite=False):
+    """Log-log error against run time, one line per method, into ``ax`` (default: a new figure);
+    ``path``: also save it there (an existing file is refused unless ``overwrite``).
+    Returns the Axes it drew on (``ax`` as given, or the new one)."""
+    from ..files import check_figure_output, save_figure
+    if path is not None:
+        check_figure_output(path, overwrite)
+    own = ax is None
+    if own:
+        import matplotlib.pyplot as plt
+        ax = plt.subplots(figsize=(7, 5))[1]
+    fig = ax.figure
     floor = max(float(ds.attrs.get("reference_error_bound", 0.0)), 1e-18)
     for method in dict.fromkeys(ds["method"].values.tolist()):
         sel = ds.where(ds["method"] == method, drop=True)
@@ -205,7 +214,8 @@ def plot_work_precision(ds: xr.Dataset, path=None, error="final_state_error"):
                  f"(x: wrong impact count; dotted: reference bound)", fontsize=9)
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
-    fig.tight_layout()
+    if own:
+        fig.tight_layout()
     if path is not None:
-        fig.savefig(path, dpi=120)
-    return fig
+        save_figure(fig, path, overwrite=overwrite, dpi=120, close=own)
+    return ax

@@ -29,6 +29,7 @@ import xarray as xr
 from maps.engines.scalar import HybridRun
 from maps.hybrid import Escaped, EventCap, IntegrationFailure
 from maps.impacts import free_flight_minima, impact_table
+from maps.provenance import cf_attrs, recorded
 from maps.scenes import get_scene
 
 __all__ = ["Case", "CASES", "QUICK", "VERDICTS", "COMPARED_EVENTS", "case_scene", "run_case", "run_suite",
@@ -273,6 +274,7 @@ def _energy_error(run, case):
     return abs((E1 - E0) - (W - ER - Ec)) / scale
 
 
+@recorded("bifurc.stability.run_suite")
 def run_suite(quick: bool = False, names=None, progress: bool = True) -> xr.Dataset:
     """Run the suite (``quick``: the reduced one; ``names``: only these cases) into a Dataset
     with one row per case.  Progress goes to stderr."""
@@ -344,7 +346,7 @@ def _dataset(rows, quick) -> xr.Dataset:
         ds[key] = ("case", np.array([str(r.get(key, "")) for r in rows]), {"units": "1", "long_name": long_name})
     ds.attrs.update({"title": "bifurc numerical stability suite", "suite": "quick" if quick else "full",
                      "heyoka_version": hy.__version__, "bound_rule": "max(1e3, steps) * tol relative",
-                     "Conventions": "CF-1.10"})
+                     **cf_attrs("numerical stability suite")})
     return ds
 
 
@@ -394,12 +396,13 @@ def _stick_sentence(r) -> str:
     return " and ".join(parts) + f"; {_g(r.time_on_stop, '.4g')} s on the stop in all."
 
 
-def write_report(ds: xr.Dataset, folder) -> Path:
-    """Write ``stability.md`` and ``stability.nc`` into ``folder``."""
-    from ..storage_io import write_netcdf_atomic
+def write_report(ds: xr.Dataset, folder, overwrite: bool = False) -> Path:
+    """Write ``stability.md`` and ``stability.nc`` into ``folder`` (existing ones refused unless ``overwrite``)."""
+    from ..files import refuse_existing, write_netcdf
     folder = Path(folder)
-    folder.mkdir(parents=True, exist_ok=True)
-    write_netcdf_atomic(ds, folder / "stability.nc")
+    for name in ("stability.nc", "stability.md"):
+        refuse_existing(folder / name, overwrite)
+    write_netcdf(ds, folder / "stability.nc", overwrite=overwrite)
     lines = [f"# Numerical stability suite ({ds.attrs['suite']})", "", __doc__.split("\n\n", 1)[1].strip(), ""]
     notes = []
     for group in dict.fromkeys(str(g) for g in ds.group.values):

@@ -1,0 +1,233 @@
+"""The public API as a notebook user meets it: exports, the ds.bifurc accessor, ax= plotting,
+no backend chosen at import, no import cycle, python -m bifurc, bifurc params, help and README text."""
+import ast
+import importlib
+import itertools
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import matplotlib
+import matplotlib.pyplot as plt
+import numpy as np
+import pytest
+from matplotlib.colors import to_rgb
+
+import bifurc
+import maps
+from bifurc.cli import build_parser, main
+from bifurc.plot_diagram import CLASS_COLOURS, GRAZE
+
+ROOT = Path(__file__).resolve().parents[1]
+PACKAGES = ("maps", "bifurc", "studies")
+
+
+@pytest.fixture(scope="module")
+def diagram():
+    return bifurc.sweep("thesis-1dof", "relay_hz", np.array([5.0, 7.0, 9.0]), preset="matlab-listing",
+                        params={"V": 90}, transient=10, record=6, error_sample=1, progress=False)
+
+
+def test_public_names_resolve_and_sweep_is_the_function():
+    for name in bifurc.__all__:
+        assert getattr(bifurc, name) is not None, name
+    for name in maps.__all__:
+        assert getattr(maps, name) is not None, name
+    assert callable(bifurc.sweep) and callable(bifurc.plot_diagram)
+    from bifurc.sweep import sweep
+    assert sweep is bifurc.sweep is importlib.import_module("bifurc.sweep").sweep
+    assert bifurc.class_at is importlib.import_module("bifurc.report").class_at
+
+
+def test_table_has_one_row_per_value_where_to_dataframe_has_none(diagram):
+    assert len(diagram.to_dataframe()) == 0  # an empty dimension (grazing) empties the product
+    df = diagram.bifurc.table()
+    assert len(df) == 3 and list(df.relay_hz) == [5.0, 7.0, 9.0] and set(df.branch) == {"independent"}
+    for column in ("class", "description", "period", "impacts_per_period", "lyapunov", "n_impacts", "min_gap"):
+        assert column in df, column
+    np.testing.assert_array_equal(df.class_code, diagram.class_code.values[0])
+    assert df.attrs["units"]["min_gap"] == "m" and df.attrs["units"]["relay_hz"] == "Hz"
+
+
+def test_accessor_class_at_report_and_plot(diagram):
+    c = diagram.bifurc.class_at(7.2)
+    assert c["value"] == 7.0 and c == bifurc.class_at(diagram, 7.2)
+    with pytest.raises(maps.ParameterError, match="relay_hz"):
+        diagram.bifurc.class_at("abc")
+    with pytest.raises(maps.ParameterError, match="independent"):
+        diagram.bifurc.class_at(7.0, branch="up")
+    text = diagram.bifurc.report()
+    assert text == bifurc.classification_report(diagram) and text._repr_markdown_().startswith("# Classification")
+    axes = diagram.bifurc.plot()  # Axes, not the Figure: Jupyter shows it once
+    assert all(isinstance(a, matplotlib.axes.Axes) for a in axes) and list(axes) == axes[0].figure.axes
+    plt.close(axes[0].figure)
+    history = maps.simulate("thesis-1dof", t_end=0.05, dt=1e-3, preset="matlab-listing")
+    fig, ax = plt.subplots()
+    assert history.bifurc.plot(ax=ax) is ax and ax.lines
+    plt.close(fig)
+    with pytest.raises(maps.ParameterError, match="diagram dataset"):
+        history.bifurc.table()
+    with pytest.raises(maps.ParameterError, match="no figure"):
+        diagram[["x"]].drop_attrs().bifurc.plot()
+
+
+def test_plot_diagram_draws_into_given_axes_and_returns_them(diagram):
+    fig, (ax, strip) = plt.subplots(2, 1)
+    assert bifurc.plot_diagram(diagram, ax=ax) is ax
+    assert ax.lines and not strip.patches  # one Axes: the diagram only
+    pair = (ax, strip)
+    assert bifurc.plot_diagram(diagram, ax=pair) is pair
+    assert len(strip.patches) == 3  # one class cell per value
+    plt.close(fig)
+
+
+def test_diagram_figure_labels_the_strip_by_its_content_and_says_the_error_in_words(diagram):
+    ax, strip = bifurc.plot_diagram(diagram)
+    fig = ax.figure
+    assert "class" in strip.get_ylabel()
+    assert all("independent" not in t.get_text() for t in strip.get_yticklabels())
+    title = fig._suptitle.get_text()
+    assert "tol/100" not in title and "estimated numerical error" in title
+    plt.close(fig)
+
+
+# Machado, Oliveira & Fernandes (2009) colour-vision-deficiency matrices, severity 1, linear RGB
+CVD = {"protan": [[0.152286, 1.052583, -0.204868], [0.114503, 0.786281, 0.099216], [-0.003882, -0.048116, 1.051998]],
+       "deutan": [[0.367322, 0.860646, -0.227968], [0.280085, 0.672501, 0.047413], [-0.011820, 0.042940, 0.968881]],
+       "tritan": [[1.255528, -0.076749, -0.178779], [-0.078411, 0.930809, 0.147602], [0.004733, 0.691367, 0.303900]],
+       "normal": np.eye(3)}
+
+
+def _lab(colour, matrix):
+    c = np.asarray(to_rgb(colour))
+    linear = np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
+    xyz = np.array([[0.4124, 0.3576, 0.1805], [0.2126, 0.7152, 0.0722], [0.0193, 0.1192, 0.9505]]) @ \
+        np.clip(np.asarray(matrix) @ linear, 0, 1) / [0.95047, 1.0, 1.08883]
+    f = np.where(xyz > 0.008856, np.cbrt(xyz), 7.787 * xyz + 16 / 116)
+    return np.array([116 * f[1] - 16, 500 * (f[0] - f[1]), 200 * (f[1] - f[2])])
+
+
+def test_class_colours_stay_distinct_under_colour_blindness():
+    """CIE76 colour difference >= 10 between every two class colours as a protanope, deuteranope
+    or tritanope sees them (the former red/green palette: 4.6 for protanopes, 7.3 for deuteranopes)."""
+    colours = dict(CLASS_COLOURS, grazing=GRAZE)
+    for kind, matrix in CVD.items():
+        for a, b in itertools.combinations(colours, 2):
+            diff = np.linalg.norm(_lab(colours[a], matrix) - _lab(colours[b], matrix))
+            assert diff >= 10, (kind, a, b, diff)
+
+
+def _modules():
+    for pkg in PACKAGES:
+        for f in sorted((ROOT / pkg).rglob("*.py")):
+            name = ".".join(f.relative_to(ROOT).with_suffix("").parts)
+            yield name.removesuffix(".__init__"), f
+
+
+def test_importing_any_module_leaves_the_matplotlib_backend_alone():
+    """Also: import bifurc loads neither pyplot nor xarray (worker processes start faster), and
+    ds.bifurc exists as soon as xarray is imported."""
+    names = [m for m, _ in _modules() if not m.endswith("__main__")]
+    code = ("import matplotlib, importlib, sys; matplotlib.use('svg')\n"
+            "import bifurc; assert 'matplotlib.pyplot' not in sys.modules, 'pyplot imported by bifurc'\n"
+            "assert 'xarray' not in sys.modules, 'xarray imported by bifurc: slower worker processes'\n"
+            "import xarray; assert xarray.Dataset().bifurc.kind is None  # registered once xarray loads\n"
+            f"for m in {names!r}: importlib.import_module(m)\n"
+            "assert matplotlib.get_backend() == 'svg', matplotlib.get_backend()\n")
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    env.pop("MPLBACKEND", None)
+    r = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+
+
+def _import_graph():
+    """Project module -> project modules it imports anywhere (module level or inside functions)."""
+    mods = dict(_modules())
+    graph = {m: set() for m in mods}
+    for m, f in mods.items():
+        pkg = m if f.name == "__init__.py" else m.rpartition(".")[0]
+        for node in ast.walk(ast.parse(f.read_text())):
+            if isinstance(node, ast.Import):
+                targets = [a.name for a in node.names]
+            elif isinstance(node, ast.ImportFrom):
+                base = node.module or ""
+                if node.level:
+                    base = ".".join(pkg.split(".")[:len(pkg.split(".")) - node.level + 1] + ([base] if base else []))
+                targets = [f"{base}.{a.name}" if f"{base}.{a.name}" in mods else base for a in node.names]
+            else:
+                continue
+            for t in targets:
+                while t and t not in mods:
+                    t = t.rpartition(".")[0]
+                if t and t != m:
+                    graph[m].add(t)
+    return graph
+
+
+def test_no_import_cycle_counting_imports_inside_functions_and_maps_never_imports_bifurc():
+    graph = _import_graph()
+    assert "bifurc.sweep" in graph["bifurc"]  # the graph sees the package's exports
+
+    def reach(start):
+        seen, todo = set(), [start]
+        while todo:
+            for n in graph[todo.pop()] - seen:
+                seen.add(n)
+                todo.append(n)
+        return seen
+    cycles = [m for m in graph if m in reach(m)]
+    assert not cycles, cycles
+    for m, targets in graph.items():
+        if m.startswith("maps"):
+            assert not [t for t in targets if t.startswith("bifurc")], m
+
+
+def test_python_m_bifurc_and_version():
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    r = subprocess.run([sys.executable, "-m", "bifurc", "--version"], env=env, capture_output=True, text=True,
+                       timeout=120)
+    assert r.returncode == 0 and r.stdout.strip() == f"bifurc {bifurc.__version__}"
+    toml = (ROOT / "pyproject.toml").read_text()
+    assert 'attr = "maps._version.__version__"' in toml and bifurc.__version__ == maps.__version__
+
+
+def test_params_lists_every_parameter_with_value_unit_range_and_provenance(capsys):
+    assert main(["params", "--scene", "thesis-2dof", "--preset", "dynamics-listing", "--set", "V=90"]) == 0
+    lines = capsys.readouterr().out.strip().splitlines()
+    sc = maps.get_scene("thesis-2dof")
+    table = sc.parameters_with_provenance("dynamics-listing", V=90)
+    assert len(lines) == 1 + len(table)
+    for line, (name, (value, source)) in zip(lines[1:], table.items()):
+        p = sc.system.parameter(name)
+        cells = line.split()
+        assert cells[0] == name and float(cells[1]) == pytest.approx(value, rel=1e-5)
+        assert f" {p.unit} " in line and p.range_text() in line and line.endswith(source)
+    assert "set by user" in next(line for line in lines if line.startswith("V "))
+
+
+def _help(command):
+    sub = build_parser()._subparsers._group_actions[0].choices[command]
+    return " ".join(sub.format_help().split())
+
+
+def test_help_texts_state_the_real_defaults():
+    assert "heyoka tolerance (default 1e-10)" in _help("diagram")
+    assert "heyoka tolerance (default 1e-12)" in _help("simulate")
+    assert "a few seconds" in _help("verify") and "minutes" not in _help("verify")
+    for command in ("simulate", "diagram", "report", "accuracy", "verify", "study"):
+        assert "--force" in _help(command), command
+
+
+def test_readme_points_to_files_that_exist_and_its_accuracy_example_impacts():
+    readme = (ROOT / "README.md").read_text()
+    assert "MODEL.md" not in readme and (ROOT / "docs" / "model.md").exists()
+    for path in re.findall(r"`((?:docs|notebooks|benchmarks)/[\w./-]+)`", readme):
+        assert (ROOT / path).exists(), path
+    example = re.search(r"`(bifurc accuracy [^`]+)`", readme).group(1).split()
+    args = build_parser().parse_args(example[1:])
+    from bifurc.commands._common import parse_sets
+    params = dict(parse_sets(args.sets), **({"relay_hz": args.relay_hz} if args.relay_hz else {}))
+    run = maps.simulate(args.scene, t_end=args.t_end, preset=args.preset, params=params, dt=1e-3)
+    assert run.sizes["impact"] >= 3  # the example exercises event location
