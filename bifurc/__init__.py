@@ -12,6 +12,8 @@ Importing bifurc never selects a matplotlib backend; it registers the ``ds.bifur
 from ._version import __version__
 from ._xarray_hook import register_accessor_with_xarray
 from .datasets import load
+from .orbit import periodic_orbit, sweep_point
+from .periodic import OrbitNotFound, find_periodic_orbit
 from .plot_diagram import plot_diagram
 from .plot_history import plot_time_history
 from .report import class_at, classification_report
@@ -20,4 +22,4 @@ from .sweep import sweep
 register_accessor_with_xarray()  # ds.bifurc, without importing xarray in worker processes
 
 __all__ = ["__version__", "sweep", "load", "plot_diagram", "plot_time_history", "classification_report",
-           "class_at"]
+           "class_at", "periodic_orbit", "sweep_point", "find_periodic_orbit", "OrbitNotFound"]

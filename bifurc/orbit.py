@@ -151,7 +151,7 @@ def orbit_dataset(orbit: PeriodicOrbit, smap, scene, table, *, multiplier_error=
     put("min_clearance", float(np.min(o.min_gap_per_step)) if o.n else math.nan)
     put("min_flight_clearance", float(np.min(o.min_flight_gap_per_step)) if o.n else math.nan)
     put("run_seconds", seconds)
-    from . import __version__
+    from ._version import __version__
     ds.attrs.update({
         "title": f"{scene.name}: periodic orbit, period {n}", "scene": scene.name, "k0": k0,
         "strobe_period_s": T, "forcing_period": smap.forcing_period_steps, "tol": smap.tol,

@@ -174,6 +174,11 @@ def _solution(nodes, lins, k0, n, norm, it, scale, clock) -> PeriodicOrbit:
         big[j * d:(j + 1) * d, j * d:(j + 1) * d] = J / scale[:, None] * scale[None, :]
         k = (j + 1) % n
         big[j * d:(j + 1) * d, k * d:(k + 1) * d] -= np.eye(d)
+    partial, growth = np.eye(d), 1.0
+    for J in Js:              # how far single shooting's intermediate products stretch a perturbation
+        partial = (J / scale[:, None] * scale[None, :]) @ partial
+        growth = max(growth, float(np.linalg.norm(partial, 2)))
     orbit.conditioning = {"multiple_shooting": float(np.linalg.cond(big)),
-                          "single_shooting": float(np.linalg.cond(M / scale[:, None] * scale[None, :] - np.eye(d)))}
+                          "single_shooting": float(np.linalg.cond(M / scale[:, None] * scale[None, :] - np.eye(d))),
+                          "single_shooting_growth": growth}
     return orbit

@@ -83,4 +83,6 @@ def forced_oscillator_with_stop(stick_speed: float = STICK_SPEED) -> HybridSyste
         parameters=OSCILLATOR_PARAMETERS, rhs=rhs, flags={"stuck": 0.0}, guards=guards,
         settle=settle, structure=("stick", stick_speed))
     system.strobe_period = lambda p: 2 * math.pi / p["Omega"]
+    # the stick projection (x = e, v = 0) as expressions, for exact Jacobians through a stick
+    system.projections = {"settle": lambda s, flags: [s.e + 0.0 * s.x, hy.expression(0.0)]}
     return system

@@ -1,0 +1,47 @@
+"""`bifurc orbit`: a periodic orbit (stable or unstable) by multiple shooting, with its multipliers."""
+from ._common import add_force_option, add_scene_options, check_outputs, scene_kwargs
+
+
+def register(subparsers):
+    p = subparsers.add_parser("orbit", help="find a periodic orbit and its Floquet multipliers",
+                              description="Find a periodic orbit of the stroboscopic map (stable or unstable) by "
+                                          "Newton's method with multiple shooting; print its period, impacts, "
+                                          "multipliers, stability, residual and multiplier error.")
+    add_scene_options(p)
+    p.add_argument("--period", type=int, default=None,
+                   help="period in strobe (relay) periods, a multiple of the forcing period q (default: q)")
+    p.add_argument("--transient", type=int, default=300,
+                   help="strobe periods integrated from --x0 to the first guess (default 300)")
+    p.add_argument("--no-error", action="store_true", help="skip the re-solve at tol/100 (multiplier error)")
+    p.add_argument("-o", "--output", default=None, help="netCDF file to write")
+    add_force_option(p)
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    from ..files import write_netcdf
+    from ..orbit import periodic_orbit
+    from ..periodic import OrbitNotFound
+    if args.output:
+        check_outputs(args, args.output)
+    kw = scene_kwargs(args)
+    x0 = kw.pop("x0")
+    try:
+        ds = periodic_orbit(args.scene, period=args.period, x0=x0, transient=args.transient,
+                            error=not args.no_error, **kw)
+    except OrbitNotFound as exc:
+        print(f"no periodic orbit found: {exc.reason}")
+        return 1
+    mu = ds.multiplier_abs.values
+    args_ = ds.multiplier_arg.values
+    err = float(ds.multiplier_error)
+    print(f"{ds.attrs['scene']}: period {int(ds.period)} (strobe periods from k = {ds.attrs['k0']}), "
+          f"{int(ds.impacts_per_period)} impacts per period, {'stable' if int(ds.stable) else 'UNSTABLE'}")
+    print("  multipliers |mu| (arg): " + ", ".join(f"{m:.6g} ({a:+.3f})" for m, a in zip(mu, args_)))
+    print(f"  Newton residual {float(ds.newton_residual):.2g} after {ds.attrs['newton_iterations']} iterations; "
+          f"multiplier error {'not measured' if err != err else f'{err:.2g}'}; "
+          f"min clearance {float(ds.min_clearance):.3g} m; {float(ds.run_seconds):.2f} s")
+    if args.output:
+        write_netcdf(ds, args.output, overwrite=args.force)
+        print(f"  wrote {args.output}")
+    return 0

@@ -1,0 +1,151 @@
+"""Periodic orbits by multiple shooting against the closed-form 1:1 orbits of the restitution
+oscillator (stable and unstable), a long simulation, and bad input."""
+import math
+
+import numpy as np
+import pytest
+from scipy.linalg import expm
+from scipy.optimize import brentq
+
+import maps
+from bifurc.orbit import periodic_orbit
+from bifurc.periodic import OrbitNotFound, find_periodic_orbit
+
+BASE = dict(w0=1.0, zeta=0.05, F=0.5, Omega=2.5, e=0.2, r=0.7)
+
+
+def closed_form_1_1(w0, zeta, F, Omega, e, r):
+    """Every 1:1 impacting orbit (one impact per forcing period T = 2 pi / Omega), derived by hand:
+    between impacts x = x_p(t) + homogeneous part, x_p = A cos(Omega t) + B sin(Omega t); the flight
+    from (e, -r v) at t_i must return to (e, v) at t_i + T.  With Phi = expm(A_lin T) that is linear
+    in v for a fixed impact phase: eliminate v, bracket the phase, brentq.  Returns
+    [(impact time in [0, T), impact velocity v < 0, state at t = 0 mod T, multipliers)]."""
+    T = 2 * math.pi / Omega
+    Al = np.array([[0.0, 1.0], [-w0 * w0, -2 * zeta * w0]])
+    D = (w0 * w0 - Omega * Omega) ** 2 + (2 * zeta * w0 * Omega) ** 2
+    a, b = F * (w0 * w0 - Omega * Omega) / D, F * 2 * zeta * w0 * Omega / D
+
+    def xp(t):
+        return np.array([a * math.cos(Omega * t) + b * math.sin(Omega * t),
+                         Omega * (-a * math.sin(Omega * t) + b * math.cos(Omega * t))])
+    P = expm(Al * T)
+
+    def v_of(th):
+        x, u = xp(th / Omega)
+        return ((P[0, 0] - 1) * (e - x) - P[0, 1] * u) / (P[0, 1] * r)
+
+    def G(th):
+        x, u = xp(th / Omega)
+        v = v_of(th)
+        return v - u - P[1, 0] * (e - x) - P[1, 1] * (-r * v - u)
+    grid = np.linspace(0.0, 2 * math.pi, 3001)
+    out = []
+    for lo, hi in zip(grid[:-1], grid[1:]):
+        if G(lo) * G(hi) < 0:
+            th = brentq(G, lo, hi, xtol=1e-15, rtol=1e-15)
+            v, ti = v_of(th), th / Omega
+            y_after = np.array([e, -r * v])
+            flight = [(expm(Al * s) @ (y_after - xp(ti)) + xp(ti + s))[0] for s in np.linspace(0, T, 801)[1:-1]]
+            if v >= 0 or min(flight) < e:
+                continue                     # not an impact, or the flight passes through the stop
+            force = F * math.cos(Omega * ti) - w0 * w0 * e
+            am, ap = force - 2 * zeta * w0 * v, force + 2 * zeta * w0 * r * v
+            S = np.array([[-r, 0.0], [(ap + r * am) / v, -r]])
+            y0 = expm(Al * (T - ti)) @ (y_after - xp(ti)) + xp(T)
+            out.append((ti, v, y0, np.linalg.eigvals(P @ S)))
+    return out
+
+
+def _sorted(mu):
+    return np.array(sorted(mu, key=lambda z: (round(abs(z), 12), z.imag)))
+
+
+@pytest.mark.parametrize("zeta", [0.05, 0.0])
+def test_stable_and_unstable_1_1_orbits_equal_the_closed_form(zeta):
+    p = dict(BASE, zeta=zeta)
+    orbits = closed_form_1_1(**p)
+    system = maps.forced_oscillator_with_stop()
+    T = 2 * math.pi / p["Omega"]
+    found = {"stable": 0, "unstable": 0}
+    for ti, v, y0, mu in orbits:
+        guess = y0 + np.array([2e-3, -3e-3])
+        ds = periodic_orbit(system, params=p, start=guess, period=1, error=False)
+        assert np.max(np.abs(np.array([float(ds.x[0]), float(ds.v[0])]) - y0)) < 1e-10
+        assert int(ds.impacts_per_period) == 1
+        assert abs(float(ds.impact_velocity[0]) - v) < 1e-10
+        assert abs(float(ds.impact_time[0]) - ti) < 1e-10 and abs(float(ds.impact_phase[0]) - ti / T) < 1e-10
+        got = ds.multiplier_abs.values * np.exp(1j * ds.multiplier_arg.values)
+        np.testing.assert_allclose(_sorted(got), _sorted(mu), rtol=0, atol=1e-9)
+        found["stable" if bool(ds.stable) else "unstable"] += 1
+        assert bool(ds.stable) == (np.max(np.abs(mu)) < 1)
+    assert found == {"stable": 1, "unstable": 1}
+
+
+def test_no_1_1_orbit_no_convergence():
+    """Omega = 0.5: the closed form has no 1:1 orbit and the free response (amplitude 0.67) would
+    pass through the stop at e = 0.2: Newton must say it did not converge, not return an orbit."""
+    p = dict(BASE, Omega=0.5)
+    assert closed_form_1_1(**p) == []
+    smap = maps.StroboscopicMap(maps.forced_oscillator_with_stop(), p, tol=1e-12)
+    with pytest.raises(OrbitNotFound) as err:
+        find_periodic_orbit(smap, np.array([0.5, 0.0]), 1, max_iter=25)
+    assert err.value.reason
+
+
+def test_a_stable_orbit_is_the_attractor_of_a_long_simulation():
+    system = maps.forced_oscillator_with_stop()
+    smap = maps.StroboscopicMap(system, BASE, tol=1e-14)
+    o = smap.orbit({"x": 0.5, "v": 0.0}, 2, transient=600)
+    orbit = find_periodic_orbit(smap, np.array([0.4, 0.3]), 1)
+    assert orbit.stable
+    assert np.max(np.abs(o.points[-1] - orbit.nodes[0].y)) < 1e-10
+
+
+def test_period_17_of_thesis_1dof_at_8_5_hz_by_multiple_shooting():
+    """The orbit a long sweep found with --max-period 17 (12 impacts): Newton from a simulated
+    point converges, and the conditioning single shooting would face is reported."""
+    sc = maps.get_scene("thesis-1dof")
+    p = sc.parameters(preset="matlab-listing", V=90.0, relay_hz=8.5)
+    smap = maps.StroboscopicMap(sc, p, tol=1e-10)
+    assert smap.forcing_period_steps == 17
+    o = smap.orbit(sc.initial_state(), 2, transient=300)
+    orbit = find_periodic_orbit(smap, o.state(0), 17, k0=300)
+    assert orbit.residual < 1e-10 and orbit.impacts_per_period == 12
+    c = orbit.conditioning
+    assert c["single_shooting_growth"] > 1 and math.isfinite(c["multiple_shooting"])
+    # the same orbit found again from its sample 5 periods on (another node of the same cycle)
+    again = find_periodic_orbit(smap, orbit.nodes[5], 17, k0=305)
+    assert np.max(np.abs(again.nodes[12].y - orbit.nodes[0].y) / orbit.scale) < 1e-8
+
+
+def test_bad_input_is_one_line_naming_the_argument():
+    sc = maps.get_scene("thesis-1dof")
+    kw = dict(preset="matlab-listing", error=False)
+    with pytest.raises(maps.ParameterError, match=r"period = 5 .* not a multiple of the forcing period q = 17"):
+        periodic_orbit("thesis-1dof", params={"V": 90, "relay_hz": 8.5}, period=5, **kw)
+    with pytest.raises(maps.ParameterError, match="q = 0"):
+        periodic_orbit("thesis-1dof", params={"V": 90, "relay_hz": 8.537}, period=3, **kw)
+    with pytest.raises(maps.ParameterError, match="'x' must be finite"):
+        periodic_orbit("thesis-1dof", params={"V": 90, "relay_hz": 5}, start={"x": math.nan}, **kw)
+    with pytest.raises(maps.ParameterError, match="'V'"):
+        periodic_orbit("thesis-1dof", params={"V": "ninety"}, **kw)
+    with pytest.raises(maps.ParameterError, match="period must be a whole number"):
+        periodic_orbit("thesis-1dof", params={"V": 90, "relay_hz": 5}, period="two", **kw)
+    assert sc.name == "thesis-1dof"
+
+
+def test_orbit_command_prints_and_writes_the_orbit(tmp_path, capsys):
+    from bifurc.cli import main
+    import xarray as xr
+    out = tmp_path / "orbit.nc"
+    argv = ["orbit", "--preset", "matlab-listing", "--set", "V=90", "--relay-hz", "8.5", "--tol", "1e-10",
+            "--no-error", "-o", str(out)]
+    assert main(argv) == 0
+    text = capsys.readouterr().out
+    assert "period 17" in text and "12 impacts per period" in text and "stable" in text
+    ds = xr.open_dataset(out)
+    assert int(ds.period) == 17 and ds.sizes["node"] == 17 and ds.sizes["multiplier"] == 4
+    assert ds.multiplier_abs.attrs["units"] == "1" and ds.attrs["Conventions"].startswith("CF")
+    assert all(s.split(",")[0] in ("impact", "flight_minimum", "stick", "release", "deepest", "unstick", "")
+               for s in ds.signature.values)
+    assert main(argv) == 2 and "--force" in capsys.readouterr().err
