@@ -239,7 +239,7 @@ class StroboscopicMap:
             from .engines.scalar import VariationalRun
             run = self._var_runs[params] = VariationalRun(self.system, self.params, y, wrt=params, tol=self.tol,
                                                           max_events=None)
-        else:
+        elif run.params != self.params:
             run.set_params(**self.params)
         run.record_events = True
         run.reset(self.sample_time(k, t0), y, flags)
