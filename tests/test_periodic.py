@@ -149,3 +149,16 @@ def test_orbit_command_prints_and_writes_the_orbit(tmp_path, capsys):
     assert all(s.split(",")[0] in ("impact", "flight_minimum", "stick", "release", "deepest", "unstick", "")
                for s in ds.signature.values)
     assert main(argv) == 2 and "--force" in capsys.readouterr().err
+
+
+def test_an_orbit_starts_from_a_stored_sweep_point_with_its_flags():
+    """A one-value sweep at 8.5 Hz stores states and mode flags at every sample; the last one
+    starts Newton (at its own sample index) and lands on the period-17 orbit."""
+    from bifurc import sweep, sweep_point
+    ds = sweep("thesis-1dof", "relay_hz", [8.5], preset="matlab-listing", params={"V": 90}, transient=300,
+               record=20, progress=False, grazing=False, error_sample=0, lyapunov=False)
+    start, k = sweep_point(ds, 8.5)
+    assert k == 320 and start.flags is not None and set(start.flags) >= {"P", "contact", "stuck_bar"}
+    orbit = periodic_orbit("thesis-1dof", preset="matlab-listing", params={"V": 90, "relay_hz": 8.5},
+                           start=(start, k), tol=1e-10, error=False)
+    assert int(orbit.period) == 17 and int(orbit.impacts_per_period) == 12 and orbit.attrs["k0"] == 320
