@@ -135,17 +135,20 @@ def fire(system: HybridSystem, guard: Guard, t: float, y: np.ndarray, flags: Map
     if guard.then is not None:
         new = guard.then(t, here.copy(), dict(flags), params) if callable(guard.then) else guard.then
         changes = {k: v for k, v in (new or {}).items() if flags.get(k) != v}
-    flags_guard = dict(flags, **changes)
+    flags_guard = dict(flags, **changes) if changes else flags
     s = settle(system, t, here, flags_guard, params)
     y_after = s.y if s.y is not None else y_guard
     out = Outcome(y=None if y_after is None else np.asarray(y_after, dtype=float),
-                  changes=dict(changes, **s.changes), projection=s.projection)
+                  changes=dict(changes, **s.changes) if s.changes else changes, projection=s.projection)
     # the guard's record shows the state and flags it left (before any settle transition)
-    out.records.append((guard.name, y_minus, here if s.records else
-                        (out.y if out.y is not None else y_minus), flags_guard if s.records else
-                        dict(flags, **out.changes)))
-    out.records.extend(s.records)
-    out.halted = halted(system, dict(flags, **out.changes))
+    if s.records:
+        out.records.append((guard.name, y_minus, here, dict(flags_guard)))
+        out.records.extend(s.records)
+    else:
+        after = dict(flags_guard, **s.changes) if s.changes else dict(flags_guard)
+        out.records.append((guard.name, y_minus, out.y if out.y is not None else y_minus, after))
+    out.halted = any(out.changes.get(f, flags.get(f)) for f in system.halt_flags) if out.changes else \
+        halted(system, flags)
     return out
 
 
