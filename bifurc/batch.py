@@ -86,6 +86,9 @@ def unsupported(system) -> str | None:
     if any(g.reset is not None or callable(g.then) for g in system.guards):
         return (f"batch mode supports guards that set flags without a reset map; "
                 f"{system.name!r} has others: use the scalar path")
+    if "dc_region" in system.flag_names:
+        return (f"batch mode starts lanes with flags that do not follow the state; {system.name!r} "
+                f"derives flags from it (dc_law='measured'): use the scalar path")
     if len(system.switches) != 1:
         return (f"batch mode needs exactly one periodic switch (a relay); "
                 f"{system.name!r} has {len(system.switches)}")

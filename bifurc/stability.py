@@ -120,9 +120,13 @@ QUICK = ["stiff-k1e+05-c0", "stiff-k1e+08-c0", "stiff-k1e+10-c10", "chatter-stic
 
 def case_scene(case: Case):
     """The case's scene (with its structural options) and validated parameter values."""
+    from maps.presets import preset_dc_law
     sc = get_scene(case.scene)
-    if case.options:
-        sc = sc.with_options(**case.options)
+    opts = dict(case.options or {})
+    if case.preset and sc.options.dc and opts.get("dc", True):
+        opts.setdefault("dc_law", preset_dc_law(case.preset))      # the preset's DC law, as maps.simulate
+    if opts:
+        sc = sc.with_options(**opts)
     return sc, sc.parameters(case.preset, **case.params)
 
 

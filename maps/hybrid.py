@@ -153,6 +153,10 @@ class HybridSystem:
     #: ``((flag, value), ...)``: ``settle`` can act only while one of these flags has that
     #: value, so elsewhere it is not called (it runs after every transition); None: always
     settle_if: tuple | None = None
+    #: ``state_flags(y, params, flags, given) -> dict``: flags that follow from the state at a start
+    #: (the region of a piecewise force law, contact); ``flags``: those so far, ``given``: the names
+    #: the caller set.  Applied by ``initial_flags(..., y=)`` at every run start; None: none
+    state_flags: Callable | None = None
 
     def __init__(self, name: str, states: Sequence[State], parameters: Sequence[Parameter],
                  rhs: Callable, flags: Mapping[str, float] | None = None,
@@ -329,11 +333,15 @@ class HybridSystem:
         expr = self._guard_expr(name)
         return [hy.diff(expr, v) for v in self.sym.state_vars]
 
-    def initial_flags(self, t: float, params: Mapping[str, float], overrides=None) -> dict:
+    def initial_flags(self, t: float, params: Mapping[str, float], overrides=None, y=None) -> dict:
+        """Flags at a start at time ``t``: defaults, switches at their value at t, ``overrides``,
+        then (given the state ``y``) those that ``state_flags`` derives from it."""
         flags = dict(self.flag_defaults)
         for sw in self.switches:
             flags[sw.flag] = sw.value_for_index(sw.index_at(t, params[sw.frequency]))
         flags.update(overrides or {})
+        if y is not None and self.state_flags is not None:
+            flags.update(self.state_flags(np.asarray(y, dtype=float), params, flags, tuple(overrides or ())))
         return flags
 
     def __repr__(self):
@@ -441,7 +449,7 @@ class HybridRun:
         self.ta.time = _fp(t0, self.fp_type)
         self.ta.state[:] = np.asarray(system.state_vector(x0), dtype=_np_dtype(self.fp_type))
         self.ta.reset_cooldowns()
-        self.flags = system.initial_flags(t0, self.params, flags)
+        self.flags = system.initial_flags(t0, self.params, flags, y=self.ta.state)
         self._load_pars()
         self.events = []
         self.n_events = self.n_steps = self.n_switches = 0
