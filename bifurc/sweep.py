@@ -249,17 +249,17 @@ class SystemScene:
         return self.system.validate(values)
 
 
-def _resolve(scene, params, preset=None, circuit=None, ac_sign=None):
+def _resolve(scene, params, preset=None, circuit=None, ac_sign=None, dc_law=None):
     """(scene-like, {name: (value, provenance)}) for a scene name, Scene or HybridSystem."""
     from maps.hybrid import HybridSystem
     if isinstance(scene, SystemScene):
         scene = scene.system
     if isinstance(scene, HybridSystem):
-        if preset or circuit or ac_sign:
-            raise ParameterError("preset, circuit and ac_sign apply to scenes, not to a bare HybridSystem")
+        if preset or circuit or ac_sign or dc_law:
+            raise ParameterError("preset, circuit, ac_sign and dc_law apply to scenes, not to a bare HybridSystem")
         values = scene.validate(params or {})
         return SystemScene(scene), {k: (v, "set by user") for k, v in values.items()}
-    return resolve(scene, params, preset, circuit, ac_sign)
+    return resolve(scene, params, preset, circuit, ac_sign, dc_law=dc_law)
 
 
 def _manifest(point: SweepPoint, values, mode) -> dict:
@@ -308,14 +308,14 @@ class _Parts:
 
 def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independent", transient=300,
           record=100, preset=None, params=None, x0=None, tol=1e-10, max_period=16, rtol=1e-6, atol=1e-9,
-          lyapunov=True, grazing=True, grazing_xtol=None, circuit=None, ac_sign=None, path=None,
+          lyapunov=True, grazing=True, grazing_xtol=None, circuit=None, ac_sign=None, dc_law=None, path=None,
           progress=True, workers=1, scheduler=None, error_sample=3, max_transient=None, batch_size=4,
           chunk_size=None):
     """Sweep ``param`` over ``values``; returns an xarray Dataset (see bifurc.storage).
 
     Parameters
     ----------
-    scene, preset, params, x0, circuit, ac_sign : as in maps.simulate.
+    scene, preset, params, x0, circuit, ac_sign, dc_law : as in maps.simulate.
     param : str
         Parameter name to sweep (MODEL.md section 6), e.g. "relay_hz", "V", "k".
     values : array
@@ -351,7 +351,7 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
     values = np.asarray(values, dtype=float).ravel()
     if values.size == 0 or not np.all(np.isfinite(values)):
         raise ParameterError("values must be a non-empty array of finite numbers")
-    sc, table = _resolve(scene, params, preset, circuit, ac_sign)
+    sc, table = _resolve(scene, params, preset, circuit, ac_sign, dc_law)
     base = {k: v for k, (v, _) in table.items()}
     sc.system.parameter(param)  # raises for an unknown name
     for v in values:  # every value must be valid before anything runs
@@ -362,6 +362,8 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
     if scheduler is None:
         workers = int(validate_value("workers", workers, 1, 1024))
     options = {k: v for k, v in dict(circuit=circuit, ac_sign=ac_sign).items() if v is not None}
+    if sc.options is not None and sc.options.dc:   # the resolved law (it may follow the preset): workers get no preset
+        options["dc_law"] = sc.options.dc_law
     name = sc.name if sc.options is not None else sc.system  # a bare system runs in this process
     if max_transient is not None:
         max_transient = int(validate_value("max_transient", max_transient, transient, 1e8))

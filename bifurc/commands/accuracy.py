@@ -35,6 +35,8 @@ def register(subparsers):
     p.add_argument("--circuit", choices=("thesis", "kvl"), default=None,
                    help="circuit form (the scipy/RK4 baselines implement only 'thesis')")
     p.add_argument("--ac-sign", choices=("physical", "listing"), default=None, help="AC force sign")
+    p.add_argument("--dc-law", choices=("listing", "fit", "measured"), default=None,
+                   help="DC-force law (default: the preset's; see bifurc simulate --help)")
     p.add_argument("--t-end", type=float, default=2.0, help="integration time [s] (default 2)")
     p.add_argument("--methods", default=",".join(DEFAULT_LADDERS),
                    help="comma-separated methods (default: all): " + ", ".join(DEFAULT_LADDERS))
@@ -78,7 +80,7 @@ def run(args) -> int:
 
     ds = work_precision(args.scene, args.t_end, preset=args.preset, params=params, x0=x0, ladders=ladders,
                         reference=args.reference, max_seconds=args.max_seconds, progress=progress,
-                        circuit=args.circuit, ac_sign=args.ac_sign)
+                        circuit=args.circuit, ac_sign=args.ac_sign, dc_law=args.dc_law)
     ds.to_dataframe().to_csv(out / "accuracy.csv")
     ds.to_netcdf(out / "accuracy.nc")
     plot_work_precision(ds, out / "accuracy.png")
