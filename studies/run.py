@@ -12,7 +12,7 @@ import math
 import sys
 from pathlib import Path
 
-STUDIES = {"thesis-1dof-relay": "studies.thesis_1dof_relay"}
+STUDIES = {"thesis-1dof-relay": "studies.thesis_1dof_relay", "thesis-replay": "studies.thesis_replay"}
 
 
 def load_study(name):
@@ -28,6 +28,8 @@ def run_study(name, out, quick=False, progress=True, cases=None):
     from bifurc.report import classification_report
     from bifurc.sweep import sweep
     study = load_study(name)
+    if hasattr(study, "run"):          # a study with its own runner (thesis-replay: report.md and figures)
+        return study.run(out, quick=quick, progress=progress)
     size = study.QUICK if quick else study.FULL
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
@@ -102,6 +104,12 @@ def comparison(study, results, quick) -> str:
     return "\n".join(lines)
 
 
+def _written(name, out) -> str:
+    if hasattr(load_study(name), "run"):
+        return f"wrote {out}/report.md and its figures"
+    return f"wrote {out}/comparison.md and one .nc/.png/.md per case"
+
+
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(prog="python -m studies.run", description=__doc__.splitlines()[0])
     p.add_argument("study", choices=sorted(STUDIES))
@@ -110,7 +118,7 @@ def main(argv=None) -> int:
     p.add_argument("--case", action="append", default=None, help="run only this case (repeatable)")
     args = p.parse_args(argv)
     run_study(args.study, args.output, quick=args.quick, cases=args.case)
-    print(f"wrote {args.output}/comparison.md and one .nc/.png/.md per case")
+    print(_written(args.study, args.output))
     return 0
 
 
