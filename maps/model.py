@@ -534,18 +534,18 @@ def start_flags(system: HybridSystem, o: ModelOptions, y, params, flags, given=(
     ``HybridRun.reset`` (every scalar path: simulate, run_scene, StroboscopicMap step/orbit).
 
     - the measured DC law's region flags (:func:`dc_region_flags`), always;
-    - the stop, unless the caller gave ``contact`` or ``stuck_bar`` (``given``): a bar inside the
-      stop, or exactly on it and moving into it, or at rest on it while the net non-contact force
-      presses it on (N_bar <= 0), starts in contact (then ``settle`` may stick it).  A contact
-      guard cannot fire from a start on its own zero, so without this a bar resting on the stop
-      under its weight would fall through it.
+    - the stop, unless the caller gave ``stuck_bar`` (``given``): a bar inside the stop, or exactly
+      on it and moving into it, or at rest on it while the net non-contact force presses it on
+      (N_bar <= 0), starts in contact (then ``settle`` may stick it), even where the caller inferred
+      contact = 0 from the gap alone (StroboscopicMap).  A contact guard cannot fire from a start on
+      its own zero, so without this a bar resting on the stop under its weight fell through it.
 
     The batch engine (bifurc.batch) applies neither: it refuses systems with region flags, and
     its lanes take the contact flag from the gap (gap < 0) only.
     """
     y = np.asarray(y, dtype=float)
     out = dc_region_flags(o, y, params)
-    if o.stop and not ({"contact", "stuck_bar"} & set(given)):
+    if o.stop and "stuck_bar" not in given and flags.get("contact") != 1.0:
         gap, rate = system.gap(y, params)
         if gap < 0 or (gap == 0 and rate < 0):
             out["contact"] = 1.0

@@ -141,16 +141,17 @@ def measure(W: float, V: float, law: str, *, preset=PRESET, ac_sign=AC_SIGN, cir
         y_stop[ii] = i_peak
         F_ac = float(system.evaluate(["F_ac"], y_stop, p, flags)[0])
     lyap = math.nan
-    if status == "ok" and len(imps) >= K:
-        from bifurc.lyapunov import lyapunov_along
-        from maps.poincare import StroboscopicMap
-        smap = StroboscopicMap(sc, p, tol=tol)
-        lyap = lyapunov_along(smap.step, strobe[long_from:], k0=long_from,
-                              scale=np.maximum(np.abs(strobe[long_from:]).max(axis=0), 1e-9))
     weight_net = 0.0 if law != "measured" else -p["m"] * p["g"]     # what the weight adds beyond the offset
     if status == "ok" and len(imps) >= K:
         label3, per3 = _label(strobe[1:n3 + 1], imps[1:n3], rtol=1e-2, atol=1e-6, max_period=8)
-        labelL, perL = _label(strobe[long_from:], imps[long_from:], rtol=1e-6, atol=1e-9, lyapunov=lyap)
+        labelL, perL = _label(strobe[long_from:], imps[long_from:], rtol=1e-6, atol=1e-9)
+        if not perL and int(long_window) >= 3:     # not periodic: the Lyapunov exponent tells chaos apart
+            from bifurc.lyapunov import lyapunov_along
+            from maps.poincare import StroboscopicMap
+            smap = StroboscopicMap(sc, p, tol=tol)
+            lyap = lyapunov_along(smap.step, strobe[long_from:], k0=long_from,
+                                  scale=np.maximum(np.abs(strobe[long_from:]).max(axis=0), 1e-9))
+            labelL, perL = _label(strobe[long_from:], imps[long_from:], rtol=1e-6, atol=1e-9, lyapunov=lyap)
     else:
         label3 = labelL = status
         per3 = perL = 0
@@ -164,7 +165,7 @@ def measure(W: float, V: float, law: str, *, preset=PRESET, ac_sign=AC_SIGN, cir
         "x_min_mm": 1e3 * float(np.nanmin(xs3)), "x_max_mm": 1e3 * float(np.nanmax(xs3)),
         "x_max_long_mm": 1e3 * float(np.nanmax(x)),
         "impacts_per_period_3s": float(sum(imps[:n3])) / n3 if len(imps) >= n3 else math.nan,
-        "impacts_per_period_long": float(np.mean(imps[long_from:])) if imps else math.nan,
+        "impacts_per_period_long": float(np.mean(imps[long_from:])) if imps[long_from:] else math.nan,
         "F_dc_stop_N": F_dc, "F_ac_peak_stop_N": F_ac, "weight_N": p["m"] * p["g"], "weight_net_N": weight_net,
         "i_peak_A": i_peak, "lyapunov_long": lyap, "ac_near_stop": bool(near.any()), "t": t_grid[in3], "x": xs3,
     }
