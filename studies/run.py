@@ -127,6 +127,12 @@ def comparison(study, results, quick) -> str:
     return "\n".join(lines)
 
 
+def _written(name, out) -> str:
+    if hasattr(load_study(name), "run"):
+        return f"wrote {out}/report.md and its figures"
+    return f"wrote {out}/comparison.md and one .nc/.png/.md per case"
+
+
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(prog="python -m studies.run", description=__doc__.splitlines()[0])
     p.add_argument("study", choices=sorted(STUDIES))

@@ -169,3 +169,26 @@ def test_the_law_follows_the_preset_and_is_recorded():
 def test_an_unknown_law_is_a_one_line_error_naming_the_allowed_ones():
     with pytest.raises(ParameterError, match=r"dc_law.*allowed: listing, fit, measured"):
         maps.simulate("thesis-1dof", periods=1, dc_law="table")
+
+
+def test_cli_and_sweep_record_the_law(tmp_path, capsys):
+    """--dc-law reaches the compiled model through the CLI, and a sweep (whose workers get no preset)
+    runs and records the law it was given; the batch engine hands the measured law to the scalar path."""
+    from bifurc.cli import main
+    from bifurc.sweep import sweep
+    nc = tmp_path / "s.nc"
+    assert main(["simulate", "--preset", "matlab-listing", "--dc-law", "measured", "--set", "V=90",
+                 "--relay-hz", "5", "--periods", "2", "--x0", "x=0,v=0,i=0.1", "-o", str(nc)]) == 0
+    import xarray as xr
+    ds = xr.open_dataset(nc)
+    assert ds.attrs["dc_law"] == "measured" and float(ds.x.max()) <= 0.0
+    d = sweep("thesis-1dof", "relay_hz", [5.0, 6.0], preset="matlab-listing", dc_law="measured", params={"V": 90.0},
+              transient=2, record=3, progress=False, batch_size=4, lyapunov=False)
+    assert d.attrs["dc_law"] == "measured" and "Table 4.1" in d.attrs["dc_law_source"]
+    assert (d.class_code.values >= 0).all()
+    d2 = sweep("thesis-1dof", "relay_hz", [5.0], preset="matlab-listing", params={"V": 90.0},
+               transient=2, record=3, progress=False, lyapunov=False)
+    assert d2.attrs["dc_law"] == "listing"
+    assert main(["simulate", "--dc-law", "table"]) == 2      # one line naming the allowed laws
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "listing" in err[0] and "measured" in err[0]
