@@ -55,6 +55,8 @@ PARAMETERS = {p.name: p for p in [
 #: than STOP_ESCAPE into it [m]: far outside the fitted force laws.
 ESCAPE_MARGIN = 0.1
 STOP_ESCAPE = 0.02
+#: offset [m] of the contact/release surface while the bar is stuck (both guards inactive then)
+STUCK_LIFT = 1e-3
 
 #: the three DC-force laws found in the thesis (MODEL.md section 1): name -> provenance
 DC_LAWS = {
@@ -374,10 +376,13 @@ def _guards(o: ModelOptions, s):
     r, rdot = f["r"], f["rdot"]
     gs = []
     if o.stop:
-        gs += [Guard("contact", r - s.e, -1, when={"contact": 0, "stuck_bar": 0}, then={"contact": 1}),
+        # while stuck the bar sits at r = e exactly: an identically zero surface stops heyoka at
+        # every step (both its guards are inactive then), so it is lifted by STUCK_LIFT [m]
+        gap = r - s.e + s.stuck_bar * STUCK_LIFT
+        gs += [Guard("contact", gap, -1, when={"contact": 0, "stuck_bar": 0}, then={"contact": 1}),
                Guard("lowest", rdot, +1, when={"contact": 0, "stuck_bar": 0}),
                Guard("deepest", rdot, +1, when={"contact": 1}),
-               Guard("release", r - s.e, +1, when={"contact": 1}, then={"contact": 0})]
+               Guard("release", gap, +1, when={"contact": 1}, then={"contact": 0})]
         # Escape and unstick share one surface (every event costs ~5 % of a step, see
         # docs/model.md "Guards"), chosen by the stuck_bar flag:
         # - free bar: positive between STOP_ESCAPE into the stop and ESCAPE_MARGIN beyond the
