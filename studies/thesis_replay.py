@@ -157,6 +157,8 @@ def measure(W: float, V: float, law: str, *, preset=PRESET, ac_sign=AC_SIGN, cir
         per3 = perL = 0
     xs3 = x[in3]
     long_mask = t_grid >= long_from / W
+    if np.nanmax(x) <= 0.0 and status == "ok":     # the bar never left the stop: say so, not "period-1"
+        label3 = labelL = "at rest on the stop"
     return {
         "relay_hz": W, "V": V, "dc_law": law, "ac_sign": ac_sign, "long_periods": K, "long_window": int(long_window),
         "status": status, "t_end": run.t, "seconds": seconds,

@@ -192,3 +192,34 @@ def test_cli_and_sweep_record_the_law(tmp_path, capsys):
     assert main(["simulate", "--dc-law", "table"]) == 2      # one line naming the allowed laws
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "listing" in err[0] and "measured" in err[0]
+
+
+@pytest.mark.parametrize("x0, v0", [(0.0775, 0.04), (0.0775, -0.04), (0.0915, 0.3)])
+def test_a_bar_entering_a_region_at_its_apex_falls_back_through_it(x0, v0):
+    """Started exactly on a knot (xa = 15 mm, 29 mm) and turning round inside the new region, the
+    bar must leave it again: the region flags always contain xa (to the 1e-12 m overlap), checked
+    at every region change and at the end; V = 0, so the free fall below the edge is closed form."""
+    sc = maps.get_scene("thesis-1dof").with_options(dc_law="measured")
+    p = sc.parameters(preset="matlab-listing", V=0.0)
+    run = HybridRun(sc.system, p, sc.initial_state(x=x0, v=v0, i=0.0, z=0.0), tol=1e-13, max_events=None)
+    run.advance(0.08)
+    changes = [ev for ev in run.events if ev.name in ("dc_up", "dc_down")]
+    assert len(changes) >= 3
+    for y, fl in [(ev.y_plus, ev.flags) for ev in changes] + [(run.y, run.flags)]:
+        xa = y[0] - p["d_dc"]
+        assert fl["dc_lo"] - 2e-12 <= xa <= fl["dc_hi"] + 2e-12, (xa, fl["dc_lo"], fl["dc_hi"])
+
+
+def test_measured_replay_run_never_carries_a_region_past_its_bounds():
+    """The thesis' start under the measured law with the listing's AC sign at 90 V, 7 Hz: the AC
+    push throws the bar into the table's range and back; every region change leaves xa inside the
+    new region and the run ends without escaping."""
+    sc = maps.get_scene("thesis-1dof").with_options(dc_law="measured", ac_sign="listing")
+    p = sc.parameters(preset="matlab-listing", V=90.0, relay_hz=7.0)
+    run = HybridRun(sc.system, p, sc.initial_state(x=0.0, v=0.0, i=0.1, z=0.0), tol=1e-12, max_events=None)
+    run.advance(3.0)
+    changes = [ev for ev in run.events if ev.name in ("dc_up", "dc_down")]
+    assert len(changes) >= 20 and max(ev.y_plus[0] for ev in changes) > p["d_dc"]
+    for ev in changes:
+        xa = ev.y_plus[0] - p["d_dc"]
+        assert ev.flags["dc_lo"] - 2e-12 <= xa <= ev.flags["dc_hi"] + 2e-12
