@@ -17,6 +17,7 @@ import xarray as xr
 
 from .classify import CLASS_LABELS, FLAG_MEANINGS
 from .storage_io import write_netcdf_atomic
+from maps.presets import preset_attrs
 from maps.simulate import dc_law_attrs
 
 __all__ = ["to_dataset", "add_grazing", "add_error_estimate", "save", "load", "STATUS_MEANINGS"]
@@ -120,7 +121,7 @@ def to_dataset(results, values, point, scene, table, mode) -> xr.Dataset:
         "max_transient_periods": point.max_transient if point.max_transient is not None else point.transient,
         "classification_rtol": point.rtol, "classification_atol": point.atol,
         "lyapunov_steps": point.lyapunov_steps, "lyapunov_threshold": _lyap_thr(point.lyapunov_steps),
-        "circuit": circuit, "ac_sign": ac_sign, **(dc_law_attrs(o) if o is not None else {"dc_law": "none"}),
+        "circuit": circuit, "ac_sign": ac_sign, **(dc_law_attrs(o) if o is not None else {"dc_law": "none"}), **preset_attrs(table),
         "initial_state": ", ".join(f"{k}={v:g}" for k, v in scene.initial_state(**point.x0).items()),
         "grazing_gap_threshold_m": _graze_gap(), "grazing_speed_threshold_m_s": _graze_speed(),
         "bifurc_version": bifurc.__version__, "heyoka_version": hy.__version__, "numpy_version": np.__version__,
