@@ -31,10 +31,10 @@ from bifurc.parallel import BatchStroboscopicTask, StroboscopicTask, map_values,
 
 
 def make_task(transient=300, record=100, tol=1e-10, batch=False):
-    sc = maps.get_scene("thesis-1dof")
+    sc = maps.get_scene("thesis-1dof").with_options(dc_law="listing")   # matlab-listing's law
     params = sc.parameters(preset="matlab-listing", V=90.0)
     cls = BatchStroboscopicTask if batch else StroboscopicTask
-    return cls("thesis-1dof", "relay_hz", params, transient=transient, record=record, tol=tol)
+    return cls(sc, "relay_hz", params, transient=transient, record=record, tol=tol)
 
 
 class BareTrajectory:

@@ -31,9 +31,9 @@ def main(argv=None):
     ap.add_argument("--scalar", action="store_true", help="scalar task instead of heyoka batch mode")
     args = ap.parse_args(argv)
     print(f"load average before: {os.getloadavg()}")
-    sc = maps.get_scene("thesis-1dof")
+    sc = maps.get_scene("thesis-1dof").with_options(dc_law="listing")   # matlab-listing's law
     cls = StroboscopicTask if args.scalar else BatchStroboscopicTask
-    task = cls("thesis-1dof", "relay_hz", sc.parameters(preset="matlab-listing", V=90.0),
+    task = cls(sc, "relay_hz", sc.parameters(preset="matlab-listing", V=90.0),
                             transient=args.transient, record=args.record, tol=1e-10)
     with tempfile.TemporaryDirectory() as tmp:
         path = os.path.join(tmp, "sweep.nc")

@@ -138,10 +138,11 @@ def work_precision(scene="thesis-1dof", t_end=2.0, preset=None, params=None, x0=
                 r = toolkit_solution(sc, values, y0, t_end, tol, repeats)
                 y, t_imp, secs = r["y"], r["impact_times"], r["run_seconds"]
             elif method == "rk4-bisection":
-                b = baselines.solve_rk4_bisection(values, y0, t_end, h=tol)
+                b = baselines.solve_rk4_bisection(values, y0, t_end, h=tol, dc_law=sc.options.dc_law)
                 y, t_imp, secs = b.y, b.impact_times, b.run_seconds
             else:
-                b = baselines.solve_scipy(values, y0, t_end, method=method.split("-", 1)[1], tol=tol)
+                b = baselines.solve_scipy(values, y0, t_end, method=method.split("-", 1)[1], tol=tol,
+                                          dc_law=sc.options.dc_law)
                 y, t_imp, secs = b.y, b.impact_times, b.run_seconds
             rows.append(dict(method=method, tol=tol, run_seconds=secs,
                              final_state_error=final_state_error(y, ref["y"]),

@@ -223,3 +223,19 @@ def test_measured_replay_run_never_carries_a_region_past_its_bounds():
     for ev in changes:
         xa = ev.y_plus[0] - p["d_dc"]
         assert ev.flags["dc_lo"] - 2e-12 <= xa <= ev.flags["dc_hi"] + 2e-12
+
+
+def test_fit_law_trajectory_equals_the_scipy_baseline():
+    """The baselines write the rhs again without heyoka (bifurc.baselines, MODEL.md's fit signs):
+    1 s at 90 V and 9 Hz from 5 mm above the stop moving down, DOP853 at 1e-12 against heyoka."""
+    from bifurc.baselines import solve_scipy
+    sc = maps.get_scene("thesis-1dof")
+    assert sc.options.dc_law == "fit"
+    p = sc.parameters(V=90.0, relay_hz=9.0)
+    y0 = sc.system.state_vector(sc.initial_state(x=0.005, v=-3.0))
+    run = HybridRun(sc.system, p, y0, tol=1e-15)
+    run.advance(1.0)
+    ref = solve_scipy(p, y0, 1.0, method="DOP853", tol=1e-12, dc_law="fit")
+    assert ref.n_impacts == impact_table(run)["t"].size >= 1
+    np.testing.assert_allclose(impact_table(run)["t"], ref.impact_times, rtol=0, atol=1e-8)
+    np.testing.assert_allclose(run.y[:2], ref.y[:2], rtol=0, atol=1e-6)
