@@ -239,3 +239,31 @@ def test_fit_law_trajectory_equals_the_scipy_baseline():
     assert ref.n_impacts == impact_table(run)["t"].size >= 1
     np.testing.assert_allclose(impact_table(run)["t"], ref.impact_times, rtol=0, atol=1e-8)
     np.testing.assert_allclose(run.y[:2], ref.y[:2], rtol=0, atol=1e-6)
+
+
+def test_measured_law_and_its_potential_equal_scipys_pchip_of_the_table():
+    """scipy's PchipInterpolator through Table 4.1 is the independent truth: the compiled force
+    equals -sign(xa) pchip(|xa|) inside the table, and the potential U(xa) = integral of the pull
+    from 0 to |xa| (kvl energy output, bar at rest, no current) is continuous across every knot."""
+    from scipy.interpolate import PchipInterpolator
+    x, T = _table()
+    pchip = PchipInterpolator(x, T)
+    sc = maps.get_scene("thesis-1dof").with_options(dc_law="measured", circuit="kvl", energy=True)
+    system = sc.system
+    p = sc.parameters(preset="matlab-listing")
+    xs = np.linspace(-0.0289, 0.0289, 577)
+    _, dc_system, dc_p = _dc_only("measured")
+    F = [_force(dc_system, dc_p, xa) for xa in xs]
+    np.testing.assert_allclose(F, -np.sign(xs) * pchip(np.abs(xs)), rtol=0, atol=1e-12)
+
+    def U(xa, flags=None):
+        y = np.zeros(len(system.state_names))
+        y[0] = p["d_dc"] + xa
+        fl = dict(system.flag_defaults, **(flags if flags is not None else dc_region_flags(system.options, y, p)))
+        return float(system.evaluate(["E_mech_el"], y, p, fl)[0]) - p["m"] * p["g"] * y[0]
+    for xa in (0.012, -0.021, 0.0275, 0.035, -0.05):
+        want = float(pchip.integrate(0.0, min(abs(xa), 0.029)))
+        assert abs(U(xa) - want) < 1e-14
+    for k, reg in enumerate(measured_dc_regions()[1:], start=1):   # both sides of every lower bound
+        lo = reg[0]
+        assert abs(U(lo, maps.model._region_flags(k)) - U(lo, maps.model._region_flags(k - 1))) < 1e-15
