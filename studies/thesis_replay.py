@@ -14,8 +14,11 @@ period, which the thesis reads off its plots):
 - "3 s supports": samples 1..3W of the 3 s run (the first relay period dropped) recur with
   period n to 1 % of their range (a plot's resolution);
 - "300 periods": the last 100 of 300 relay periods recur to 1e-6 (the toolkit's tolerance).
-  No Lyapunov exponent is computed here: a record without a period up to 16 is "aperiodic"
-  (see `bifurc diagram` for the chaotic / quasi-periodic split).
+  A record without a period up to 16 gets the largest Lyapunov exponent of the relay-period map
+  along it (Benettin, `bifurc.lyapunov`, per relay period): "chaotic" above the window's
+  threshold 2 ln(100)/100 = 0.092, "quasi-periodic" within it, "aperiodic" where the exponent is
+  undetermined (a companion step failed).
+- "at rest on the stop": x never exceeded 0 over the whole run.
 """
 from __future__ import annotations
 
