@@ -63,7 +63,7 @@ class BareTrajectory:
         self._ta = None
 
     def _setup(self):
-        system = maps.get_scene(self.task.scene).system
+        system = maps.get_scene(self.task.scene).with_options(dc_law="listing").system   # matlab-listing's law
         ta, _ = system.integrator(self.task.tol)
         self.system, self._ta = system, ta
         groups = system.event_groups()        # public: one heyoka event per surface, in this order
@@ -134,7 +134,7 @@ class BareBatch(_Same):
 
     def _setup(self):
         import heyoka as hy
-        system = maps.get_scene(self.task.scene).system
+        system = maps.get_scene(self.task.scene).with_options(dc_law="listing").system   # matlab-listing's law
         contact = next(g for g in system.guards if g.name == "contact")
         self.i_contact, self.i_P = par_index(system, "contact"), par_index(system, "P")
         self.i_next = len(system.param_names) + len(system.flag_names)

@@ -18,7 +18,7 @@ import maps
 
 def main():
     print(f"load average before: {os.getloadavg()}")
-    sc = maps.get_scene("thesis-1dof")
+    sc = maps.get_scene("thesis-1dof").with_options(dc_law="listing")   # matlab-listing's law
     p = sc.parameters(preset="matlab-listing", V=90.0, relay_hz=8.5)   # a period-17 orbit with 12 impacts
     smap = maps.StroboscopicMap(sc, p, tol=1e-12)
     o = smap.orbit(sc.initial_state(), 30, transient=300)

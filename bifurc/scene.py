@@ -31,13 +31,13 @@ class SystemScene:
         return self.system.validate(values)
 
 
-def resolve_scene(scene, params, preset=None, circuit=None, ac_sign=None):
+def resolve_scene(scene, params, preset=None, circuit=None, ac_sign=None, dc_law=None):
     """(scene-like, {name: (value, provenance)}) for a scene name, Scene or HybridSystem."""
     if isinstance(scene, SystemScene):
         scene = scene.system
     if isinstance(scene, HybridSystem):
-        if preset or circuit or ac_sign:
-            raise ParameterError("preset, circuit and ac_sign apply to scenes, not to a bare HybridSystem")
+        if preset or circuit or ac_sign or dc_law:
+            raise ParameterError("preset, circuit, ac_sign and dc_law apply to scenes, not to a bare HybridSystem")
         values = scene.validate(params or {})
         return SystemScene(scene), {k: (v, "set by user") for k, v in values.items()}
-    return resolve(scene, params, preset, circuit, ac_sign)
+    return resolve(scene, params, preset, circuit, ac_sign, dc_law=dc_law)

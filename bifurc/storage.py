@@ -24,6 +24,8 @@ from .codes import Status
 from .grazing import GRAZING_GAP, GRAZING_SPEED, grazing_flag
 from .schema import GRAZING, GRAZING_FLAG, PARAM, SWEEP, SWEEP_COORDS, flag_variable, param_attrs, state_variable
 from .files import write_netcdf
+from maps.presets import preset_attrs
+from maps.simulate import dc_law_attrs
 
 __all__ = ["to_dataset", "add_grazing", "add_error_estimate", "save", "load", "STATUS_MEANINGS"]
 
@@ -75,7 +77,8 @@ def to_dataset(results, values, job, scene, table, mode) -> xr.Dataset:
         "max_transient_periods": job.max_transient if job.max_transient is not None else job.transient,
         "classification_rtol": job.rtol, "classification_atol": job.atol,
         "lyapunov_steps": job.lyapunov_steps, "lyapunov_threshold": lyapunov_threshold(job.lyapunov_steps),
-        "circuit": circuit, "ac_sign": ac_sign,
+        "circuit": circuit, "ac_sign": ac_sign, **(dc_law_attrs(o) if o is not None else {"dc_law": "none"}),
+        **preset_attrs(table),
         "initial_state": ", ".join(f"{k}={v:g}" for k, v in scene.initial_state(**job.x0).items()),
         "grazing_gap_threshold_m": GRAZING_GAP, "grazing_speed_threshold_m_s": GRAZING_SPEED,
         "bifurc_version": __version__, "heyoka_version": hy.__version__, "numpy_version": np.__version__,

@@ -229,9 +229,11 @@ class HybridSystem:
         guard whose role is "impact": its surface, signed so that the approach to the stop
         is a decrease (``direction=-1``: the surface itself; ``+1``: its negative), and
         its rate along the flow in the default mode; without an impact guard there is no gap.
-        ``mode_rule(y, params) -> dict`` gives the flags a bare continuous state starts with
-        (e.g. in contact when it starts inside the stop); by default, beyond an impact
-        surface whose guard sets flags, those flags.
+        ``mode_rule(y, params, flags, given) -> dict`` gives the flags that follow from the
+        state at a start (e.g. in contact when it starts inside the stop; the region of a
+        piecewise force law); ``flags`` are those so far, ``given`` the names the caller set
+        (the rule leaves them alone).  By default: beyond an impact surface whose guard sets
+        flags, those flags.  It can also be set later as ``system.mode_rule``.
         """
         self.name = name
         self.states = tuple(states)
@@ -241,7 +243,7 @@ class HybridSystem:
         self.settle = settle
         self.halt_flags = tuple(halt_flags)
         self._gap_given = gap
-        self._mode_rule = mode_rule
+        self.mode_rule = mode_rule
         self.structure = (name,) + tuple(structure)
         names = [s.name for s in self.states] + [p.name for p in self.parameters] + list(self.flag_defaults)
         if len(set(names)) != len(names):
@@ -457,10 +459,16 @@ class HybridSystem:
         flags.update(overrides or {})
         return flags
 
-    def mode_at(self, y, params: Mapping[str, float]) -> dict:
-        """Flags that a bare continuous state ``y`` starts with, by the declared rule."""
-        if self._mode_rule is not None:
-            return dict(self._mode_rule(np.asarray(y, dtype=float), params) or {})
+    def mode_at(self, y, params: Mapping[str, float], flags: Mapping[str, float] | None = None,
+                given: tuple = ()) -> dict:
+        """Flags that follow from the state ``y`` at a start, by the declared rule (those in
+        ``given`` are the caller's and are left out)."""
+        if self.mode_rule is not None:
+            flags = dict(self.flag_defaults) if flags is None else dict(flags)
+            out = self.mode_rule(np.asarray(y, dtype=float), params, flags, tuple(given)) or {}
+            return {k: v for k, v in out.items() if k not in given}
+        if "contact" in given:
+            return {}
         g = self.impact_guard
         if g is None or self.gap is None or not isinstance(g.then, Mapping) or not g.then:
             return {}

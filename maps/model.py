@@ -19,7 +19,8 @@ import numpy as np
 from .hybrid import Guard, HybridSystem, PeriodicSwitch, State
 from .parameters import Parameter
 
-__all__ = ["ModelOptions", "PARAMETERS", "build_system", "ESCAPE_MARGIN"]
+__all__ = ["ModelOptions", "PARAMETERS", "build_system", "ESCAPE_MARGIN", "DC_LAWS", "dc_region_flags",
+           "measured_dc_regions"]
 
 INF = math.inf
 #: the table of every model parameter: name -> Parameter (``bifurc params`` lists them)
@@ -54,6 +55,24 @@ PARAMETERS = {p.name: p for p in [
 #: than STOP_ESCAPE into it [m]: far outside the fitted force laws.
 ESCAPE_MARGIN = 0.1
 STOP_ESCAPE = 0.02
+#: offset [m] of the contact/release surface while the bar is stuck (both guards inactive then)
+STUCK_LIFT = 1e-3
+
+#: the three DC-force laws found in the thesis (MODEL.md section 1): name -> provenance
+DC_LAWS = {
+    "listing": "listing C.9 as printed: F_dc = -a3 xa^3 + a2 xa^2 - a1 xa + m g (the cubic the thesis' "
+               "simulations ran; it flips only the cubic term of eq 4.6)",
+    "fit": "eqs 4.6-4.7 as printed: F_dc = -a3 xa^3 - a2 xa^2 + a1 xa + m g (eq 4.6 is the least-squares "
+           "odd cubic of Table 4.1, eq 4.7 its negative shifted by the weight; eq 4.7 prints 1.55 N for m g)",
+    "measured": "Table 4.1 only: monotone piecewise cubic (PCHIP, Fritsch-Carlson) through the 20 V table, "
+                "odd in xa, zero for |xa| > 0.029 m (section 4.2: no effect beyond the measured range); "
+                "no weight offset",
+}
+#: |xa| beyond which the measured law is zero [m] (the last row of Table 4.1)
+DC_EDGE = 0.029
+#: lower/upper bound [m] of the two outer regions of the measured law: never reached (the
+#: escape guard ends a run at xa = ESCAPE_MARGIN and 0.0625 + STOP_ESCAPE below the centre)
+_DC_FAR = 1.0
 
 
 @dataclass(frozen=True)
@@ -68,6 +87,8 @@ class ModelOptions:
                                  # while AC off (prototype); "none": AC always on
     circuit: str = "thesis"      # "thesis": eq 4.16 in (i, z); "kvl": charge form in (q, i)
     ac_sign: str = "physical"    # "physical" or "listing" (listing C.2 reverses the AC force)
+    dc_law: str = "listing"      # DC force: "listing" (C.9), "fit" (eqs 4.6-4.7) or "measured"
+                                 # (Table 4.1 only, zero beyond 29 mm); see DC_LAWS
     soil: str = "viscous"        # 2-DOF: "viscous" or "coulomb"
     energy: bool = False         # add quadrature states for the energy audit (1-DOF)
     stick_speed: float = 1e-4    # [m/s] a contact onset slower than this while the net
@@ -82,6 +103,7 @@ class ModelOptions:
         from .parameters import ParameterError
         allowed = {"dof": (1, 2), "relay": ("ssr", "antiphase", "none"),
                    "circuit": ("thesis", "kvl"), "ac_sign": ("physical", "listing"),
+                   "dc_law": tuple(DC_LAWS),
                    "soil": ("viscous", "coulomb")}
         for name, values in allowed.items():
             if getattr(self, name) not in values:
@@ -104,7 +126,7 @@ class ModelOptions:
         if self.stop:
             names += ["k", "c", "e"]
         if self.dc:
-            names += ["a1", "a2", "a3", "d_dc", "dc_scale"]
+            names += (["a1", "a2", "a3"] if self.dc_law != "measured" else []) + ["d_dc", "dc_scale"]
         if self.ac:
             names += ["R", "C", "V", "f_mains", "d_ac", "L0", "A", "B"]
         if self.relay != "none":
@@ -133,6 +155,116 @@ class ModelOptions:
         return tuple(sorted(self.__dict__.items()))
 
 
+def _pchip_slopes(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Fritsch-Carlson slopes of the monotone piecewise cubic through (x, y) (as scipy's PCHIP)."""
+    h, d = np.diff(x), np.diff(y) / np.diff(x)
+    m = np.zeros_like(y)
+    for k in range(1, x.size - 1):
+        if d[k - 1] * d[k] > 0:
+            w1, w2 = 2 * h[k] + h[k - 1], h[k] + 2 * h[k - 1]
+            m[k] = (w1 + w2) / (w1 / d[k - 1] + w2 / d[k])
+
+    def end(h0, h1, d0, d1):
+        e = ((2 * h0 + h1) * d0 - h0 * d1) / (h0 + h1)
+        if np.sign(e) != np.sign(d0):
+            return 0.0
+        if np.sign(d0) != np.sign(d1) and abs(e) > 3 * abs(d0):
+            return 3 * d0
+        return e
+
+    m[0] = end(h[0], h[1], d[0], d[1])
+    m[-1] = end(h[-1], h[-2], d[-1], d[-2])
+    return m
+
+
+_REGIONS: list = []
+
+
+def measured_dc_regions() -> list[tuple]:
+    """The measured DC-force law (``dc_law="measured"``) as regions of xa, in increasing order.
+
+    Each region is ``(lo, hi, c0, c1, c2, c3, u0)``: on lo <= xa < hi [m] the force along +x at
+    dc_scale = 1 is ``F = c0 + c1 s + c2 s^2 + c3 s^3`` [N] with s = xa - lo, and its potential
+    ``U = u0 - (c0 s + c1 s^2/2 + c2 s^3/3 + c3 s^4/4)`` [J] (U(0) = 0, continuous everywhere).
+    Table 4.1 gives the pull magnitude T(|xa|) for 0 <= |xa| <= 0.029 m; T is the monotone
+    piecewise cubic through its points, and F(xa) = -sign(xa) T(|xa|) (toward the centre,
+    odd, C1 inside: F'(0) is even).  The two outer regions (|xa| > 0.029 m) have F = 0.
+    """
+    if _REGIONS:
+        return _REGIONS
+    from numpy.polynomial import Polynomial as Poly
+
+    from .thesis_data import load_table
+    tab = load_table("dc_force")
+    x, T = tab["x_a_m"], tab["force_N"]
+    if x[0] != 0.0 or abs(x[-1] - DC_EDGE) > 1e-15:
+        raise ValueError("Table 4.1 must run from xa = 0 to 0.029 m")
+    m = _pchip_slopes(x, T)
+    pos = []                                  # T on [x_k, x_k+1] in s = |xa| - x_k
+    for k in range(x.size - 1):
+        h, dlt = x[k + 1] - x[k], (T[k + 1] - T[k]) / (x[k + 1] - x[k])
+        pos.append(Poly([T[k], m[k], (3 * dlt - 2 * m[k] - m[k + 1]) / h, (m[k] + m[k + 1] - 2 * dlt) / h**2]))
+    regions = []
+    for k in reversed(range(x.size - 1)):     # xa in [-x_k+1, -x_k): F = +T(|xa|) = T_k(h - s)
+        h = x[k + 1] - x[k]
+        regions.append((-x[k + 1], -x[k], pos[k](Poly([h, -1.0]))))
+    for k in range(x.size - 1):               # xa in [x_k, x_k+1): F = -T_k(s)
+        regions.append((x[k], x[k + 1], -pos[k]))
+    # potential at each lower bound, integrating F outward from U(0) = 0 (U is even)
+    n0 = x.size - 1                           # index of the region starting at xa = 0
+    u = [0.0] * len(regions)
+    for j in range(n0 + 1, len(regions)):
+        lo, hi, F = regions[j - 1]
+        u[j] = u[j - 1] - F.integ()(hi - lo)
+    for j in range(n0 - 1, -1, -1):
+        lo, hi, F = regions[j]
+        u[j] = u[j + 1] + F.integ()(hi - lo)   # U(lo_j) = U(hi_j) + integral of F over the region
+    out = [(-_DC_FAR, -DC_EDGE, 0.0, 0.0, 0.0, 0.0, u[0])]
+    for (lo, hi, F), u0 in zip(regions, u):
+        c = np.zeros(4)
+        c[:F.coef.size] = F.coef
+        out.append((float(lo), float(hi), *map(float, c), float(u0)))
+    lo, hi, F = regions[-1]
+    out.append((DC_EDGE, _DC_FAR, 0.0, 0.0, 0.0, 0.0, float(u[-1] - F.integ()(hi - lo))))
+    _REGIONS[:] = out
+    return out
+
+
+_REGION_FLAGS = ("dc_region", "dc_lo", "dc_hi", "dc_c0", "dc_c1", "dc_c2", "dc_c3", "dc_u0")
+#: overlap [m] of neighbouring regions of the measured law: a region is left at dc_lo - DC_OVERLAP
+#: or dc_hi + DC_OVERLAP (flags dc_glo, dc_ghi).  Entered exactly on a knot, the leaving surface
+#: would start at 0, and heyoka misses a crossing that begins on its own zero (a bar entering a
+#: region at its apex fell back through it with the region's cubic).  The cubic over the overlap
+#: is C1-continuous with the neighbour's (an error ~|c2| 1e-24 N); at the 29 mm edge the force
+#: jumps there 1e-12 m late (an energy error < 4e-12 J).
+DC_OVERLAP = 1e-12
+
+
+def _region_flags(k: int) -> dict:
+    out = dict(zip(_REGION_FLAGS, (float(k),) + measured_dc_regions()[k]))
+    out["dc_glo"], out["dc_ghi"] = out["dc_lo"] - DC_OVERLAP, out["dc_hi"] + DC_OVERLAP
+    return out
+
+
+def dc_region_flags(o: ModelOptions, y, params) -> dict:
+    """The measured law's region flags consistent with the state ``y`` (empty for other laws).
+
+    Applied at the start of every run and map step by :func:`start_flags`.  A bar exactly on a
+    knot and moving down takes the region below (its crossing of the knot would not be
+    detected from zero).
+    """
+    if not (o.dc and o.dc_law == "measured"):
+        return {}
+    y = np.asarray(y, dtype=float)
+    r, rdot = (y[0], y[1]) if o.dof == 1 else (y[0] - y[2], y[1] - y[3])
+    xa = r - params["d_dc"]
+    bounds = [reg[0] for reg in measured_dc_regions()]
+    k = int(np.searchsorted(bounds, xa, side="right")) - 1
+    if k > 0 and xa == bounds[k] and rdot < 0:
+        k -= 1
+    return _region_flags(max(k, 0))
+
+
 def _forces(o: ModelOptions, s):
     """Symbolic forces and geometry shared by the rhs, guards and outputs.
 
@@ -152,12 +284,27 @@ def _forces(o: ModelOptions, s):
     P = s.P if o.ac else None
     if o.dc:
         xa = r - s.d_dc
-        xa2 = xa**2
-        # dc_scale * (-a3 xa^3 + a2 xa^2 - a1 xa); products, not xa**3 (heyoka's general pow
-        # recurrence divides by xa: NaN at xa = 0)
-        cubic = (xa * s.a2 - xa2 * s.a3 - s.a1) * xa * s.dc_scale
+        f["xa"] = xa
+        # products, not xa**3 (heyoka's general pow recurrence divides by xa: NaN at xa = 0)
+        if o.dc_law == "measured":
+            # the region's cubic in the local coordinate sl = xa - dc_lo [m]; its coefficients are
+            # flags set at every region change (guards "dc_down"/"dc_up", dc_region_flags at a start)
+            sl = xa - s.dc_lo
+            cubic = (((sl * s.dc_c3 + s.dc_c2) * sl + s.dc_c1) * sl + s.dc_c0) * s.dc_scale
+            # U = dc_u0 - integral of F from dc_lo: continuous across every knot and the edge
+            U = (s.dc_u0 - (((sl * s.dc_c3 * 0.25 + s.dc_c2 / 3.0) * sl + s.dc_c1 * 0.5) * sl + s.dc_c0) * sl) \
+                * s.dc_scale
+        elif o.dc_law == "fit":
+            xa2 = xa**2
+            # dc_scale * (-a3 xa^3 - a2 xa^2 + a1 xa)  (eq 4.7 without its weight offset)
+            cubic = (s.a1 - xa * s.a2 - xa2 * s.a3) * xa * s.dc_scale
+            U = (xa2 * s.a3 * 0.25 + xa * s.a2 / 3.0 - s.a1 * 0.5) * xa2 * s.dc_scale
+        else:
+            xa2 = xa**2
+            # dc_scale * (-a3 xa^3 + a2 xa^2 - a1 xa)  (listing C.9 without its weight offset)
+            cubic = (xa * s.a2 - xa2 * s.a3 - s.a1) * xa * s.dc_scale
+            U = (xa2 * s.a3 * 0.25 - xa * s.a2 / 3.0 + s.a1 * 0.5) * xa2 * s.dc_scale
         f["F_dc"] = cubic - cubic * P if o.relay == "antiphase" else cubic       # gate (1 - P)
-        U = (xa2 * s.a3 * 0.25 - xa * s.a2 / 3.0 + s.a1 * 0.5) * xa2 * s.dc_scale
         f["U_dc"] = U - U * P if o.relay == "antiphase" else U
     else:
         f["F_dc"] = zero
@@ -200,8 +347,13 @@ def _forces(o: ModelOptions, s):
         f["N_bar"] = F_mag - s.m1 * a2_free
         f["rddot"] = f["a1"] - f["a2"]
     else:
-        # eq 4.7: F_dc carries +m g (listing C.9), which cancels the weight
-        f["N_bar"] = f["F_dc"] + f["F_ac"] if o.dc else f["F_ac"] - s.m * s.g  # net force without the stop
+        # listing C.9 and eq 4.7: F_dc carries +m g, which cancels the weight; the measured law
+        # (Table 4.1) has no weight offset: the weight acts as it is
+        cancels = o.dc and o.dc_law != "measured"
+        if cancels:
+            f["N_bar"] = f["F_dc"] + f["F_ac"]                   # net force without the stop
+        else:
+            f["N_bar"] = (f["F_dc"] + f["F_ac"] if o.dc else f["F_ac"]) - s.m * s.g
         acc = (f["N_bar"] + f["F_c"]) / s.m
         f["a1"] = acc - acc * s.stuck_bar if o.stop else acc        # (1 - stuck_bar) * acc
         f["rddot"] = f["a1"]
@@ -233,11 +385,13 @@ def _guards(o: ModelOptions, s):
     r, rdot = f["r"], f["rdot"]
     gs = []
     if o.stop:
-        gs += [Guard("contact", r - s.e, -1, when={"contact": 0, "stuck_bar": 0}, then={"contact": 1},
-                     role="impact"),
+        # while stuck the bar sits at r = e exactly: an identically zero surface stops heyoka at
+        # every step (both its guards are inactive then), so it is lifted by STUCK_LIFT [m]
+        gap = r - s.e + s.stuck_bar * STUCK_LIFT
+        gs += [Guard("contact", gap, -1, when={"contact": 0, "stuck_bar": 0}, then={"contact": 1}, role="impact"),
                Guard("lowest", rdot, +1, when={"contact": 0, "stuck_bar": 0}, role="flight_minimum"),
                Guard("deepest", rdot, +1, when={"contact": 1}, role="deepest"),
-               Guard("release", r - s.e, +1, when={"contact": 1}, then={"contact": 0}, role="release")]
+               Guard("release", gap, +1, when={"contact": 1}, then={"contact": 0}, role="release")]
         # Escape and unstick share one surface (every event costs ~5 % of a step, see
         # docs/model.md "Guards"), chosen by the stuck_bar flag:
         # - free bar: positive between STOP_ESCAPE into the stop and ESCAPE_MARGIN beyond the
@@ -253,6 +407,17 @@ def _guards(o: ModelOptions, s):
     else:
         centre = -s.d_ac if o.ac else 0.0
         gs += [Guard("escape", (r - centre) ** 2 - (0.2) ** 2, +1, then={"escaped": 1}, role="escape")]
+    if o.dc and o.dc_law == "measured":
+        # region changes of the measured DC law: two surfaces whose bounds are flags (each
+        # heyoka event costs ~5 % of a step), one guard per region on each; xa in metres
+        n = len(measured_dc_regions())
+        xa = f["xa"]
+        gs += [Guard("dc_down", xa - s.dc_glo, -1, when={"dc_region": float(k)}, then=_region_flags(k - 1),
+                     role="other")
+               for k in range(1, n)]
+        gs += [Guard("dc_up", xa - s.dc_ghi, +1, when={"dc_region": float(k)}, then=_region_flags(k + 1),
+                     role="other")
+               for k in range(n - 1)]
     if o.dof == 2 and o.soil == "coulomb":
         iv2 = 3  # index of v2 in the state
 
@@ -284,7 +449,7 @@ def _outputs(o: ModelOptions, s):
         E = 0.5 * s.m * s.v**2 + 0.5 * s.contact * s.k * (s.x - s.e) ** 2 if o.stop else 0.5 * s.m * s.v**2
         if o.dc:
             E = E + f["U_dc"]
-        else:
+        if not o.dc or o.dc_law == "measured":   # the weight's potential (cancelled by the cubics' + m g)
             E = E + s.m * s.g * s.x
         if o.ac:
             E = E + 0.5 * f["L"] * s.i**2 + 0.5 * s.q**2 / s.C
@@ -317,14 +482,6 @@ def _gap(o: ModelOptions):
     if o.dof == 1:
         return lambda y, p: (y[0] - p.get("e", 0.0), y[1])
     return lambda y, p: (y[0] - y[2] - p.get("e", 0.0), y[1] - y[3])
-
-
-def _mode_rule(o: ModelOptions):
-    """The flags a bare state starts with: in contact when it starts inside the stop."""
-    gap = _gap(o)
-    if not o.stop:
-        return None
-    return lambda y, p: {"contact": 1.0 if gap(y, p)[0] < 0 else 0.0}
 
 
 def _stick_projection(o: ModelOptions):
@@ -404,6 +561,32 @@ def _chain(first, second):
     return settle
 
 
+def start_flags(system: HybridSystem, o: ModelOptions, y, params, flags, given=()) -> dict:
+    """Flags that follow from the state at the start of a run: THE one rule, installed as
+    ``system.mode_rule`` and applied by :func:`maps.transitions.start_flags` at every run start of
+    every engine (simulate, run_scene, StroboscopicMap step/orbit/orbits, the batch lanes).
+
+    - the measured DC law's region flags (:func:`dc_region_flags`), always;
+    - the stop, unless the caller gave ``stuck_bar`` (``given``): a bar inside the stop, or exactly
+      on it and moving into it, or at rest on it while the net non-contact force presses it on
+      (N_bar <= 0), starts in contact (then ``settle`` may stick it), even where the caller inferred
+      contact = 0 from the gap alone (StroboscopicMap).  A contact guard cannot fire from a start on
+      its own zero, so without this a bar resting on the stop under its weight fell through it.
+
+    """
+    y = np.asarray(y, dtype=float)
+    out = dc_region_flags(o, y, params)
+    if o.stop and "stuck_bar" not in given and flags.get("contact") != 1.0:
+        gap, rate = system.gap(y, params)
+        if gap < 0 or (gap == 0 and rate < 0):
+            out["contact"] = 1.0
+        elif gap == 0 and rate == 0:
+            fl = dict(flags, **out)
+            if float(system.evaluate(["N_bar"], y, params, fl)[0]) <= 0.0:
+                out["contact"] = 1.0
+    return out
+
+
 _SYSTEMS: dict = {}
 
 
@@ -420,13 +603,15 @@ def build_system(options: ModelOptions | None = None, **kw) -> HybridSystem:
     flags["escaped"] = 0.0
     if o.dof == 2 and o.soil == "coulomb":
         flags.update(stuck=0.0, slip_dir=1.0)
+    if o.dc and o.dc_law == "measured":      # defaults: the region of a bar on the stop; a run's
+        flags.update(_region_flags(0))       # start takes them from its state (dc_region_flags)
     switches = [PeriodicSwitch("P", "relay_hz")] if o.relay != "none" else []
     params = [PARAMETERS[n] for n in o.parameter_names()]
     system = HybridSystem(
         name="electro-vibro-impact", states=o.state_list(), parameters=params,
         flags=flags, rhs=lambda s: _rhs(o, s), guards=lambda s: _guards(o, s),
         switches=switches, outputs=lambda s: _outputs(o, s), structure=o.key(),
-        halt_flags=("escaped",), gap=_gap(o), mode_rule=_mode_rule(o))
+        halt_flags=("escaped",), gap=_gap(o))
     if o.dof == 2 and o.soil == "coulomb":
         system.settle = _settle_coulomb(system)
     if o.stop:
@@ -436,6 +621,7 @@ def build_system(options: ModelOptions | None = None, **kw) -> HybridSystem:
         system.projections = {"stick": _stick_projection(o)}                    # their Jacobians
         if system.settle is stick:   # sticking acts only in contact or stuck (Coulomb slip: always)
             system.settle_if = (("contact", 1.0), ("stuck_bar", 1.0))
+    system.mode_rule = lambda y, params, flags, given=(): start_flags(system, o, y, params, flags, given)
     system.options = o
     _SYSTEMS[o.key()] = system
     return system

@@ -3,7 +3,8 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["PRESETS", "COMMON", "preset_values"]
+__all__ = ["PRESETS", "COMMON", "preset_values", "preset_dc_law", "DC_LAW_COEFFICIENTS", "PRESET_DC_LAW",
+           "PRESET_NOTES"]
 
 _T = "thesis"
 #: values shared by every preset: name -> (value, provenance)
@@ -14,18 +15,53 @@ COMMON = {
     "g": (9.81, "listing C.1"),
     "e": (0.0, "clearance, listing C.1"),
     "f_mains": (50.0, "mains frequency, listing C.1"),
-    "a1": (15.38, "DC force cubic fit, listing C.9"),
-    "a2": (1.652e-14, "DC force cubic fit, listing C.9"),
-    "a3": (1.473e5, "DC force cubic fit, listing C.9"),
-    "d_dc": (0.0625, "eq 4.5 (xa = x - 0.0625)"),
+    "d_dc": (0.0625, "DC solenoid centre above the stop: xa = x - 0.0625, listing C.9 and MODEL.md section 1 "
+                     "(from y = 0.108, l_c = 0.141, l_s = 0.05 m, eq 4.5)"),
     "d_ac": (0.0455, "eq 4.9 (xb = x + 0.0455)"),
     "L0": (0.48, "inductance fit, eq 4.13 / listing C.11"),
     "A": (0.048, "inductance fit, eq 4.13 / listing C.11"),
     "B": (0.039, "inductance fit, eq 4.13 / listing C.11"),
-    "dc_scale": (1.0, "DC force table 4.1 measured at 20 V DC"),
+    "dc_scale": (1.0, "DC force Table 4.1 measured at 20 V DC"),
     "F_static": (31.1, "static force, section 4.7 / listing C.14 (C5)"),
     "soil_c": (135.0, "viscous soil coefficient Fs, listings C.4-C.6"),
     "soil_friction": (1000.0, "dry soil friction, listing C.14 (C7)"),
+}
+
+#: the DC-force cubic's coefficients of each law (``dc_law``; "measured" has none): name -> (value, provenance)
+DC_LAW_COEFFICIENTS = {
+    "listing": {
+        "a1": (15.38, "dc_law listing: listing C.9 as printed (-15.38*xa)"),
+        "a2": (1.652e-14, "dc_law listing: listing C.9 as printed (+1.652E-14*xa.^2)"),
+        "a3": (1.473e5, "dc_law listing: listing C.9 as printed (-1.473E5*xa.^3; eq 4.6's cubic with its sign flipped)"),
+    },
+    "fit": {
+        "a1": (15.38, "dc_law fit: eq 4.7 as printed (+15.38 x_a)"),
+        "a2": (1.625e-14, "dc_law fit: eq 4.7 as printed (-1.625e-14 x_a^2; listing C.9 prints 1.652e-14)"),
+        "a3": (1.473e5, "dc_law fit: eq 4.7 as printed (-1.473e5 x_a^3; eq 4.6: the least-squares odd cubic of Table 4.1)"),
+    },
+    "measured": {},
+}
+
+#: each preset's DC-force law (MODEL.md sections 1 and 4), with the reason
+PRESET_DC_LAW = {
+    "thesis-text": ("fit", "the text's law, eqs 4.6-4.7"),
+    "matlab-listing": ("listing", "what the thesis' simulations ran, listing C.9"),
+    "dynamics-listing": ("listing", "listing C.9; C.14's own cubic (on s, without the 0.0625 offset, a3 1e5 "
+                                    "smaller) is a different model, not implemented"),
+}
+
+#: MODEL.md section 4's notes on each preset, stated in its provenance (dataset attribute
+#: ``preset_notes``)
+PRESET_NOTES = {
+    "thesis-text": "sections 4.2-4.3 simulate at 15 V DC: dc_scale = (15/20)^2 = 0.5625 under the linear-magnetics "
+                   "assumption (1.0 reproduces the 20 V Table 4.1); k and c are not given in the text (listing "
+                   "C.1 values)",
+    "matlab-listing": "Table C.1 numbers; V is never assigned in the listing (25 V: the text's value); the listings "
+                      "start on the stop at rest with i = 0.1 A (C.1), tf = 3 s; the toolkit's default start (1 mm "
+                      "above the stop, circuit at rest) is a choice",
+    "dynamics-listing": "C.14's numbers only (its algebra differs: cubic on s without the 0.0625 offset, a3 1e5 "
+                        "smaller, inductance at s, sign(x)*1000 soil without sticking); the prototype takes R, C "
+                        "and V from C.14, the source written as 1.4142 x RMS: Chapter 5's 40-110 V read as RMS",
 }
 
 PRESETS = {
@@ -36,11 +72,14 @@ PRESETS = {
         "k": (1e5, "not given in the text; listing C.1 value"),
         "c": (10.0, "not given in the text; listing C.1 value"),
         "relay_hz": (5.0, "section 4.8 (Fig 4.27 d); the text sweeps 2-10 Hz"),
+        "dc_scale": (1.0, "Table 4.1 at 20 V DC; sections 4.2-4.3 simulate at 15 V DC, which is "
+                          "dc_scale = (15/20)^2 = 0.5625 if the magnetic circuit is linear (an assumption)"),
     },
     "matlab-listing": {
         "R": (25.0, "listing C.1"),
         "C": (2.8e-4, "listing C.1"),
-        "V": (25.0, "never assigned in listing C.1; thesis-text value"),
+        "V": (25.0, "never assigned in listing C.1; thesis-text value (the listings start on the stop at "
+                    "rest with i = 0.1 A, tf = 3 s)"),
         "k": (1e5, "listing C.1 (k1)"),
         "c": (10.0, "listing C.1 (c1)"),
         "relay_hz": (10.0, "listing C.1 (f)"),
@@ -48,7 +87,8 @@ PRESETS = {
     "dynamics-listing": {
         "R": (300.0, "listing C.14 (C8)"),
         "C": (3.0e-4, "listing C.14 (C3)"),
-        "V": (50 * 1.4142, "listing C.14 (1.4142*C9, C9 = 50 V)"),
+        "V": (50 * 1.4142, "listing C.14 (1.4142*C9, C9 = 50 V: 1.4142 x an RMS value); C.14's numbers only, "
+                           "not its algebra"),
         "k": (1e6, "listing C.14 (C6)"),
         "c": (500.0, "listing C.14 (C2)"),
         "relay_hz": (8.0, "listing C.14 (phi = 2 pi 8)"),
@@ -58,11 +98,39 @@ PRESETS = {
 }
 
 
-def preset_values(name: str) -> dict:
-    """name -> (value, provenance) for every parameter of preset ``name``."""
+def preset_dc_law(name: str) -> str:
+    """The DC-force law preset ``name`` uses by default ("listing", "fit" or "measured")."""
     from .parameters import ParameterError
     if name not in PRESETS:
         raise ParameterError(f"unknown preset {name!r}; presets: {', '.join(PRESETS)}")
+    return PRESET_DC_LAW[name][0]
+
+
+def preset_values(name: str, dc_law: str | None = None) -> dict:
+    """name -> (value, provenance) for every parameter of preset ``name``; the DC cubic's
+    coefficients are those of ``dc_law`` (default: the preset's own law)."""
+    from .parameters import ParameterError
+    law = preset_dc_law(name) if dc_law is None else dc_law     # raises for an unknown preset
+    if name not in PRESETS:
+        raise ParameterError(f"unknown preset {name!r}; presets: {', '.join(PRESETS)}")
+    if law not in DC_LAW_COEFFICIENTS:
+        raise ParameterError(f"option 'dc_law' = {law!r}; allowed: {', '.join(DC_LAW_COEFFICIENTS)}")
     out = dict(COMMON)
+    out.update(DC_LAW_COEFFICIENTS[law])
     out.update(PRESETS[name])
     return {k: (float(v), f"{name}: {src}") for k, (v, src) in out.items()}
+
+
+def preset_attrs(table: dict) -> dict:
+    """Dataset attributes naming the preset behind a provenance table ({name: (value, source)}),
+    its DC-force law and MODEL.md section 4's notes on it (empty when no preset is named)."""
+    counts: dict = {}
+    for _, src in table.values():
+        head = str(src).split(":")[0]
+        if head in PRESETS:
+            counts[head] = counts.get(head, 0) + 1
+    if not counts:
+        return {}
+    name = max(counts, key=counts.get)
+    law, why = PRESET_DC_LAW[name]
+    return {"preset": name, "preset_dc_law": f"{law}: {why}", "preset_notes": PRESET_NOTES[name]}

@@ -1,5 +1,8 @@
 """Named scenes: a model variant, its states and its default parameters.
 
+A scene's DC-force law (option ``dc_law``) is that of its default preset (``maps.presets.PRESET_DC_LAW``):
+thesis-text scenes use "fit", matlab-listing and dynamics-listing scenes "listing".
+
 >>> from maps import get_scene
 >>> scene = get_scene("thesis-1dof")
 >>> params = scene.parameters(preset="matlab-listing", V=90, relay_hz=9)
@@ -45,7 +48,7 @@ class Scene:
     def parameters_with_provenance(self, preset: str | None = None, **overrides) -> dict:
         """name -> (value, provenance) for this scene's parameters."""
         system = self.system
-        table = preset_values(preset or self.preset)
+        table = preset_values(preset or self.preset, dc_law=self.options.dc_law)
         if preset is None or preset == self.preset:
             table.update({k: (float(v), f"scene {self.name}: {src}") for k, (v, src) in self.overrides.items()})
         for k, v in overrides.items():
@@ -75,13 +78,13 @@ class Scene:
 _ABOVE = {"x": 1e-3}
 SCENES = {s.name: s for s in [
     Scene("dc-only", "bar under DC force and weight on the stop, 2 states (thesis Fig 4.7)",
-          ModelOptions(dof=1, dc=True, ac=False, stop=True, relay="none"), x0={"x": 0.0}),
+          ModelOptions(dof=1, dc=True, ac=False, stop=True, relay="none", dc_law="fit"), x0={"x": 0.0}),
     Scene("ac-only", "AC solenoid always on and weight, no DC solenoid, no stop (Fig 4.25)",
           ModelOptions(dof=1, dc=False, ac=True, stop=False, relay="none"), x0={"x": 0.0}),
     Scene("ac-stop", "AC solenoid always on, weight and the stop (Fig 4.26)",
           ModelOptions(dof=1, dc=False, ac=True, stop=True, relay="none"), x0=_ABOVE),
     Scene("thesis-1dof", "vertical bar, DC solenoid, relay-switched AC solenoid, stop (Fig 4.27)",
-          ModelOptions(dof=1), x0=_ABOVE),
+          ModelOptions(dof=1, dc_law="fit"), x0=_ABOVE),
     Scene("thesis-2dof", "horizontal bar and rig, viscous soil (section 4.7, listing C.4)",
           ModelOptions(dof=2, soil="viscous"), preset="matlab-listing", x0={"x1": 1e-3}),
     Scene("prototype", "2-DOF prototype, antiphase relay, dry-friction soil (Chapter 5)",

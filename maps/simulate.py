@@ -13,19 +13,34 @@ from .hybrid import Escaped, IntegrationFailure
 from .impacts import impact_table
 from .parameters import ParameterError, validate_value
 from .provenance import cf_attrs, recorded
+from .presets import preset_dc_law
 from .scenes import get_scene
 
 if TYPE_CHECKING:  # xarray is imported where used: worker processes start faster
     import xarray as xr
 
-__all__ = ["simulate", "run_scene", "resolve"]
+__all__ = ["simulate", "run_scene", "resolve", "dc_law_attrs"]
 
 
-def resolve(scene, params=None, preset=None, circuit=None, ac_sign=None, energy=None):
+def dc_law_attrs(options) -> dict:
+    """Dataset attributes naming the DC-force law and its provenance (MODEL.md section 1)."""
+    from .model import DC_LAWS
+    if not options.dc:
+        return {"dc_law": "none", "dc_law_source": "no DC solenoid in this scene"}
+    return {"dc_law": options.dc_law, "dc_law_source": DC_LAWS[options.dc_law]}
+
+
+def resolve(scene, params=None, preset=None, circuit=None, ac_sign=None, energy=None, dc_law=None):
     """The scene with structural options applied, and its validated parameter values
-    with provenance: ``(scene, {name: (value, provenance)})``."""
+    with provenance: ``(scene, {name: (value, provenance)})``.
+
+    ``dc_law`` ("listing", "fit", "measured"; MODEL.md section 1) defaults to the law of
+    ``preset`` when one is given (matlab-listing: "listing", thesis-text: "fit"), else to the scene's."""
     sc = get_scene(scene)
-    opts = {k: v for k, v in dict(circuit=circuit, ac_sign=ac_sign, energy=energy).items() if v is not None}
+    if dc_law is None and preset is not None and sc.options.dc:
+        dc_law = preset_dc_law(preset)
+    opts = {k: v for k, v in dict(circuit=circuit, ac_sign=ac_sign, energy=energy, dc_law=dc_law).items()
+            if v is not None}
     if opts:
         sc = sc.with_options(**opts)
     if params is not None and not isinstance(params, Mapping):  # else a TypeError from the ** below
@@ -36,14 +51,14 @@ def resolve(scene, params=None, preset=None, circuit=None, ac_sign=None, energy=
 
 def run_scene(scene, t_end, params=None, preset=None, x0=None, tol=1e-12, circuit=None,
               ac_sign=None, energy=None, fp_type=float, on_segment=None, max_events=100_000,
-              max_events_per_period=None):
+              max_events_per_period=None, dc_law=None):
     """Integrate a scene to ``t_end`` [s] and return the :class:`~maps.hybrid.HybridRun`.
 
     Failures (non-finite state, escape, event cap: ``max_events`` per run,
     ``max_events_per_period`` per relay period) are recorded on the run as
     ``run.status`` / ``run.failure`` instead of raised.
     """
-    sc, table = resolve(scene, params, preset, circuit, ac_sign, energy)
+    sc, table = resolve(scene, params, preset, circuit, ac_sign, energy, dc_law)
     values = {k: v for k, (v, _) in table.items()}
     t_end = validate_value("t_end", t_end, 0.0, 1e7, low_open=True, unit="s")
     if x0 is not None and not isinstance(x0, Mapping):
@@ -68,7 +83,7 @@ def run_scene(scene, t_end, params=None, preset=None, x0=None, tol=1e-12, circui
 @recorded("maps.simulate")
 def simulate(scene, *, periods=None, t_end=None, params=None, preset=None, x0=None, tol=1e-12,
              dt=None, t_eval=None, circuit=None, ac_sign=None, energy=None,
-             max_events_per_period=None) -> xr.Dataset:
+             max_events_per_period=None, dc_law=None) -> xr.Dataset:
     """Time history of ``scene`` sampled on a grid from heyoka's dense output.
 
     Parameters
@@ -90,12 +105,15 @@ def simulate(scene, *, periods=None, t_end=None, params=None, preset=None, x0=No
         never changes the trajectory.
     circuit, ac_sign : str
         Structural options ("thesis"/"kvl", "physical"/"listing").
+    dc_law : str
+        DC-force law: "listing" (listing C.9), "fit" (eqs 4.6-4.7) or "measured" (Table 4.1
+        only, zero beyond |xa| = 29 mm); default: the preset's (MODEL.md section 1).
 
     Returns
     -------
     xarray.Dataset with ``time`` and ``impact`` dimensions.
     """
-    sc, table = resolve(scene, params, preset, circuit, ac_sign, energy)
+    sc, table = resolve(scene, params, preset, circuit, ac_sign, energy, dc_law)
     values = {k: v for k, (v, _) in table.items()}
     t_end = _duration(values, periods, t_end)
     if t_eval is None:
@@ -172,7 +190,7 @@ def to_dataset(run, t_eval, samples, table) -> xr.Dataset:
     o = sc.options
     attrs = {
         "scene": sc.name, "scene_summary": sc.summary, "circuit": o.circuit if o.ac else "none",
-        "ac_sign": o.ac_sign if o.ac else "none", "relay": o.relay,
+        "ac_sign": o.ac_sign if o.ac else "none", "relay": o.relay, **dc_law_attrs(o),
         "soil": o.soil if o.dof == 2 else "none", "tol": run.tol, "heyoka_version": hy.__version__,
         "run_seconds": run.run_seconds, "compile_seconds": run.compile_seconds,
         "n_steps": run.n_steps, "n_events": run.n_events, "n_relay_switches": run.n_switches,
@@ -187,5 +205,7 @@ def to_dataset(run, t_eval, samples, table) -> xr.Dataset:
         attrs[f"param_{k}"] = v
         attrs[f"param_{k}_units"] = system.parameter(k).unit
         attrs[f"param_{k}_source"] = src
+    from .presets import preset_attrs
+    attrs.update(preset_attrs(table))
     ds.attrs.update(attrs)
     return ds

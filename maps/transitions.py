@@ -189,9 +189,16 @@ class EventBudget:
 def start_flags(system: HybridSystem, t: float, y, params: Mapping[str, float],
                 flags: Mapping[str, float] | None = None) -> dict:
     """The flags of a run starting at ``t`` [s] in state ``y``: defaults, every switch at its
-    value at ``t``, then the given ``flags``, or without them the system's rule
-    (:meth:`HybridSystem.mode_at`, e.g. in contact when starting inside the stop)."""
-    return system.initial_flags(t, params, flags if flags is not None else system.mode_at(y, params))
+    value at ``t``, the given ``flags``, and for every flag not given the system's rule
+    (:meth:`HybridSystem.mode_at`: in contact when starting inside the stop or pressed on it,
+    the region of a piecewise force law).  A complete mode (a stored HybridState's flags) is
+    taken as it is."""
+    given = dict(flags or {})
+    base = system.initial_flags(t, params, given)
+    if len(given) >= len(system.flag_names) and set(given) >= set(system.flag_names):
+        return base
+    base.update(system.mode_at(y, params, base, tuple(given)))
+    return base
 
 
 def next_switch(system: HybridSystem, params: Mapping[str, float], counters: Mapping[str, int]):

@@ -14,7 +14,7 @@ PARAMS = {"V": 90.0, "relay_hz": 9.0}
 def test_contact_times_agree_with_scipy_dop853_at_rtol_1e12():
     """bifurc.verification.baselines writes the right-hand side again from docs/model.md (no heyoka) and restarts
     solve_ivp at every contact and relay switch."""
-    scene = maps.get_scene("thesis-1dof")
+    scene = maps.get_scene("thesis-1dof").with_options(dc_law="listing")  # the reference writes C.9
     p = scene.parameters(preset="matlab-listing", **PARAMS)
     y0 = scene.system.state_vector(scene.initial_state())  # 1 mm above the stop, at rest
     run = maps.run_scene("thesis-1dof", 1.0, preset="matlab-listing", params=PARAMS, tol=1e-15)
@@ -33,7 +33,7 @@ def test_double_agrees_with_extended_precision(fp_type, tol, slow, request):
     2.9e-12 with N = 288).  The reference's own error (tol 1e-19 or 1e-28) is negligible."""
     if slow and not request.config.getoption("--runslow"):
         pytest.skip("real128 compiles for ~12 s: run with --runslow")
-    scene = maps.get_scene("thesis-1dof")
+    scene = maps.get_scene("thesis-1dof").with_options(dc_law="listing")  # the reference writes C.9
     p = scene.parameters(preset="matlab-listing", **PARAMS)
     y0 = scene.system.state_vector(scene.initial_state(x=0.005, v=-3.0))
     a = HybridRun(scene.system, p, y0, tol=1e-15)
@@ -51,7 +51,7 @@ def test_double_agrees_with_extended_precision(fp_type, tol, slow, request):
 @pytest.mark.parametrize("relay, contact", [(1.0, 0.0), (0.0, 0.0), (1.0, 1.0), (0.0, 1.0)])
 def test_heyoka_rhs_equals_the_independent_numpy_rhs(relay, contact):
     """The compiled equations are docs/model.md's: forces, inductance derivatives, eq 4.16, contact law."""
-    scene = maps.get_scene("thesis-1dof")
+    scene = maps.get_scene("thesis-1dof").with_options(dc_law="listing")  # the reference writes C.9
     system = scene.system
     p = scene.parameters(preset="matlab-listing", **PARAMS)
     f_ref = rhs_1dof(p)
@@ -82,7 +82,7 @@ def _compiled_rhs(system, p, flags):
 def test_kvl_form_and_energy_equal_the_independent_numpy_model(relay, contact, ac_sign):
     """Charge form, its energy quadratures and the stored energy E_mech_el, against tests/reference_model."""
     from reference_model import energy_1dof_kvl, rhs_1dof_kvl
-    scene = maps.get_scene("thesis-1dof").with_options(circuit="kvl", energy=True, ac_sign=ac_sign)
+    scene = maps.get_scene("thesis-1dof").with_options(circuit="kvl", energy=True, ac_sign=ac_sign, dc_law="listing")
     system = scene.system
     p = scene.parameters(preset="matlab-listing", **PARAMS)
     f = _compiled_rhs(system, p, dict(P=relay, contact=contact))

@@ -23,6 +23,11 @@ def _case(name):
 
 def _problem(name):
     """(system, params, y0, flags, sampling period [s], periods, max events per period)."""
+    if name == "measured-law":
+        sc = maps.get_scene("thesis-1dof").with_options(dc_law="measured", ac_sign="listing")
+        p = sc.parameters(preset="matlab-listing", V=90.0, relay_hz=7.0)
+        y0 = sc.system.state_vector(sc.initial_state(x=0.0, v=0.0, i=0.1, z=0.0))
+        return sc.system, p, y0, None, 1.0 / 7.0, 8, 10_000
     if name == "oscillator":
         system = maps.forced_oscillator_with_stop()
         p = system.validate(dict(w0=1.0, zeta=0.05, F=0.5, Omega=2.5, e=0.0, r=0.7))
@@ -42,6 +47,7 @@ PROBLEMS = {
     "chatter-no-stick": "the per-period event cap",
     "prototype-stick": "2-DOF, Coulomb soil (a reset map), the bar and the rig sticking",
     "oscillator": "the restitution oscillator: a reset map, no relay, strobe period 2 pi / Omega",
+    "measured-law": "the measured DC law: region modes set by the start rule and changed by guards",
 }
 
 
@@ -85,6 +91,7 @@ def test_problems_exercise_what_they_claim():
     proto = _run("scalar", "prototype-stick")
     assert {"stick", "rig_stop"} <= names(proto)
     assert "contact" in names(_run("scalar", "oscillator"))
+    assert {"dc_up", "contact", "unstick"} <= names(_run("scalar", "measured-law"))
 
 
 def test_many_jobs_in_few_lanes_equal_one_by_one():

@@ -68,7 +68,7 @@ K = 8
 
 @pytest.fixture(scope="module")
 def thesis():
-    sc = maps.get_scene("thesis-1dof")
+    sc = maps.get_scene("thesis-1dof").with_options(dc_law="listing")   # matlab-listing's law (C.9)
     p = sc.parameters(preset="matlab-listing", V=90.0, relay_hz=9.0)
     smap = maps.StroboscopicMap(sc, p, tol=1e-12)
     o = smap.orbit(sc.initial_state(), 12)

@@ -104,7 +104,7 @@ def test_a_stable_orbit_is_the_attractor_of_a_long_simulation():
 def test_period_17_of_thesis_1dof_at_8_5_hz_by_multiple_shooting():
     """The orbit a long sweep found with --max-period 17 (12 impacts): Newton from a simulated
     point converges, and the conditioning single shooting would face is reported."""
-    sc = maps.get_scene("thesis-1dof")
+    sc = maps.get_scene("thesis-1dof").with_options(dc_law="listing")   # matlab-listing's law (C.9)
     p = sc.parameters(preset="matlab-listing", V=90.0, relay_hz=8.5)
     smap = maps.StroboscopicMap(sc, p, tol=1e-10)
     assert smap.forcing_period_steps == 17

@@ -18,7 +18,7 @@ def osc():
 
 @pytest.fixture(scope="module")
 def scene():
-    return maps.get_scene("thesis-1dof")
+    return maps.get_scene("thesis-1dof").with_options(dc_law="listing")  # matlab-listing runs
 
 
 def linear_response(p, t):

@@ -35,7 +35,7 @@ def _oscillation_period(p, U):
 def test_dc_only_bar_starting_on_the_stop_runs_without_looping():
     """From rest on the stop the DC force (~37 N) throws the bar up; the well is symmetric
     about d_dc, so the bar comes back to the stop at rest: a graze every oscillation."""
-    scene = maps.get_scene("dc-only")
+    scene = maps.get_scene("dc-only").with_options(dc_law="listing")  # _dc_potential is C.9's
     p = scene.parameters()
     run = HybridRun(scene.system, p, {"x": 0.0, "v": 0.0}, tol=1e-15, max_events=200)
     U = _dc_potential(p)

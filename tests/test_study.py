@@ -80,3 +80,41 @@ def test_notebook_executes_and_shows_its_figures(tmp_path):
     tables = [o for c in nb.cells if c.cell_type == "code" for o in c.get("outputs", [])
               if "text/html" in o.get("data", {}) and "relay_hz" in o["data"]["text/html"]]
     assert tables  # ds.bifurc.table() rendered
+
+
+def _replay():
+    sys.path.insert(0, str(ROOT))
+    import studies.thesis_replay as replay
+    return replay
+
+
+def test_replay_row_measures_the_dc_well_not_the_relay():
+    """The thesis' own run (listing law, listing AC sign, start on the stop with i = 0.1 A) at 5 Hz
+    and 90 V: x's spectrum peaks at the DC well's own frequency, not at 5 Hz, and x spans the whole
+    well (about 2 x 62.5 mm), far beyond the thesis' +-5 mm; the DC force at the stop is C.9 at
+    xa = -0.0625 m less its m g offset, typed here."""
+    replay = _replay()
+    r = replay.measure(5.0, 90.0, "listing", long_periods=20, long_window=10)
+    assert r["status"] == "ok" and r["dc_law"] == "listing" and r["ac_sign"] == "listing"
+    assert abs(r["fft_peak_3s_hz"] - 8.33) < 0.34            # one bin of a 3 s record
+    well = replay.well_frequency("listing", seconds=12.0)
+    assert abs(well - 8.37) < 0.1 and abs(r["fft_peak_3s_hz"] - well) < 0.34
+    assert r["x_max_mm"] > 120.0 and r["x_min_mm"] < 0.0
+    xa = -0.0625
+    assert abs(r["F_dc_stop_N"] - (1.473e5 * 0.0625**3 - 1.652e-14 * xa**2 + 15.38 * 0.0625)) < 1e-9
+    text = "\n".join(replay.disagreements(r, well))
+    assert "8.33 Hz, not at the relay's 5 Hz" in text and "+-5 mm sensor" in text
+
+
+@pytest.mark.slow
+def test_quick_replay_study_writes_its_report_and_figure(tmp_path):
+    """`bifurc study thesis-replay --quick`: every row names its DC law; under `measured` with the
+    physical AC sign the bar never leaves the stop."""
+    assert main(["study", "thesis-replay", "--quick", "-o", str(tmp_path)]) == 0
+    text = (tmp_path / "report.md").read_text()
+    for law in ("listing", "fit", "measured"):
+        for w in (5, 6):
+            assert f"\n| {w} | {law} |" in text
+    assert "a bar at rest on the stop never leaves it" in text
+    assert (tmp_path / "replay_90V.png").stat().st_size > 20_000
+    assert (tmp_path / "replay.csv").read_text().count("\n") == 2 + 6

@@ -46,7 +46,7 @@ def test_stroboscopic_map_converges_to_the_analytic_steady_state(osc):
 
 
 def test_map_impacts_equal_the_time_history():
-    sc = maps.get_scene("thesis-1dof")
+    sc = maps.get_scene("thesis-1dof").with_options(dc_law="listing")
     p = sc.parameters(preset="matlab-listing", V=90, relay_hz=9)
     smap = maps.StroboscopicMap(sc, p, tol=1e-12)
     o = smap.orbit(sc.initial_state(), 18, transient=0)

@@ -32,6 +32,10 @@ def add_scene_options(parser: argparse.ArgumentParser, default_scene: str = "the
                    help="circuit form: thesis (eq 4.16, i and di/dt) or kvl (charge form)")
     g.add_argument("--ac-sign", choices=("physical", "listing"), default=None,
                    help="AC force sign: physical (default) or as in listing C.2")
+    g.add_argument("--dc-law", choices=("listing", "fit", "measured"), default=None,
+                   help="DC-force law: listing (listing C.9), fit (eqs 4.6-4.7) or measured (Table 4.1 "
+                        "only, zero beyond 29 mm); default: the preset's (matlab-listing: listing, "
+                        "thesis-text: fit)")
     g.add_argument("--tol", type=float, default=default_tol, help=f"heyoka tolerance (default {default_tol:g})")
 
 
@@ -78,7 +82,7 @@ def scene_kwargs(args) -> dict:
     if args.relay_hz is not None:
         params["relay_hz"] = args.relay_hz
     return dict(params=params, preset=args.preset, x0=parse_x0(args.x0), tol=args.tol,
-                circuit=args.circuit, ac_sign=args.ac_sign)
+                circuit=args.circuit, ac_sign=args.ac_sign, dc_law=args.dc_law)
 
 
 def add_force_option(parser: argparse.ArgumentParser) -> None:

@@ -32,6 +32,8 @@ def register(subparsers):
     p.add_argument("--circuit", choices=("thesis", "kvl"), default=None,
                    help="circuit form (the scipy/RK4 baselines implement only 'thesis')")
     p.add_argument("--ac-sign", choices=("physical", "listing"), default=None, help="AC force sign")
+    p.add_argument("--dc-law", choices=("listing", "fit", "measured"), default=None,
+                   help="DC-force law (default: the preset's; see bifurc simulate --help)")
     p.add_argument("--t-end", type=float, default=2.0, help="integration time [s] (default 2)")
     p.add_argument("--methods", default=",".join(DEFAULT_LADDERS),
                    help="comma-separated methods (default: all): " + ", ".join(DEFAULT_LADDERS))
@@ -77,7 +79,7 @@ def run(args) -> int:
 
     ds = work_precision(args.scene, args.t_end, preset=args.preset, params=params, x0=x0, ladders=ladders,
                         reference=args.reference, max_seconds=args.max_seconds, progress=progress,
-                        circuit=args.circuit, ac_sign=args.ac_sign)
+                        circuit=args.circuit, ac_sign=args.ac_sign, dc_law=args.dc_law)
     from ..files import write_netcdf, write_text
     write_text(out / "accuracy.csv", ds.to_dataframe().to_csv(), overwrite=args.force)
     write_netcdf(ds, out / "accuracy.nc", overwrite=args.force)

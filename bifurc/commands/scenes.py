@@ -14,5 +14,6 @@ def run(args) -> int:
     w_name = max(len(sc.name) for sc in scenes)
     w_states = max(map(len, states.values()))
     for sc in scenes:
-        print(f"{sc.name:<{w_name}}  {states[sc.name]:<{w_states}}  {sc.summary}; preset {sc.preset}")
+        law = f", dc_law {sc.options.dc_law}" if sc.options.dc else ""
+        print(f"{sc.name:<{w_name}}  {states[sc.name]:<{w_states}}  {sc.summary}; preset {sc.preset}{law}")
     return 0

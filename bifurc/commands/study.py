@@ -4,7 +4,7 @@ from ._common import add_force_option
 
 def register(subparsers):
     p = subparsers.add_parser("study", help="run a named, reproducible study (see studies/)")
-    p.add_argument("name", help="study name, e.g. thesis-1dof-relay")
+    p.add_argument("name", help="study name: thesis-1dof-relay or thesis-replay")
     p.add_argument("--quick", action="store_true", help="reduced size")
     p.add_argument("-o", "--output", default="out/study", help="output folder")
     p.add_argument("--case", action="append", default=None, help="run only this case (repeatable)")
@@ -14,11 +14,11 @@ def register(subparsers):
 
 def run(args) -> int:
     try:
-        from studies.run import run_study
+        from studies.run import _written, run_study
     except ModuleNotFoundError:
         from maps.parameters import ParameterError
         raise ParameterError("the studies/ folder is not importable: run from the repository root") from None
     run_study(args.name, args.output, quick=args.quick, cases=args.case, overwrite=args.force,
               hint="use --force")
-    print(f"wrote {args.output}/comparison.md and one .nc/.png/.md per case")
+    print(_written(args.name, args.output))
     return 0

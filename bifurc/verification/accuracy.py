@@ -30,7 +30,7 @@ from maps.engines.scalar import HybridRun
 from maps.impacts import impact_table
 from maps.parameters import ParameterError
 from maps.provenance import cf_attrs, recorded
-from maps.simulate import resolve
+from maps.simulate import dc_law_attrs, resolve
 
 from . import baselines
 
@@ -48,21 +48,21 @@ DEFAULT_LADDERS = {
 }
 
 
-def _problem(scene, preset=None, params=None, x0=None, circuit=None, ac_sign=None):
-    sc, table = resolve(scene, params, preset, circuit, ac_sign)
+def _problem(scene, preset=None, params=None, x0=None, circuit=None, ac_sign=None, dc_law=None):
+    sc, table = resolve(scene, params, preset, circuit, ac_sign, dc_law=dc_law)
     values = {k: v for k, (v, _) in table.items()}
     y0 = sc.system.state_vector(sc.initial_state(**(x0 or {})))
     return sc, values, y0
 
 
 def reference_solution(scene, t_end, preset=None, params=None, x0=None, precision="longdouble",
-                       tol=None, circuit=None, ac_sign=None) -> dict:
+                       tol=None, circuit=None, ac_sign=None, dc_law=None) -> dict:
     """Final state (float128-like array), impact times and error bound of the extended-precision run.
 
     ``precision`` is ``"longdouble"`` (tol 1e-19) or ``"real128"`` (tol 1e-28, ~12 s to compile).
     """
     import heyoka as hy
-    sc, values, y0 = _problem(scene, preset, params, x0, circuit, ac_sign)
+    sc, values, y0 = _problem(scene, preset, params, x0, circuit, ac_sign, dc_law)
     if precision == "longdouble":
         fp, tol = np.longdouble, tol or 1e-19
     elif precision == "real128":
@@ -110,10 +110,10 @@ def _impact_error(t, t_ref):
     return float(np.max(np.abs(t - t_ref))) if t.size else 0.0
 
 
-@recorded("bifurc.accuracy.work_precision")
+@recorded("bifurc.verification.accuracy.work_precision")
 def work_precision(scene="thesis-1dof", t_end=2.0, preset=None, params=None, x0=None,
                    ladders=None, methods=None, reference="longdouble", repeats=3,
-                   max_seconds=30.0, progress=None, circuit=None, ac_sign=None) -> xr.Dataset:
+                   max_seconds=30.0, progress=None, circuit=None, ac_sign=None, dc_law=None) -> xr.Dataset:
     """Errors against run time for every method over its tolerance ladder.
 
     ``ladders`` maps a method to its tolerances (default :data:`DEFAULT_LADDERS`);
@@ -129,9 +129,9 @@ def work_precision(scene="thesis-1dof", t_end=2.0, preset=None, params=None, x0=
     from maps.parameters import validate_value
     t_end = validate_value("t_end", t_end, 0.0, 1e4, low_open=True, unit="s")
     if any(m != "heyoka" for m in ladders):
-        baselines.check_supported(_problem(scene, preset, params, x0, circuit, ac_sign)[0])
+        baselines.check_supported(_problem(scene, preset, params, x0, circuit, ac_sign, dc_law)[0])
     ref = reference_solution(scene, t_end, preset, params, x0, precision=reference, circuit=circuit,
-                             ac_sign=ac_sign)
+                             ac_sign=ac_sign, dc_law=dc_law)
     sc, values, y0 = ref["scene"], ref["params"], ref["y0"]
     rows = []
     for method, ladder in ladders.items():
@@ -140,10 +140,11 @@ def work_precision(scene="thesis-1dof", t_end=2.0, preset=None, params=None, x0=
                 r = toolkit_solution(sc, values, y0, t_end, tol, repeats)
                 y, t_imp, secs = r["y"], r["impact_times"], r["run_seconds"]
             elif method == "rk4-bisection":
-                b = baselines.solve_rk4_bisection(values, y0, t_end, h=tol)
+                b = baselines.solve_rk4_bisection(values, y0, t_end, h=tol, dc_law=sc.options.dc_law)
                 y, t_imp, secs = b.y, b.impact_times, b.run_seconds
             else:
-                b = baselines.solve_scipy(values, y0, t_end, method=method.split("-", 1)[1], tol=tol)
+                b = baselines.solve_scipy(values, y0, t_end, method=method.split("-", 1)[1], tol=tol,
+                                          dc_law=sc.options.dc_law)
                 y, t_imp, secs = b.y, b.impact_times, b.run_seconds
             rows.append(dict(method=method, tol=tol, run_seconds=secs,
                              final_state_error=final_state_error(y, ref["y"]),
@@ -172,7 +173,7 @@ def _to_dataset(rows, ref, t_end) -> xr.Dataset:
     ds["n_impacts"] = ("run", col["n_impacts"], {"units": "1", "long_name": "number of contacts"})
     sc = ref["scene"]
     ds.attrs.update({
-        "scene": sc.name, "t_end": t_end, "reference_precision": ref["precision"],
+        "scene": sc.name, **dc_law_attrs(sc.options), "t_end": t_end, "reference_precision": ref["precision"],
         "reference_tol": float(ref["tol"]), "reference_error_bound": ref["error_bound"],
         "reference_n_impacts": int(ref["impact_times"].size),
         "reference_final_state": np.array(ref["y"], dtype=float),

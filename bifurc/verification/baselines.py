@@ -56,13 +56,15 @@ def check_supported(scene):
     """Raise :class:`~maps.ParameterError` unless the scene is the 1-DOF thesis-circuit model."""
     o = scene.options
     if not (o.dof == 1 and o.dc and o.ac and o.stop and o.relay == "ssr" and o.circuit == "thesis"
-            and o.ac_sign == "physical" and not o.energy):
-        raise ParameterError(f"the baselines implement only thesis-1dof (thesis circuit, physical AC sign); "
-                             f"scene {scene.name!r} has options {o}")
+            and o.ac_sign == "physical" and not o.energy and o.dc_law in ("listing", "fit")):
+        raise ParameterError(f"the baselines implement only thesis-1dof (thesis circuit, physical AC sign, "
+                             f"dc_law listing or fit); scene {scene.name!r} has options {o}")
 
 
-def rhs_1dof(p: dict):
-    """``f(t, y, relay, contact) -> [dx, dv, di, dz]`` for the 1-DOF thesis model (floats)."""
+def rhs_1dof(p: dict, dc_law: str = "listing"):
+    """``f(t, y, relay, contact) -> [dx, dv, di, dz]`` for the 1-DOF thesis model (floats);
+    ``dc_law`` "listing" (C.9) or "fit" (eqs 4.6-4.7)."""
+    sl = 1.0 if dc_law == "listing" else -1.0     # the fit flips the signs of a2 and a1
     m, k, c, e = p["m"], p["k"], p["c"], p["e"]
     a1, a2, a3, d_dc, s_dc = p["a1"], p["a2"], p["a3"], p["d_dc"], p["dc_scale"]
     R, C, V, d_ac, L0, A, B = p["R"], p["C"], p["V"], p["d_ac"], p["L0"], p["A"], p["B"]
@@ -73,7 +75,7 @@ def rhs_1dof(p: dict):
     def f(t, y, relay, contact):
         x, v, i, z = y[0], y[1], y[2], y[3]
         xa = x - d_dc
-        F_dc = s_dc * (-a3 * xa * xa * xa + a2 * xa * xa - a1 * xa)   # weight offset cancels m g
+        F_dc = s_dc * (-a3 * xa * xa * xa + sl * a2 * xa * xa - sl * a1 * xa)   # weight offset cancels m g
         xb = x + d_ac
         gauss = exp(-2.0 * (xb / B) ** 2)
         L = L0 + norm * gauss
@@ -102,13 +104,13 @@ def _switch_times(freq, t0, t_end):
 
 
 def solve_scipy(params: dict, y0, t_end: float, method: str = "DOP853", tol: float = 1e-10,
-                t0: float = 0.0) -> BaselineResult:
+                t0: float = 0.0, dc_law: str = "listing") -> BaselineResult:
     """``scipy.integrate.solve_ivp`` with terminal contact events, restarted at each event
     and relay switch; ``rtol = atol = tol``."""
     from scipy.integrate import solve_ivp
     if method not in SCIPY_METHODS:
         raise ParameterError(f"method {method!r}; allowed: {', '.join(SCIPY_METHODS)}")
-    f = rhs_1dof(params)
+    f = rhs_1dof(params, dc_law)
     e = params["e"]
     y = np.array(y0, dtype=float)
     contact = 1.0 if y[0] < e else 0.0
@@ -158,14 +160,14 @@ def _rk4_step(f, t, y, h, relay, contact):
 
 
 def solve_rk4_bisection(params: dict, y0, t_end: float, h: float = 1e-4, delta: float = 1e-14,
-                        t0: float = 0.0) -> BaselineResult:
+                        t0: float = 0.0, dc_law: str = "listing") -> BaselineResult:
     """Fixed-step RK4 (listing C.8) with bisection on the contact crossing (listing C.13).
 
     ``h`` [s] is the step; a step that crosses x = e is bisected on its length until the
     bracket is shorter than ``delta`` [s] (the thesis used 1e-6 m on x; a time bracket is the
     stricter reading).  Relay switches are hit exactly by shortening the last step before them.
     """
-    f = rhs_1dof(params)
+    f = rhs_1dof(params, dc_law)
     e = params["e"]
     y = [float(v) for v in y0]
     contact = 1.0 if y[0] < e else 0.0

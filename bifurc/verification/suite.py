@@ -122,9 +122,13 @@ QUICK = ["stiff-k1e+05-c0", "stiff-k1e+08-c0", "stiff-k1e+10-c10", "chatter-stic
 
 def case_scene(case: Case):
     """The case's scene (with its structural options) and validated parameter values."""
+    from maps.presets import preset_dc_law
     sc = get_scene(case.scene)
-    if case.options:
-        sc = sc.with_options(**case.options)
+    opts = dict(case.options or {})
+    if case.preset and sc.options.dc and opts.get("dc", True):
+        opts.setdefault("dc_law", preset_dc_law(case.preset))      # the preset's DC law, as maps.simulate
+    if opts:
+        sc = sc.with_options(**opts)
     return sc, sc.parameters(case.preset, **case.params)
 
 
@@ -274,7 +278,7 @@ def _energy_error(run, case):
     return abs((E1 - E0) - (W - ER - Ec)) / scale
 
 
-@recorded("bifurc.stability.run_suite")
+@recorded("bifurc.verification.suite.run_suite")
 def run_suite(quick: bool = False, names=None, progress: bool = True) -> xr.Dataset:
     """Run the suite (``quick``: the reduced one; ``names``: only these cases) into a Dataset
     with one row per case.  Progress goes to stderr."""
