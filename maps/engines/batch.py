@@ -266,12 +266,35 @@ class _Callback:
 
 
 class _ClockCallback(_Callback):
-    """Lane j reached its next clock instant: the periodic switch and/or a sample."""
+    """Lane j reached its next clock instant: the periodic switch and/or a sample.
+
+    The hot path of a sweep (two calls per relay period and lane): the switch instant, the
+    next sample time and whether ``settle`` can act are computed inline here, with the same
+    formulas as :meth:`PeriodicSwitch.instants`, :meth:`OrbitJob.sample_time` and
+    :func:`maps.hybrid.settle_may_act`."""
 
     def __init__(self, eng):
         super().__init__(eng)
         self.sw, self.system = eng.sw, eng.system
         self.i_flag = eng.i_flag[eng.sw.flag] if eng.sw is not None else None
+        system = eng.system
+        self.settles = system.settle is not None
+        self.settle_if = system.settle_if
+
+    def _settle(self, eng, lane, j, t) -> bool:
+        """The system's settle after the switch (skipped where settle_if rules it out)."""
+        if not self.settles:
+            return True
+        cond = self.settle_if
+        if cond is not None:
+            flags = lane.flags
+            for k, v in cond:
+                if flags[k] == v:
+                    break
+            else:
+                return True
+        out = tr.settle(self.system, t, eng.state[:, j], lane.flags, lane.params)
+        return out is tr.NOTHING or eng._apply(j, lane, out, t)
 
     def fire(self, eng, lane, d_sgn, j):
         t_sw, t_k = lane.t_sw, lane.t_k
@@ -279,28 +302,29 @@ class _ClockCallback(_Callback):
         # a switch and a sample computed apart (n / (2 W) against k T) may differ by rounding:
         # instants this close are one instant (a later one would fall inside the event cooldown)
         close = t_next + _SAME_INSTANT * (t_next if t_next > 1.0 else 1.0)
-        t = float(eng.time[j])
         if t_sw <= close:
             sw, n = self.sw, lane.n_sw
             lane.flags[sw.flag] = v = sw.off_value if n % 2 else sw.on_value
             eng.pars[self.i_flag, j] = v
             if n % 2 == 0:
                 lane.budget.in_period = 0             # a new relay period begins
-            lane.n_sw = n + 1
-            lane.t_sw = sw.instants(lane.W, n + 1)
+            m = n + 1
+            lane.n_sw = m
+            lane.t_sw = (m // 2 + (sw.duty if m % 2 else 0.0)) / lane.W
             lane.res.n_switches += 1
-            out = tr.settle(self.system, t, eng.state[:, j], lane.flags, lane.params)
-            if out is not tr.NOTHING and not eng._apply(j, lane, out, t):
+            if not self._settle(eng, lane, j, t_sw):
                 return False
         if t_k <= close:
             k = lane.k_next
             lane.k_next = k + 1
-            lane.t_k = lane.job.sample_time(k + 1)
+            job = lane.job
+            lane.t_k = job.offset + ((k + 1) / job.rate if job.rate is not None else (k + 1) * job.period)
             lane.budget.in_period = 0
             if k >= lane.rec_k:
-                if lane.job.reference is None:
+                t = float(eng.time[j])
+                if job.reference is None:
                     if k == lane.rec_k:
-                        lane.recording = lane.job.log
+                        lane.recording = job.log
                     eng._sample(j, lane, t)
                 elif k > lane.rec_k and not eng._renormalise(j, lane, t, k - lane.rec_k):
                     eng._end(j, lane)
