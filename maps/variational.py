@@ -76,6 +76,10 @@ class Derivatives:
         return f(np.asarray(y, dtype=float), pars=pars[:f.nparams], **kw)
 
     def pars(self, params, flags) -> np.ndarray:
+        """The runtime-parameter vector of (params, flags); every method below takes either the
+        pair or this vector already built (``flags=None``)."""
+        if flags is None:
+            return params
         return np.asarray(self.system.par_vector(params, flags), dtype=float)
 
     def rhs(self, t, y, params, flags) -> np.ndarray:

@@ -300,14 +300,15 @@ class VariationalRun(HybridRun):
         Y = self.sensitivities
         flags_after = dict(self.flags, **out.changes)
         if guard is not None:
-            R_y, R_p = d.reset(guard, t, y_minus, p, flags_before)
+            before, after = d.pars(p, flags_before), d.pars(p, flags_after)    # built once per event
+            R_y, R_p = d.reset(guard, t, y_minus, before, None)
             if out.projection is not None:
                 here = out.records[0][2]            # the state the guard left, before the projection
                 P_y, P_p = d.projection(out.projection, t, here, p, flags_after)
                 R_y, R_p = P_y @ R_y, P_y @ R_p + P_p
             y_after = out.y if out.y is not None else y_minus
-            grad, g_t, g_p = d.guard(guard, t, y_minus, p, flags_before)
-            Y = tr.saltation(Y, d.rhs(t, y_minus, p, flags_before), d.rhs(t, y_after, p, flags_after),
+            grad, g_t, g_p = d.guard(guard, t, y_minus, before, None)
+            Y = tr.saltation(Y, d.rhs(t, y_minus, before, None), d.rhs(t, y_after, after, None),
                              grad, g_t, g_p, R_y, R_p)
         elif out.projection is not None:            # a projection at a fixed time
             P_y, P_p = d.projection(out.projection, t, self.y, p, flags_after)
