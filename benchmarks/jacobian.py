@@ -11,8 +11,6 @@ from __future__ import annotations
 import os
 import time
 
-import numpy as np
-
 import maps
 
 

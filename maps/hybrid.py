@@ -566,5 +566,4 @@ def _np_dtype(fp_type):
 
 
 def validate_tol(tol) -> float:
-    from .parameters import validate_value
     return validate_value("tol", tol, 0.0, 1e-2, low_open=True, long_name="integration tolerance")

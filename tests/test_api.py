@@ -21,7 +21,7 @@ from bifurc.cli import build_parser, main
 from bifurc.plot_diagram import CLASS_COLOURS, GRAZE
 
 ROOT = Path(__file__).resolve().parents[1]
-PACKAGES = ("maps", "bifurc", "studies")
+PACKAGES = ("maps", "bifurc")
 
 
 @pytest.fixture(scope="module")

@@ -15,7 +15,7 @@ from bifurc.job import ValueJob
 from bifurc.lyapunov import exponent_from_stretch, lyapunov_along
 from bifurc.sweep import sweep
 from maps.engines import BatchEngine, OrbitJob, engine_for
-from maps.hybrid import Guard, HybridSystem, PeriodicSwitch, State
+from maps.hybrid import HybridSystem, PeriodicSwitch, State
 from maps.parameters import Parameter
 from maps.tangent import companion_start
 from maps.parameters import ParameterError

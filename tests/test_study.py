@@ -1,6 +1,5 @@
 """The first study, its comparison report, the diagram/report commands and the notebook."""
 import os
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -30,8 +29,7 @@ def test_diagram_and_report_commands(tmp_path, capsys):
 
 
 def test_quick_study_compares_every_frequency(tmp_path):
-    sys.path.insert(0, str(ROOT))
-    from studies.run import run_study
+    from bifurc.studies.run import run_study
     results = run_study("thesis-1dof-relay", tmp_path, quick=True, progress=False, cases=["thesis-text"])
     ds = results["thesis-text"]
     np.testing.assert_allclose(ds.relay_hz.values, np.arange(2, 11))
@@ -83,8 +81,7 @@ def test_notebook_executes_and_shows_its_figures(tmp_path):
 
 
 def _replay():
-    sys.path.insert(0, str(ROOT))
-    import studies.thesis_replay as replay
+    import bifurc.studies.thesis_replay as replay
     return replay
 
 

@@ -1,9 +1,9 @@
-"""`bifurc study`: run a named study from studies/ (diagram, report, comparison with the thesis)."""
+"""`bifurc study`: run a named study of bifurc.studies (diagram, report, comparison with the thesis)."""
 from ._common import add_force_option
 
 
 def register(subparsers):
-    p = subparsers.add_parser("study", help="run a named, reproducible study (see studies/)")
+    p = subparsers.add_parser("study", help="run a named, reproducible study (bifurc/studies/)")
     p.add_argument("name", help="study name: thesis-1dof-relay or thesis-replay")
     p.add_argument("--quick", action="store_true", help="reduced size")
     p.add_argument("-o", "--output", default="out/study", help="output folder")
@@ -13,11 +13,7 @@ def register(subparsers):
 
 
 def run(args) -> int:
-    try:
-        from studies.run import _written, run_study
-    except ModuleNotFoundError:
-        from maps.parameters import ParameterError
-        raise ParameterError("the studies/ folder is not importable: run from the repository root") from None
+    from ..studies.run import _written, run_study
     run_study(args.name, args.output, quick=args.quick, cases=args.case, overwrite=args.force,
               hint="use --force")
     print(_written(args.name, args.output))

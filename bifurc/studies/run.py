@@ -1,4 +1,4 @@
-"""Run a named study: ``python -m studies.run thesis-1dof-relay [--quick] [-o DIR]``.
+"""Run a named study: ``python -m bifurc.studies.run thesis-1dof-relay [--quick] [-o DIR]``.
 
 Writes per case ``DIR/<case>.nc`` (sweep dataset), ``DIR/<case>.png`` (diagram)
 and ``DIR/<case>.md`` (classification report), and ``DIR/comparison.md``: the
@@ -12,7 +12,7 @@ import math
 import sys
 from pathlib import Path
 
-STUDIES = {"thesis-1dof-relay": "studies.thesis_1dof_relay", "thesis-replay": "studies.thesis_replay"}
+STUDIES = {"thesis-1dof-relay": "bifurc.studies.thesis_1dof_relay", "thesis-replay": "bifurc.studies.thesis_replay"}
 
 
 def load_study(name):
@@ -62,7 +62,7 @@ def run_study(name, out, quick=False, progress=True, cases=None, overwrite=False
 def _sentence(w, c, thesis_n, r, f_well):
     """One sentence on a disagreement with the thesis' period at relay frequency w [Hz], its causes
     measured: the 3 s run from the same start (studies.thesis_replay.measure) beside the sweep's class."""
-    from studies.thesis_replay import T_THESIS, _budget
+    from bifurc.studies.thesis_replay import T_THESIS, _budget
     parts = []
     if c["label"] == "periodic":
         parts.append(f"the orbit is period-{c['period']}, not period-{thesis_n}")
@@ -90,7 +90,7 @@ def _sentence(w, c, thesis_n, r, f_well):
 def _measured(study, ds, case_preset, w):
     """The replay's measured columns for a sweep case at relay w [Hz]: its own preset, law, V, AC sign
     and start, 3 s only (studies.thesis_replay.measure)."""
-    from studies.thesis_replay import measure
+    from bifurc.studies.thesis_replay import measure
     o = {k: ds.attrs.get(k) for k in ("dc_law", "ac_sign", "circuit")}
     return measure(float(w), float(ds.attrs["param_V"]), o["dc_law"], preset=case_preset, ac_sign=o["ac_sign"],
                    circuit=o["circuit"], x0={}, long_periods=0, long_window=0)
@@ -98,7 +98,7 @@ def _measured(study, ds, case_preset, w):
 
 def comparison(study, results, quick) -> str:
     from bifurc.report import class_at
-    from studies.thesis_replay import well_frequency
+    from bifurc.studies.thesis_replay import well_frequency
     presets = {case: preset for case, preset, _ in study.CASES}
     lines = [f"# {study.NAME}: toolkit against the thesis", "",
              (study.__doc__ or "").strip(), "",
@@ -145,7 +145,7 @@ def _written(name, out) -> str:
 
 
 def main(argv=None) -> int:
-    p = argparse.ArgumentParser(prog="python -m studies.run", description=__doc__.splitlines()[0])
+    p = argparse.ArgumentParser(prog="python -m bifurc.studies.run", description=__doc__.splitlines()[0])
     p.add_argument("study", choices=sorted(STUDIES))
     p.add_argument("--quick", action="store_true", help="the reduced size (integer frequencies only, short runs)")
     p.add_argument("-o", "--output", default="out/study", help="output folder (default out/study)")
