@@ -9,13 +9,16 @@ __all__ = ["KINDS", "kind_of", "load"]
 
 #: dataset kinds and what writes them
 KINDS = {"diagram": "`bifurc diagram` or bifurc.sweep", "simulate": "`bifurc simulate` or maps.simulate",
-         "stability": "`bifurc verify`", "accuracy": "`bifurc accuracy`"}
+         "stability": "`bifurc verify`", "accuracy": "`bifurc accuracy`",
+         "orbit": "`bifurc orbit` or bifurc.periodic_orbit"}
 
 
 def kind_of(ds) -> str | None:
-    """"diagram", "simulate", "stability", "accuracy", or None for a dataset bifurc did not write."""
+    """"diagram", "simulate", "stability", "accuracy", "orbit", or None for a dataset bifurc did not write."""
     if "class_code" in ds and "swept_parameter" in ds.attrs:
         return "diagram"
+    if "multiplier_abs" in ds and "node" in ds.dims:
+        return "orbit"
     if "time" in ds.dims and "scene" in ds.attrs:
         return "simulate"
     if "verdict" in ds:
@@ -45,6 +48,6 @@ def load(path, kind: str | None = None):
         raise BadFileError(f"{path} is not a readable netCDF file (truncated or corrupt?): {reason}") from None
     found = kind_of(ds)
     if kind is not None and found != kind:
-        what = f"a {found} dataset (from {KINDS[found]})" if found else "another kind of dataset"
+        what = f"{'an' if found[0] in 'aeiou' else 'a'} {found} dataset (from {KINDS[found]})" if found else "another kind of dataset"
         raise BadFileError(f"{path} holds {what}; this needs a {kind} dataset (from {KINDS[kind]})")
     return ds

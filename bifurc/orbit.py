@@ -18,6 +18,7 @@ import numpy as np
 from maps.hybrid import HybridState
 from maps.parameters import ParameterError, validate_value
 from maps.poincare import StroboscopicMap
+from maps.provenance import cf_attrs, recorded
 
 from .periodic import OrbitNotFound, PeriodicOrbit, find_periodic_orbit
 from .scene import resolve_scene
@@ -41,6 +42,7 @@ def sweep_point(ds, value, *, sample: int = -1, branch=None):
     return HybridState(y, flags or None), int(d.transient_used.values) + k
 
 
+@recorded("bifurc.periodic_orbit")
 def periodic_orbit(scene, *, params=None, preset=None, period: int | None = None, x0=None, start=None,
                    k0: int | None = None, transient: int = 0, tol: float = 1e-12, newton_tol: float = 1e-11,
                    max_iter: int = 40, error: bool = True, circuit=None, ac_sign=None, dc_law=None):
@@ -162,5 +164,6 @@ def orbit_dataset(orbit: PeriodicOrbit, smap, scene, table, *, multiplier_error=
         "method": "Newton by multiple shooting over the strobe periods; exact Jacobians (variational "
                   "equations with saltation); multipliers: eigenvalues of the monodromy matrix",
         "bifurc_version": __version__,
+        **cf_attrs(f"scene {scene.name}, periodic orbit of period {n}"),
         **param_attrs(table, system)})
     return ds

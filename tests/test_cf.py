@@ -16,6 +16,8 @@ COMMANDS = {
     "diagram.nc": ["diagram", "--preset", "matlab-listing", "--set", "V=90", "--from", "5", "--to", "9", "--n", "3",
                    "--transient", "10", "--record", "6", "--quiet", "-o", "{dir}/diagram.nc"],
     "verify/stability.nc": ["verify", "--case", "stiff-k1e+05-c0", "-o", "{dir}/verify"],
+    "orbit.nc": ["orbit", "--preset", "matlab-listing", "--set", "V=90", "--relay-hz", "8.5", "--tol", "1e-10",
+                 "--no-error", "-o", "{dir}/orbit.nc"],
     "accuracy/accuracy.nc": ["accuracy", "--preset", "matlab-listing", "--set", "V=90", "--relay-hz", "9",
                              "--t-end", "0.2", "--methods", "heyoka,rk4-bisection", "--tols", "1e-8",
                              "--steps", "1e-3", "-o", "{dir}/accuracy"],
