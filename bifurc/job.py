@@ -17,7 +17,7 @@ from maps.poincare import StroboscopicMap
 from .classify import DECAY_RATE, classify_orbit, lyapunov_threshold, state_scale
 from .codes import ClassCode, Status
 from .lyapunov import exponent_from_stretch, largest_lyapunov
-from .scene import resolve_scene
+from .scene import SystemScene, resolve_scene
 
 __all__ = ["ValueJob", "ValueResult"]
 
@@ -105,7 +105,7 @@ class ValueJob:
         sc, _ = resolve_scene(self.scene, self.params, **self.options)
         key = (sc.options if sc.options is not None else id(sc.system), self.tol)
         if key not in _MAPS:
-            _MAPS[key] = StroboscopicMap(sc if sc.options is not None else sc.system, self.params, tol=self.tol)
+            _MAPS[key] = StroboscopicMap(sc.system if isinstance(sc, SystemScene) else sc, self.params, tol=self.tol)
         return _MAPS[key]
 
     def x0_state(self):

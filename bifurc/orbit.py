@@ -21,7 +21,7 @@ from maps.poincare import StroboscopicMap
 from maps.provenance import cf_attrs, recorded
 
 from .periodic import OrbitNotFound, PeriodicOrbit, find_periodic_orbit
-from .scene import resolve_scene
+from .scene import SystemScene, resolve_scene
 
 __all__ = ["periodic_orbit", "sweep_point", "orbit_dataset", "OrbitNotFound"]
 
@@ -69,7 +69,7 @@ def periodic_orbit(scene, *, params=None, preset=None, period: int | None = None
     clock = _time.perf_counter()
     sc, table = resolve_scene(scene, params, preset, circuit, ac_sign, dc_law)
     values = {k: v for k, (v, _) in table.items()}
-    smap = StroboscopicMap(sc.system if sc.options is None else sc, values, tol=tol)
+    smap = StroboscopicMap(sc.system if isinstance(sc, SystemScene) else sc, values, tol=tol)
     transient = int(validate_value("transient", transient, 0, 1e7))
     validate_value("newton_tol", newton_tol, 0.0, 1.0, low_open=True)
     if start is not None:
@@ -96,7 +96,7 @@ def periodic_orbit(scene, *, params=None, preset=None, period: int | None = None
     orbit = find_periodic_orbit(smap, start, period, k0=k0, tol=newton_tol, max_iter=max_iter)
     err = math.nan
     if error:
-        tight = StroboscopicMap(sc.system if sc.options is None else sc, values, tol=tol / 100)
+        tight = StroboscopicMap(sc.system if isinstance(sc, SystemScene) else sc, values, tol=tol / 100)
         again = find_periodic_orbit(tight, orbit.nodes[0], period, k0=k0, tol=newton_tol, max_iter=max_iter)
         err = _multiplier_change(orbit.multipliers, again.multipliers)
     return orbit_dataset(orbit, smap, sc, table, multiplier_error=err, seconds=_time.perf_counter() - clock)

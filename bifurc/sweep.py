@@ -32,7 +32,7 @@ from .files import guarded_output
 from .grazing import GRAZING_GAP, GRAZING_SPEED, locate_grazing_values
 from .job import ValueJob
 from .resume import Parts, manifest
-from .scene import resolve_scene
+from .scene import SystemScene, resolve_scene
 
 __all__ = ["sweep", "MODES", "GRAZING_GAP", "GRAZING_SPEED"]
 
@@ -156,7 +156,7 @@ def _job(scene, param, values, transient, record, preset, params, x0, tol, max_p
     options = {k: v for k, v in dict(circuit=circuit, ac_sign=ac_sign).items() if v is not None}
     if sc.options is not None and sc.options.dc:   # the resolved law (it may follow the preset): workers get no preset
         options["dc_law"] = sc.options.dc_law
-    name = sc.name if sc.options is not None else sc.system  # a bare system runs in this process
+    name = sc.system if isinstance(sc, SystemScene) else sc.name  # a bare system runs in this process
     job = ValueJob(name, param, base, options, dict(x0 or {}), transient, record, float(tol), max_period,
                    rtol, atol, lyapunov, max_transient=max_transient, batch_size=batch_size)
     return job, sc, table

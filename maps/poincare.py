@@ -49,9 +49,9 @@ class MapOrbit:
     ``points[k]`` is the state at ``times[k]``, with the flags ``point_flags[k]`` (columns
     ``flag_names``; :meth:`state` gives the hybrid state); step k runs from ``times[k]`` to
     ``times[k+1]``.  Gaps are distances to the stop [m] (negative: penetration).
-    ``min_gap_per_step`` is the smallest of the gaps at the step's ends, at its
-    free-flight minima (role "flight_minimum") and, in contact, minus the deepest
-    penetration: never NaN.  ``min_flight_gap_per_step`` keeps only the free-flight
+    ``min_gap_per_step`` is the smallest of the gaps at the step's ends, at its impacts
+    (0 at the onset), at its free-flight minima (role "flight_minimum") and, in contact,
+    minus the deepest penetration: never NaN.  ``min_flight_gap_per_step`` keeps only the free-flight
     minima (inf where the step has none): it reaches 0 where a new impact is born
     (a grazing bifurcation), which the total ``min_gap`` does not show on an
     impacting orbit.  A system without a declared gap has NaN gaps.
@@ -434,6 +434,7 @@ def orbit_from_periods(system, params, W, times, points, period_events, **fields
             roles.append(r)
             if r == "impact":
                 g, rate = gap(y, params)
+                g_lo = min(g_lo, g)          # 0 at the onset: an instant-reset impact has no "deepest"
                 count += 1
                 speed = min(speed, abs(rate))
                 it.append(t)

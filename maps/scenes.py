@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field, fields, replace
 
+from .examples import forced_oscillator_with_stop
 from .model import ModelOptions, build_system
 from .parameters import ParameterError
 from .presets import preset_values
@@ -18,23 +19,38 @@ from .presets import preset_values
 __all__ = ["Scene", "SCENES", "get_scene", "scene_names"]
 
 
+_BUILT: dict = {}
+
+
 @dataclass(frozen=True)
 class Scene:
-    """A model variant with defaults: ``options`` fix the structure (what compiles)."""
+    """A model variant with defaults: ``options`` fix the structure (what compiles).
+
+    A scene of another system (``builder``: a function returning its HybridSystem, e.g. the
+    impact oscillator of :mod:`maps.examples`) has no structural options and no preset: its
+    parameter defaults are its ``overrides``."""
 
     name: str
     summary: str
-    options: ModelOptions
-    preset: str = "thesis-text"
+    options: ModelOptions | None
+    preset: str | None = "thesis-text"
     overrides: dict = field(default_factory=dict)   # name -> (value, provenance)
     x0: dict = field(default_factory=dict)          # default initial state by name [SI]
+    builder: object = None
 
     @property
     def system(self):
+        if self.builder is not None:
+            if self.name not in _BUILT:
+                _BUILT[self.name] = self.builder()
+            return _BUILT[self.name]
         return build_system(self.options)
 
     def with_options(self, **kw) -> "Scene":
         """The same scene with other structural options (e.g. circuit='kvl')."""
+        if self.options is None:
+            raise ParameterError(f"scene {self.name!r} has no structural options (circuit, ac_sign, dc_law, ...): "
+                                 f"they belong to the electro-vibro-impact scenes")
         unknown = sorted(set(kw) - {f.name for f in fields(self.options)})
         if unknown:
             raise ParameterError(f"unknown option {unknown[0]!r}; options: "
@@ -48,7 +64,12 @@ class Scene:
     def parameters_with_provenance(self, preset: str | None = None, **overrides) -> dict:
         """name -> (value, provenance) for this scene's parameters."""
         system = self.system
-        table = preset_values(preset or self.preset, dc_law=self.options.dc_law)
+        if self.options is None:
+            if preset is not None:
+                raise ParameterError(f"scene {self.name!r} has no presets; set its parameters by name")
+            table = {}
+        else:
+            table = preset_values(preset or self.preset, dc_law=self.options.dc_law)
         if preset is None or preset == self.preset:
             table.update({k: (float(v), f"scene {self.name}: {src}") for k, (v, src) in self.overrides.items()})
         for k, v in overrides.items():
@@ -56,6 +77,9 @@ class Scene:
                 raise ParameterError(f"unknown parameter {k!r} for scene {self.name!r}; its parameters are: "
                                      f"{', '.join(system.param_names)}")
             table[k] = (v, "set by user")
+        missing = [k for k in system.param_names if k not in table]
+        if missing:
+            raise ParameterError(f"parameter {missing[0]!r} of scene {self.name!r} has no value")
         chosen = {k: table[k] for k in system.param_names}
         values = system.validate({k: v for k, (v, _) in chosen.items()})
         return {k: (values[k], chosen[k][1]) for k in system.param_names}
@@ -75,6 +99,7 @@ class Scene:
         return x0
 
 
+_OSC = "the forced impact oscillator of maps.examples (a stable and an unstable 1:1 orbit coexist here)"
 _ABOVE = {"x": 1e-3}
 SCENES = {s.name: s for s in [
     Scene("dc-only", "bar under DC force and weight on the stop, 2 states (thesis Fig 4.7)",
@@ -92,6 +117,11 @@ SCENES = {s.name: s for s in [
           overrides={"dc_scale": (1.44, "DC 24 V: (24/20)^2, assuming a linear magnetic circuit"),
                      "relay_hz": (6.0, "Tables 5.2-5.4 ran at 6 Hz")},
           x0={"x1": 1e-3}),
+    Scene("impact-oscillator", "forced linear oscillator against a rigid stop, restitution r (maps.examples)",
+          None, preset=None, builder=forced_oscillator_with_stop,
+          overrides={"w0": (1.0, _OSC), "zeta": (0.05, _OSC), "F": (0.5, _OSC), "Omega": (2.5, _OSC),
+                     "e": (0.2, _OSC), "r": (0.7, _OSC)},
+          x0={"x": 0.5}),
 ]}
 
 

@@ -37,7 +37,7 @@ def resolve(scene, params=None, preset=None, circuit=None, ac_sign=None, energy=
     ``dc_law`` ("listing", "fit", "measured"; MODEL.md section 1) defaults to the law of
     ``preset`` when one is given (matlab-listing: "listing", thesis-text: "fit"), else to the scene's."""
     sc = get_scene(scene)
-    if dc_law is None and preset is not None and sc.options.dc:
+    if dc_law is None and preset is not None and sc.options is not None and sc.options.dc:
         dc_law = preset_dc_law(preset)
     opts = {k: v for k, v in dict(circuit=circuit, ac_sign=ac_sign, energy=energy, dc_law=dc_law).items()
             if v is not None}
@@ -188,10 +188,11 @@ def to_dataset(run, t_eval, samples, table) -> xr.Dataset:
         ds["progression"] = ds["x2"].isel(time=0) - ds["x2"]
         ds["progression"].attrs = {"units": "m", "long_name": "forward progression into the soil x2(0) - x2(t)"}
     o = sc.options
+    model = {"circuit": o.circuit if o.ac else "none", "ac_sign": o.ac_sign if o.ac else "none",
+             "relay": o.relay, **dc_law_attrs(o), "soil": o.soil if o.dof == 2 else "none"} if o is not None else \
+        {"circuit": "none", "ac_sign": "none", "relay": "none", "dc_law": "none", "soil": "none"}
     attrs = {
-        "scene": sc.name, "scene_summary": sc.summary, "circuit": o.circuit if o.ac else "none",
-        "ac_sign": o.ac_sign if o.ac else "none", "relay": o.relay, **dc_law_attrs(o),
-        "soil": o.soil if o.dof == 2 else "none", "tol": run.tol, "heyoka_version": hy.__version__,
+        "scene": sc.name, "scene_summary": sc.summary, **model, "tol": run.tol, "heyoka_version": hy.__version__,
         "run_seconds": run.run_seconds, "compile_seconds": run.compile_seconds,
         "n_steps": run.n_steps, "n_events": run.n_events, "n_relay_switches": run.n_switches,
         "status": run.status, "t_end_reached": run.t,

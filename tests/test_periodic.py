@@ -162,3 +162,25 @@ def test_an_orbit_starts_from_a_stored_sweep_point_with_its_flags():
     orbit = periodic_orbit("thesis-1dof", preset="matlab-listing", params={"V": 90, "relay_hz": 8.5},
                            start=(start, k), tol=1e-10, error=False)
     assert int(orbit.period) == 17 and int(orbit.impacts_per_period) == 12 and orbit.attrs["k0"] == 320
+
+
+def test_the_impact_oscillator_scene_runs_every_command(tmp_path, capsys):
+    """The oscillator of maps.examples is a scene: simulate, diagram, orbit and params run on it as on
+    the thesis scenes; its orbit through the CLI equals the closed-form stable 1:1 orbit, and the
+    clearance of an impacting orbit is 0 (the impact itself), not the free flight's minimum."""
+    from bifurc.cli import main
+    import xarray as xr
+    assert main(["params", "--scene", "impact-oscillator"]) == 0 and "Omega" in capsys.readouterr().out
+    assert main(["simulate", "--scene", "impact-oscillator", "--t-end", "20", "-o", str(tmp_path / "s.nc")]) == 0
+    assert main(["diagram", "--scene", "impact-oscillator", "--param", "Omega", "--from", "2.4", "--to", "2.6",
+                 "--n", "3", "--transient", "100", "--record", "10", "--quiet", "-o", str(tmp_path / "d.nc")]) == 0
+    d = xr.open_dataset(tmp_path / "d.nc")
+    assert (d.class_code.values == 0).all() and (d.period.values == 1).all()
+    assert np.max(np.abs(d.min_gap.values)) < 1e-12
+    assert main(["orbit", "--scene", "impact-oscillator", "--x0", "x=0.5", "--transient", "100", "--tol", "1e-13",
+                 "-o", str(tmp_path / "o.nc")]) == 0
+    o = xr.open_dataset(tmp_path / "o.nc")
+    stable = [c for c in closed_form_1_1(**BASE) if np.max(np.abs(c[3])) < 1][0]
+    assert abs(float(o.impact_velocity[0]) - stable[1]) < 1e-9 and abs(float(o.min_clearance)) < 1e-12
+    assert main(["orbit", "--scene", "impact-oscillator", "--preset", "matlab-listing"]) == 2
+    assert "no presets" in capsys.readouterr().err

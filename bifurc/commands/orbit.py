@@ -36,7 +36,8 @@ def run(args) -> int:
     args_ = ds.multiplier_arg.values
     err = float(ds.multiplier_error)
     print(f"{ds.attrs['scene']}: period {int(ds.period)} (strobe periods from k = {ds.attrs['k0']}), "
-          f"{int(ds.impacts_per_period)} impacts per period, {'stable' if int(ds.stable) else 'UNSTABLE'}")
+          f"{int(ds.impacts_per_period)} impact{'' if int(ds.impacts_per_period) == 1 else 's'} per period, "
+          f"{'stable' if int(ds.stable) else 'UNSTABLE'}")
     print("  multipliers |mu| (arg): " + ", ".join(f"{m:.6g} ({a:+.3f})" for m, a in zip(mu, args_)))
     print(f"  Newton residual {float(ds.newton_residual):.2g} after {ds.attrs['newton_iterations']} iterations; "
           f"multiplier error {'not measured' if err != err else f'{err:.2g}'}; "

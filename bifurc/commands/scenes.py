@@ -14,6 +14,7 @@ def run(args) -> int:
     w_name = max(len(sc.name) for sc in scenes)
     w_states = max(map(len, states.values()))
     for sc in scenes:
-        law = f", dc_law {sc.options.dc_law}" if sc.options.dc else ""
-        print(f"{sc.name:<{w_name}}  {states[sc.name]:<{w_states}}  {sc.summary}; preset {sc.preset}{law}")
+        law = f", dc_law {sc.options.dc_law}" if sc.options is not None and sc.options.dc else ""
+        preset = f"preset {sc.preset}" if sc.preset else "no preset: parameters by name"
+        print(f"{sc.name:<{w_name}}  {states[sc.name]:<{w_states}}  {sc.summary}; {preset}{law}")
     return 0

@@ -55,7 +55,7 @@ class BaselineResult:
 def check_supported(scene):
     """Raise :class:`~maps.ParameterError` unless the scene is the 1-DOF thesis-circuit model."""
     o = scene.options
-    if not (o.dof == 1 and o.dc and o.ac and o.stop and o.relay == "ssr" and o.circuit == "thesis"
+    if o is None or not (o.dof == 1 and o.dc and o.ac and o.stop and o.relay == "ssr" and o.circuit == "thesis"
             and o.ac_sign == "physical" and not o.energy and o.dc_law in ("listing", "fit")):
         raise ParameterError(f"the baselines implement only thesis-1dof (thesis circuit, physical AC sign, "
                              f"dc_law listing or fit); scene {scene.name!r} has options {o}")
