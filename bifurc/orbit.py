@@ -44,7 +44,7 @@ def sweep_point(ds, value, *, sample: int = -1, branch=None):
 
 @recorded("bifurc.periodic_orbit")
 def periodic_orbit(scene, *, params=None, preset=None, period: int | None = None, x0=None, start=None,
-                   k0: int | None = None, transient: int = 0, tol: float = 1e-12, newton_tol: float = 1e-11,
+                   k0: int | None = None, transient: int = 0, tol: float = 1e-12, newton_tol: float | None = None,
                    max_iter: int = 40, error: bool = True, circuit=None, ac_sign=None, dc_law=None):
     """A periodic orbit of ``scene`` (name, Scene or HybridSystem) as an xarray Dataset.
 
@@ -58,7 +58,8 @@ def periodic_orbit(scene, *, params=None, preset=None, period: int | None = None
     start : HybridState, or (HybridState, k) from :func:`sweep_point`
         The first guess itself (instead of x0 and transient), at sample ``k0``.
     tol, newton_tol : float
-        Integration tolerance; largest scaled shooting residual accepted.
+        Integration tolerance; largest scaled shooting residual accepted (default 10 tol: the
+        integration's own noise bounds how far the residual can fall).
     error : bool
         Solve again at tol/100 and store the multipliers' change (``multiplier_error``).
     preset, circuit, ac_sign, dc_law : as in :func:`maps.simulate` (the DC law follows the preset).
@@ -71,7 +72,7 @@ def periodic_orbit(scene, *, params=None, preset=None, period: int | None = None
     values = {k: v for k, (v, _) in table.items()}
     smap = StroboscopicMap(sc.system if isinstance(sc, SystemScene) else sc, values, tol=tol)
     transient = int(validate_value("transient", transient, 0, 1e7))
-    validate_value("newton_tol", newton_tol, 0.0, 1.0, low_open=True)
+    newton_tol = 10 * tol if newton_tol is None else validate_value("newton_tol", newton_tol, 0.0, 1.0, low_open=True)
     if start is not None:
         if isinstance(start, tuple):
             start, k_start = start
@@ -154,6 +155,15 @@ def orbit_dataset(orbit: PeriodicOrbit, smap, scene, table, *, multiplier_error=
     put("min_clearance", float(np.min(o.min_gap_per_step)) if o.n else math.nan)
     put("min_flight_clearance", float(np.min(o.min_flight_gap_per_step)) if o.n else math.nan)
     put("run_seconds", seconds)
+    if orbit.reduced:      # a translation-invariant system (2-DOF: bar and rig shifted together)
+        anchor = [s for s in system.state_names if s not in orbit.reduced][0]
+        ds["advance_per_period"] = ((), orbit.advance, {
+            "units": system.states[system.state_names.index(anchor)].unit,
+            "long_name": f"shift of {anchor} along the system's translation over one period of the orbit "
+                         f"(2-DOF: the rig; -advance is the progression into the soil)"})
+        ds.attrs["reduced_coordinates"] = ", ".join(orbit.reduced)
+        ds.attrs["reduced_coordinates_note"] = (f"solved with {anchor} = 0 at every node: the multipliers are those "
+                                                f"of the reduced map (the translation's multiplier 1 removed)")
     from ._version import __version__
     ds.attrs.update({
         "title": f"{scene.name}: periodic orbit, period {n}", "scene": scene.name, "k0": k0,

@@ -9,6 +9,12 @@ saltation, :meth:`maps.StroboscopicMap.linearize`) on its diagonal and -I beside
 with a backtracking line search on the scaled residual.  Each node carries its mode (flags),
 taken from the previous iterate's step that ends there.
 
+A system invariant under a translation (``system.translation``: the 2-DOF scenes, whose bar and
+rig shifted together move the same) has a multiplier 1 along it and a singular Newton system in
+the full state: its orbits are solved in the reduced coordinates (the anchor state, the last of
+the translation, fixed at 0 at every node; the rig for the 2-DOF scenes), and the shift each
+period needs is a result of the orbit: ``advance`` [the anchor's unit] per period.
+
 The forcing of a relay scene repeats after q relay periods (``forcing_period_steps``): n must
 be a multiple of q.  The multipliers are the eigenvalues of J_{n-1} ... J_0 (the monodromy
 matrix at node 0).  The solver never returns an unconverged orbit: it says why it stopped
@@ -59,6 +65,8 @@ class PeriodicOrbit:
     scale: np.ndarray
     conditioning: dict = field(default_factory=dict)
     seconds: float = 0.0
+    advance: float = 0.0              # [anchor unit] shift along the translation per period (0: none)
+    reduced: tuple = ()               # names of the reduced coordinates when a translation was removed
 
     @property
     def stable(self) -> bool:
@@ -78,6 +86,33 @@ class PeriodicOrbit:
 
 def _scale(states, atol):
     return np.maximum(np.max(np.abs(np.asarray(states)), axis=0), atol)
+
+
+class _Coordinates:
+    """The solver's unknowns: the full state, or with a translation removed the state less its
+    anchor component (the anchor fixed at 0; reduce(y) shifts y back along the translation)."""
+
+    def __init__(self, system):
+        d = len(system.states)
+        tr = getattr(system, "translation", None)
+        if not tr:
+            self.E, self.R, self.a, self.e = np.eye(d), np.eye(d), None, None
+            self.names = tuple(system.state_names)
+            return
+        e = np.array([float(tr.get(n, 0.0)) for n in system.state_names])
+        a = max(i for i, n in enumerate(system.state_names) if tr.get(n, 0.0))
+        e = e / e[a]
+        keep = [i for i in range(d) if i != a]
+        self.a, self.e = a, e
+        self.E = np.eye(d)[:, keep]                              # z -> y (anchor 0)
+        self.R = (np.eye(d) - np.outer(e, np.eye(d)[a]))[keep]   # d reduce / dy
+        self.names = tuple(system.state_names[i] for i in keep)
+
+    def reduce(self, y):
+        return self.R @ np.asarray(y, dtype=float)
+
+    def embed(self, z):
+        return self.E @ z
 
 
 def find_periodic_orbit(smap, start, period: int, *, k0: int = 0, tol: float = 1e-10, max_iter: int = 40,
@@ -109,8 +144,10 @@ def find_periodic_orbit(smap, start, period: int, *, k0: int = 0, tol: float = 1
             nodes.append(smap.step(nodes[-1], k0 + j))
     except IntegrationFailure as exc:
         raise OrbitNotFound(f"the first guess fails to integrate: {exc}") from None
-    d = y0.size
-    scale = _scale([s.y for s in nodes], atol)
+    co = _Coordinates(smap.system)
+    nodes = [HybridState(co.embed(co.reduce(s.y)), s.flags) for s in nodes]     # anchor at 0
+    d = co.E.shape[1]
+    scale = _scale([co.reduce(s.y) for s in nodes], atol)
     signatures_seen = []
     best = math.inf
     for it in range(max_iter + 1):
@@ -118,19 +155,20 @@ def find_periodic_orbit(smap, start, period: int, *, k0: int = 0, tol: float = 1
             lins = [smap.linearize(s, k0 + j) for j, s in enumerate(nodes)]
         except (IntegrationFailure, ZeroDivisionError) as exc:
             raise OrbitNotFound(f"iteration {it}: {exc}", it) from None
-        res = np.concatenate([(lins[j].state.y - nodes[(j + 1) % n].y) / scale for j in range(n)])
+        res = np.concatenate([(co.reduce(lins[j].state.y) - co.reduce(nodes[(j + 1) % n].y)) / scale
+                              for j in range(n)])
         norm = float(np.max(np.abs(res)))
         sig = [L.signature for L in lins]
         signatures_seen.append(sig)
         # the mode of each node: the flags its incoming step ends in
         nodes = [HybridState(nodes[j].y, dict(lins[j - 1].state.flags)) for j in range(n)]
         if norm < tol:
-            return _solution(nodes, lins, k0, n, norm, it, scale, clock)
+            return _solution(nodes, lins, k0, n, norm, it, scale, clock, co)
         if it == max_iter:
             break
         M = np.zeros((n * d, n * d))
         for j, L in enumerate(lins):
-            M[j * d:(j + 1) * d, j * d:(j + 1) * d] = L.J / scale[:, None] * scale[None, :]
+            M[j * d:(j + 1) * d, j * d:(j + 1) * d] = (co.R @ L.J @ co.E) / scale[:, None] * scale[None, :]
             k = (j + 1) % n
             M[j * d:(j + 1) * d, k * d:(k + 1) * d] -= np.eye(d)
         cond = np.linalg.cond(M)
@@ -140,10 +178,11 @@ def find_periodic_orbit(smap, start, period: int, *, k0: int = 0, tol: float = 1
         step = np.linalg.solve(M, -res).reshape(n, d) * scale
         lam, accepted = 1.0, False
         while lam >= 1.0 / 64:
-            trial = [HybridState(nodes[j].y + lam * step[j], nodes[j].flags) for j in range(n)]
+            trial = [HybridState(co.embed(co.reduce(nodes[j].y) + lam * step[j]), nodes[j].flags) for j in range(n)]
             try:
                 ends = [smap.step(s, k0 + j) for j, s in enumerate(trial)]
-                tn = max(float(np.max(np.abs((ends[j].y - trial[(j + 1) % n].y) / scale))) for j in range(n))
+                tn = max(float(np.max(np.abs((co.reduce(ends[j].y) - co.reduce(trial[(j + 1) % n].y)) / scale)))
+                         for j in range(n))
             except IntegrationFailure:
                 tn = math.inf
             if tn < (1 - 1e-4 * lam) * norm:
@@ -161,11 +200,14 @@ def find_periodic_orbit(smap, start, period: int, *, k0: int = 0, tol: float = 1
                         f"{'; the transition signature keeps changing' if changing else ''})", max_iter, norm)
 
 
-def _solution(nodes, lins, k0, n, norm, it, scale, clock) -> PeriodicOrbit:
-    Js = [L.J for L in lins]
+def _solution(nodes, lins, k0, n, norm, it, scale, clock, co) -> PeriodicOrbit:
+    Js = [co.R @ L.J @ co.E for L in lins]             # the reduced map's Jacobians
     orbit = PeriodicOrbit(nodes=nodes, k0=k0, period=n, jacobians=Js, signatures=[L.signature for L in lins],
                           multipliers=np.array([]), residual=norm, iterations=it, scale=scale,
                           seconds=_time.perf_counter() - clock)
+    if co.a is not None:
+        orbit.advance = float(sum(L.state.y[co.a] for L in lins))     # every node starts with the anchor at 0
+        orbit.reduced = co.names
     M = orbit.monodromy
     orbit.multipliers = np.linalg.eigvals(M)
     d = M.shape[0]

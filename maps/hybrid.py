@@ -209,6 +209,10 @@ class HybridSystem:
     #: ``((flag, value), ...)``: ``settle`` can act only while one of these flags has that
     #: value, so elsewhere it is not called (it runs after every transition); None: always
     settle_if: tuple | None = None
+    #: ``{state: coefficient}``: a direction along which the flow is invariant (shifting the state
+    #: by any multiple of it shifts the whole motion; the 2-DOF scenes: bar and rig together);
+    #: periodic orbits are then solved in the reduced coordinates, with the advance per period
+    translation: Mapping[str, float] | None = None
 
     def __init__(self, name: str, states: Sequence[State], parameters: Sequence[Parameter],
                  rhs: Callable, flags: Mapping[str, float] | None = None,

@@ -622,6 +622,8 @@ def build_system(options: ModelOptions | None = None, **kw) -> HybridSystem:
         if system.settle is stick:   # sticking acts only in contact or stuck (Coulomb slip: always)
             system.settle_if = (("contact", 1.0), ("stuck_bar", 1.0))
     system.mode_rule = lambda y, params, flags, given=(): start_flags(system, o, y, params, flags, given)
+    if o.dof == 2:   # bar and rig shifted together: the same motion (no force depends on x1 + x2)
+        system.translation = {"x1": 1.0, "x2": 1.0}
     system.options = o
     _SYSTEMS[o.key()] = system
     return system

@@ -184,3 +184,23 @@ def test_the_impact_oscillator_scene_runs_every_command(tmp_path, capsys):
     assert abs(float(o.impact_velocity[0]) - stable[1]) < 1e-9 and abs(float(o.min_clearance)) < 1e-12
     assert main(["orbit", "--scene", "impact-oscillator", "--preset", "matlab-listing"]) == 2
     assert "no presets" in capsys.readouterr().err
+
+
+def test_a_2dof_orbit_is_solved_in_relative_coordinates_with_its_advance():
+    """The prototype at 5 Hz repeats its relative motion every relay period while the rig creeps
+    into the soil.  In the full state Newton would be singular (the shift of bar and rig together
+    has multiplier 1); in the reduced coordinates it converges, the multipliers are the reduced
+    map's (5 of them, none at 1), and the advance per period equals the simulated rig's to 1e-12 m."""
+    sc = maps.get_scene("prototype")
+    p = sc.parameters(relay_hz=5.0, V=90 * 1.4142)
+    smap = maps.StroboscopicMap(sc, p, tol=1e-10)
+    o = smap.orbit(sc.initial_state(), 6, transient=400)
+    orbit = find_periodic_orbit(smap, o.state(0), 1, k0=400)
+    assert orbit.reduced == ("x1", "v1", "v2", "i", "z") and orbit.multipliers.size == 5
+    assert np.min(np.abs(np.abs(orbit.multipliers) - 1)) > 0.5
+    assert np.ptp(np.diff(o.points[:, 2])) < 1e-13             # the simulation repeats too
+    assert abs(orbit.advance - float(np.diff(o.points[:, 2])[0])) < 1e-12 and orbit.advance < 0
+    ds = periodic_orbit("prototype", params={"relay_hz": 5.0, "V": 90 * 1.4142}, transient=400, tol=1e-10,
+                        error=False)
+    assert ds.advance_per_period.attrs["units"] == "m" and abs(float(ds.advance_per_period) - orbit.advance) < 1e-12
+    assert float(ds.x2[0]) == 0.0 and "x2 = 0" in ds.attrs["reduced_coordinates_note"]
