@@ -150,7 +150,8 @@ def _title(ds) -> str:
     err = a.get("error_map_step_rel")
     err_txt = (f"; estimated numerical error of each point: {err:.1e} of the state's size"
                if err is not None and np.isfinite(err) else "")
-    return (f"{a['scene']} ({a['mode']}): {params}\n{a['transient_periods']} transient + "
+    law = f", {a['dc_law']} DC law" if a.get("dc_law") not in (None, "none") else ""
+    return (f"{a['scene']} ({a['mode']}): {params}{law}\n{a['transient_periods']} transient + "
             f"{a['recorded_periods']} recorded {per}, tol {a['tol']:g}{err_txt}")
 
 
