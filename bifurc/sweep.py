@@ -125,7 +125,7 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
     ds.attrs["resumed_values"] = resumed
     ds.attrs["workers"] = workers           # worker processes (0: a Dask cluster's)
     ds.attrs["batch_size"] = batch_size     # SIMD lanes (1: one value at a time); results agree to round-off
-    ds.attrs["compile_seconds"] = job.warm().compile_seconds  # once per structure and process
+    ds.attrs["compile_seconds"] = job.warm().compile_seconds  # this process's scalar compile (workers compile their own)
     if grazing:
         ds = storage.add_grazing(ds, locate_grazing_values(results, values, job, grazing_xtol))
     if error_sample:

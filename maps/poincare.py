@@ -17,7 +17,7 @@ import numpy as np
 
 from .engines.base import OrbitJob
 from .engines.scalar import ScalarEngine
-from .hybrid import HybridState, HybridSystem
+from .hybrid import HybridState, HybridSystem, validate_tol
 from .parameters import ParameterError, validate_value
 
 __all__ = ["StroboscopicMap", "MapOrbit", "MapLinearization", "ImpactMap", "forcing_period_steps",
@@ -145,28 +145,35 @@ class StroboscopicMap:
         self._period_given = period
         self._engine = ScalarEngine(self.system, tol, max_events_per_period=max_events_per_period, fp_type=fp_type)
         self._var_runs: dict = {}
-        self._run = self._engine.hybrid_run(self.system.validate(params))
+        self._tol = validate_tol(tol)
+        self._params = self.system.validate(params)
         self.set_params(**params)
 
     # ----- parameters ----------------------------------------------------------
     @property
     def params(self) -> dict:
-        return self._run.params
+        return self._params
 
     @property
     def tol(self) -> float:
-        return self._run.tol
+        return self._tol
 
     @property
     def compile_seconds(self) -> float:
-        """Seconds heyoka took to compile this map's scalar integrator (0 when cached)."""
-        return self._run.compile_seconds
+        """Seconds heyoka took to compile this map's scalar integrator (0: cached, or not needed yet)."""
+        return self._engine.compile_seconds
+
+    @property
+    def _run(self):
+        """The scalar engine's run with this map's parameters (compiled on first use only: a
+        sweep on the batch engine never needs it)."""
+        return self._engine.hybrid_run(self._params)
 
     def set_params(self, **values) -> "StroboscopicMap":
         """Change parameter values (no recompilation); the period follows relay_hz."""
-        self._run.set_params(**values)
-        self.period = self.period_for(self._run.params)
-        self.forcing_period_steps = self.forcing_period_for(self._run.params)
+        self._params = self.system.validate(dict(self._params, **values))
+        self.period = self.period_for(self._params)
+        self.forcing_period_steps = self.forcing_period_for(self._params)
         return self
 
     def period_for(self, p: dict) -> float:

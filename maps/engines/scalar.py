@@ -333,7 +333,7 @@ class ScalarEngine(Engine):
         if self._run is None:
             self._run = HybridRun(self.system, params, np.zeros(len(self.system.states)), tol=self.tol,
                                   fp_type=self.fp_type, max_events=None)
-        else:
+        elif self._run.params != params:
             self._run.set_params(**params)
         return self._run
 
