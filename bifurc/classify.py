@@ -22,7 +22,9 @@ decide, the label is "not-converged", never a guess):
 4. Else the largest Lyapunov exponent of the map lambda [per step] decides:
    lambda > +lyap_tol: "chaotic"; |lambda| <= lyap_tol: "quasi-periodic";
    lambda < -lyap_tol (contracting, yet not periodic within max_period) or NaN:
-   "not-converged".  A finite window of n steps biases lambda upward on a
+   "not-converged".  With an interval for lambda (``lyapunov_interval``), a threshold
+   (+lyap_tol or -lyap_tol) inside it decides nothing: "not-converged".  Every
+   "not-converged" result says why (``reason``).  A finite window of n steps biases lambda upward on a
    sheared torus (separation growing like n, so lambda ~ ln(n)/n), hence
    ``lyap_tol`` defaults to ``lyapunov_threshold(n) = max(2e-3, 2 ln(n)/n)``.
 The thesis' notation n:m is period-n with m impacts per period.
@@ -72,15 +74,16 @@ def describe(code: int, period: int = 0, impacts: int = -1) -> str:
     return label
 
 
-def _result(label, period=0, impacts=-1, recurrence=math.nan, rate=math.nan, rtol=0.0, atol=0.0):
+def _result(label, period=0, impacts=-1, recurrence=math.nan, rate=math.nan, rtol=0.0, atol=0.0, reason=""):
     return {"code": code_of(label), "label": label, "period": int(period), "impacts_per_period": int(impacts),
+            "reason": reason,
             "recurrence": float(recurrence), "convergence_rate": float(rate), "rtol": float(rtol),
             "atol": float(atol)}
 
 
 def classify_orbit(points, impacts_per_step, *, max_period: int = 16, rtol: float = 1e-6, atol: float = 1e-9,
                    scale=None, status: str = "ok", lyapunov: float = math.nan,
-                   lyap_tol: float = LYAP_TOL) -> dict:
+                   lyap_tol: float = LYAP_TOL, lyapunov_interval: tuple | None = None) -> dict:
     """Classify recorded stroboscopic states ``points`` (N, d) with ``impacts_per_step`` (N-1,).
 
     Returns a dict: code, label, period, impacts_per_period, recurrence (scaled
@@ -115,19 +118,30 @@ def classify_orbit(points, impacts_per_step, *, max_period: int = 16, rtol: floa
                     rate_m = _decay_rate(p, m_, s, atol)
                     if math.isfinite(rate_m) and rate_m < DECAY_RATE:
                         d_m = float(np.max(np.abs(p[m_:] - p[:-m_]) / (rtol * s + atol)))
-                        return _result("not-converged", m_, -1, d_m, rate_m, rtol, atol)
+                        return _result("not-converged", m_, -1, d_m, rate_m, rtol, atol,
+                                       f"a recurrence at {n}, but the shorter candidate {m_} still decays "
+                                       f"(rate {rate_m:.3g}): a transient near a period-{m_} orbit")
                 m = int(windows[0])
                 label = "periodic" if m > 0 else "periodic-no-impact"
                 return _result(label, n, m, d, _decay_rate(p, n, s, atol), rtol, atol)
     rate = _decay_rate(p, best_n, s, atol) if best_n else math.nan
     if math.isfinite(rate) and rate < DECAY_RATE and not lyapunov > lyap_tol:
-        return _result("not-converged", best_n, -1, best_d, rate, rtol, atol)
+        return _result("not-converged", best_n, -1, best_d, rate, rtol, atol,
+                       f"the recurrence at {best_n} still decays (rate {rate:.3g} per step): a transient")
     if math.isfinite(lyapunov):
+        lo, hi = lyapunov_interval if lyapunov_interval is not None else (math.nan, math.nan)
+        for thr, what in ((lyap_tol, "chaotic from quasi-periodic"), (-lyap_tol, "quasi-periodic from contracting")):
+            if lo <= thr <= hi:
+                return _result("not-converged", best_n, -1, best_d, rate, rtol, atol,
+                               f"the exponent's interval [{lo:.3g}, {hi:.3g}] contains the threshold {thr:.3g} "
+                               f"that separates {what}")
         if lyapunov > lyap_tol:
             return _result("chaotic", 0, -1, best_d, rate, rtol, atol)
         if abs(lyapunov) <= lyap_tol:
             return _result("quasi-periodic", 0, -1, best_d, rate, rtol, atol)
-    return _result("not-converged", best_n, -1, best_d, rate, rtol, atol)
+        return _result("not-converged", best_n, -1, best_d, rate, rtol, atol,
+                       f"contracting (exponent {lyapunov:.3g}) yet no period up to {max_period}")
+    return _result("not-converged", best_n, -1, best_d, rate, rtol, atol, "no period found and no exponent")
 
 
 def _decay_rate(p, n, s, atol):

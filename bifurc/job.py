@@ -16,7 +16,7 @@ from maps.poincare import StroboscopicMap
 
 from .classify import DECAY_RATE, classify_orbit, lyapunov_threshold, state_scale
 from .codes import ClassCode, Status
-from .lyapunov import exponent_from_stretch, largest_lyapunov
+from .lyapunov import exponent_interval, largest_lyapunov
 from .scene import SystemScene, resolve_scene
 
 __all__ = ["ValueJob", "ValueResult"]
@@ -42,6 +42,9 @@ class ValueResult:
     recurrence: float                       # scaled recurrence distance at the candidate period
     convergence_rate: float                 # fitted per-period decay of that distance
     lyapunov: float                         # NaN: not computed
+    lyapunov_low: float                     # 95 % interval of the exponent (NaN: none)
+    lyapunov_high: float
+    class_reason: str                       # why a value is not-converged ("" otherwise)
     forcing_period: int                     # forcing period in relay periods (0: incommensurate)
     impacts_per_step: np.ndarray            # (record,) contacts per recorded period, -1: not reached
     min_gap_per_step: np.ndarray            # (record,)
@@ -95,7 +98,7 @@ class ValueJob:
     rtol: float = 1e-6
     atol: float = 1e-9
     lyapunov: bool = True
-    lyapunov_steps: int = 100
+    lyapunov_steps: int | None = None   # steps of the exponent (None: the whole recorded window)
     max_impacts: int = 400
     max_transient: int | None = None  # extend a still-converging transient up to this [relay periods]
     batch_size: int = 4               # SIMD lanes of run_many (heyoka batch mode); 1: scalar path
@@ -121,6 +124,11 @@ class ValueJob:
         o = smap.orbit(y0, self.record, transient=self.transient, flags=flags)
         return self._complete(value, smap, o, clock)
 
+    @property
+    def exponent_steps(self) -> int:
+        """Map steps the Lyapunov exponent is estimated over (the recorded window by default)."""
+        return self.record if self.lyapunov_steps is None else self.lyapunov_steps
+
     def _lyapunov_needed(self, o, cls) -> bool:
         return self.lyapunov and o.status == "ok" and not ClassCode(cls["code"]).periodic
 
@@ -145,18 +153,20 @@ class ValueJob:
                            t0=smap.sample_time(used + self.record) - smap.sample_time(0))
             used, steps, lyap = used + self.record + extra, steps + o.n_steps, None
             cls = self._classify(o)
+        steps_l = self.exponent_steps
         if self._lyapunov_needed(o, cls):
             if lyap is None:
                 scale = self._lyapunov_scale(o)
-                if self.lyapunov_steps <= self.record:      # along the recorded window
-                    lyap = exponent_from_stretch(smap.stretch([o.points[:self.lyapunov_steps + 1]], [{}], k0=[used],
-                                                              scales=[scale], method="scalar")[0])
-                else:                                        # two trajectories after it
-                    lyap = largest_lyapunov(smap.step, o.final_state, self.lyapunov_steps, scale=scale,
-                                            k0=used + self.record)
-            cls = self._classify(o, lyapunov=lyap, lyap_tol=lyapunov_threshold(self.lyapunov_steps))
+                if steps_l <= self.record:      # along the recorded window
+                    lyap = exponent_interval(smap.stretch([o.points[:steps_l + 1]], [{}], k0=[used],
+                                                          scales=[scale], method="scalar")[0])
+                else:                           # two trajectories after it (no interval)
+                    lyap = (largest_lyapunov(smap.step, o.final_state, steps_l, scale=scale,
+                                             k0=used + self.record), math.nan, math.nan)
+            cls = self._classify(o, lyapunov=lyap[0], lyap_tol=lyapunov_threshold(steps_l),
+                                 lyapunov_interval=lyap[1:])
         else:
-            lyap = math.nan
+            lyap = (math.nan, math.nan, math.nan)
         return self._pack(value, smap, o, cls, lyap, used, steps, _time.perf_counter() - clock + (seconds or 0.0))
 
     def _pack(self, value, smap, o, cls, lyap, used, steps, seconds) -> ValueResult:
@@ -175,7 +185,8 @@ class ValueJob:
             value=float(value), points=points, point_flags=point_flags, n_recorded=n_rec - 1, class_code=ClassCode(cls["code"]),
             period=cls["period"] if periodic else 0, candidate_period=cls["period"],
             impacts_per_period=cls["impacts_per_period"], recurrence=cls["recurrence"],
-            convergence_rate=cls["convergence_rate"], lyapunov=lyap, forcing_period=smap.forcing_period_steps,
+            convergence_rate=cls["convergence_rate"], lyapunov=lyap[0], lyapunov_low=lyap[1], lyapunov_high=lyap[2],
+            class_reason=cls.get("reason", ""), forcing_period=smap.forcing_period_steps,
             impacts_per_step=np.pad(o.impacts_per_step, (0, self.record - o.n), constant_values=-1),
             min_gap_per_step=np.pad(gaps, (0, self.record - gaps.size), constant_values=np.nan),
             min_impact_speed_per_step=np.pad(speeds, (0, self.record - speeds.size), constant_values=np.nan),
@@ -205,14 +216,14 @@ class ValueJob:
         classes = [self._classify(o) for o in orbits]
         lyap = [None] * len(values)
         want = [i for i, (o, cls) in enumerate(zip(orbits, classes))
-                if self._lyapunov_needed(o, cls) and self.lyapunov_steps <= self.record and not self._extends(o, cls)]
+                if self._lyapunov_needed(o, cls) and self.exponent_steps <= self.record and not self._extends(o, cls)]
         if want:
-            stretch = smap.stretch([orbits[i].points[:self.lyapunov_steps + 1] for i in want],
+            stretch = smap.stretch([orbits[i].points[:self.exponent_steps + 1] for i in want],
                                    [over[i] for i in want], k0=[self.transient] * len(want),
                                    scales=[self._lyapunov_scale(orbits[i]) for i in want],
                                    batch_size=self.batch_size)
             for i, st in zip(want, stretch):
-                lyap[i] = exponent_from_stretch(st)
+                lyap[i] = exponent_interval(st)
         share = (_time.perf_counter() - clock) / max(1, len(values))
         out = []
         for v, p, o, lam, cls in zip(values, over, orbits, lyap, classes):

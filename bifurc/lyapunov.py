@@ -10,7 +10,30 @@ import numpy as np
 
 from maps.tangent import companion_start, renormalise
 
-__all__ = ["largest_lyapunov", "lyapunov_along", "companion_start", "exponent_from_stretch"]
+__all__ = ["largest_lyapunov", "lyapunov_along", "companion_start", "exponent_from_stretch", "exponent_interval",
+           "INTERVAL_METHOD"]
+
+#: how the exponent's interval is estimated (stored with every sweep)
+INTERVAL_METHOD = ("95 % Student-t interval of the mean of 10 consecutive batch means of the per-step log "
+                   "stretch (fewer batches below 50 steps, at least 2)")
+
+
+def exponent_interval(stretch, batches: int = 10, level: float = 0.95) -> tuple[float, float, float]:
+    """(exponent, low, high) [per step] from the log stretch of each step: the mean, and a ``level``
+    Student-t interval from the spread of ``batches`` consecutive batch means (the steps are
+    correlated; batch means are nearly independent when a batch is longer than the correlation).
+    NaN where a step failed; (mean, NaN, NaN) with fewer than 4 steps."""
+    from scipy.stats import t as student_t
+    s = np.asarray(stretch, dtype=float)
+    if s.size == 0 or not np.all(np.isfinite(s)):
+        return math.nan, math.nan, math.nan
+    mean = float(np.mean(s))
+    b = min(batches, s.size // 5) if s.size >= 50 else max(2, min(batches, s.size // 2))
+    if s.size < 4 or b < 2:
+        return mean, math.nan, math.nan
+    means = np.array([np.mean(part) for part in np.array_split(s, b)])
+    half = float(student_t.ppf(0.5 + level / 2, b - 1) * np.std(means, ddof=1) / math.sqrt(b))
+    return mean, mean - half, mean + half
 
 
 def exponent_from_stretch(stretch) -> float:

@@ -128,3 +128,33 @@ def test_bisection_brackets_the_root_to_xtol():
 def test_labels_and_flag_meanings_agree():
     from bifurc.classify import FLAG_MEANINGS
     assert FLAG_MEANINGS.split() == list(CLASS_LABELS)
+
+
+def test_exponent_interval_of_the_logistic_map_contains_ln2():
+    """x -> 4x(1-x): the Lyapunov exponent is ln 2 exactly (its invariant density is known); the
+    per-step log stretch is log|4 - 8x| along an orbit.  The batch-means interval over 2000 steps
+    contains ln 2 and is narrow; over 20 steps it is wider."""
+    from bifurc.lyapunov import exponent_interval
+    x, logs = 0.1234567, []
+    for _ in range(2000):
+        logs.append(math.log(abs(4 - 8 * x)))
+        x = 4 * x * (1 - x)
+    mean, lo, hi = exponent_interval(logs)
+    assert lo < math.log(2) < hi and hi - lo < 0.15 and abs(mean - math.log(2)) < 0.05
+    m20, lo20, hi20 = exponent_interval(logs[:20])
+    assert hi20 - lo20 > hi - lo
+    assert all(math.isnan(v) for v in exponent_interval([0.1, math.nan, 0.2])[:3])
+
+
+def test_an_interval_that_straddles_the_threshold_is_not_converged_with_its_reason():
+    pts = np.random.default_rng(3).uniform(size=(60, 2))       # no recurrence at all
+    imp = np.zeros(59, dtype=int)
+    thr = 0.09
+    base = dict(max_period=4, lyap_tol=thr)
+    assert classify_orbit(pts, imp, lyapunov=0.12, **base)["label"] == "chaotic"           # no interval: as before
+    c = classify_orbit(pts, imp, lyapunov=0.12, lyapunov_interval=(0.05, 0.19), **base)
+    assert c["label"] == "not-converged" and "contains the threshold 0.09" in c["reason"]
+    assert classify_orbit(pts, imp, lyapunov=0.12, lyapunov_interval=(0.1, 0.14), **base)["label"] == "chaotic"
+    c = classify_orbit(pts, imp, lyapunov=-0.05, lyapunov_interval=(-0.12, 0.0), **base)
+    assert c["label"] == "not-converged" and "-0.09" in c["reason"]
+    assert classify_orbit(pts, imp, lyapunov=0.0, lyapunov_interval=(-0.02, 0.03), **base)["label"] == "quasi-periodic"

@@ -259,7 +259,8 @@ def test_map_step_error_follows_the_tolerance_on_a_non_periodic_value():
         ds = sweep("thesis-1dof", "relay_hz", np.array([5.0]), preset="matlab-listing", params={"V": 90},
                    transient=60, record=40, tol=tol, grazing=False, error_sample=1, progress=False)
         est[tol] = ds.attrs
-    assert int(ds.class_code.values.ravel()[0]) in (2, 3)     # not periodic
+    assert int(ds.class_code.values.ravel()[0]) in (2, 3, 4)  # not periodic (4: over 40 periods the exponent's
+    #                                                          interval contains the chaos threshold)
     assert np.isnan(est[1e-11]["error_map_points_rel"])       # no periodic value sampled
     assert np.isnan(est[1e-11]["error_impact_time_s"])        # no contact time compared: unmeasured, not 0
     for tol, a in est.items():
@@ -373,3 +374,22 @@ def test_resume_refuses_parts_of_another_format(tmp_path):
     with pytest.raises(maps.ParameterError, match="format version 2"):
         sweep("thesis-1dof", "relay_hz", [5.0], transient=1, record=3, progress=False, path=tmp_path / "old.nc")
     assert (parts / "independent-000000.pkl").exists()     # nothing lost
+
+
+def test_the_exponent_uses_the_whole_recorded_window_with_an_interval_and_reasons():
+    """record = 200: the exponent is the mean over all 200 recorded periods (the same stretch series
+    recomputed here from the stored points), its interval brackets it, and every not-converged
+    value says why."""
+    ds = sweep("thesis-1dof", "relay_hz", np.array([5.0, 9.0]), preset="matlab-listing", params={"V": 90},
+               transient=50, record=200, grazing=False, error_sample=0, progress=False, batch_size=1).isel(branch=0)
+    assert ds.attrs["lyapunov_steps"] == 200 and "batch means" in ds.attrs["lyapunov_interval_method"]
+    lam, lo, hi = ds.lyapunov.values, ds.lyapunov_low.values, ds.lyapunov_high.values
+    assert np.all(np.isfinite(lam)) and np.all((lo <= lam) & (lam <= hi))
+    sc = maps.get_scene("thesis-1dof").with_options(dc_law="listing")
+    smap = maps.StroboscopicMap(sc, sc.parameters(preset="matlab-listing", V=90.0, relay_hz=9.0), tol=1e-10)
+    pts = np.column_stack([ds[s].values[1] for s in ("x", "v", "i", "z")])
+    scale = np.maximum(np.nanmax(np.abs(pts), axis=0), 1e-9)
+    st = smap.stretch([pts], [{}], k0=[int(ds.transient_used.values[1])], scales=[scale], method="scalar")[0]
+    assert st.size == 200 and abs(float(np.mean(st)) - lam[1]) < 1e-9
+    for code, reason in zip(ds.class_code.values, ds.class_reason.values):
+        assert (str(reason) != "") == (int(code) == 4)
