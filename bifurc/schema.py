@@ -43,8 +43,14 @@ class Variable:
         return {"units": self.units, "long_name": self.long_name, **dict(self.extra), **override}
 
     def empty(self, sizes: dict, param: str) -> np.ndarray:
-        """An array of this variable filled with ``fill``, shaped by ``sizes`` {dim: length}."""
-        return np.full(tuple(sizes[d] for d in self.dims_for(param)), self.fill, dtype=self.dtype)
+        """An array of this variable filled with ``fill``, shaped by ``sizes`` {dim: length} (strings:
+        an object array, so that assigned texts keep their length; see :meth:`finish`)."""
+        return np.full(tuple(sizes[d] for d in self.dims_for(param)), self.fill,
+                       dtype=object if self.dtype is str else self.dtype)
+
+    def finish(self, data: np.ndarray) -> np.ndarray:
+        """The filled array in its stored dtype (texts as fixed-width strings of the longest)."""
+        return data.astype(str) if self.dtype is str else data
 
 
 def _flags(codes) -> tuple:

@@ -40,7 +40,7 @@ def _stack(results, branches, var, sizes, par, get=None):
         for i, r in enumerate(results[b]):
             if r is not None:
                 out[bi, i] = getattr(r, var.name) if get is None else get(r)
-    return out
+    return var.finish(out)
 
 
 def to_dataset(results, values, job, scene, table, mode) -> xr.Dataset:

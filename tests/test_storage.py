@@ -119,3 +119,15 @@ def test_param_attributes_have_one_writer():
     system = maps.get_scene("thesis-1dof").system
     assert param_attrs(table, system, skip=("k",)) == {"param_V": 90.0, "param_V_units": "V",
                                                        "param_V_source": "set by user"}
+
+
+def test_text_variables_keep_their_whole_text():
+    """class_reason is stored whole (a fixed-width array sized by its first entry cut it to one letter)."""
+    import numpy as np
+    from bifurc.sweep import sweep
+    ds = sweep("thesis-1dof", "relay_hz", np.array([5.0, 9.0]), preset="matlab-listing", params={"V": 90},
+               transient=20, record=30, grazing=False, error_sample=0, progress=False)
+    reasons = [str(r) for r in ds.class_reason.values.ravel()]
+    assert any(len(r) > 20 for r in reasons) or all(r == "" for r in reasons)
+    for code, r in zip(ds.class_code.values.ravel(), reasons):
+        assert (int(code) == 4) == (r != "") and (r == "" or r.startswith(("the ", "a ", "no ", "contracting")))
