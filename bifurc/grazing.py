@@ -107,7 +107,10 @@ def locate_grazing_values(results, values, job, xtol):
             # a graze: the clearance of the branch with fewer impacts vanishes as the bracket shrinks;
             # if it stays finite the branch ends otherwise (a jump, e.g. a saddle-node).  The impact
             # speed past a graze need not be small: the orbit may jump to a distant impacting attractor.
-            g["confirmed"] = follower.clearance[-1] <= GRAZE_SHRINK * follower.clearance[0]
+            # A grid value on the graze itself starts with a clearance already at the grazing gap:
+            # that is a graze too, not a jump (nothing is left to shrink).
+            g["confirmed"] = (follower.clearance[-1] <= GRAZE_SHRINK * follower.clearance[0]
+                              or follower.clearance[0] < GRAZING_GAP)
             g["clearance_start"] = follower.clearance[0]
             found.append((b, g))
     return found

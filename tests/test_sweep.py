@@ -393,3 +393,17 @@ def test_the_exponent_uses_the_whole_recorded_window_with_an_interval_and_reason
     assert st.size == 200 and abs(float(np.mean(st)) - lam[1]) < 1e-9
     for code, reason in zip(ds.class_code.values, ds.class_reason.values):
         assert (str(reason) != "") == (int(code) == 4)
+
+
+@pytest.mark.parametrize("offset", [0.0, -1e-9])
+def test_a_grid_value_on_the_graze_is_a_graze(osc, offset):
+    """The grid holds the closed-form grazing amplitude itself (or a value within the bisection
+    tolerance of it): the graze is located there, to xtol, and confirmed as a graze, not a jump."""
+    W, e = 0.7, -1.0
+    F_graze = abs(e) * math.hypot(1 - W**2, 2 * 0.02 * W)  # X(F) = |e|
+    xtol = 1e-7
+    values = np.array([0.9, 1.0 + offset, 1.1]) * F_graze
+    ds = sweep(osc, "F", values, params=dict(OSC, Omega=W, e=e), transient=300, record=30, tol=1e-13,
+               lyapunov=False, error_sample=0, grazing_xtol=xtol, progress=False)
+    assert ds.sizes["grazing"] == 1 and int(ds.grazing_confirmed[0]) == 1
+    assert abs(float(ds.grazing_value[0]) - F_graze) <= xtol + 1e-9
