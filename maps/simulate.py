@@ -52,7 +52,7 @@ def resolve(scene, params=None, preset=None, circuit=None, ac_sign=None, energy=
 def run_scene(scene, t_end, params=None, preset=None, x0=None, tol=1e-12, circuit=None,
               ac_sign=None, energy=None, fp_type=float, on_segment=None, max_events=100_000,
               max_events_per_period=None, dc_law=None):
-    """Integrate a scene to ``t_end`` [s] and return the :class:`~maps.hybrid.HybridRun`.
+    """Integrate a scene to ``t_end`` [s] and return the :class:`~maps.engines.scalar.HybridRun`.
 
     Failures (non-finite state, escape, event cap: ``max_events`` per run,
     ``max_events_per_period`` per relay period) are recorded on the run as
