@@ -37,7 +37,8 @@ import numpy as np
 
 from .codes import ClassCode
 
-__all__ = ["CLASS_LABELS", "FLAG_MEANINGS", "classify_orbit", "describe", "code_of", "lyapunov_threshold",
+__all__ = ["CLASS_LABELS", "FLAG_MEANINGS", "classify_orbit", "candidate_periods", "describe", "code_of",
+           "lyapunov_threshold",
            "state_scale", "ClassCode"]
 
 #: class labels in code order (ClassCode(c).label)
@@ -83,8 +84,13 @@ def _result(label, period=0, impacts=-1, recurrence=math.nan, rate=math.nan, rto
 
 def classify_orbit(points, impacts_per_step, *, max_period: int = 16, rtol: float = 1e-6, atol: float = 1e-9,
                    scale=None, status: str = "ok", lyapunov: float = math.nan,
-                   lyap_tol: float = LYAP_TOL, lyapunov_interval: tuple | None = None) -> dict:
+                   lyap_tol: float = LYAP_TOL, lyapunov_interval: tuple | None = None,
+                   periods=None) -> dict:
     """Classify recorded stroboscopic states ``points`` (N, d) with ``impacts_per_step`` (N-1,).
+
+    ``periods``: the candidate periods (default 1 ... max_period); a periodically forced map
+    can only have periods that are multiples of its forcing period q (see
+    :func:`candidate_periods`).  Every candidate needs two whole periods in the record.
 
     Returns a dict: code, label, period, impacts_per_period, recurrence (scaled
     distance at the detected or best candidate period), convergence_rate (per step),
@@ -105,8 +111,10 @@ def classify_orbit(points, impacts_per_step, *, max_period: int = 16, rtol: floa
     s = state_scale(p, atol) if scale is None else np.asarray(scale, float)
     N = p.shape[0]
     max_n = min(int(max_period), (N - 1) // 2)
+    candidates = list(range(1, max_n + 1)) if periods is None else \
+        sorted({int(n) for n in periods if 1 <= int(n) <= max_n})
     best_n, best_d = 0, math.inf
-    for n in range(1, max_n + 1):
+    for n in candidates:
         diff = np.abs(p[n:] - p[:-n])
         d = float(np.max(diff / (rtol * s + atol)))
         if d < best_d:
@@ -114,7 +122,7 @@ def classify_orbit(points, impacts_per_step, *, max_period: int = 16, rtol: floa
         if d <= 1.0:
             windows = np.convolve(imp, np.ones(n, dtype=np.int64), mode="valid")
             if windows.size and np.all(windows == windows[0]):
-                for m_ in range(1, n):  # a shorter period still converging: n is a near-recurrence
+                for m_ in (c for c in candidates if c < n):  # a shorter candidate still converging
                     rate_m = _decay_rate(p, m_, s, atol)
                     if math.isfinite(rate_m) and rate_m < DECAY_RATE:
                         d_m = float(np.max(np.abs(p[m_:] - p[:-m_]) / (rtol * s + atol)))
@@ -141,7 +149,16 @@ def classify_orbit(points, impacts_per_step, *, max_period: int = 16, rtol: floa
             return _result("quasi-periodic", 0, -1, best_d, rate, rtol, atol)
         return _result("not-converged", best_n, -1, best_d, rate, rtol, atol,
                        f"contracting (exponent {lyapunov:.3g}) yet no period up to {max_period}")
-    return _result("not-converged", best_n, -1, best_d, rate, rtol, atol, "no period found and no exponent")
+    why = "no period found" if candidates else "no candidate period fits the record (see candidate_periods)"
+    return _result("not-converged", best_n, -1, best_d, rate, rtol, atol, f"{why} and no exponent")
+
+
+def candidate_periods(q: int, max_period: int) -> list[int]:
+    """The periods a map forced with period q [strobe periods] can have, up to ``max_period``: the
+    multiples of q (every period when q = 1; none when the forcing never repeats, q = 0)."""
+    if q <= 0:
+        return []
+    return [q * j for j in range(1, int(max_period) // q + 1)]
 
 
 def _decay_rate(p, n, s, atol):

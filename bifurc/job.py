@@ -14,7 +14,7 @@ import numpy as np
 
 from maps.poincare import StroboscopicMap
 
-from .classify import DECAY_RATE, classify_orbit, lyapunov_threshold, state_scale
+from .classify import DECAY_RATE, candidate_periods, classify_orbit, lyapunov_threshold, state_scale
 from .codes import ClassCode, Status
 from .lyapunov import exponent_interval, largest_lyapunov
 from .scene import SystemScene, resolve_scene
@@ -94,7 +94,7 @@ class ValueJob:
     transient: int = 300
     record: int = 100
     tol: float = 1e-10
-    max_period: int = 16
+    max_period: int = 100   # cap of the period search [relay periods]; candidates are multiples of q
     rtol: float = 1e-6
     atol: float = 1e-9
     lyapunov: bool = True
@@ -135,8 +135,10 @@ class ValueJob:
     def _lyapunov_scale(self, o):
         return state_scale(o.points, self.atol)
 
-    def _classify(self, o, **kw):
+    def _classify(self, o, q: int, **kw):
+        """Classify orbit ``o`` of a map whose forcing repeats every ``q`` samples (0: never)."""
         return classify_orbit(o.points, o.impacts_per_step, max_period=self.max_period, rtol=self.rtol,
+                              periods=candidate_periods(q, self.max_period),
                               atol=self.atol, status=o.status, **kw)
 
     def _complete(self, value, smap, o, clock, lyap=None, seconds=None, cls=None) -> ValueResult:
@@ -145,14 +147,15 @@ class ValueJob:
         ``cls``: ``o``'s classification without an exponent, if already made.  The value's run
         time is the time since ``clock``, plus ``seconds`` already spent on it (a batch's share)."""
         used, steps = self.transient, o.n_steps
-        cls = self._classify(o) if cls is None else cls
+        q = smap.forcing_period_steps        # smap holds this value's parameters
+        cls = self._classify(o, q) if cls is None else cls
         limit = self.max_transient if self.max_transient is not None else self.transient
         while self._extends(o, cls, used):  # still converging: integrate on
             extra = max(1, min(used, limit - used))  # doubling, up to the limit
             o = smap.orbit(o.final_state, self.record, transient=extra, flags=o.final_flags,
                            t0=smap.sample_time(used + self.record) - smap.sample_time(0))
             used, steps, lyap = used + self.record + extra, steps + o.n_steps, None
-            cls = self._classify(o)
+            cls = self._classify(o, q)
         steps_l = self.exponent_steps
         if self._lyapunov_needed(o, cls):
             if lyap is None:
@@ -163,7 +166,7 @@ class ValueJob:
                 else:                           # two trajectories after it (no interval)
                     lyap = (largest_lyapunov(smap.step, o.final_state, steps_l, scale=scale,
                                              k0=used + self.record), math.nan, math.nan)
-            cls = self._classify(o, lyapunov=lyap[0], lyap_tol=lyapunov_threshold(steps_l),
+            cls = self._classify(o, q, lyapunov=lyap[0], lyap_tol=lyapunov_threshold(steps_l),
                                  lyapunov_interval=lyap[1:])
         else:
             lyap = (math.nan, math.nan, math.nan)
@@ -213,7 +216,8 @@ class ValueJob:
         over = [dict(self.params, **{self.param: float(v)}) for v in values]
         orbits = smap.orbits(over, self.x0_state(), self.record, transient=self.transient,
                              batch_size=self.batch_size)
-        classes = [self._classify(o) for o in orbits]
+        classes = [self._classify(o, smap.forcing_period_for(smap.system.validate(dict(smap.params, **p))))
+                   for o, p in zip(orbits, over)]
         lyap = [None] * len(values)
         want = [i for i, (o, cls) in enumerate(zip(orbits, classes))
                 if self._lyapunov_needed(o, cls) and self.exponent_steps <= self.record and not self._extends(o, cls)]

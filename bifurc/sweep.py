@@ -43,7 +43,7 @@ MODES = {"independent": ("independent",), "follow": ("up", "down")}
 @recorded("bifurc.sweep")
 @guarded_output("path")
 def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independent", transient=300,
-          record=100, preset=None, params=None, x0=None, tol=1e-10, max_period=16, rtol=1e-6, atol=1e-9,
+          record=100, preset=None, params=None, x0=None, tol=1e-10, max_period=100, rtol=1e-6, atol=1e-9,
           lyapunov=True, grazing=True, grazing_xtol=None, circuit=None, ac_sign=None, dc_law=None, path=None,
           progress=True, workers=None, scheduler=None, error_sample=3, max_transient=None, batch_size=4,
           chunk_size=None, overwrite=False):
@@ -64,7 +64,9 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
         (doubling the transient) up to this many relay periods; the transient used is stored.
     tol : float
         heyoka tolerance; ``error_sample`` values are re-run at tol/100 for the error estimate.
-    max_period, rtol, atol : classification (bifurc.classify).
+    max_period, rtol, atol : classification (bifurc.classify); periods are searched among the
+        multiples of the forcing period q up to ``max_period`` relay periods (default 100), each
+        needing two whole periods in the record (q = 0: the forcing never repeats, no period).
     lyapunov : bool
         Compute the largest Lyapunov exponent where the orbit is not periodic.
     grazing : bool

@@ -407,3 +407,23 @@ def test_a_grid_value_on_the_graze_is_a_graze(osc, offset):
                lyapunov=False, error_sample=0, grazing_xtol=xtol, progress=False)
     assert ds.sizes["grazing"] == 1 and int(ds.grazing_confirmed[0]) == 1
     assert abs(float(ds.grazing_value[0]) - F_graze) <= xtol + 1e-9
+
+
+def test_periods_are_searched_among_multiples_of_the_forcing_period():
+    """8.5 Hz at 90 V (listing law): the forcing repeats after q = 17 relay periods; with the default
+    search (multiples of q up to 100 relay periods) the sweep finds the period-17 orbit with 12
+    impacts (before, periods stopped at 16 and the value read quasi-periodic).  At 8.537 Hz the
+    forcing never repeats (q = 0): no period is searched, and without an exponent the value is
+    not-converged with that reason stored."""
+    from bifurc.classify import candidate_periods
+    from bifurc.codes import ClassCode
+    assert candidate_periods(17, 100) == [17, 34, 51, 68, 85] and candidate_periods(0, 100) == []
+    assert candidate_periods(1, 5) == [1, 2, 3, 4, 5]
+    kw = dict(preset="matlab-listing", params={"V": 90}, grazing=False, error_sample=0, progress=False)
+    ds = sweep("thesis-1dof", "relay_hz", np.array([8.5]), **kw).isel(branch=0, relay_hz=0)
+    assert int(ds.forcing_period) == 17 and int(ds.period) == 17 and int(ds.impacts_per_period) == 12
+    assert ClassCode(int(ds.class_code)) == ClassCode.PERIODIC and ds.attrs["max_period"] == 100
+    q0 = sweep("thesis-1dof", "relay_hz", np.array([8.537]), lyapunov=False, transient=20, record=40,
+               **kw).isel(branch=0, relay_hz=0)
+    assert int(q0.forcing_period) == 0 and ClassCode(int(q0.class_code)) == ClassCode.NOT_CONVERGED
+    assert "no candidate period" in str(q0.class_reason.values) and int(q0.period) == 0

@@ -23,7 +23,9 @@ def register(subparsers):
     p.add_argument("--mode", choices=("independent", "follow"), default="independent",
                    help="independent: every value from x0; follow: each value from the previous one's final "
                         "state, up then down")
-    p.add_argument("--max-period", type=int, default=16, help="largest period detected (default 16)")
+    p.add_argument("--max-period", type=int, default=100,
+                   help="cap of the period search in relay periods (default 100); candidates are the "
+                        "multiples of the forcing period q that fit twice in the record")
     p.add_argument("--no-lyapunov", action="store_true", help="skip Lyapunov exponents (faster)")
     p.add_argument("--workers", type=int, default=None,
                    help="worker processes (independent mode; default: every available core, at least 16 values each)")
