@@ -48,13 +48,16 @@ def classification_report(ds, at=None) -> str:
     lines += ["## Settings", "",
               f"- grid: {values.size} values of `{par}` from {values.min():g} to {values.max():g} {units}",
               f"- per value: {a['transient_periods']} transient + {a['recorded_periods']} recorded relay periods; "
-              f"heyoka tol {a['tol']:g}; circuit {a.get('circuit')}; AC sign {a.get('ac_sign')}",
+              f"heyoka tol {a['tol']:g}; circuit {a.get('circuit')}; AC sign {a.get('ac_sign')}; "
+              f"DC-force law {a.get('dc_law', 'not recorded')}",
               f"- initial state: {a.get('initial_state', '')}",
-              f"- classification: period n <= {a['max_period']} when the recurrence distance <= "
+              f"- classification: period n, a multiple of the forcing period q (`forcing_period`; none "
+              f"when q = 0) up to {a['max_period']}, when the recurrence distance <= "
               f"rtol {a['classification_rtol']:g} x scale + atol {a['classification_atol']:g} over the whole "
               f"record; otherwise a decaying recurrence is *not-converged*, and a Lyapunov exponent over "
               f"{a.get('lyapunov_steps', '?')} periods decides chaotic (> {a.get('lyapunov_threshold', float('nan')):.3g}) "
-              "vs quasi-periodic; undecided is *not-converged*",
+              "vs quasi-periodic, unless its 95 % interval contains the threshold; undecided is *not-converged* "
+              "(`class_reason` says why)",
               "- parameters: " + ", ".join(f"{k[6:]} = {a[k]:g} {a.get(k + '_units', '')}" for k in keys), ""]
     codes = ds.class_code.values
     lines += ["## Class counts", "", "| class | " + " | ".join(map(str, ds.branch.values)) + " |",
