@@ -233,3 +233,11 @@ def test_readme_points_to_files_that_exist_and_its_accuracy_example_impacts():
     params = dict(parse_sets(args.sets), **({"relay_hz": args.relay_hz} if args.relay_hz else {}))
     run = maps.simulate(args.scene, t_end=args.t_end, preset=args.preset, params=params, dt=1e-3)
     assert run.sizes["impact"] >= 3  # the example exercises event location
+
+
+def test_only_the_command_line_chooses_a_matplotlib_backend():
+    """No library function sets a backend (a notebook would stop showing figures after calling it):
+    the one matplotlib.use is in the CLI's main, for the files it writes."""
+    callers = [str(p.relative_to(ROOT)) for pkg in ("maps", "bifurc") for p in (ROOT / pkg).rglob("*.py")
+               if "matplotlib.use(" in p.read_text()]
+    assert callers == ["bifurc/cli.py"], callers

@@ -237,10 +237,11 @@ def disagreements(r: dict, f_well: float) -> list[str]:
 
 
 def figure(rows, V, path):
-    """3 s time histories, one panel per relay frequency, one line per DC law; the sensor band shaded."""
-    import matplotlib
-    matplotlib.use("Agg")
+    """3 s time histories, one panel per relay frequency, one line per DC law; the sensor band shaded.
+    Sets no matplotlib backend (the command line picks one; a notebook keeps its own)."""
     import matplotlib.pyplot as plt
+
+    from ..files import save_figure
     freqs = sorted({r["relay_hz"] for r in rows if r["V"] == V})
     n = len(freqs)
     cols = min(3, n)
@@ -263,9 +264,7 @@ def figure(rows, V, path):
     fig.suptitle("Thesis replay: matlab-listing numbers, listing AC sign, start on the stop (i = 0.1 A), 3 s",
                  fontsize=10)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-
+    save_figure(fig, path, overwrite=True, dpi=110)   # the study refused an occupied folder before
 
 def report(rows, wells, quick, seconds, physical=()) -> str:
     size = QUICK if quick else FULL
