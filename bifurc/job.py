@@ -216,8 +216,7 @@ class ValueJob:
         over = [dict(self.params, **{self.param: float(v)}) for v in values]
         orbits = smap.orbits(over, self.x0_state(), self.record, transient=self.transient,
                              batch_size=self.batch_size)
-        classes = [self._classify(o, smap.forcing_period_for(smap.system.validate(dict(smap.params, **p))))
-                   for o, p in zip(orbits, over)]
+        classes = [self._classify(o, smap.forcing_period_for(p)) for o, p in zip(orbits, over)]
         lyap = [None] * len(values)
         want = [i for i, (o, cls) in enumerate(zip(orbits, classes))
                 if self._lyapunov_needed(o, cls) and self.exponent_steps <= self.record and not self._extends(o, cls)]

@@ -10,7 +10,7 @@ import numpy as np
 
 from maps.tangent import companion_start, renormalise
 
-__all__ = ["largest_lyapunov", "lyapunov_along", "companion_start", "exponent_from_stretch", "exponent_interval",
+__all__ = ["largest_lyapunov", "lyapunov_along", "companion_start", "exponent_interval",
            "INTERVAL_METHOD"]
 
 #: how the exponent's interval is estimated (stored with every sweep)
@@ -34,13 +34,6 @@ def exponent_interval(stretch, batches: int = 10, level: float = 0.95) -> tuple[
     means = np.array([np.mean(part) for part in np.array_split(s, b)])
     half = float(student_t.ppf(0.5 + level / 2, b - 1) * np.std(means, ddof=1) / math.sqrt(b))
     return mean, mean - half, mean + half
-
-
-def exponent_from_stretch(stretch) -> float:
-    """Largest Lyapunov exponent [per map step]: the mean log stretch of a companion's steps
-    (:meth:`maps.StroboscopicMap.stretch`); NaN if any step failed."""
-    s = np.asarray(stretch, dtype=float)
-    return float(np.mean(s)) if s.size and np.all(np.isfinite(s)) else math.nan
 
 
 def largest_lyapunov(step, y0, n: int, *, d0: float = 1e-8, scale=None, k0: int = 0) -> float:

@@ -149,7 +149,6 @@ def find_periodic_orbit(smap, start, period: int, *, k0: int = 0, tol: float = 1
     d = co.E.shape[1]
     scale = _scale([co.reduce(s.y) for s in nodes], atol)
     signatures_seen = []
-    best = math.inf
     for it in range(max_iter + 1):
         try:
             lins = [smap.linearize(s, k0 + j) for j, s in enumerate(nodes)]
@@ -166,11 +165,7 @@ def find_periodic_orbit(smap, start, period: int, *, k0: int = 0, tol: float = 1
             return _solution(nodes, lins, k0, n, norm, it, scale, clock, co)
         if it == max_iter:
             break
-        M = np.zeros((n * d, n * d))
-        for j, L in enumerate(lins):
-            M[j * d:(j + 1) * d, j * d:(j + 1) * d] = (co.R @ L.J @ co.E) / scale[:, None] * scale[None, :]
-            k = (j + 1) % n
-            M[j * d:(j + 1) * d, k * d:(k + 1) * d] -= np.eye(d)
+        M = _shooting_matrix([co.R @ L.J @ co.E for L in lins], scale)
         cond = np.linalg.cond(M)
         if not np.isfinite(cond) or cond > 1e14:
             raise OrbitNotFound(f"singular Jacobian at iteration {it} (condition number {cond:.3g}): a fold, "
@@ -194,10 +189,21 @@ def find_periodic_orbit(smap, start, period: int, *, k0: int = 0, tol: float = 1
             why = ("the transition signature keeps changing (an impact born or lost between iterates)"
                    if changing else "the residual stalled: no step along the Newton direction reduces it")
             raise OrbitNotFound(f"{why}; scaled residual {norm:.3g} after {it} iterations", it, norm)
-        best = min(best, norm)
     changing = len({tuple(s) for s in signatures_seen[-3:]}) > 1
     raise OrbitNotFound(f"no convergence in {max_iter} iterations (scaled residual {norm:.3g}"
                         f"{'; the transition signature keeps changing' if changing else ''})", max_iter, norm)
+
+
+def _shooting_matrix(Js, scale) -> np.ndarray:
+    """The multiple-shooting Newton matrix in scaled coordinates: the one-period Jacobians J_j on the
+    block diagonal, -I on the cyclic block beside each (residual r_j = P(y_j) - y_{j+1 mod n})."""
+    n, d = len(Js), Js[0].shape[0]
+    M = np.zeros((n * d, n * d))
+    for j, J in enumerate(Js):
+        M[j * d:(j + 1) * d, j * d:(j + 1) * d] = J / scale[:, None] * scale[None, :]
+        k = (j + 1) % n
+        M[j * d:(j + 1) * d, k * d:(k + 1) * d] -= np.eye(d)
+    return M
 
 
 def _solution(nodes, lins, k0, n, norm, it, scale, clock, co) -> PeriodicOrbit:
@@ -211,16 +217,11 @@ def _solution(nodes, lins, k0, n, norm, it, scale, clock, co) -> PeriodicOrbit:
     M = orbit.monodromy
     orbit.multipliers = np.linalg.eigvals(M)
     d = M.shape[0]
-    big = np.zeros((n * d, n * d))
-    for j, J in enumerate(Js):
-        big[j * d:(j + 1) * d, j * d:(j + 1) * d] = J / scale[:, None] * scale[None, :]
-        k = (j + 1) % n
-        big[j * d:(j + 1) * d, k * d:(k + 1) * d] -= np.eye(d)
     partial, growth = np.eye(d), 1.0
     for J in Js:              # how far single shooting's intermediate products stretch a perturbation
         partial = (J / scale[:, None] * scale[None, :]) @ partial
         growth = max(growth, float(np.linalg.norm(partial, 2)))
-    orbit.conditioning = {"multiple_shooting": float(np.linalg.cond(big)),
+    orbit.conditioning = {"multiple_shooting": float(np.linalg.cond(_shooting_matrix(Js, scale))),
                           "single_shooting": float(np.linalg.cond(M / scale[:, None] * scale[None, :] - np.eye(d))),
                           "single_shooting_growth": growth}
     return orbit

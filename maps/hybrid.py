@@ -271,7 +271,6 @@ class HybridSystem:
             if sw.flag not in self.flag_defaults or sw.frequency not in self._param_index:
                 raise ValueError(f"switch {sw} names an unknown flag or parameter")
         self._groups = self.event_groups()
-        self._mixed = [len({g.direction for g in grp}) > 1 for grp in self._groups]
         self._cfuncs: dict = {}
 
     # ----- parameters -------------------------------------------------
@@ -386,10 +385,7 @@ class HybridSystem:
 
     def evaluate(self, names: Sequence[str], y, params, flags, t=0.0) -> np.ndarray:
         """Evaluate named outputs at one state (numpy, double precision)."""
-        f = self.cfunc(tuple(names))
-        pars = np.asarray(self.par_vector(params, flags), dtype=float)[:f.nparams]
-        kw = {"time": float(t)} if f.is_time_dependent else {}
-        return f(np.asarray(y, dtype=float), pars=pars, **kw)
+        return call_cfunc(self.cfunc(tuple(names)), y, self.par_vector(params, flags), t)
 
     def _guard_expr(self, name):
         for g in self.guards:
@@ -442,9 +438,7 @@ class HybridSystem:
             defaults = dict(self.flag_defaults)
 
             def reset(y, params, f=f):
-                pars = np.asarray(self.par_vector(params, defaults), dtype=float)[:f.nparams]
-                kw = {"time": 0.0} if f.is_time_dependent else {}
-                return f(np.asarray(y, dtype=float), pars=pars, **kw)
+                return call_cfunc(f, y, self.par_vector(params, defaults))
             cache[guard.name] = reset
         return cache[guard.name]
 
@@ -526,6 +520,14 @@ def _record_crossing(ta, d_sgn):
     return False
 
 
+def call_cfunc(f, y, pars, t: float = 0.0) -> np.ndarray:
+    """A compiled function of the state (``hy.cfunc`` over the state variables) at state ``y``
+    with the runtime-parameter vector ``pars`` (parameters then flags, as ``par_vector``) and
+    time ``t`` [s] (used only when the function depends on time)."""
+    kw = {"time": float(t)} if f.is_time_dependent else {}
+    return f(np.asarray(y, dtype=float), pars=np.asarray(pars, dtype=float)[:f.nparams], **kw)
+
+
 def time_derivative(expr):
     """Partial derivative of a heyoka expression with respect to time (heyoka differentiates
     only by variables and parameters: time is swapped for a variable and back)."""
@@ -545,9 +547,7 @@ def _guard_gap(system: "HybridSystem", guard: Guard):
     defaults = dict(system.flag_defaults)
 
     def gap(y, params):
-        pars = np.asarray(system.par_vector(params, defaults), dtype=float)[:f.nparams]
-        kw = {"time": 0.0} if f.is_time_dependent else {}
-        out = f(np.asarray(y, dtype=float), pars=pars, **kw)
+        out = call_cfunc(f, y, system.par_vector(params, defaults))
         return float(out[0]), float(out[1])
 
     return gap

@@ -492,7 +492,7 @@ def _stick_projection(o: ModelOptions):
     def projection(s, flags):
         rows = list(s.state_vars)
         if o.dof == 1:
-            rows[0], rows[1] = s.e + 0.0 * s.x, hy.expression(0.0)
+            rows[0], rows[1] = s.e, hy.expression(0.0)
         else:
             v = s.v2 if flags.get("stuck") == 1 else (s.v1 * s.m1 + s.v2 * s.m2) / (s.m1 + s.m2)
             rows[0], rows[1], rows[3] = s.x2 + s.e, v, v

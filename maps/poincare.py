@@ -222,7 +222,6 @@ class StroboscopicMap:
         run = self._run
         run.record_events = False
         run.reset(self.sample_time(k, t0), y, flags)
-        run.budget.per_period = self.max_events_per_period
         run.advance(self.sample_time(k + 1, t0))
         return HybridState(run.y, dict(run.flags)) if hybrid else run.y
 
@@ -245,12 +244,12 @@ class StroboscopicMap:
         if run is None:
             from .engines.scalar import VariationalRun
             run = self._var_runs[params] = VariationalRun(self.system, self.params, y, wrt=params, tol=self.tol,
-                                                          max_events=None)
+                                                          max_events=None,
+                                                          max_events_per_period=self.max_events_per_period)
         elif run.params != self.params:
             run.set_params(**self.params)
         run.record_events = True
         run.reset(self.sample_time(k, t0), y, flags)
-        run.budget.per_period = self.max_events_per_period
         n = int(validate_value("n", n, 1, 1e6))
         for j in range(1, n + 1):
             run.advance(self.sample_time(k + j, t0))

@@ -39,11 +39,8 @@ def event_surfaces(system: HybridSystem, observations: bool = True) -> list[list
     guards have different directions is one event of direction "any" (see
     :meth:`HybridSystem.event_groups` for why surfaces are never split).
     """
-    groups: dict = {}
-    for g in system.guards:
-        if observations or not g.observes_only:
-            groups.setdefault(str(g.expr), []).append(g)
-    return list(groups.values())
+    groups = ([g for g in grp if observations or not g.observes_only] for grp in system.event_groups())
+    return [grp for grp in groups if grp]
 
 
 class GuardChoice:
@@ -56,7 +53,6 @@ class GuardChoice:
     def __init__(self, group: list[Guard]):
         self.group = group
         self.mixed = len({g.direction for g in group}) > 1
-        self.direction = 0 if self.mixed else group[0].direction
         self.keys = tuple(sorted({k for g in group for k in g.when}))
         self._cache: dict = {}
 

@@ -26,6 +26,7 @@ import time as _time
 import heyoka as hy
 import numpy as np
 
+from .hybrid import call_cfunc, time_derivative
 from .parameters import ParameterError
 
 __all__ = ["Derivatives", "variational_integrator"]
@@ -70,11 +71,6 @@ class Derivatives:
     def _cfunc(self, exprs):
         return hy.cfunc(list(exprs), vars=self.system.sym.state_vars, compact_mode=True)
 
-    @staticmethod
-    def _call(f, y, pars, t):
-        kw = {"time": float(t)} if f.is_time_dependent else {}
-        return f(np.asarray(y, dtype=float), pars=pars[:f.nparams], **kw)
-
     def pars(self, params, flags) -> np.ndarray:
         """The runtime-parameter vector of (params, flags); every method below takes either the
         pair or this vector already built (``flags=None``)."""
@@ -84,7 +80,7 @@ class Derivatives:
 
     def rhs(self, t, y, params, flags) -> np.ndarray:
         """The vector field f(t, y) in the mode ``flags``."""
-        return self._call(self._rhs, y, self.pars(params, flags), t)
+        return call_cfunc(self._rhs, y, self.pars(params, flags), t)
 
     def guard(self, guard, t, y, params, flags):
         """(grad_y g, dg/dt, dg/dp) of a guard surface at (t, y)."""
@@ -92,14 +88,10 @@ class Derivatives:
         if f is None:
             g = guard.expr
             grad = [hy.diff(g, v) for v in self._wrt]
-            exprs = grad + [self.system_time_derivative(g)] + [hy.diff(g, p) for p in self._pars]
+            exprs = grad + [time_derivative(g)] + [hy.diff(g, p) for p in self._pars]
             f = self._guards[guard.name] = self._cfunc(exprs)
-        out = self._call(f, y, self.pars(params, flags), t)
+        out = call_cfunc(f, y, self.pars(params, flags), t)
         return out[:self.n], float(out[self.n]), out[self.n + 1:]
-
-    def system_time_derivative(self, expr):
-        from .hybrid import time_derivative
-        return time_derivative(expr)
 
     def reset(self, guard, t, y, params, flags):
         """(R_y, R_p) of a guard's reset map at y (identity and zero without a reset)."""
@@ -122,5 +114,5 @@ class Derivatives:
         if f is None:
             rows = exprs()
             f = self._maps[key] = self._cfunc([hy.diff(r, v) for r in rows for v in self._wrt + self._pars])
-        J = self._call(f, y, self.pars(params, flags), t).reshape(self.n, self.n + self.m)
+        J = call_cfunc(f, y, self.pars(params, flags), t).reshape(self.n, self.n + self.m)
         return J[:, :self.n], J[:, self.n:]

@@ -332,7 +332,8 @@ class ScalarEngine(Engine):
         """This engine's reusable run, with ``params`` loaded (compiled once per structure)."""
         if self._run is None:
             self._run = HybridRun(self.system, params, np.zeros(len(self.system.states)), tol=self.tol,
-                                  fp_type=self.fp_type, max_events=None)
+                                  fp_type=self.fp_type, max_events=None,
+                                  max_events_per_period=self.max_events_per_period)
         elif self._run.params != params:
             self._run.set_params(**params)
         return self._run
@@ -348,12 +349,10 @@ class ScalarEngine(Engine):
         clock = _time.perf_counter()
         res = OrbitResult()
         run = self.hybrid_run(job.params)
-        run.max_events_per_period = self.max_events_per_period
         run.record_events = False
         k = job.k0
         try:
             run.reset(job.sample_time(k), job.y0, job.flags)
-            run.budget.per_period = self.max_events_per_period
             end_transient = k + job.transient
             while k < end_transient:     # period by period: the event cap counts per period
                 k += 1
@@ -379,7 +378,6 @@ class ScalarEngine(Engine):
                     if not math.isfinite(stretch):
                         break
                     run.reset(run.t, z)          # flags by the system's rule, as a bare map step
-                    run.budget.per_period = self.max_events_per_period
         except Escaped as exc:
             res.status, res.failure, res.failure_time = "escaped", str(exc), exc.t
         except IntegrationFailure as exc:
