@@ -268,31 +268,17 @@ class _Callback:
 class _ClockCallback(_Callback):
     """Lane j reached its next clock instant: the periodic switch and/or a sample.
 
-    The hot path of a sweep (two calls per relay period and lane): the switch instant, the
-    next sample time and whether ``settle`` can act are computed inline here, with the same
-    formulas as :meth:`PeriodicSwitch.instants`, :meth:`OrbitJob.sample_time` and
-    :func:`maps.hybrid.settle_may_act`."""
+    The hot path of a sweep (two calls per relay period and lane): the switch instant and the
+    next sample time are computed inline here, with the same formulas as
+    :meth:`PeriodicSwitch.instants` and :meth:`OrbitJob.sample_time`."""
 
     def __init__(self, eng):
         super().__init__(eng)
         self.sw, self.system = eng.sw, eng.system
         self.i_flag = eng.i_flag[eng.sw.flag] if eng.sw is not None else None
-        system = eng.system
-        self.settles = system.settle is not None
-        self.settle_if = system.settle_if
 
     def _settle(self, eng, lane, j, t) -> bool:
-        """The system's settle after the switch (skipped where settle_if rules it out)."""
-        if not self.settles:
-            return True
-        cond = self.settle_if
-        if cond is not None:
-            flags = lane.flags
-            for k, v in cond:
-                if flags[k] == v:
-                    break
-            else:
-                return True
+        """The system's settle after the switch (maps.transitions.settle: NOTHING where it cannot act)."""
         out = tr.settle(self.system, t, eng.state[:, j], lane.flags, lane.params)
         return out is tr.NOTHING or eng._apply(j, lane, out, t)
 
