@@ -15,6 +15,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from .engines import engine_for, unsupported
 from .engines.base import OrbitJob
 from .engines.scalar import ScalarEngine
 from .hybrid import HybridState, HybridSystem, validate_tol
@@ -336,12 +337,9 @@ class StroboscopicMap:
         if method == "scalar":
             results = self._engine.run(jobs)
         else:
-            from .engines import engine_for
-            kw = dict(batch_size=batch_size, max_events_per_period=self.max_events_per_period)
-            full = engine_for(self.system, self.tol, "batch", observations=True, **kw)
+            full = self._batch_engine(batch_size, observations=True)
             if transient:
-                lean = engine_for(self.system, self.tol, "batch", observations=False, **kw)
-                first = lean.run([replace(j, record=0, log=False) for j in jobs])
+                first = self._batch_engine(batch_size, observations=False).run([replace(j, record=0, log=False) for j in jobs])
                 second = full.run([replace(j, y0=r.final_state, flags=r.final_flags, k0=transient, transient=0)
                                    for j, r in zip(jobs, first)])
                 results = []
@@ -380,10 +378,7 @@ class StroboscopicMap:
         if method == "scalar":
             results = self._engine.run(jobs)
         else:
-            from .engines import engine_for
-            eng = engine_for(self.system, self.tol, "batch", observations=False, batch_size=batch_size,
-                             max_events_per_period=self.max_events_per_period)
-            results = eng.run(jobs)
+            results = self._batch_engine(batch_size, observations=False).run(jobs)
         out = []
         for job, r in zip(jobs, results):
             st = np.full(job.record, np.nan)
@@ -391,8 +386,12 @@ class StroboscopicMap:
             out.append(st)
         return out
 
+    def _batch_engine(self, batch_size: int, observations: bool):
+        """The process-wide batch engine for this system, tolerance and event cap (compiled once)."""
+        return engine_for(self.system, self.tol, "batch", observations=observations, batch_size=batch_size,
+                          max_events_per_period=self.max_events_per_period)
+
     def _method(self, method, batch_size) -> str:
-        from .engines import unsupported
         if method not in ("auto", "batch", "scalar"):
             raise ParameterError(f"method {method!r}; allowed: auto, batch, scalar")
         batchable = unsupported(self.system) is None and self.fp_type is float
