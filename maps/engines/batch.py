@@ -313,7 +313,8 @@ class _ClockCallback(_Callback):
                         lane.recording = job.log
                     eng._sample(j, lane, t)
                 elif k > lane.rec_k and not eng._renormalise(j, lane, t, k - lane.rec_k):
-                    eng._end(j, lane)
+                    if not lane.done:           # a failed stretch ends it as ok; a settle may have ended it already
+                        eng._end(j, lane)
                     return False
                 if lane.done:
                     return False

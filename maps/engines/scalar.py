@@ -360,8 +360,6 @@ class ScalarEngine(Engine):
                 run.budget.new_period()
             if job.reference is None:
                 self._sample(res, run)
-            else:
-                z = job.y0
             run.record_events = job.log
             for i in range(job.record):
                 run.events = []
