@@ -461,16 +461,16 @@ class HybridSystem:
                 given: tuple = ()) -> dict:
         """Flags that follow from the state ``y`` at a start, by the declared rule (those in
         ``given`` are the caller's and are left out)."""
+        y = np.asarray(y, dtype=float)
         if self.mode_rule is not None:
             flags = dict(self.flag_defaults) if flags is None else dict(flags)
-            out = self.mode_rule(np.asarray(y, dtype=float), params, flags, tuple(given)) or {}
-            return {k: v for k, v in out.items() if k not in given}
-        if "contact" in given:
-            return {}
-        g = self.impact_guard
-        if g is None or self.gap is None or not isinstance(g.then, Mapping) or not g.then:
-            return {}
-        return dict(g.then) if self.gap(np.asarray(y, dtype=float), params)[0] < 0 else {}
+            out = self.mode_rule(y, params, flags, tuple(given)) or {}
+        else:
+            g = self.impact_guard
+            beyond = (g is not None and self.gap is not None and isinstance(g.then, Mapping)
+                      and self.gap(y, params)[0] < 0)
+            out = dict(g.then) if beyond else {}
+        return {k: v for k, v in out.items() if k not in given}
 
     def role_of(self, name: str) -> str:
         """The role of a guard or settle event by its name ("other" if unknown)."""

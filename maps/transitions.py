@@ -143,8 +143,7 @@ def fire(system: HybridSystem, guard: Guard, t: float, y: np.ndarray, flags: Map
     else:
         after = dict(flags_guard, **s.changes) if s.changes else dict(flags_guard)
         out.records.append((guard.name, y_minus, out.y if out.y is not None else y_minus, after))
-    out.halted = any(out.changes.get(f, flags.get(f)) for f in system.halt_flags) if out.changes else \
-        halted(system, flags)
+    out.halted = halted(system, {**flags, **out.changes})
     return out
 
 
