@@ -72,17 +72,15 @@ class Derivatives:
         return hy.cfunc(list(exprs), vars=self.system.sym.state_vars, compact_mode=True)
 
     def pars(self, params, flags) -> np.ndarray:
-        """The runtime-parameter vector of (params, flags); every method below takes either the
-        pair or this vector already built (``flags=None``)."""
-        if flags is None:
-            return params
+        """The runtime-parameter vector of (params, flags) that the evaluators below take (build it
+        once per event and mode)."""
         return np.asarray(self.system.par_vector(params, flags), dtype=float)
 
-    def rhs(self, t, y, params, flags) -> np.ndarray:
-        """The vector field f(t, y) in the mode ``flags``."""
-        return call_cfunc(self._rhs, y, self.pars(params, flags), t)
+    def rhs(self, t, y, pars) -> np.ndarray:
+        """The vector field f(t, y) in the mode of ``pars``."""
+        return call_cfunc(self._rhs, y, pars, t)
 
-    def guard(self, guard, t, y, params, flags):
+    def guard(self, guard, t, y, pars):
         """(grad_y g, dg/dt, dg/dp) of a guard surface at (t, y)."""
         f = self._guards.get(guard.name)
         if f is None:
@@ -90,15 +88,14 @@ class Derivatives:
             grad = [hy.diff(g, v) for v in self._wrt]
             exprs = grad + [time_derivative(g)] + [hy.diff(g, p) for p in self._pars]
             f = self._guards[guard.name] = self._cfunc(exprs)
-        out = call_cfunc(f, y, self.pars(params, flags), t)
+        out = call_cfunc(f, y, pars, t)
         return out[:self.n], float(out[self.n]), out[self.n + 1:]
 
-    def reset(self, guard, t, y, params, flags):
+    def reset(self, guard, t, y, pars):
         """(R_y, R_p) of a guard's reset map at y (identity and zero without a reset)."""
         if guard.reset is None:
             return np.eye(self.n), np.zeros((self.n, self.m))
-        return self._jacobian(("reset", guard.name), lambda: self.system.reset_expressions(guard), t, y,
-                              params, flags)
+        return self._jacobian(("reset", guard.name), lambda: self.system.reset_expressions(guard), t, y, pars)
 
     def projection(self, name, t, y, params, flags):
         """(P_y, P_p) of the settle projection named ``name`` (declared in ``system.projections``)."""
@@ -107,12 +104,12 @@ class Derivatives:
             raise ParameterError(f"an exact Jacobian through the settle transition {name!r} needs its projection "
                                  f"declared as expressions (system.projections[{name!r}])")
         key = ("projection", name, tuple(sorted(flags.items())))
-        return self._jacobian(key, lambda: decl(self.system.sym, flags), t, y, params, flags)
+        return self._jacobian(key, lambda: decl(self.system.sym, flags), t, y, self.pars(params, flags))
 
-    def _jacobian(self, key, exprs, t, y, params, flags):
+    def _jacobian(self, key, exprs, t, y, pars):
         f = self._maps.get(key)
         if f is None:
             rows = exprs()
             f = self._maps[key] = self._cfunc([hy.diff(r, v) for r in rows for v in self._wrt + self._pars])
-        J = call_cfunc(f, y, self.pars(params, flags), t).reshape(self.n, self.n + self.m)
+        J = call_cfunc(f, y, pars, t).reshape(self.n, self.n + self.m)
         return J[:, :self.n], J[:, self.n:]

@@ -259,7 +259,8 @@ class VariationalRun(HybridRun):
         n, m = self._n, len(self.wrt)
         Y = np.hstack([np.eye(n), np.zeros((n, m))])
         if self._freq_cols:
-            f = self.derivatives.rhs(t0, self.y, self.params, self.flags)
+            d = self.derivatives
+            f = d.rhs(t0, self.y, d.pars(self.params, self.flags))
             for sw in self.system.switches:
                 col = self._freq_cols.get(sw.flag)
                 if col is not None:
@@ -271,7 +272,7 @@ class VariationalRun(HybridRun):
         if col is None:
             return
         d, y = self.derivatives, self.y
-        jump = d.rhs(t, y, self.params, flags_before) - d.rhs(t, y, self.params, self.flags)
+        jump = d.rhs(t, y, d.pars(self.params, flags_before)) - d.rhs(t, y, d.pars(self.params, self.flags))
         Y = self.sensitivities
         Y[:, col] += jump * (-t / self.params[sw.frequency])
         self.ta.state[self._n:] = Y.ravel()
@@ -281,7 +282,8 @@ class VariationalRun(HybridRun):
         for ``dt1`` {parameter: dt1/dp}."""
         Y = self.sensitivities
         if dt1:
-            f = self.derivatives.rhs(t1, self.y, self.params, self.flags)
+            d = self.derivatives
+            f = d.rhs(t1, self.y, d.pars(self.params, self.flags))
             for name, dt in dt1.items():
                 Y[:, self._n + self.wrt.index(name)] += f * dt
         return Y
@@ -301,14 +303,14 @@ class VariationalRun(HybridRun):
         flags_after = dict(self.flags, **out.changes)
         if guard is not None:
             before, after = d.pars(p, flags_before), d.pars(p, flags_after)    # built once per event
-            R_y, R_p = d.reset(guard, t, y_minus, before, None)
+            R_y, R_p = d.reset(guard, t, y_minus, before)
             if out.projection is not None:
                 here = out.records[0][2]            # the state the guard left, before the projection
                 P_y, P_p = d.projection(out.projection, t, here, p, flags_after)
                 R_y, R_p = P_y @ R_y, P_y @ R_p + P_p
             y_after = out.y if out.y is not None else y_minus
-            grad, g_t, g_p = d.guard(guard, t, y_minus, before, None)
-            Y = tr.saltation(Y, d.rhs(t, y_minus, before, None), d.rhs(t, y_after, after, None),
+            grad, g_t, g_p = d.guard(guard, t, y_minus, before)
+            Y = tr.saltation(Y, d.rhs(t, y_minus, before), d.rhs(t, y_after, after),
                              grad, g_t, g_p, R_y, R_p)
         elif out.projection is not None:            # a projection at a fixed time
             P_y, P_p = d.projection(out.projection, t, self.y, p, flags_after)
