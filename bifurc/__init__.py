@@ -11,6 +11,7 @@ Importing bifurc never selects a matplotlib backend; it registers the ``ds.bifur
 """
 from ._version import __version__
 from ._xarray_hook import register_accessor_with_xarray
+from .branch import continue_orbit
 from .datasets import load
 from .orbit import periodic_orbit, sweep_point
 from .periodic import OrbitNotFound, find_periodic_orbit
@@ -22,4 +23,4 @@ from .sweep import sweep
 register_accessor_with_xarray()  # ds.bifurc, without importing xarray in worker processes
 
 __all__ = ["__version__", "sweep", "load", "plot_diagram", "plot_time_history", "classification_report",
-           "class_at", "periodic_orbit", "sweep_point", "find_periodic_orbit", "OrbitNotFound"]
+           "class_at", "periodic_orbit", "continue_orbit", "sweep_point", "find_periodic_orbit", "OrbitNotFound"]

@@ -23,7 +23,7 @@ from maps.provenance import cf_attrs, recorded
 from .periodic import OrbitNotFound, PeriodicOrbit, find_periodic_orbit
 from .scene import SystemScene, resolve_scene
 
-__all__ = ["periodic_orbit", "sweep_point", "orbit_dataset", "OrbitNotFound"]
+__all__ = ["periodic_orbit", "sweep_point", "orbit_dataset", "first_guess", "multiplier_change", "OrbitNotFound"]
 
 
 def sweep_point(ds, value, *, sample: int = -1, branch=None):
@@ -73,6 +73,20 @@ def periodic_orbit(scene, *, params=None, preset=None, period: int | None = None
     smap = StroboscopicMap(sc.system if isinstance(sc, SystemScene) else sc, values, tol=tol)
     transient = int(validate_value("transient", transient, 0, 1e7))
     newton_tol = 10 * tol if newton_tol is None else validate_value("newton_tol", newton_tol, 0.0, 1.0, low_open=True)
+    start, k0, period = first_guess(smap, sc, x0=x0, transient=transient, start=start, k0=k0, period=period)
+    orbit = find_periodic_orbit(smap, start, period, k0=k0, tol=newton_tol, max_iter=max_iter)
+    err = math.nan
+    if error:
+        tight = StroboscopicMap(sc.system if isinstance(sc, SystemScene) else sc, values, tol=tol / 100)
+        again = find_periodic_orbit(tight, orbit.nodes[0], period, k0=k0, tol=newton_tol, max_iter=max_iter)
+        err = multiplier_change(orbit.multipliers, again.multipliers)
+    return orbit_dataset(orbit, smap, sc, table, multiplier_error=err, seconds=_time.perf_counter() - clock)
+
+
+def first_guess(smap, sc, *, x0=None, transient=0, start=None, k0=None, period=None):
+    """(HybridState, sample k0, period) to start Newton from: ``start`` (a state, a HybridState or
+    :func:`sweep_point`'s pair) at k0, else the end of ``transient`` strobe periods from ``x0``;
+    the period defaults to the forcing period q."""
     if start is not None:
         if isinstance(start, tuple):
             start, k_start = start
@@ -94,16 +108,10 @@ def periodic_orbit(scene, *, params=None, preset=None, period: int | None = None
         period = int(period)
     except (TypeError, ValueError):
         raise ParameterError(f"period must be a whole number of strobe periods, got {period!r}") from None
-    orbit = find_periodic_orbit(smap, start, period, k0=k0, tol=newton_tol, max_iter=max_iter)
-    err = math.nan
-    if error:
-        tight = StroboscopicMap(sc.system if isinstance(sc, SystemScene) else sc, values, tol=tol / 100)
-        again = find_periodic_orbit(tight, orbit.nodes[0], period, k0=k0, tol=newton_tol, max_iter=max_iter)
-        err = _multiplier_change(orbit.multipliers, again.multipliers)
-    return orbit_dataset(orbit, smap, sc, table, multiplier_error=err, seconds=_time.perf_counter() - clock)
+    return start, k0, period
 
 
-def _multiplier_change(a, b) -> float:
+def multiplier_change(a, b) -> float:
     """Largest distance between two multiplier sets, matched greedily (nearest first)."""
     b = list(b)
     worst = 0.0

@@ -18,7 +18,7 @@ from .codes import ClassCode, Status, flag_attrs
 from .grazing import GRAZING_GAP, GRAZING_SPEED
 
 __all__ = ["Variable", "PARAM", "SWEEP", "SWEEP_COORDS", "GRAZING", "HISTORY", "param_attrs", "state_variable", "flag_variable",
-           "ORBIT", "ORBIT_SCALARS"]
+           "ORBIT", "ORBIT_SCALARS", "BRANCH", "SPECIAL", "SPECIAL_KINDS"]
 
 #: placeholder for the swept parameter's dimension
 PARAM = "<param>"
@@ -163,6 +163,48 @@ ORBIT_SCALARS = [
              "smallest distance to the stop over the orbit (< 0: penetration of a compliant stop)"),
     Variable("min_flight_clearance", (), float, np.nan, "m", "lowest free-flight minimum of the gap (inf: none)"),
     Variable("run_seconds", (), float, np.nan, "s", "time spent finding the orbit"),
+]
+
+PT, PM, SP, SPM = ("point",), ("point", "multiplier"), ("special",), ("special", "multiplier")
+#: special points of a branch, in the order of their codes
+SPECIAL_KINDS = ("fold", "period_doubling", "neimark_sacker", "grazing", "impact_lost", "stick_onset",
+                 "signature_change")
+#: a continued branch (bifurc.branch): one row per corrected point (states and flags per node from
+#: state_variable / flag_variable with dims ("point", "node"); the parameter itself is a variable
+#: named after it, dims ("point",))
+BRANCH = [
+    Variable("branch_id", PT, np.int16, -1, "1", "branch the point belongs to (branch_labels attribute)"),
+    Variable("period", PT, np.int32, 0, "1", "period of the orbit in strobe periods (relay periods for relay scenes)"),
+    Variable("multiplier_abs", PM, float, np.nan, "1", "modulus of the Floquet multiplier, by modulus"),
+    Variable("multiplier_arg", PM, float, np.nan, "rad", "argument of the Floquet multiplier"),
+    Variable("stable", PT, np.int8, -1, "1", "all Floquet multipliers inside the unit circle", _yes_no("unstable stable")),
+    Variable("impacts_per_period", PT, np.int32, -1, "1", "contacts in one period of the orbit"),
+    Variable("min_clearance", PT, float, np.nan, "m",
+             "smallest gap to the stop at the nodes, impacts (0) and free-flight minima of the orbit"),
+    Variable("min_flight_clearance", PT, float, np.nan, "m",
+             "lowest free-flight minimum of the gap (the grazing test function; inf: none)"),
+    Variable("signature", PT, str, "", "1",
+             "roles of the events of each strobe period of the orbit (periods separated by ';')"),
+    Variable("newton_iterations", PT, np.int16, -1, "1", "corrector iterations of the point"),
+    Variable("newton_residual", PT, float, np.nan, "1",
+             "largest shooting residual, scaled per state component by the orbit's magnitude"),
+]
+SPECIAL = [
+    Variable("special_kind", SP, np.int8, -1, "1", "kind of special point",
+             (("flag_values", np.arange(len(SPECIAL_KINDS), dtype=np.int8)),
+              ("flag_meanings", " ".join(SPECIAL_KINDS)))),
+    Variable("special_value", SP, float, np.nan, PARAM, "located value of {param}"),
+    Variable("special_tolerance", SP, float, np.nan, PARAM,
+             "uncertainty of the located value (final bracket width or last Newton update; NaN: not located)"),
+    Variable("special_test_function", SP, str, "", "1", "test function whose zero locates the point"),
+    Variable("special_test_value", SP, float, np.nan, "1", "the test function at the located point"),
+    Variable("special_point", SP, np.int32, -1, "1", "index of the branch point after which it lies"),
+    Variable("special_branch", SP, np.int16, -1, "1", "branch_id of the branch it lies on"),
+    Variable("special_multiplier_abs", SPM, float, np.nan, "1", "Floquet multiplier moduli at the located point"),
+    Variable("special_multiplier_arg", SPM, float, np.nan, "rad", "Floquet multiplier arguments at the located point"),
+    Variable("special_multiplier_error", SP, float, np.nan, "1",
+             "largest change of a multiplier when the located orbit is solved again at tol/100 (NaN: not measured)"),
+    Variable("special_note", SP, str, "", "1", "what was found, or why it was not located"),
 ]
 
 T = ("time",)

@@ -106,6 +106,7 @@ class MapLinearization:
     rank: int
     signature: tuple
     compile_seconds: float = 0.0
+    events: tuple = ()          # the step's EventRecords (time, guard, state before and after)
 
 
 def _split(state):
@@ -226,7 +227,8 @@ class StroboscopicMap:
         run.advance(self.sample_time(k + 1, t0))
         return HybridState(run.y, dict(run.flags)) if hybrid else run.y
 
-    def linearize(self, state, k: int = 0, *, params=(), t0: float = 0.0, n: int = 1) -> MapLinearization:
+    def linearize(self, state, k: int = 0, *, params=(), t0: float = 0.0, n: int = 1,
+                  until: float | None = None) -> MapLinearization:
         """``n`` steps (default one) from ``state`` at sample k with their exact derivatives
         (variational equations with saltation at every state event, :mod:`maps.variational`).
 
@@ -238,6 +240,9 @@ class StroboscopicMap:
         With respect to ``relay_hz`` the derivative is taken at a fixed sample index k, with all
         three effects: the start t_k = k/W and end t_{k+n} move, every relay switch n/(2W) moves,
         and so does the mains phase at the start (the forcing is in absolute time).
+
+        ``until`` [s, absolute time, inside the first period]: stop there instead (the state and
+        its derivatives at a fixed time, e.g. a grazing instant; not with ``relay_hz``).
         """
         y, flags, _ = _split(state)
         params = tuple(params)
@@ -252,10 +257,15 @@ class StroboscopicMap:
         run.record_events = True
         run.reset(self.sample_time(k, t0), y, flags)
         n = int(validate_value("n", n, 1, 1e6))
-        for j in range(1, n + 1):
+        if until is not None:
+            if "relay_hz" in params:
+                raise ParameterError("linearize(until=...) takes no derivative with respect to relay_hz")
+            n, t1 = 1, validate_value("until", until, self.sample_time(k, t0), self.sample_time(k + 1, t0), unit="s")
+            run.advance(t1)
+        for j in range(1, n + 1 if until is None else 1):
             run.advance(self.sample_time(k + j, t0))
             run.budget.new_period()
-        t1 = self.sample_time(k + n, t0)
+        t1 = self.sample_time(k + n, t0) if until is None else t1
         moving = {} if self._rate(self.params) is None or "relay_hz" not in params else \
             {"relay_hz": -(t1 - t0) / self.params["relay_hz"]}      # t_k = t0 + k / W
         Y = run.end_time_term(t1, moving)
@@ -264,9 +274,9 @@ class StroboscopicMap:
         sv = np.linalg.svd(J, compute_uv=False)
         rank = int(np.sum(sv > sv[0] * 1e-10)) if sv.size and sv[0] > 0 else 0
         signature = tuple(self.system.role_of(ev.name) for ev in run.events)
-        run.events = []
+        events, run.events = tuple(run.events), []
         return MapLinearization(HybridState(run.y, dict(run.flags)), J, Y[:, n:], rank, signature,
-                                run.compile_seconds)
+                                run.compile_seconds, events)
 
     def jacobian(self, state, k: int = 0, *, eps: float | None = None, t0: float = 0.0,
                  method: str = "exact") -> np.ndarray:

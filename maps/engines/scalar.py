@@ -75,7 +75,8 @@ class HybridRun:
         y0 = system.state_vector(x0)
         self.ta.time = _fp(t0, self.fp_type)
         self.ta.state[:self._n] = np.asarray(y0, dtype=_np_dtype(self.fp_type))
-        self.ta.reset_cooldowns()
+        if self.ta.with_events:          # a system without guards or switches has no event
+            self.ta.reset_cooldowns()
         self.flags = tr.start_flags(system, t0, y0, self.params, flags)
         self._load_pars()
         self._start_sensitivities(t0)

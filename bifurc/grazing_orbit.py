@@ -1,0 +1,131 @@
+"""A grazing periodic orbit: the orbit and its grazing point solved together.
+
+The gap h(t, y) > 0 clear is the impact guard's surface (signed so), its rate along the flow
+r = dh/dt = grad h . f + dh/dt and its acceleration a = dr/dt.  A grazing orbit of period n in
+parameter p satisfies the shooting equations F(z, p) = 0 and, at a time t_g inside the period of
+node j, h(y(t_g)) = 0 and r(y(t_g)) = 0 (the orbit touches the stop with zero normal velocity).
+Unknowns (z, p, t_g), equations (F, h, r): Newton with exact derivatives,
+
+    dh/dz_j = grad h . Phi(t_g),   dh/dp = grad h . Phi_p(t_g) + dh/dp,   dh/dt_g = r,
+    dr/dz_j = grad r . Phi(t_g),   dr/dp = grad r . Phi_p(t_g) + dr/dp,   dr/dt_g = a,
+
+Phi, Phi_p the sensitivities from node j's sample time to t_g (variational equations with
+saltation, :meth:`maps.StroboscopicMap.linearize` with ``until``).  The start is the branch point
+before the event and its free-flight minimum closest to the stop; iterates that would add an
+impact are damped back (the map is not differentiable across the grazing).
+"""
+from __future__ import annotations
+
+import math
+
+import heyoka as hy
+import numpy as np
+
+from maps.hybrid import IntegrationFailure, call_cfunc
+
+__all__ = ["closest_flight_minimum", "locate_grazing", "gap_derivatives"]
+
+
+def gap_derivatives(system, param: str):
+    """f(t, y, pars) -> (h, r, a, grad h, grad r, dh/dp, dr/dp) of the impact guard's gap."""
+    cache = system.__dict__.setdefault("_graze_cfuncs", {})
+    if param not in cache:
+        g = system.impact_guard
+        h = g.expr * (-1.0 if g.direction == 1 else 1.0)
+        r = system.lie_derivative(h)
+        a = system.lie_derivative(r)
+        s = system.sym
+        exprs = [h, r, a] + [hy.diff(h, v) for v in s.state_vars] + [hy.diff(r, v) for v in s.state_vars] \
+            + [hy.diff(h, s[param]), hy.diff(r, s[param])]
+        cache[param] = hy.cfunc(exprs, vars=s.state_vars, compact_mode=True)
+    f, d = cache[param], len(system.states)
+
+    def evaluate(t, y, pars):
+        out = call_cfunc(f, y, pars, t)
+        return out[0], out[1], out[2], out[3:3 + d], out[3 + d:3 + 2 * d], out[3 + 2 * d], out[4 + 2 * d]
+    return evaluate
+
+
+def closest_flight_minimum(problem, pt):
+    """(node j, time [s], gap [state unit]) of the free-flight minimum of ``pt`` nearest the stop."""
+    system = problem.smap.system
+    if system.impact_guard is None or system.gap is None:
+        return None
+    best = None
+    for j, events in enumerate(pt.events):
+        for ev in events:
+            if system.role_of(ev.name) != "flight_minimum":
+                continue
+            gap = system.gap(ev.y_minus, problem.smap.params)[0]
+            if best is None or gap < best[2]:
+                best = (j, ev.t, gap)
+    return best
+
+
+def locate_grazing(problem, prev, *, max_iter: int = 30):
+    """Solve the augmented system from branch point ``prev``; a SpecialPoint ("grazing") or None."""
+    from .continuation import SpecialPoint, _flags_of
+    near = closest_flight_minimum(problem, prev)
+    if near is None:
+        return None
+    j, t_g, _ = near
+    smap, system = problem.smap, problem.smap.system
+    deriv = gap_derivatives(system, problem.param)
+    T = smap.period
+    u, flags = prev.u.copy(), _flags_of(prev)
+    gscale = float(np.max(problem.scale))
+    impacts = prev.impacts
+    last_step = math.inf
+    for it in range(max_iter + 1):
+        try:
+            F, DF, lins = problem.evaluate(u, flags)
+            flags = [dict(lins[i - 1].state.flags) for i in range(problem.n)]
+            node = problem.states(u, flags)[j]
+            L = smap.linearize(node, problem.k0 + j, params=(problem.param,), until=t_g)
+        except (IntegrationFailure, ZeroDivisionError) as exc:
+            return SpecialPoint("grazing", problem.parameter(u), math.nan, "gap and gap rate at t_g", math.nan,
+                                None, note=f"the augmented Newton failed: {exc}")
+        h, r, a, gh, gr, hp, rp = deriv(t_g, L.state.y, np.asarray(system.par_vector(smap.params, L.state.flags), float))
+        G = np.array([h / gscale, r * T / gscale])
+        norm = max(float(np.max(np.abs(F))), float(np.max(np.abs(G))))
+        extra = sum(Lk.signature.count("impact") for Lk in lins) > impacts
+        if norm < problem.tol and not extra:
+            pt = problem.point(u, F, DF, lins, flags, it, prev.tangent)
+            return SpecialPoint("grazing", pt.p, abs(last_step) * problem.p_scale,
+                                "gap h(t_g) and its rate dh/dt(t_g) at the closest free-flight minimum",
+                                float(h), pt, note=f"t_g = {t_g:.12g} s in the period of node {j}")
+        if it == max_iter:
+            break
+        Y = L.J @ problem.co.E * problem.scale                  # d y(t_g) / d (scaled node j)
+        rows = np.zeros((2, u.size + 1))
+        rows[:, j * problem.d:(j + 1) * problem.d] = np.vstack([gh @ Y, gr @ Y]) / gscale
+        rows[:, -2] = np.array([gh @ L.J_p[:, 0] + hp, gr @ L.J_p[:, 0] + rp]) * problem.p_scale / gscale
+        rows[:, -1] = np.array([r, a]) * T / gscale
+        rows[1] *= T
+        A = np.vstack([np.column_stack([DF, np.zeros(DF.shape[0])]), rows])
+        try:
+            step = np.linalg.solve(A, -np.concatenate([F, G]))
+        except np.linalg.LinAlgError:
+            break
+        lam = 1.0
+        while lam > 1e-3:           # damp an iterate that impacts (or grows the residual) back
+            u_try, t_try = u + lam * step[:-1], t_g + lam * step[-1] * T
+            if _clear(problem, u_try, flags, impacts):
+                break
+            lam /= 2
+        u, t_g, last_step = u_try, t_try, lam * step[-2]
+    return SpecialPoint("grazing", problem.parameter(u), math.nan, "gap and gap rate at t_g", math.nan, None,
+                        note=f"the augmented Newton did not converge (residual {norm:.3g})")
+
+
+def _clear(problem, u, flags, impacts) -> bool:
+    """True when the orbit's steps from u have no more impacts than the branch had."""
+    smap = problem.smap
+    try:
+        smap.set_params(**{problem.param: problem.parameter(u)})
+        count = 0
+        for j, s in enumerate(problem.states(u, flags)):
+            count += smap.linearize(s, problem.k0 + j).signature.count("impact")
+    except (IntegrationFailure, ZeroDivisionError):
+        return False
+    return count <= impacts

@@ -1,0 +1,210 @@
+"""Pseudo-arclength continuation of periodic orbits against closed forms derived here.
+
+The restitution oscillator x'' + 2 zeta w0 x' + w0^2 x = F cos(Omega t), x >= e, v -> -r v at
+x = e.  Its 1:1 orbits (one impact per forcing period T) have a closed form: with x_p the
+particular solution and P = exp(A T) the free flight's transition matrix, the flight from
+(e, -r v) at the impact phase th must return to (e, v) one period later.  For a fixed th the
+two conditions are linear in v and affine in e (and in F, x_p being proportional to F), so along
+the family of 1:1 orbits e(th) and F(th) are explicit: the fold is an extremum of e(th) (or
+F(th)), the period doubling the zero of det(P S + I) with the saltation matrix S of the impact.
+"""
+import math
+
+import heyoka as hy
+import numpy as np
+import pytest
+from scipy.linalg import expm
+from scipy.optimize import brentq, minimize_scalar
+
+import bifurc
+import maps
+from maps.hybrid import HybridSystem, State
+from maps.parameters import Parameter, ParameterError
+
+BASE = dict(w0=1.0, zeta=0.05, F=0.5, Omega=2.5, e=0.2, r=0.7)
+
+
+def one_to_one_family(w0, zeta, F, Omega, r, e, free):
+    """(value of ``free`` ('e' or 'F') along the 1:1 family as a function of the impact phase th,
+    impact velocity, multipliers), the other parameters fixed."""
+    T = 2 * math.pi / Omega
+    Al = np.array([[0.0, 1.0], [-w0 * w0, -2 * zeta * w0]])
+    D = (w0 * w0 - Omega * Omega) ** 2 + (2 * zeta * w0 * Omega) ** 2
+    P = expm(Al * T)
+
+    def G(th, e_, F_):
+        a, b = F_ * (w0 * w0 - Omega * Omega) / D, F_ * 2 * zeta * w0 * Omega / D
+        t = th / Omega
+        x, u = a * math.cos(Omega * t) + b * math.sin(Omega * t), Omega * (-a * math.sin(Omega * t) + b * math.cos(Omega * t))
+        v = ((P[0, 0] - 1) * (e_ - x) - P[0, 1] * u) / (P[0, 1] * r)
+        return v - u - P[1, 0] * (e_ - x) - P[1, 1] * (-r * v - u), v
+
+    def value(th):       # G is affine in the free parameter
+        args = (lambda z: (z, F)) if free == "e" else (lambda z: (e, z))
+        g0, g1 = G(th, *args(0.0))[0], G(th, *args(1.0))[0]
+        return -g0 / (g1 - g0)
+
+    def multipliers(th):
+        z = value(th)
+        e_, F_ = (z, F) if free == "e" else (e, z)
+        v = G(th, e_, F_)[1]
+        force = F_ * math.cos(th) - w0 * w0 * e_
+        am, ap = force - 2 * zeta * w0 * v, force + 2 * zeta * w0 * r * v
+        S = np.array([[-r, 0.0], [(ap + r * am) / v, -r]])
+        return np.linalg.eigvals(P @ S), v
+    return value, multipliers
+
+
+def fold_of(value, th_grid, sign, multipliers=None):
+    """The extremum of the family's parameter (sign +1: a maximum) over phases where the orbit is
+    an impact toward the stop (v < 0) at a positive parameter value (with ``multipliers`` given)."""
+    def admissible(t):
+        return multipliers is None or (multipliers(t)[1] < 0 and value(t) > 0)
+    vals = np.array([sign * value(t) if admissible(t) else -np.inf for t in th_grid])
+    i = int(np.nanargmax(vals))
+    res = minimize_scalar(lambda t: -sign * value(t), bounds=(th_grid[i - 1], th_grid[i + 1]), method="bounded",
+                          options={"xatol": 1e-13})
+    return value(res.x)
+
+
+def period_doublings_of(value, multipliers, th_grid):
+    f = [np.real(np.prod(multipliers(t)[0] + 1.0)) for t in th_grid]
+    out = []
+    for k in range(len(th_grid) - 1):
+        if f[k] * f[k + 1] < 0:
+            th = brentq(lambda t: np.real(np.prod(multipliers(t)[0] + 1.0)), th_grid[k], th_grid[k + 1], xtol=1e-15)
+            if abs(multipliers(th)[1]) > 1e-6:          # not the grazing end of the family
+                out.append((value(th), multipliers(th)[1]))
+    return out
+
+
+def specials(ds, kind):
+    code = bifurc.schema.SPECIAL_KINDS.index(kind)
+    return [float(ds.special_value[i]) for i in range(ds.sizes["special"]) if int(ds.special_kind[i]) == code]
+
+
+@pytest.mark.parametrize("zeta", [0.05, 0.0])
+def test_fold_and_period_doubling_equal_the_closed_form(zeta):
+    p = dict(BASE, zeta=zeta)
+    value, mult = one_to_one_family(**{k: p[k] for k in ("w0", "zeta", "F", "Omega", "r", "e")}, free="e")
+    th = np.linspace(0, 2 * math.pi, 4001)
+    fold = fold_of(value, th, +1)
+    pds = period_doublings_of(value, mult, th)
+    pd = [e for e, v in pds if v < 0 and e < 0.2]          # an impact toward the stop, below e = 0.2
+    assert len(pd) == 1
+    up = bifurc.continue_orbit("impact-oscillator", "e", (0.2, 0.6), params=p, error=False)
+    down = bifurc.continue_orbit("impact-oscillator", "e", (0.2, -0.2), params=p, error=False)
+    folds, doublings = specials(up, "fold"), specials(down, "period_doubling")
+    assert len(folds) == 1 and abs(folds[0] - fold) < 1e-8
+    assert len(doublings) == 1 and abs(doublings[0] - pd[0]) < 1e-8
+    # past the fold the branch is the unstable orbit: stable before it, unstable after
+    i = int(up.special_point[0])
+    assert bool(up.stable[i]) and not bool(up.stable[i + 1])
+    assert float(up.special_multiplier_abs[0].max()) == pytest.approx(1.0, abs=1e-6)
+    assert float(down.special_multiplier_arg[0, 0]) == pytest.approx(math.pi, abs=1e-6)
+    assert float(down.special_tolerance[0]) < 1e-9
+
+
+def test_branch_switching_at_the_period_doubling_gives_the_simulated_period_2_orbit():
+    ds = bifurc.continue_orbit("impact-oscillator", "e", (0.2, -0.2), branch_switch=True, error=False,
+                               max_points=60)
+    doubled = ds.where(ds.branch_id == 1, drop=True)
+    assert doubled.sizes["point"] >= 5 and set(doubled.period.values.astype(int)) == {2}
+    stable = doubled.where((doubled.stable == 1) & (doubled.multiplier_abs.max("multiplier") < 0.9), drop=True)
+    j = stable.sizes["point"] // 2
+    e = float(stable.e[j])
+    params = dict(BASE, e=e)
+    system = maps.forced_oscillator_with_stop()
+    smap = maps.StroboscopicMap(system, params, tol=1e-13)
+    node = maps.HybridState(np.array([float(stable.x[j, 0]), float(stable.v[j, 0])]), {"stuck": 0.0})
+    k0 = int(ds.attrs["k0"])
+    on_branch = smap.orbit(node, 2, t0=smap.sample_time(k0) - smap.sample_time(0))
+    assert on_branch.impact_velocity.size == 2 and abs(on_branch.impact_velocity[0] - on_branch.impact_velocity[1]) > 1e-3
+    # started 1e-3 off the orbit, the simulation must settle onto it (another attractor coexists)
+    simulated = smap.orbit({"x": float(stable.x[j, 0]) + 1e-3, "v": float(stable.v[j, 0]) - 1e-3}, 2,
+                           transient=3000)
+    np.testing.assert_allclose(np.sort(simulated.impact_velocity), np.sort(on_branch.impact_velocity), rtol=0,
+                               atol=1e-9)
+
+
+def test_grazing_of_the_non_impacting_orbit_and_the_hysteresis_fold():
+    """Omega = 1.5, e = -0.05: the non-impacting orbit x_p (amplitude F / sqrt(D)) grazes at
+    F_g = -e sqrt(D); the impacting 1:1 family folds at F_fold < F_g (both coexist between)."""
+    p = dict(BASE, Omega=1.5, e=-0.05)
+    D = (1 - 1.5 ** 2) ** 2 + (2 * 0.05 * 1.5) ** 2
+    F_graze = 0.05 * math.sqrt(D)
+    quiet = bifurc.continue_orbit("impact-oscillator", "F", (0.02, 0.3), params=p, x0={"x": 0.0}, error=False)
+    grazes = specials(quiet, "grazing")
+    assert len(grazes) == 1 and abs(grazes[0] - F_graze) < 1e-8
+    assert int(quiet.impacts_per_period.max()) == 0
+    assert abs(float(quiet.special_test_value[0])) < 1e-10
+    value, mult = one_to_one_family(**{k: p[k] for k in ("w0", "zeta", "F", "Omega", "r", "e")}, free="F")
+    F_fold = fold_of(value, np.linspace(0, 2 * math.pi, 4001), -1, mult)
+    assert F_fold < F_graze
+    loud = bifurc.continue_orbit("impact-oscillator", "F", (0.3, 0.0), params=dict(p, F=0.3), error=False)
+    folds = specials(loud, "fold")
+    assert len(folds) == 1 and abs(folds[0] - F_fold) < 1e-8
+    # past the fold the unstable impacting orbit returns toward the grazing, its impact slowing to 0
+    assert abs(float(loud.F[-1]) - F_graze) < 1e-5
+    assert "grazing" in loud.attrs["branch_stop_reasons"]
+
+
+def _negatively_damped_oscillator():
+    def rhs(s):
+        return [s.v, s.F * hy.cos(s.Omega * s.t) - 2 * s.zeta * s.w0 * s.v - s.w0 * s.w0 * s.x]
+    system = HybridSystem("linear-oscillator", states=[State("x", "m", "position"), State("v", "m s-1", "velocity")],
+                          parameters=[Parameter("w0", "rad s-1", "natural angular frequency", 0, 10, low_open=True),
+                                      Parameter("zeta", "1", "damping ratio (negative: energy input)", -1, 1),
+                                      Parameter("F", "m s-2", "forcing amplitude", 0, 10),
+                                      Parameter("Omega", "rad s-1", "forcing frequency", 0, 10, low_open=True)],
+                          rhs=rhs)
+    system.strobe_period = lambda p: 2 * math.pi / p["Omega"]
+    return system
+
+
+def test_neimark_sacker_where_the_damping_changes_sign():
+    """The forced linear oscillator's periodic response has multipliers exp((-zeta w0 +- i w0
+    sqrt(1 - zeta^2)) T): a complex pair whose modulus exp(-zeta w0 T) crosses 1 at zeta = 0."""
+    params = dict(w0=1.0, zeta=0.05, F=0.5, Omega=2.5)
+    D = (1 - 2.5 ** 2) ** 2 + (2 * 0.05 * 2.5) ** 2
+    a, b = 0.5 * (1 - 2.5 ** 2) / D, 0.5 * 2 * 0.05 * 2.5 / D
+    ds = bifurc.continue_orbit(_negatively_damped_oscillator(), "zeta", (0.05, -0.05), params=params,
+                               start=np.array([a, 2.5 * b]), k0=0, error=False)
+    ns = specials(ds, "neimark_sacker")
+    assert len(ns) == 1 and abs(ns[0]) < 1e-8
+    T = 2 * math.pi / 2.5
+    i = int(ds.special_point[0])
+    assert float(ds.multiplier_abs[0, 0]) == pytest.approx(math.exp(-0.05 * T), rel=1e-9)
+    assert bool(ds.stable[i]) and not bool(ds.stable[i + 1])
+
+
+def test_refusals_are_one_line_naming_the_parameter():
+    with pytest.raises(ParameterError, match="relay_hz cannot be continued") as err:
+        bifurc.continue_orbit("thesis-1dof", "relay_hz", (5, 6), preset="matlab-listing")
+    assert "\n" not in str(err.value)
+    with pytest.raises(ParameterError, match="sets the strobe period"):
+        bifurc.continue_orbit("impact-oscillator", "Omega", (2.5, 3.0))
+    with pytest.raises(ParameterError, match="unknown parameter .nope."):
+        bifurc.continue_orbit("impact-oscillator", "nope", (0, 1))
+    with pytest.raises(ParameterError, match="span"):
+        bifurc.continue_orbit("impact-oscillator", "e", (0.2, 0.2))
+    with pytest.raises(ParameterError, match="r"):
+        bifurc.continue_orbit("impact-oscillator", "r", (0.7, 1.5))
+
+
+def test_the_branch_dataset_round_trips_through_netcdf(tmp_path):
+    import xarray as xr
+    ds = bifurc.continue_orbit("impact-oscillator", "e", (0.2, -0.06), max_points=30)
+    path = tmp_path / "branch.nc"
+    bifurc.files.write_netcdf(ds, path)
+    back = xr.open_dataset(path).load()
+    for name in ds.data_vars:
+        assert name in back
+        if ds[name].dtype.kind == "f":
+            np.testing.assert_array_equal(back[name].values, ds[name].values)
+        else:
+            assert (back[name].values == ds[name].values).all()
+        assert back[name].attrs.get("units") is not None and back[name].attrs.get("long_name")
+    assert back.e.attrs["units"] == "m"
+    assert back.attrs["Conventions"].startswith("CF")
+    assert float(back.special_multiplier_error[0]) < 1e-8        # re-solved at tol/100
