@@ -208,3 +208,20 @@ def test_the_branch_dataset_round_trips_through_netcdf(tmp_path):
     assert back.e.attrs["units"] == "m"
     assert back.attrs["Conventions"].startswith("CF")
     assert float(back.special_multiplier_error[0]) < 1e-8        # re-solved at tol/100
+
+
+def test_continue_command_writes_the_branch_and_its_figure(tmp_path, capsys):
+    from bifurc.cli import main
+    out, fig = tmp_path / "branch.nc", tmp_path / "branch.png"
+    code = main(["continue", "--scene", "impact-oscillator", "--param", "e", "--from", "0.2", "--to", "-0.06",
+                 "--max-points", "40", "-o", str(out), "--plot", str(fig)])
+    text = capsys.readouterr()
+    assert code == 0 and out.exists() and fig.stat().st_size > 10_000
+    assert "period_doubling at e = -0.03937025569" in text.out
+    assert "main point: e =" in text.err                      # the progress line
+    assert main(["continue", "--scene", "impact-oscillator", "--param", "e", "--from", "0.2", "--to", "0",
+                 "-o", str(out)]) == 2                         # nothing overwritten without --force
+    assert "--force" in capsys.readouterr().err
+    assert main(["continue", "--scene", "thesis-1dof", "--param", "relay_hz", "--from", "5", "--to", "6"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and "relay_hz cannot be continued" in err

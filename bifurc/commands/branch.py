@@ -1,0 +1,81 @@
+"""`bifurc continue`: follow a periodic orbit in one parameter; locate folds, period doublings,
+Neimark-Sacker points and grazings; optionally switch onto the doubled branch."""
+from ._common import add_force_option, add_scene_options, check_outputs, check_plot, scene_kwargs
+
+
+def register(subparsers):
+    p = subparsers.add_parser("continue", help="continue a periodic orbit in one parameter (pseudo-arclength)",
+                              description="Find a periodic orbit at --from (Newton by multiple shooting) and follow "
+                                          "it toward --to by pseudo-arclength continuation through folds, stable and "
+                                          "unstable parts alike; locate folds (LP), period doublings (PD), "
+                                          "Neimark-Sacker points (NS) and grazings (G); stop where an event makes "
+                                          "the map non-smooth and say why.")
+    add_scene_options(p)
+    p.add_argument("--param", required=True, help="the continuation parameter (not relay_hz under mains forcing)")
+    p.add_argument("--from", dest="p_from", type=float, required=True, help="start value of the parameter")
+    p.add_argument("--to", dest="p_to", type=float, required=True, help="end value of the parameter")
+    p.add_argument("--period", type=int, default=None,
+                   help="period in strobe (relay) periods, a multiple of the forcing period q (default: q)")
+    p.add_argument("--transient", type=int, default=300,
+                   help="strobe periods integrated from --x0 to the first guess (default 300)")
+    p.add_argument("--max-points", type=int, default=200, help="branch points per branch at most (default 200)")
+    p.add_argument("--step", type=float, default=0.02, help="first arclength step, scaled units (default 0.02)")
+    p.add_argument("--branch-switch", action="store_true",
+                   help="follow the doubled branch from each located period doubling")
+    p.add_argument("--no-error", action="store_true",
+                   help="skip the re-solve at tol/100 at the special points (multiplier error)")
+    p.add_argument("--diagram", default=None, help="a diagram.nc of the same parameter to draw behind the branch")
+    p.add_argument("-o", "--output", default=None, help="netCDF file to write (branch.nc)")
+    p.add_argument("--plot", default=None, help="figure file to write (branch.png)")
+    add_force_option(p)
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    import sys
+
+    from ..branch import continue_orbit
+    from ..files import write_netcdf
+    from ..periodic import OrbitNotFound
+    from ..schema import SPECIAL_KINDS
+    if args.output:
+        check_outputs(args, args.output)
+    check_plot(args)
+    diagram = None
+    if args.diagram:
+        from ..datasets import load
+        diagram = load(args.diagram)
+    kw = scene_kwargs(args)
+    params = kw.pop("params")
+
+    def progress(line):
+        print(f"  {line}", file=sys.stderr, flush=True)
+    try:
+        ds = continue_orbit(args.scene, args.param, (args.p_from, args.p_to), params=params, period=args.period,
+                            transient=args.transient, max_points=args.max_points, step=args.step,
+                            branch_switch=args.branch_switch, error=not args.no_error, progress=progress, **kw)
+    except OrbitNotFound as exc:
+        print(f"no periodic orbit found at {args.param} = {args.p_from:g}: {exc.reason}")
+        return 1
+    par = args.param
+    print(f"{ds.attrs['scene']}: {ds.sizes['point']} branch points in {par} from {float(ds[par][0]):.6g}, "
+          f"{ds.attrs['run_seconds']:.1f} s, {ds.attrs['newton_iterations_total']} Newton iterations")
+    for label, reason in zip(ds.attrs["branch_labels"].split(" | "), ds.attrs["branch_stop_reasons"].split(" | ")):
+        print(f"  {label}: {reason}")
+    for i in range(ds.sizes["special"]):
+        kind = SPECIAL_KINDS[int(ds.special_kind[i])]
+        tol = float(ds.special_tolerance[i])
+        err = float(ds.special_multiplier_error[i])
+        print(f"  {kind} at {par} = {float(ds.special_value[i]):.12g}"
+              f"{'' if tol != tol else f' (+- {tol:.2g})'}; multipliers |mu| "
+              + ", ".join(f"{m:.6g}" for m in ds.special_multiplier_abs.values[i])
+              + ("" if err != err else f"; multiplier error {err:.2g}")
+              + (f"; {ds.special_note.values[i]}" if str(ds.special_note.values[i]) else ""))
+    if args.output:
+        write_netcdf(ds, args.output, overwrite=args.force)
+        print(f"  wrote {args.output}")
+    if args.plot:
+        from ..plot_branch import plot_branch
+        plot_branch(ds, args.plot, diagram=diagram, overwrite=args.force)
+        print(f"  wrote {args.plot}")
+    return 0
