@@ -124,6 +124,7 @@ def _switch(smap, problem, sp, span, step, max_step, max_points, say):
     """Follow the period-2n branch born at the period doubling ``sp``: start on the doubled orbit,
     tangent along the multiplier -1's eigenvector v at node 0 (v_{j+1} = J_j v_j, then -v)."""
     pt = sp.point
+    smap.phase = pt.phase                     # the section the period doubling was located in
     M = np.eye(problem.d)
     for J in pt.jacobians:
         M = J @ M
@@ -134,7 +135,7 @@ def _switch(smap, problem, sp, span, step, max_step, max_points, say):
         vs.append(v / problem.scale)
         v = J @ v
     t = np.concatenate(vs + [-x for x in vs] + [np.zeros(1)])
-    doubled = ContinuationProblem(smap, problem.param, 2 * problem.n, problem.k0, scale=problem.scale,
+    doubled = ContinuationProblem(smap, problem.param, 2 * problem.n, pt.k0, scale=problem.scale,
                                   p_scale=problem.p_scale, p_ref=problem.p_ref, tol=problem.tol)
     start = SimpleNamespace(nodes=list(pt.nodes) * 2)
     label = f"period-{2 * problem.n} from the period doubling at {problem.param} = {sp.p:.8g}"
@@ -147,9 +148,9 @@ def _switch(smap, problem, sp, span, step, max_step, max_points, say):
 def _multiplier_error(system, values, param, sp, br, tol, newton_tol) -> float:
     if sp.point is None or not math.isfinite(sp.tolerance):
         return math.nan                 # not located: the point is only the last one before the event
-    tight = StroboscopicMap(system, dict(values, **{param: sp.p}), tol=tol / 100)
+    tight = StroboscopicMap(system, dict(values, **{param: sp.p}), tol=tol / 100, phase=sp.point.phase)
     try:
-        again = find_periodic_orbit(tight, sp.point.nodes[0], br.period, k0=br.k0, tol=newton_tol)
+        again = find_periodic_orbit(tight, sp.point.nodes[0], br.period, k0=sp.point.k0, tol=newton_tol)
     except OrbitNotFound:
         return math.nan
     return multiplier_change(sp.point.multipliers, again.multipliers)
@@ -224,6 +225,8 @@ def branch_dataset(branches, problem, scene, table, *, seconds=math.nan):
     put("signature", [";".join(",".join(s) for s in pt.signatures) for _, pt in points])
     put("newton_iterations", [pt.iterations for _, pt in points])
     put("newton_residual", [pt.residual for _, pt in points])
+    put("section_phase", [pt.phase for _, pt in points])
+    put("section_k0", [pt.k0 for _, pt in points])
     if problem.co.a is not None:
         anchor = system.state_names[problem.co.a]
         ds["advance_per_period"] = ("point", np.array([pt.advance for _, pt in points]), {

@@ -25,6 +25,7 @@ by solving the augmented system orbit + grazing point (:func:`bifurc.grazing_orb
 """
 from __future__ import annotations
 
+import contextlib
 import math
 import time as _time
 from dataclasses import dataclass, field
@@ -64,6 +65,8 @@ class BranchPoint:
     residual: float
     events: list                # per node, the step's EventRecords
     advance: float = 0.0
+    phase: float = 0.0          # the strobe section: node j at t = (k0 + j + phase) T
+    k0: int = 0
 
     @property
     def stable(self) -> bool:
@@ -157,8 +160,8 @@ class ContinuationProblem:
 
     def correct(self, u_pred, normal, flags, *, max_iter: int = 10):
         """Newton on [F(u); normal . (u - u_pred)] = 0 from u_pred: converged when the scaled
-        residual is below ``tol``, or below 100 tol with a Newton update below tol (the noise floor
-        of the integration, amplified by large multipliers near a grazing).
+        residual is below ``tol``, or below 100 tol when the iteration stalls or its update falls
+        below tol (the integration's noise floor, amplified by large multipliers near a grazing).
 
         Returns (u, F, DF, lins, flags, iterations) or raises _NoConvergence."""
         u = u_pred.copy()
@@ -173,9 +176,10 @@ class ContinuationProblem:
             norm = float(np.max(np.abs(F)))
             if not math.isfinite(norm):
                 raise _NoConvergence("non-finite residual")
-            if norm < self.tol:
-                return u, F, DF, lins, flags, it
-            if it == max_iter or (it >= 3 and norm > 0.5 * last):
+            stalled = it >= 2 and norm > 0.5 * last
+            if norm < self.tol or (stalled and norm < 100 * self.tol):
+                return u, F, DF, lins, flags, it     # converged, or at the integration's noise floor
+            if it == max_iter or (it >= 3 and stalled):
                 raise _NoConvergence(f"the corrector stalled at scaled residual {norm:.3g} after {it} iterations")
             last = norm
             A = np.vstack([DF, normal])
@@ -201,7 +205,7 @@ class ContinuationProblem:
                            tangent=self.tangent(DF, reference) if tangent is None else tangent / np.linalg.norm(tangent),
                            iterations=iterations,
                            residual=float(np.max(np.abs(F))), events=[list(L.events) for L in lins],
-                           advance=advance)
+                           advance=advance, phase=self.smap.phase, k0=self.k0)
 
 
 class _NoConvergence(RuntimeError):
@@ -240,10 +244,14 @@ def _complex_pair_on_circle(pt: BranchPoint, tol: float = 1e-6) -> bool:
 def continue_branch(problem: ContinuationProblem, orbit: PeriodicOrbit, p_start: float, p_end: float, *,
                     step: float = 0.02, max_step: float = 0.1, min_step: float = 1e-7, max_points: int = 200,
                     max_turn: float = 0.3, tangent=None, label: str = "main", progress=None,
-                    locate: bool = True, bounds=None) -> Branch:
+                    locate: bool = True, bounds=None, section_margin: float = 0.02,
+                    max_resections: int = 50) -> Branch:
     """Follow ``orbit`` (at p_start) toward p_end until it leaves [p_start, p_end] (or the interval
     of the two), ``max_points`` points are taken, or a non-smooth event or a corrector failure at
-    ``min_step`` stops it (``Branch.stop_reason`` says which).  ``tangent``: a start direction
+    ``min_step`` stops it (``Branch.stop_reason`` says which).  When a state-changing event comes
+    within ``section_margin`` strobe periods of a sample time, the section moves (the map's phase)
+    to the middle of the widest event-free interval of the period, at most ``max_resections`` times:
+    an event crossing the section would move between periods and break the map's smoothness.  ``tangent``: a start direction
     (scaled unknowns; branch switching), else the null vector pointing toward p_end; ``bounds``:
     the interval to stay in, if not [p_start, p_end]."""
     clock = _time.perf_counter()
@@ -262,6 +270,7 @@ def continue_branch(problem: ContinuationProblem, orbit: PeriodicOrbit, p_start:
         return branch
     branch.points.append(problem.point(u, F, DF, lins, flags, its, reference, tangent=tangent))
     h = float(step)
+    resections = 0
     while len(branch.points) < max_points:
         prev = branch.points[-1]
         u_pred = prev.u + h * prev.tangent
@@ -297,6 +306,12 @@ def continue_branch(problem: ContinuationProblem, orbit: PeriodicOrbit, p_start:
                 if sp is not None:
                     sp.index = len(branch.points) - 2
                     branch.special.append(sp)
+        if resections < max_resections and _event_at_section(problem, pt, within=section_margin):
+            moved = _resection(problem, pt)
+            if moved is not None:            # the same orbit, sampled where no event happens
+                resections += 1
+                branch.points.append(moved)
+                pt = moved
         if not lo - 1e-12 * max(1.0, abs(lo)) <= pt.p <= hi + 1e-12 * max(1.0, abs(hi)):
             branch.stop_reason = f"left the interval [{lo:.6g}, {hi:.6g}] at {problem.param} = {pt.p:.10g}"
             break
@@ -348,7 +363,23 @@ def _detect(problem, a: BranchPoint, b: BranchPoint, kind: str) -> SpecialPoint 
 
 
 def _locate(problem, a: BranchPoint, b: BranchPoint, fn, kind, *, max_iter: int = 40):
-    """Illinois false position on the arclength from a toward b for a zero of ``fn``."""
+    """Illinois false position on the arclength from a toward b (one section) for a zero of ``fn``."""
+    with in_section(problem, a):
+        return _false_position(problem, a, b, fn, kind, max_iter)
+
+
+@contextlib.contextmanager
+def in_section(problem, pt):
+    """Work in the strobe section of branch point ``pt`` (phase and k0), then restore the problem's."""
+    section = (problem.smap.phase, problem.k0)
+    problem.smap.phase, problem.k0 = pt.phase, pt.k0
+    try:
+        yield
+    finally:
+        problem.smap.phase, problem.k0 = section
+
+
+def _false_position(problem, a, b, fn, kind, max_iter):
     s_lo, s_hi = 0.0, float(a.tangent @ (b.u - a.u))
     f_lo, f_hi = fn(a), fn(b)
     p_lo, p_hi = a.p, b.p
@@ -400,6 +431,42 @@ def _event_at_section(problem, pt, within: float = 1e-5) -> bool:
     return False
 
 
+def _resection(problem, pt):
+    """The branch point ``pt`` sampled in a new section: the phase moves to the middle of the widest
+    interval of the period free of state-changing events; the nodes are integrated there and
+    corrected at the same parameter.  None when that fails."""
+    smap, T = problem.smap, problem.smap.period
+    phases = [0.0]
+    for j, evs in enumerate(pt.events):
+        t0 = smap.sample_time(problem.k0 + j)
+        phases += [((ev.t - t0) / T) % 1.0 for ev in evs if smap.system.role_of(ev.name) not in SMOOTH_ROLES]
+    ph = np.sort(np.array(phases))
+    gaps = np.diff(np.append(ph, ph[0] + 1.0))
+    i = int(np.argmax(gaps))
+    shift = (ph[i] + 0.5 * gaps[i]) % 1.0
+    if shift == 0.0:
+        return None
+    old = (smap.phase, problem.k0)
+    try:
+        smap.set_params(**{problem.param: pt.p})
+        nodes = []
+        for j, node in enumerate(pt.nodes):
+            t = smap.sample_time(problem.k0 + j) + shift * T
+            L = smap.linearize(node, problem.k0 + j, until=min(t, smap.sample_time(problem.k0 + j + 1)))
+            nodes.append(L.state)
+        phase = smap.phase + shift
+        smap.phase, problem.k0 = (phase - 1.0, problem.k0 + 1) if phase >= 1.0 else (phase, problem.k0)
+        e_p = np.zeros(pt.u.size)
+        e_p[-1] = 1.0
+        u, F, DF, lins, flags, its = problem.correct(problem.pack(nodes, pt.p), e_p,
+                                                     [dict(s.flags or {}) for s in nodes])
+        reference = pt.tangent[-1] * e_p if abs(pt.tangent[-1]) > 1e-3 else e_p
+        return problem.point(u, F, DF, lins, flags, its, reference)
+    except (_NoConvergence, IntegrationFailure, ParameterError):
+        smap.phase, problem.k0 = old
+        return None
+
+
 def _slowest_impact(problem, pt) -> float:
     gap = problem.smap.system.gap
     speeds = [abs(gap(ev.y_minus, problem.smap.params)[1]) for evs in pt.events for ev in evs
@@ -413,7 +480,8 @@ def _discontinuity(problem, prev: BranchPoint, pt: BranchPoint | None) -> Specia
     from .grazing_orbit import closest_flight_minimum, locate_grazing
     born = pt is not None and pt.impacts > prev.impacts
     if closest_flight_minimum(problem, prev) is not None and (born or pt is None):
-        return locate_grazing(problem, prev)
+        with in_section(problem, prev):
+            return locate_grazing(problem, prev)
     if pt is None or _crosses_section(prev.transitions, pt.transitions) or _event_at_section(problem, prev):
         return None
     kind = "signature_change"

@@ -22,6 +22,7 @@ import heyoka as hy
 import numpy as np
 
 from maps.hybrid import IntegrationFailure, call_cfunc
+from maps.parameters import ParameterError
 
 __all__ = ["closest_flight_minimum", "locate_grazing", "gap_derivatives"]
 
@@ -81,8 +82,11 @@ def locate_grazing(problem, prev, *, max_iter: int = 30):
             F, DF, lins = problem.evaluate(u, flags)
             flags = [dict(lins[i - 1].state.flags) for i in range(problem.n)]
             node = problem.states(u, flags)[j]
+            t_end = smap.sample_time(problem.k0 + j + 1)
+            if not smap.sample_time(problem.k0 + j) <= t_g <= t_end:
+                raise IntegrationFailure(f"the grazing time left the period of node {j}")
             L = smap.linearize(node, problem.k0 + j, params=(problem.param,), until=t_g)
-        except (IntegrationFailure, ZeroDivisionError) as exc:
+        except (IntegrationFailure, ZeroDivisionError, ParameterError) as exc:
             return SpecialPoint("grazing", problem.parameter(u), math.nan, "gap and gap rate at t_g", math.nan,
                                 None, note=f"the augmented Newton failed: {exc}")
         h, r, a, gh, gr, hp, rp = deriv(t_g, L.state.y, np.asarray(system.par_vector(smap.params, L.state.flags), float))

@@ -122,7 +122,8 @@ def find_periodic_orbit(smap, start, period: int, *, k0: int = 0, tol: float = 1
     at sample k0: the first guess of the nodes is the map's own iteration from it).
 
     Converged when the largest residual, scaled per state component by the orbit's magnitude
-    (at least ``atol``), is below ``tol``.  Raises :class:`OrbitNotFound` with the reason
+    (at least ``atol``), is below ``tol``, or below 100 tol with a Newton update below tol or no
+    step reducing it (the noise floor of the integration, amplified by large multipliers).  Raises :class:`OrbitNotFound` with the reason
     otherwise, and :class:`~maps.parameters.ParameterError` for a period that is not a multiple
     of the forcing period q (or q = 0: the forcing never repeats).
     """
@@ -171,6 +172,9 @@ def find_periodic_orbit(smap, start, period: int, *, k0: int = 0, tol: float = 1
             raise OrbitNotFound(f"singular Jacobian at iteration {it} (condition number {cond:.3g}): a fold, "
                                 f"a grazing or a stick makes the orbit degenerate", it, norm)
         step = np.linalg.solve(M, -res).reshape(n, d) * scale
+        if norm < 100 * tol and float(np.max(np.abs(step / scale))) < tol:
+            # the integration's noise floor (amplified by large multipliers): the update is below tol
+            return _solution(nodes, lins, k0, n, norm, it, scale, clock, co)
         lam, accepted = 1.0, False
         while lam >= 1.0 / 64:
             trial = [HybridState(co.embed(co.reduce(nodes[j].y) + lam * step[j]), nodes[j].flags) for j in range(n)]
@@ -185,6 +189,8 @@ def find_periodic_orbit(smap, start, period: int, *, k0: int = 0, tol: float = 1
                 break
             lam /= 2
         if not accepted:
+            if norm < 100 * tol:         # at the noise floor: no step reduces a residual that is already noise
+                return _solution(nodes, lins, k0, n, norm, it, scale, clock, co)
             changing = len({tuple(s) for s in signatures_seen[-3:]}) > 1
             why = ("the transition signature keeps changing (an impact born or lost between iterates)"
                    if changing else "the residual stalled: no step along the Newton direction reduces it")

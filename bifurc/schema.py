@@ -188,6 +188,9 @@ BRANCH = [
     Variable("newton_iterations", PT, np.int16, -1, "1", "corrector iterations of the point"),
     Variable("newton_residual", PT, float, np.nan, "1",
              "largest shooting residual, scaled per state component by the orbit's magnitude"),
+    Variable("section_phase", PT, float, np.nan, "1",
+             "phase of the strobe section: node j is the state at t = (section_k0 + j + section_phase) T"),
+    Variable("section_k0", PT, np.int64, -1, "1", "strobe sample index of node 0"),
 ]
 SPECIAL = [
     Variable("special_kind", SP, np.int8, -1, "1", "kind of special point",

@@ -117,12 +117,12 @@ def test_branch_switching_at_the_period_doubling_gives_the_simulated_period_2_or
     system = maps.forced_oscillator_with_stop()
     smap = maps.StroboscopicMap(system, params, tol=1e-13)
     node = maps.HybridState(np.array([float(stable.x[j, 0]), float(stable.v[j, 0])]), {"stuck": 0.0})
-    k0 = int(ds.attrs["k0"])
-    on_branch = smap.orbit(node, 2, t0=smap.sample_time(k0) - smap.sample_time(0))
+    t0 = (int(stable.section_k0[j]) + float(stable.section_phase[j])) * smap.period     # node 0's time
+    on_branch = smap.orbit(node, 2, t0=t0)
     assert on_branch.impact_velocity.size == 2 and abs(on_branch.impact_velocity[0] - on_branch.impact_velocity[1]) > 1e-3
     # started 1e-3 off the orbit, the simulation must settle onto it (another attractor coexists)
     simulated = smap.orbit({"x": float(stable.x[j, 0]) + 1e-3, "v": float(stable.v[j, 0]) - 1e-3}, 2,
-                           transient=3000)
+                           transient=3000, t0=t0)
     np.testing.assert_allclose(np.sort(simulated.impact_velocity), np.sort(on_branch.impact_velocity), rtol=0,
                                atol=1e-9)
 
