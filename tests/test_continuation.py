@@ -225,3 +225,26 @@ def test_continue_command_writes_the_branch_and_its_figure(tmp_path, capsys):
     assert main(["continue", "--scene", "thesis-1dof", "--param", "relay_hz", "--from", "5", "--to", "6"]) == 2
     err = capsys.readouterr().err.strip()
     assert err.count("\n") == 0 and "relay_hz cannot be continued" in err
+
+
+def test_stable_intervals_of_a_branch():
+    """The study's reading of a branch: runs of consecutive stable points with one (period, impacts)."""
+    import xarray as xr
+
+    from bifurc.studies.thesis_orbits import stable_intervals
+    ds = xr.Dataset({"V": ("point", [1.0, 2.0, 3.0, 4.0, 5.0, 6.0]), "stable": ("point", [1, 1, 0, 1, 1, 1]),
+                     "period": ("point", [1, 1, 1, 1, 1, 2]), "impacts_per_period": ("point", [1, 1, 1, 2, 2, 4])})
+    assert stable_intervals(ds) == [(1.0, 2.0, 1, 1), (4.0, 5.0, 1, 2), (6.0, 6.0, 2, 4)]
+
+
+@pytest.mark.slow
+def test_quick_thesis_orbits_study_writes_its_report(tmp_path):
+    """`bifurc study thesis-orbits --quick`: under the measured law at 10 Hz the 6-impact period-1
+    orbit from 90 V loses stability by period doubling near 98.36 V and folds near 84.59 V."""
+    from bifurc.cli import main
+    assert main(["study", "thesis-orbits", "--quick", "-o", str(tmp_path)]) == 0
+    text = (tmp_path / "report.md").read_text()
+    assert "## DC law `measured`, relay 10 Hz" in text and "## Where the thesis model hammers periodically" in text
+    assert "period_doubling at V = 98.36" in text and "fold at V = 84.59" in text
+    assert (tmp_path / "orbits_measured_10Hz.png").stat().st_size > 20_000
+    assert main(["study", "thesis-orbits", "--quick", "-o", str(tmp_path)]) == 2     # not empty: refused

@@ -12,7 +12,8 @@ import math
 import sys
 from pathlib import Path
 
-STUDIES = {"thesis-1dof-relay": "bifurc.studies.thesis_1dof_relay", "thesis-replay": "bifurc.studies.thesis_replay"}
+STUDIES = {"thesis-1dof-relay": "bifurc.studies.thesis_1dof_relay", "thesis-replay": "bifurc.studies.thesis_replay",
+           "thesis-orbits": "bifurc.studies.thesis_orbits"}
 
 
 def load_study(name):
@@ -33,15 +34,15 @@ def run_study(name, out, quick=False, progress=True, cases=None, overwrite=False
     from bifurc.report import classification_report
     from bifurc.sweep import sweep
     study = load_study(name)
-    if hasattr(study, "run"):          # a study with its own runner (thesis-replay: report.md and figures)
-        return study.run(out, quick=quick, progress=progress)
-    size = study.QUICK if quick else study.FULL
     out = Path(out)
     if out.exists() and not out.is_dir():
         raise NotADirectoryError(f"{out} is a file, not a folder")
     held = sorted(p.name for p in out.iterdir() if not p.name.endswith(".parts")) if out.is_dir() else []
     if held and not overwrite:
         raise FileExistsError(f"{out} is not empty ({len(held)} entries, e.g. {held[0]}); {hint} to write into it")
+    if hasattr(study, "run"):          # a study with its own runner (report.md and figures)
+        return study.run(out, quick=quick, progress=progress, overwrite=overwrite)
+    size = study.QUICK if quick else study.FULL
     out.mkdir(parents=True, exist_ok=True)
     results = {}
     for case, preset, overrides in study.CASES:

@@ -316,8 +316,9 @@ def report(rows, wells, quick, seconds, physical=()) -> str:
     return "\n".join(lines)
 
 
-def run(out, quick=False, progress=True) -> dict:
-    """Every replay into folder ``out``: ``report.md``, ``replay_<V>V.png``, ``replay.csv``."""
+def run(out, quick=False, progress=True, overwrite=False) -> dict:
+    """Every replay into folder ``out``: ``report.md``, ``replay_<V>V.png``, ``replay.csv`` (the caller,
+    :func:`bifurc.studies.run.run_study`, refuses a folder that is not empty unless ``overwrite``)."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     size = QUICK if quick else FULL

@@ -1,0 +1,190 @@
+"""Where does the 1-DOF thesis model hammer periodically?  Answered by continuation, not only by
+simulation.
+
+For each DC-force law (MODEL.md section 1: `listing`, `fit`, `measured`) and relay frequency 5 and
+10 Hz (q = 1: the mains forcing repeats every relay period), periodic orbits are found by Newton's
+method from simulations started at several voltages (``seeds``) and from the sweep's values
+classified periodic (``sweep_seeds`` of them, skipped when a stable branch already holds them) and
+continued in the AC voltage V
+over 25-300 V by pseudo-arclength (:func:`bifurc.continue_orbit`), stable and unstable parts
+alike, with folds, period doublings, Neimark-Sacker points and grazings located.  Beside each, the
+brute-force classes of a sweep in V (:func:`bifurc.sweep`, same law and relay frequency).  The
+matlab-listing numbers throughout (Table C.1); the DC law is the only thing that changes.
+Nothing is tuned to agree with the thesis.
+"""
+from __future__ import annotations
+
+import math
+import time as _time
+from pathlib import Path
+
+import numpy as np
+
+NAME = "thesis-orbits"
+SCENE = "thesis-1dof"
+PRESET = "matlab-listing"
+LAWS = ("listing", "fit", "measured")
+V_RANGE = (25.0, 300.0)
+FULL = dict(relays=(5.0, 10.0), laws=LAWS, seeds=(25.0, 50.0, 90.0, 150.0, 200.0, 300.0), max_points=200,
+            sweep_n=56, sweep_seeds=6, transient=300, record=100)
+QUICK = dict(relays=(10.0,), laws=("listing", "measured"), seeds=(90.0, 200.0), max_points=40, sweep_n=12,
+             sweep_seeds=2, transient=100, record=40)
+
+
+def run(out, quick=False, progress=True, overwrite=False) -> dict:
+    """Every case into folder ``out``: ``report.md``, ``orbits_<law>_<hz>Hz.png``, ``branches_*.nc``."""
+    import matplotlib
+    if "matplotlib.pyplot" not in __import__("sys").modules:
+        matplotlib.use("Agg")
+    from bifurc.files import write_netcdf, write_text
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    size = QUICK if quick else FULL
+    clock = _time.perf_counter()
+    cases = []
+    for law in size["laws"]:
+        for hz in size["relays"]:
+            case = _case(law, hz, size, progress)
+            for k, ds in enumerate(case["branches"]):
+                write_netcdf(ds, out / f"branches_{law}_{hz:g}Hz_{k}.nc", overwrite=overwrite)
+            _figure(case, out / f"orbits_{law}_{hz:g}Hz.png", overwrite)
+            cases.append(case)
+    seconds = _time.perf_counter() - clock
+    write_text(out / "report.md", report(cases, quick, seconds), overwrite=overwrite)
+    return {"cases": cases, "seconds": seconds}
+
+
+def _case(law, hz, size, progress) -> dict:
+    from bifurc import continue_orbit, sweep
+    from bifurc.periodic import OrbitNotFound
+    from maps.parameters import ParameterError
+    params = {"relay_hz": hz}
+    diagram = sweep(SCENE, "V", np.linspace(*V_RANGE, size["sweep_n"]), preset=PRESET, dc_law=law, params=params,
+                    transient=size["transient"], record=size["record"], progress=False)
+    branches, misses = [], []
+    seeds = [(float(V), None) for V in size["seeds"]] + _periodic_values(diagram, size["sweep_seeds"])
+    for seed, start in seeds:
+        if start is not None and _on_stable_branch(branches, seed, start[2]):
+            continue                       # the sweep's orbit lies on a branch already followed
+        for end in (V_RANGE[1], V_RANGE[0]):
+            if end == seed:
+                continue
+            try:
+                ds = continue_orbit(SCENE, "V", (seed, end), preset=PRESET, dc_law=law, params=params,
+                                    transient=size["transient"], max_points=size["max_points"],
+                                    start=None if start is None else start[:2],
+                                    period=None if start is None else start[2][0])
+            except (OrbitNotFound, ParameterError) as exc:
+                misses.append((seed, "the sweep point" if start else "the simulation",
+                               getattr(exc, "reason", str(exc))))
+                break
+            branches.append(ds)
+            if progress:
+                print(f"{law:8s} {hz:g} Hz, from V = {seed:g} toward {end:g}: {ds.sizes['point']} points, "
+                      f"{ds.sizes['special']} special, {ds.attrs['run_seconds']:.1f} s", flush=True)
+    return {"law": law, "hz": hz, "diagram": diagram, "branches": branches, "misses": misses}
+
+
+def _periodic_values(diagram, at_most) -> list:
+    """[(V, (HybridState, k, (period, impacts)))] of up to ``at_most`` sweep values classified periodic."""
+    from bifurc import sweep_point
+    d = diagram.isel(branch=0)
+    out = []
+    for V, n, m in zip(d.V.values, d.period.values, d.impacts_per_period.values):
+        if n > 0 and len(out) < at_most:
+            state, k = sweep_point(diagram, float(V))
+            out.append((float(V), (state, k, (int(n), int(m)))))
+    return out
+
+
+def _on_stable_branch(branches, V, key) -> bool:
+    return any(lo <= V <= hi and (n, m) == tuple(key) for ds in branches for lo, hi, n, m in stable_intervals(ds))
+
+
+def stable_intervals(ds) -> list:
+    """[(V_low, V_high, period, impacts)] of consecutive stable points with one period and impact count."""
+    out, run = [], None
+    for V, st, n, m in zip(ds.V.values, ds.stable.values, ds.period.values, ds.impacts_per_period.values):
+        key = (int(n), int(m))
+        if st == 1 and run is not None and run[2:] == key:
+            run = (min(run[0], V), max(run[1], V)) + key
+            continue
+        if run is not None:
+            out.append(run)
+        run = (V, V) + key if st == 1 else None
+    if run is not None:
+        out.append(run)
+    return out
+
+
+def report(cases, quick, seconds) -> str:
+    from bifurc.report import class_at
+    from bifurc.schema import SPECIAL_KINDS
+    lines = [f"# {NAME}: periodic orbits of thesis-1dof continued in V ({'quick' if quick else 'full'} run)", "",
+             f"Scene {SCENE}, preset {PRESET} (Table C.1), V over {V_RANGE[0]:g}-{V_RANGE[1]:g} V; relay frequency and "
+             f"DC-force law per section.  Orbits are solved by Newton's method by multiple shooting with exact "
+             f"Jacobians and followed by pseudo-arclength continuation (`bifurc.continue_orbit`); the classes "
+             f"beside them come from a brute-force sweep in V (`bifurc.sweep`).  Run time {seconds:.0f} s.", ""]
+    hammering = []
+    for c in cases:
+        law, hz, diagram = c["law"], c["hz"], c["diagram"]
+        lines += [f"## DC law `{law}`, relay {hz:g} Hz", ""]
+        if not c["branches"]:
+            lines.append("No periodic orbit was found from any seed.")
+        for ds in c["branches"]:
+            V = ds.V.values
+            lines.append(f"- branch from V = {V[0]:g} V: {ds.sizes['point']} points over {V.min():.4g}-{V.max():.4g} V; "
+                         f"{ds.attrs['branch_stop_reasons']}")
+            for lo, hi, n, m in stable_intervals(ds):
+                lines.append(f"  - stable period-{n} with {m} impact{'s' if m != 1 else ''} per period for V in "
+                             f"[{lo:.4g}, {hi:.4g}] V")
+                if m >= 1:
+                    hammering.append((law, hz, lo, hi, n, m))
+            for i in range(ds.sizes["special"]):
+                kind = SPECIAL_KINDS[int(ds.special_kind[i])]
+                tol = float(ds.special_tolerance[i])
+                lines.append(f"  - {kind} at V = {float(ds.special_value[i]):.8g} V"
+                             + ("" if not math.isfinite(tol) else f" (+- {tol:.1g})")
+                             + f"; multipliers |mu| = {', '.join(f'{m:.4g}' for m in ds.special_multiplier_abs.values[i])}")
+        for seed, source, why in c["misses"]:
+            lines.append(f"- no orbit from {source} at V = {seed:g} V: {why}")
+        lines += ["", "Brute-force classes of the sweep at the same law and frequency:", "",
+                  "| V [V] | class | on a stable continued branch |", "|---|---|---|"]
+        for V in diagram.V.values[:: max(1, diagram.sizes['V'] // 12)]:
+            cl = class_at(diagram, float(V))
+            on = [f"period-{n}, {m} impacts" for ds in c["branches"] for lo, hi, n, m in stable_intervals(ds)
+                  if lo <= V <= hi]
+            lines.append(f"| {V:.4g} | {cl['text']} | {'; '.join(on) or '-'} |")
+        lines.append("")
+    lines += ["## Where the thesis model hammers periodically", ""]
+    if hammering:
+        for law, hz, lo, hi, n, m in hammering:
+            lines.append(f"- `{law}`, {hz:g} Hz: stable period-{n} with {m} impact{'s' if m != 1 else ''} per period "
+                         f"for V in [{lo:.4g}, {hi:.4g}] V")
+    else:
+        lines.append("Nowhere on the continued branches: no stable orbit with an impact was found.")
+    ones = [h for h in hammering if h[4] == 1 and h[5] == 1]
+    lines += ["", "Period-1 with one impact per relay period (the thesis' hammering regime): "
+              + ("; ".join(f"`{law}` at {hz:g} Hz for V in [{lo:.4g}, {hi:.4g}] V" for law, hz, lo, hi, _, _ in ones)
+                 if ones else "not found on any continued branch.")]
+    return "\n".join(lines) + "\n"
+
+
+def _figure(case, path, overwrite):
+    import matplotlib.pyplot as plt
+
+    from bifurc.files import save_figure
+    from bifurc.plot_branch import plot_branch
+    fig, ax = plt.subplots(figsize=(9, 5.5))
+    first = True
+    for ds in case["branches"]:
+        plot_branch(ds, ax=ax, diagram=case["diagram"] if first else None)
+        first = False
+    if first:
+        from bifurc.plot_diagram import plot_diagram
+        plt.close(fig)
+        plot_diagram(case["diagram"], path, overwrite=overwrite)
+        return
+    ax.set_title(f"thesis-1dof, DC law {case['law']}, relay {case['hz']:g} Hz: continued orbits over the sweep",
+                 fontsize=10)
+    save_figure(fig, path, overwrite=overwrite)
