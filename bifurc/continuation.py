@@ -35,6 +35,7 @@ import numpy as np
 from maps.hybrid import HybridState, IntegrationFailure
 from maps.parameters import ParameterError
 
+from .grazing_orbit import closest_flight_minimum, locate_grazing
 from .periodic import PeriodicOrbit, _Coordinates, _shooting_matrix
 
 __all__ = ["BranchPoint", "SpecialPoint", "Branch", "ContinuationProblem", "continue_branch",
@@ -477,11 +478,12 @@ def _slowest_impact(problem, pt) -> float:
 def _discontinuity(problem, prev: BranchPoint, pt: BranchPoint | None) -> SpecialPoint | None:
     """Locate the event that stopped the branch after ``prev``: a grazing where a free-flight
     minimum touches the stop (augmented system), else the bracket [prev, pt]."""
-    from .grazing_orbit import closest_flight_minimum, locate_grazing
     born = pt is not None and pt.impacts > prev.impacts
     if closest_flight_minimum(problem, prev) is not None and (born or pt is None):
         with in_section(problem, prev):
-            return locate_grazing(problem, prev)
+            p, tol, gap, at, note = locate_grazing(problem, prev)
+        return SpecialPoint("grazing", p, tol, "gap h(t_g) and its rate dh/dt(t_g) at the closest free-flight minimum",
+                            gap, at, note=note)
     if pt is None or _crosses_section(prev.transitions, pt.transitions) or _event_at_section(problem, prev):
         return None
     kind = "signature_change"

@@ -64,8 +64,9 @@ def closest_flight_minimum(problem, pt):
 
 
 def locate_grazing(problem, prev, *, max_iter: int = 30):
-    """Solve the augmented system from branch point ``prev``; a SpecialPoint ("grazing") or None."""
-    from .continuation import SpecialPoint, _flags_of
+    """Solve the augmented system from branch point ``prev``: (parameter value, its tolerance (NaN:
+    not located), the gap at t_g, the grazing BranchPoint or None, a note), or None without a
+    free-flight minimum."""
     near = closest_flight_minimum(problem, prev)
     if near is None:
         return None
@@ -73,7 +74,7 @@ def locate_grazing(problem, prev, *, max_iter: int = 30):
     smap, system = problem.smap, problem.smap.system
     deriv = gap_derivatives(system, problem.param)
     T = smap.period
-    u, flags = prev.u.copy(), _flags_of(prev)
+    u, flags = prev.u.copy(), [dict(s.flags or {}) for s in prev.nodes]
     gscale = float(np.max(problem.scale))
     impacts = prev.impacts
     last_step = math.inf
@@ -87,17 +88,14 @@ def locate_grazing(problem, prev, *, max_iter: int = 30):
                 raise IntegrationFailure(f"the grazing time left the period of node {j}")
             L = smap.linearize(node, problem.k0 + j, params=(problem.param,), until=t_g)
         except (IntegrationFailure, ZeroDivisionError, ParameterError) as exc:
-            return SpecialPoint("grazing", problem.parameter(u), math.nan, "gap and gap rate at t_g", math.nan,
-                                None, note=f"the augmented Newton failed: {exc}")
+            return problem.parameter(u), math.nan, math.nan, None, f"the augmented Newton failed: {exc}"
         h, r, a, gh, gr, hp, rp = deriv(t_g, L.state.y, np.asarray(system.par_vector(smap.params, L.state.flags), float))
         G = np.array([h / gscale, r * T / gscale])
         norm = max(float(np.max(np.abs(F))), float(np.max(np.abs(G))))
         extra = sum(Lk.signature.count("impact") for Lk in lins) > impacts
         if norm < problem.tol and not extra:
             pt = problem.point(u, F, DF, lins, flags, it, prev.tangent)
-            return SpecialPoint("grazing", pt.p, abs(last_step) * problem.p_scale,
-                                "gap h(t_g) and its rate dh/dt(t_g) at the closest free-flight minimum",
-                                float(h), pt, note=f"t_g = {t_g:.12g} s in the period of node {j}")
+            return pt.p, abs(last_step) * problem.p_scale, float(h), pt, f"t_g = {t_g:.12g} s in the period of node {j}"
         if it == max_iter:
             break
         Y = L.J @ problem.co.E * problem.scale                  # d y(t_g) / d (scaled node j)
@@ -118,8 +116,7 @@ def locate_grazing(problem, prev, *, max_iter: int = 30):
                 break
             lam /= 2
         u, t_g, last_step = u_try, t_try, lam * step[-2]
-    return SpecialPoint("grazing", problem.parameter(u), math.nan, "gap and gap rate at t_g", math.nan, None,
-                        note=f"the augmented Newton did not converge (residual {norm:.3g})")
+    return problem.parameter(u), math.nan, math.nan, None, f"the augmented Newton did not converge (residual {norm:.3g})"
 
 
 def _clear(problem, u, flags, impacts) -> bool:

@@ -33,9 +33,6 @@ QUICK = dict(relays=(10.0,), laws=("listing", "measured"), seeds=(90.0, 200.0), 
 
 def run(out, quick=False, progress=True, overwrite=False) -> dict:
     """Every case into folder ``out``: ``report.md``, ``orbits_<law>_<hz>Hz.png``, ``branches_*.nc``."""
-    import matplotlib
-    if "matplotlib.pyplot" not in __import__("sys").modules:
-        matplotlib.use("Agg")
     from bifurc.files import write_netcdf, write_text
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
