@@ -96,6 +96,7 @@ class SpecialPoint:
     note: str = ""
     index: int = -1             # the branch point after which it lies
     multiplier_error: float = math.nan
+    data: dict = field(default_factory=dict)   # what a two-parameter continuation needs (grazing: t_g, node)
 
 
 @dataclass
@@ -132,7 +133,8 @@ class ContinuationProblem:
         return self.p_ref + float(u[-1]) * self.p_scale
 
     def states(self, u, flags) -> list:
-        z = u[:-1].reshape(self.n, self.d) * self.scale
+        """The nodes (full states) of the scaled unknowns u (the nodes first, then parameters)."""
+        z = u[:self.n * self.d].reshape(self.n, self.d) * self.scale
         return [HybridState(self.co.embed(z[j]), flags[j]) for j in range(self.n)]
 
     # ----- the system and its derivatives --------------------------------------------------------
@@ -142,13 +144,19 @@ class ContinuationProblem:
         if not math.isfinite(p):
             raise IntegrationFailure("non-finite parameter")
         self.smap.set_params(**{self.param: p})
-        nodes = self.states(u, flags)
-        lins = [self.smap.linearize(s, self.k0 + j, params=(self.param,)) for j, s in enumerate(nodes)]
+        F, M, C, lins = self.shooting(self.states(u, flags), (self.param,), np.array([self.p_scale]))
+        return F, np.column_stack([M, C]), lins
+
+    def shooting(self, nodes, names: tuple, p_scales):
+        """(F, M, C, linearizations) at ``nodes`` under the map's current parameters: the scaled
+        residuals, the scaled shooting matrix dF/dz and the columns dF/dp of the parameters
+        ``names``, each scaled by its ``p_scales`` entry."""
+        lins = [self.smap.linearize(s, self.k0 + j, params=tuple(names)) for j, s in enumerate(nodes)]
         co, s, n = self.co, self.scale, self.n
         F = np.concatenate([(co.reduce(lins[j].state.y) - co.reduce(nodes[(j + 1) % n].y)) / s for j in range(n)])
         M = _shooting_matrix([co.R @ L.J @ co.E for L in lins], s)
-        c = np.concatenate([(co.R @ L.J_p[:, 0]) / s * self.p_scale for L in lins])
-        return F, np.column_stack([M, c]), lins
+        C = np.vstack([(co.R @ L.J_p) / s[:, None] * np.asarray(p_scales)[None, :] for L in lins])
+        return F, M, C, lins
 
     def tangent(self, DF, reference) -> np.ndarray:
         """The unit null vector of DF oriented along ``reference``."""
@@ -481,9 +489,9 @@ def _discontinuity(problem, prev: BranchPoint, pt: BranchPoint | None) -> Specia
     born = pt is not None and pt.impacts > prev.impacts
     if closest_flight_minimum(problem, prev) is not None and (born or pt is None):
         with in_section(problem, prev):
-            p, tol, gap, at, note = locate_grazing(problem, prev)
+            p, tol, gap, at, note, data = locate_grazing(problem, prev)
         return SpecialPoint("grazing", p, tol, "gap h(t_g) and its rate dh/dt(t_g) at the closest free-flight minimum",
-                            gap, at, note=note)
+                            gap, at, note=note, data=data)
     if pt is None or _crosses_section(prev.transitions, pt.transitions) or _event_at_section(problem, prev):
         return None
     kind = "signature_change"

@@ -24,27 +24,51 @@ import numpy as np
 from maps.hybrid import IntegrationFailure, call_cfunc
 from maps.parameters import ParameterError
 
-__all__ = ["closest_flight_minimum", "locate_grazing", "gap_derivatives"]
+__all__ = ["closest_flight_minimum", "locate_grazing", "gap_derivatives", "grazing_rows"]
 
 
-def gap_derivatives(system, param: str):
-    """f(t, y, pars) -> (h, r, a, grad h, grad r, dh/dp, dr/dp) of the impact guard's gap."""
+def gap_derivatives(system, params: tuple):
+    """f(t, y, pars) -> (h, r, a, grad h, grad r, dh/dp, dr/dp) of the impact guard's gap (the last
+    two: vectors over ``params``)."""
     cache = system.__dict__.setdefault("_graze_cfuncs", {})
-    if param not in cache:
+    params = tuple(params)
+    if params not in cache:
         g = system.impact_guard
         h = g.expr * (-1.0 if g.direction == 1 else 1.0)
         r = system.lie_derivative(h)
         a = system.lie_derivative(r)
         s = system.sym
         exprs = [h, r, a] + [hy.diff(h, v) for v in s.state_vars] + [hy.diff(r, v) for v in s.state_vars] \
-            + [hy.diff(h, s[param]), hy.diff(r, s[param])]
-        cache[param] = hy.cfunc(exprs, vars=s.state_vars, compact_mode=True)
-    f, d = cache[param], len(system.states)
+            + [hy.diff(h, s[p]) for p in params] + [hy.diff(r, s[p]) for p in params]
+        cache[params] = hy.cfunc(exprs, vars=s.state_vars, compact_mode=True)
+    f, d, m = cache[params], len(system.states), len(params)
 
     def evaluate(t, y, pars):
         out = call_cfunc(f, y, pars, t)
-        return out[0], out[1], out[2], out[3:3 + d], out[3 + d:3 + 2 * d], out[3 + 2 * d], out[4 + 2 * d]
+        return (out[0], out[1], out[2], out[3:3 + d], out[3 + d:3 + 2 * d], out[3 + 2 * d:3 + 2 * d + m],
+                out[3 + 2 * d + m:])
     return evaluate
+
+
+def grazing_rows(problem, nodes, j, t_g, names, p_scales, gscale):
+    """(G, rows): the scaled gap and gap rate at t_g in node j's period and their derivatives with
+    respect to the scaled node j (d columns), the parameters ``names`` and t_g / T."""
+    smap, system = problem.smap, problem.smap.system
+    t0, t1 = smap.sample_time(problem.k0 + j), smap.sample_time(problem.k0 + j + 1)
+    if not t0 <= t_g <= t1:
+        raise IntegrationFailure(f"the grazing time left the period of node {j}")
+    L = smap.linearize(nodes[j], problem.k0 + j, params=tuple(names), until=t_g)
+    h, r, a, gh, gr, hp, rp = gap_derivatives(system, names)(
+        t_g, L.state.y, np.asarray(system.par_vector(smap.params, L.state.flags), float))
+    T = smap.period
+    Y = L.J @ problem.co.E * problem.scale                   # d y(t_g) / d (scaled node j)
+    rows = np.zeros((2, problem.d + len(names) + 1))
+    rows[:, :problem.d] = np.vstack([gh @ Y, gr @ Y])
+    rows[:, problem.d:-1] = np.vstack([gh @ L.J_p + hp, gr @ L.J_p + rp]) * np.asarray(p_scales)[None, :]
+    rows[:, -1] = np.array([r, a]) * T
+    rows /= gscale
+    rows[1] *= T
+    return np.array([h / gscale, r * T / gscale]), rows, float(h)
 
 
 def closest_flight_minimum(problem, pt):
@@ -65,58 +89,46 @@ def closest_flight_minimum(problem, pt):
 
 def locate_grazing(problem, prev, *, max_iter: int = 30):
     """Solve the augmented system from branch point ``prev``: (parameter value, its tolerance (NaN:
-    not located), the gap at t_g, the grazing BranchPoint or None, a note), or None without a
-    free-flight minimum."""
+    not located), the gap at t_g, the grazing BranchPoint or None, a note, {"t_g", "node"})."""
     near = closest_flight_minimum(problem, prev)
     if near is None:
-        return None
+        return math.nan, math.nan, math.nan, None, "no free-flight minimum to graze", {}
     j, t_g, _ = near
-    smap, system = problem.smap, problem.smap.system
-    deriv = gap_derivatives(system, problem.param)
-    T = smap.period
-    u, flags = prev.u.copy(), [dict(s.flags or {}) for s in prev.nodes]
     gscale = float(np.max(problem.scale))
-    impacts = prev.impacts
-    last_step = math.inf
+    u, flags = prev.u.copy(), [dict(s.flags or {}) for s in prev.nodes]
+    impacts, last_step, norm = prev.impacts, math.inf, math.inf
     for it in range(max_iter + 1):
         try:
             F, DF, lins = problem.evaluate(u, flags)
             flags = [dict(lins[i - 1].state.flags) for i in range(problem.n)]
-            node = problem.states(u, flags)[j]
-            t_end = smap.sample_time(problem.k0 + j + 1)
-            if not smap.sample_time(problem.k0 + j) <= t_g <= t_end:
-                raise IntegrationFailure(f"the grazing time left the period of node {j}")
-            L = smap.linearize(node, problem.k0 + j, params=(problem.param,), until=t_g)
+            G, rows, h = grazing_rows(problem, problem.states(u, flags), j, t_g, (problem.param,),
+                                      [problem.p_scale], gscale)
         except (IntegrationFailure, ZeroDivisionError, ParameterError) as exc:
-            return problem.parameter(u), math.nan, math.nan, None, f"the augmented Newton failed: {exc}"
-        h, r, a, gh, gr, hp, rp = deriv(t_g, L.state.y, np.asarray(system.par_vector(smap.params, L.state.flags), float))
-        G = np.array([h / gscale, r * T / gscale])
+            return problem.parameter(u), math.nan, math.nan, None, f"the augmented Newton failed: {exc}", {}
         norm = max(float(np.max(np.abs(F))), float(np.max(np.abs(G))))
         extra = sum(Lk.signature.count("impact") for Lk in lins) > impacts
         if norm < problem.tol and not extra:
             pt = problem.point(u, F, DF, lins, flags, it, prev.tangent)
-            return pt.p, abs(last_step) * problem.p_scale, float(h), pt, f"t_g = {t_g:.12g} s in the period of node {j}"
+            return (pt.p, abs(last_step) * problem.p_scale, h, pt, f"t_g = {t_g:.12g} s in the period of node {j}",
+                    {"t_g": t_g, "node": j})
         if it == max_iter:
             break
-        Y = L.J @ problem.co.E * problem.scale                  # d y(t_g) / d (scaled node j)
-        rows = np.zeros((2, u.size + 1))
-        rows[:, j * problem.d:(j + 1) * problem.d] = np.vstack([gh @ Y, gr @ Y]) / gscale
-        rows[:, -2] = np.array([gh @ L.J_p[:, 0] + hp, gr @ L.J_p[:, 0] + rp]) * problem.p_scale / gscale
-        rows[:, -1] = np.array([r, a]) * T / gscale
-        rows[1] *= T
-        A = np.vstack([np.column_stack([DF, np.zeros(DF.shape[0])]), rows])
+        B = np.zeros((2, u.size + 1))
+        B[:, j * problem.d:(j + 1) * problem.d] = rows[:, :problem.d]
+        B[:, -2:] = rows[:, problem.d:]
+        A = np.vstack([np.column_stack([DF, np.zeros(DF.shape[0])]), B])
         try:
             step = np.linalg.solve(A, -np.concatenate([F, G]))
         except np.linalg.LinAlgError:
             break
         lam = 1.0
-        while lam > 1e-3:           # damp an iterate that impacts (or grows the residual) back
-            u_try, t_try = u + lam * step[:-1], t_g + lam * step[-1] * T
+        while lam > 1e-3:           # damp an iterate that impacts back
+            u_try, t_try = u + lam * step[:-1], t_g + lam * step[-1] * problem.smap.period
             if _clear(problem, u_try, flags, impacts):
                 break
             lam /= 2
         u, t_g, last_step = u_try, t_try, lam * step[-2]
-    return problem.parameter(u), math.nan, math.nan, None, f"the augmented Newton did not converge (residual {norm:.3g})"
+    return problem.parameter(u), math.nan, math.nan, None, f"the augmented Newton did not converge (residual {norm:.3g})", {}
 
 
 def _clear(problem, u, flags, impacts) -> bool:
