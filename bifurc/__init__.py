@@ -15,7 +15,7 @@ from .branch import continue_orbit
 from .datasets import load
 from .orbit import periodic_orbit, sweep_point
 from .periodic import OrbitNotFound, find_periodic_orbit
-from .plot_branch import plot_branch
+from .plot_branch import plot_branch, plot_curves
 from .plot_diagram import plot_diagram
 from .plot_history import plot_time_history
 from .report import class_at, classification_report
@@ -24,4 +24,4 @@ from .sweep import sweep
 register_accessor_with_xarray()  # ds.bifurc, without importing xarray in worker processes
 
 __all__ = ["__version__", "sweep", "load", "plot_diagram", "plot_time_history", "classification_report",
-           "class_at", "periodic_orbit", "continue_orbit", "plot_branch", "sweep_point", "find_periodic_orbit", "OrbitNotFound"]
+           "class_at", "periodic_orbit", "continue_orbit", "plot_branch", "plot_curves", "sweep_point", "find_periodic_orbit", "OrbitNotFound"]

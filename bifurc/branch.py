@@ -50,7 +50,7 @@ def continue_orbit(scene, param: str, span, *, params=None, preset=None, period:
                    start=None, k0: int | None = None, transient: int = 300, tol: float = 1e-12,
                    newton_tol: float | None = None, step: float = 0.02, max_step: float = 0.1,
                    max_points: int = 200, branch_switch: bool = False, error: bool = True, progress=None,
-                   circuit=None, ac_sign=None, dc_law=None):
+                   param2: str | None = None, span2=None, circuit=None, ac_sign=None, dc_law=None):
     """The branch of periodic orbits through the orbit at ``param = span[0]``, followed toward
     ``span[1]``, as an xarray Dataset (dimension ``point``, not indexed by the parameter, so that
     folds fit; special points along ``special``).
@@ -76,6 +76,11 @@ def continue_orbit(scene, param: str, span, *, params=None, preset=None, period:
         At each special point, solve the orbit again at tol/100 and store the multipliers' change.
     progress : callable(str), optional
         Called with a one-line description of each new point.
+    param2, span2 : str, (float, float)
+        A second parameter: the branch is computed at ``param2 = span2[0]`` and each located fold,
+        period doubling and grazing is continued in (param, param2) toward ``span2[1]``
+        (:mod:`bifurc.curves`), staying within ``span`` for ``param``; the curves are stored along
+        ``curve_point``.
     """
     clock = _time.perf_counter()
     try:
@@ -85,12 +90,25 @@ def continue_orbit(scene, param: str, span, *, params=None, preset=None, period:
     if not (math.isfinite(a) and math.isfinite(b)) or a == b:
         raise ParameterError(f"span must be two different finite numbers (from, to), got {span!r}")
     values_in = dict(params or {}, **{param: a})
+    if param2 is not None:
+        if param2 == param:
+            raise ParameterError(f"param2 must differ from param ({param!r})")
+        try:
+            a2, b2 = (float(v) for v in span2)
+        except (TypeError, ValueError):
+            raise ParameterError(f"span2 must be two numbers (from2, to2), got {span2!r}") from None
+        if not (math.isfinite(a2) and math.isfinite(b2)) or a2 == b2:
+            raise ParameterError(f"span2 must be two different finite numbers (from2, to2), got {span2!r}")
+        values_in[param2] = a2
     sc, table = resolve_scene(scene, values_in, preset, circuit, ac_sign, dc_law)
     system = sc.system if isinstance(sc, SystemScene) else sc.system
     values = {k: v for k, (v, _) in table.items()}
     smap = StroboscopicMap(system, values, tol=tol)
     _check_param(smap, system, param, values)
     system.validate(dict(values, **{param: b}))             # the end value must be allowed too
+    if param2 is not None:
+        _check_param(smap, system, param2, values)
+        system.validate(dict(values, **{param2: b2}))
     max_points = int(validate_value("max_points", max_points, 2, 100_000))
     step = validate_value("step", step, 0.0, 1.0, low_open=True)
     max_step = validate_value("max_step", max_step, step, 10.0)
@@ -106,11 +124,42 @@ def continue_orbit(scene, param: str, span, *, params=None, preset=None, period:
     if branch_switch:
         for sp in [s for s in branches[0].special if s.kind == "period_doubling" and s.point is not None]:
             branches.append(_switch(smap, problem, sp, (a, b), step, max_step, max_points, say))
+    curves = []
+    if param2 is not None:
+        curves = _curves(problem, branches, param2, (a2, b2), (a, b), max_points, progress)
     if error:
         for br in branches:
             for sp in br.special:
                 sp.multiplier_error = _multiplier_error(system, values, param, sp, br, tol, newton_tol)
-    return branch_dataset(branches, problem, sc, table, seconds=_time.perf_counter() - clock)
+    return branch_dataset(branches, problem, sc, table, curves=curves, seconds=_time.perf_counter() - clock)
+
+
+def _curves(problem, branches, param2, span2, span, max_points, progress):
+    """Each located fold, period doubling and grazing of the branches, continued in (param, param2)."""
+    from .continuation import in_section
+    from .curves import CurveProblem, follow_curve
+    out, index = [], 0
+    for br in branches:
+        for sp in br.special:
+            index += 1
+            if sp.kind not in ("fold", "period_doubling", "grazing") or sp.point is None:
+                continue
+            base = problem if br.period == problem.n else ContinuationProblem(
+                problem.smap, problem.param, br.period, br.k0, scale=problem.scale, p_scale=problem.p_scale,
+                p_ref=problem.p_ref, tol=problem.tol)
+            with in_section(base, sp.point):
+                cp = CurveProblem(base, sp.kind, param2, span2[0], abs(span2[1] - span2[0]),
+                                  node=sp.data.get("node", 0))
+                w0 = cp.pack(sp.point.nodes, sp.p, span2[0], sp.data.get("t_g"))
+                curve = follow_curve(cp, w0, [dict(s.flags or {}) for s in sp.point.nodes], span2[1], span,
+                                     max_points=max_points)
+                problem.smap.set_params(**{param2: span2[0]})
+            curve.start = index - 1
+            out.append(curve)
+            if progress:
+                progress(f"{sp.kind} curve from {problem.param} = {sp.p:.8g}: {len(curve.p1)} points; "
+                         f"{curve.stop_reason}")
+    return out
 
 
 def _describe(pt, label, param) -> str:
@@ -167,7 +216,7 @@ def _clearances(system, params, pt):
     return min(at_nodes + flight + ([0.0] if pt.impacts else [])), low
 
 
-def branch_dataset(branches, problem, scene, table, *, seconds=math.nan):
+def branch_dataset(branches, problem, scene, table, *, curves=(), seconds=math.nan):
     """The dataset of continued branches: points in arclength order, branch after branch."""
     import xarray as xr
 
@@ -245,6 +294,8 @@ def branch_dataset(branches, problem, scene, table, *, seconds=math.nan):
     put("special_multiplier_arg", np.array([m[1] for m in smu]).reshape(len(specials), n_mu))
     put("special_multiplier_error", [sp.multiplier_error for _, _, sp in specials])
     put("special_note", [sp.note for _, _, sp in specials])
+    if curves:
+        _put_curves(ds, curves, system)
     name = getattr(scene, "name", system.name)
     ds.attrs.update({
         "title": f"{name}: branch of periodic orbits in {param}", "scene": name, "continuation_parameter": param,
@@ -265,3 +316,26 @@ def branch_dataset(branches, problem, scene, table, *, seconds=math.nan):
         ds.attrs["reduced_coordinates"] = ", ".join(problem.co.names)
     return ds
 
+
+
+def _put_curves(ds, curves, system):
+    """Two-parameter curves along ``curve_point`` (their kinds and stop reasons along ``curve``)."""
+    from .curves import CURVE_KINDS
+    p1, p2 = curves[0].params
+    ids = np.concatenate([np.full(len(c.p1), i) for i, c in enumerate(curves)]).astype(np.int16)
+    ds.coords["curve_point"] = ("curve_point", np.arange(ids.size), {"units": "1", "long_name": "point of a curve"})
+    ds.coords["curve"] = ("curve", np.arange(len(curves)), {"units": "1", "long_name": "two-parameter curve"})
+    ds["curve_id"] = ("curve_point", ids, {"units": "1", "long_name": "curve the point belongs to"})
+    for name, attr in ((p1, "p1"), (p2, "p2")):
+        ds[f"curve_{name}"] = ("curve_point", np.concatenate([np.asarray(getattr(c, attr), float) for c in curves]),
+                               {"units": system.parameter(name).unit, "long_name": f"{name} along the curve"})
+    ds["curve_residual"] = ("curve_point", np.concatenate([np.asarray(c.residual, float) for c in curves]),
+                            {"units": "1", "long_name": "largest scaled residual of the defining system"})
+    ds["curve_kind"] = ("curve", np.array([CURVE_KINDS.index(c.kind) for c in curves], np.int8),
+                        {"units": "1", "long_name": "what the curve continues", "flag_values":
+                         np.arange(len(CURVE_KINDS), dtype=np.int8), "flag_meanings": " ".join(CURVE_KINDS)})
+    ds["curve_special"] = ("curve", np.array([c.start for c in curves], np.int32),
+                           {"units": "1", "long_name": "the special point the curve starts from"})
+    ds["curve_stop_reason"] = ("curve", np.array([c.stop_reason for c in curves], dtype=str),
+                               {"units": "1", "long_name": "why the curve stopped"})
+    ds.attrs["curve_parameters"] = f"{p1} {p2}"

@@ -6,7 +6,7 @@ import numpy as np
 from .files import check_figure_output, save_figure
 from .schema import SPECIAL_KINDS
 
-__all__ = ["plot_branch", "SPECIAL_LABELS"]
+__all__ = ["plot_branch", "plot_curves", "branch_curves", "SPECIAL_LABELS"]
 
 #: short labels of the special points on the figure
 SPECIAL_LABELS = {"fold": "LP", "period_doubling": "PD", "neimark_sacker": "NS", "grazing": "G",
@@ -74,3 +74,49 @@ def _draw_diagram(ax, diagram, par, state):
         pp = np.broadcast_to(diagram[par].values[:, None], vals.shape)
         ax.plot(pp.ravel(), vals.ravel(), ",", color="0.6", alpha=0.6)
     ax.plot([], [], ".", color="0.6", label="brute-force diagram (every recorded sample)")
+
+
+def branch_curves(ds) -> list:
+    """[(p1 values, p2 values, label)] of the two-parameter curves of a branch dataset, ready to draw
+    over a regime map of the same two parameters."""
+    from .curves import CURVE_KINDS
+    if "curve_id" not in ds:
+        return []
+    p1, p2 = ds.attrs["curve_parameters"].split()
+    out = []
+    for c in range(ds.sizes["curve"]):
+        sel = ds.curve_id.values == c
+        kind = CURVE_KINDS[int(ds.curve_kind.values[c])]
+        out.append((ds[f"curve_{p1}"].values[sel], ds[f"curve_{p2}"].values[sel], f"{SPECIAL_LABELS[kind]} curve"))
+    return out
+
+
+def plot_curves(ds, path=None, ax=None, overwrite=False):
+    """The two-parameter curves of a branch dataset (folds LP, period doublings PD, grazings G) in the
+    (param, param2) plane, each from its special point (a dot).  ``ax``: draw into it (e.g. over a
+    regime map of the same parameters); ``path``: also save there.  Returns the Axes."""
+    if path is not None:
+        check_figure_output(path, overwrite)
+    curves = branch_curves(ds)
+    if not curves:
+        from maps.parameters import ParameterError
+        raise ParameterError("the dataset holds no two-parameter curve: continue with param2= / --param2")
+    own = ax is None
+    if own:
+        import matplotlib.pyplot as plt
+        _, ax = plt.subplots(figsize=(7, 5.5))
+    styles = {"LP curve": ("#0072B2", "-"), "PD curve": ("#D55E00", "--"), "G curve": ("#009E73", "-.")}
+    for x, y, label in curves:
+        colour, ls = styles.get(label, ("k", ":"))
+        ax.plot(x, y, color=colour, ls=ls, lw=1.8, label=label)
+        ax.plot(x[:1], y[:1], "o", color=colour, ms=5)
+    p1, p2 = ds.attrs["curve_parameters"].split()
+    ax.set_xlabel(f"{p1} [{ds[f'curve_{p1}'].attrs.get('units', '')}]")
+    ax.set_ylabel(f"{p2} [{ds[f'curve_{p2}'].attrs.get('units', '')}]")
+    ax.set_title(f"{ds.attrs.get('scene', '')}: two-parameter curves", fontsize=10)
+    handles, labels = ax.get_legend_handles_labels()
+    unique = dict(zip(labels, handles))
+    ax.legend(unique.values(), unique.keys(), fontsize=8)
+    if path is not None:
+        save_figure(ax.figure, path, overwrite=overwrite, close=own)
+    return ax

@@ -248,3 +248,44 @@ def test_quick_thesis_orbits_study_writes_its_report(tmp_path):
     assert "period_doubling at V = 98.36" in text and "fold at V = 84.59" in text
     assert (tmp_path / "orbits_measured_10Hz.png").stat().st_size > 20_000
     assert main(["study", "thesis-orbits", "--quick", "-o", str(tmp_path)]) == 2     # not empty: refused
+
+
+def test_two_parameter_fold_and_grazing_curves_equal_the_closed_form():
+    """The fold of the 1:1 family in (e, r): at each r on the curve, the extremum of e(th) of the
+    closed form; the grazing of the non-impacting orbit in (F, zeta): F = -e sqrt(D(zeta))."""
+    ds = bifurc.continue_orbit("impact-oscillator", "e", (0.2, 0.6), param2="r", span2=(0.7, 0.9), error=False)
+    kinds = [bifurc.curves.CURVE_KINDS[int(k)] for k in ds.curve_kind.values]
+    assert kinds == ["fold"]
+    e, r = ds.curve_e.values, ds.curve_r.values
+    assert e.size >= 10 and r.max() > 0.85
+    th = np.linspace(0, 2 * math.pi, 4001)
+    for i in (1, e.size // 2, e.size - 2):
+        p = dict(BASE, r=float(r[i]))
+        value, _ = one_to_one_family(**{k: p[k] for k in ("w0", "zeta", "F", "Omega", "r", "e")}, free="e")
+        assert abs(e[i] - fold_of(value, th, +1)) < 1e-7
+    p = dict(BASE, Omega=1.5, e=-0.05)
+    g = bifurc.continue_orbit("impact-oscillator", "F", (0.02, 0.3), params=p, x0={"x": 0.0}, error=False,
+                              param2="zeta", span2=(0.05, 0.3))
+    assert [bifurc.curves.CURVE_KINDS[int(k)] for k in g.curve_kind.values] == ["grazing"]
+    F, zeta = g.curve_F.values, g.curve_zeta.values
+    assert F.size >= 10 and zeta.max() > 0.25
+    for i in (1, F.size // 2, F.size - 2):
+        D = (1 - 1.5 ** 2) ** 2 + (2 * zeta[i] * 1.5) ** 2
+        assert abs(F[i] - 0.05 * math.sqrt(D)) < 1e-7
+
+
+def test_continue_command_with_a_second_parameter_writes_the_curves(tmp_path, capsys):
+    import xarray as xr
+
+    from bifurc.cli import main
+    out, fig = tmp_path / "b.nc", tmp_path / "curves.png"
+    assert main(["continue", "--scene", "impact-oscillator", "--param", "e", "--from", "0.2", "--to", "0.6",
+                 "--param2", "r", "--from2", "0.7", "--to2", "0.8", "--no-error", "-o", str(out),
+                 "--plot2", str(fig)]) == 0
+    assert "curve 0 (fold" in capsys.readouterr().out and fig.stat().st_size > 10_000
+    back = xr.open_dataset(out).load()
+    assert back.curve_r.attrs["units"] == "1" and back.curve_e.attrs["units"] == "m"
+    assert float(back.curve_r.max()) >= 0.8 and back.attrs["curve_parameters"] == "e r"
+    assert main(["continue", "--scene", "impact-oscillator", "--param", "e", "--from", "0.2", "--to", "0.6",
+                 "--param2", "r"]) == 2
+    assert "--param2 needs --from2 and --to2" in capsys.readouterr().err

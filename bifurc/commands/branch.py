@@ -24,6 +24,11 @@ def register(subparsers):
                    help="follow the doubled branch from each located period doubling")
     p.add_argument("--no-error", action="store_true",
                    help="skip the re-solve at tol/100 at the special points (multiplier error)")
+    p.add_argument("--param2", default=None,
+                   help="a second parameter: continue each fold, period doubling and grazing in (param, param2)")
+    p.add_argument("--from2", type=float, default=None, help="start value of --param2 (the branch is computed there)")
+    p.add_argument("--to2", type=float, default=None, help="end value of --param2")
+    p.add_argument("--plot2", default=None, help="figure file of the two-parameter curves (curves.png)")
     p.add_argument("--diagram", default=None, help="a diagram.nc of the same parameter to draw behind the branch")
     p.add_argument("-o", "--output", default=None, help="netCDF file to write (branch.nc)")
     p.add_argument("--plot", default=None, help="figure file to write (branch.png)")
@@ -41,6 +46,12 @@ def run(args) -> int:
     if args.output:
         check_outputs(args, args.output)
     check_plot(args)
+    if args.param2 is not None and (args.from2 is None or args.to2 is None):
+        from maps.parameters import ParameterError
+        raise ParameterError("--param2 needs --from2 and --to2")
+    if args.plot2:
+        from ..files import check_figure_output
+        check_figure_output(args.plot2, args.force, what="--plot2")
     diagram = None
     if args.diagram:
         from ..datasets import load
@@ -53,7 +64,8 @@ def run(args) -> int:
     try:
         ds = continue_orbit(args.scene, args.param, (args.p_from, args.p_to), params=params, period=args.period,
                             transient=args.transient, max_points=args.max_points, step=args.step,
-                            branch_switch=args.branch_switch, error=not args.no_error, progress=progress, **kw)
+                            branch_switch=args.branch_switch, error=not args.no_error, progress=progress,
+                            param2=args.param2, span2=None if args.param2 is None else (args.from2, args.to2), **kw)
     except OrbitNotFound as exc:
         print(f"no periodic orbit found at {args.param} = {args.p_from:g}: {exc.reason}")
         return 1
@@ -71,6 +83,10 @@ def run(args) -> int:
               + ", ".join(f"{m:.6g}" for m in ds.special_multiplier_abs.values[i])
               + ("" if err != err else f"; multiplier error {err:.2g}")
               + (f"; {ds.special_note.values[i]}" if str(ds.special_note.values[i]) else ""))
+    for c in range(ds.sizes.get("curve", 0)):
+        n = int((ds.curve_id.values == c).sum())
+        print(f"  curve {c} ({['fold', 'period_doubling', 'grazing'][int(ds.curve_kind[c])]}, {n} points in "
+              f"({par}, {args.param2})): {ds.curve_stop_reason.values[c]}")
     if args.output:
         write_netcdf(ds, args.output, overwrite=args.force)
         print(f"  wrote {args.output}")
@@ -78,4 +94,8 @@ def run(args) -> int:
         from ..plot_branch import plot_branch
         plot_branch(ds, args.plot, diagram=diagram, overwrite=args.force)
         print(f"  wrote {args.plot}")
+    if args.plot2:
+        from ..plot_branch import plot_curves
+        plot_curves(ds, args.plot2, overwrite=args.force)
+        print(f"  wrote {args.plot2}")
     return 0
