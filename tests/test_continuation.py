@@ -289,3 +289,40 @@ def test_continue_command_with_a_second_parameter_writes_the_curves(tmp_path, ca
     assert main(["continue", "--scene", "impact-oscillator", "--param", "e", "--from", "0.2", "--to", "0.6",
                  "--param2", "r"]) == 2
     assert "--param2 needs --from2 and --to2" in capsys.readouterr().err
+
+
+def test_an_impact_born_on_the_unstable_branch_is_a_grazing_located_by_the_augmented_system():
+    """From e = 0.15 up through the fold, the unstable 1:1 orbit comes back down until its free
+    flight touches the stop (a second impact is born).  Closed form: along the family, the flight's
+    lowest point x_min(th) = e(th), x_min minimised over the exact linear flight."""
+    p = dict(BASE)
+    w0, z, F, Om, r = p["w0"], p["zeta"], p["F"], p["Omega"], p["r"]
+    T = 2 * math.pi / Om
+    Al = np.array([[0.0, 1.0], [-w0 * w0, -2 * z * w0]])
+    D = (w0 * w0 - Om * Om) ** 2 + (2 * z * w0 * Om) ** 2
+    a, b = F * (w0 * w0 - Om * Om) / D, F * 2 * z * w0 * Om / D
+
+    def xp(t):
+        return np.array([a * math.cos(Om * t) + b * math.sin(Om * t), Om * (-a * math.sin(Om * t) + b * math.cos(Om * t))])
+    value, mult = one_to_one_family(w0, z, F, Om, r, 0.0, free="e")
+
+    def clearance(th):
+        e, v, ti = value(th), mult(th)[1], th / Om
+        y0 = np.array([e, -r * v]) - xp(ti)
+        x = lambda s: (expm(Al * s) @ y0 + xp(ti + s))[0]           # noqa: E731
+        grid = np.linspace(0.05 * T, 0.95 * T, 61)
+        k = int(np.argmin([x(s) for s in grid]))
+        s = minimize_scalar(x, bounds=(grid[max(k - 1, 0)], grid[min(k + 1, 60)]), method="bounded",
+                            options={"xatol": 1e-12}).x
+        return x(s) - e
+    ds = bifurc.continue_orbit("impact-oscillator", "e", (0.15, 0.6), error=False)
+    grazes = specials(ds, "grazing")
+    assert len(grazes) == 1 and ds.sizes["special"] == 2            # the fold, then the grazing
+    i = ds.sizes["point"] - 1                      # the unstable orbit just before the grazing
+    ths = np.linspace(0, 2 * math.pi, 401)
+    near = [t for t in ths if mult(t)[1] < 0 and abs(value(t) - float(ds.e[i])) < 0.01
+            and np.max(np.abs(mult(t)[0])) > 1]
+    lo, hi = min(near) - 0.01, max(near) + 0.01
+    assert clearance(lo) * clearance(hi) < 0
+    th_g = brentq(clearance, lo, hi, xtol=1e-14)
+    assert abs(grazes[0] - value(th_g)) < 1e-8
