@@ -83,22 +83,12 @@ def continue_orbit(scene, param: str, span, *, params=None, preset=None, period:
         ``curve_point``.
     """
     clock = _time.perf_counter()
-    try:
-        a, b = (float(v) for v in span)
-    except (TypeError, ValueError):
-        raise ParameterError(f"span must be two numbers (from, to), got {span!r}") from None
-    if not (math.isfinite(a) and math.isfinite(b)) or a == b:
-        raise ParameterError(f"span must be two different finite numbers (from, to), got {span!r}")
+    a, b = _span("span", span, "from, to")
     values_in = dict(params or {}, **{param: a})
     if param2 is not None:
         if param2 == param:
             raise ParameterError(f"param2 must differ from param ({param!r})")
-        try:
-            a2, b2 = (float(v) for v in span2)
-        except (TypeError, ValueError):
-            raise ParameterError(f"span2 must be two numbers (from2, to2), got {span2!r}") from None
-        if not (math.isfinite(a2) and math.isfinite(b2)) or a2 == b2:
-            raise ParameterError(f"span2 must be two different finite numbers (from2, to2), got {span2!r}")
+        a2, b2 = _span("span2", span2, "from2, to2")
         values_in[param2] = a2
     sc, table = resolve_scene(scene, values_in, preset, circuit, ac_sign, dc_law)
     system = sc.system if isinstance(sc, SystemScene) else sc.system
@@ -160,6 +150,17 @@ def _curves(problem, branches, param2, span2, span, max_points, progress):
                 progress(f"{sp.kind} curve from {problem.param} = {sp.p:.8g}: {len(curve.p1)} points; "
                          f"{curve.stop_reason}")
     return out
+
+
+def _span(name, span, what):
+    """Two different finite numbers, or a one-line error naming ``name``."""
+    try:
+        a, b = (float(v) for v in span)
+    except (TypeError, ValueError):
+        raise ParameterError(f"{name} must be two numbers ({what}), got {span!r}") from None
+    if not (math.isfinite(a) and math.isfinite(b)) or a == b:
+        raise ParameterError(f"{name} must be two different finite numbers ({what}), got {span!r}")
+    return a, b
 
 
 def _describe(pt, label, param) -> str:
