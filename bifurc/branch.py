@@ -22,7 +22,8 @@ from maps.parameters import ParameterError, validate_value
 from maps.poincare import StroboscopicMap
 from maps.provenance import cf_attrs, recorded
 
-from .continuation import ContinuationProblem, continue_branch
+from .arclength import continue_branch
+from .continuation import ContinuationProblem
 from .orbit import first_guess, multiplier_change
 from .periodic import OrbitNotFound, find_periodic_orbit
 from .scene import SystemScene, resolve_scene

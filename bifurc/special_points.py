@@ -1,0 +1,182 @@
+"""Special points along a branch: smooth bifurcations located by test functions, and the events
+that stop smooth continuation.
+
+Test functions, each evaluated at every corrected point and located, where it changes sign, by
+the Illinois variant of false position on the arclength (each evaluation a corrected point):
+
+- fold: the parameter component of the unit tangent (the branch turns; a multiplier +1);
+- period doubling: Re prod (mu_i + 1) (a real multiplier through -1);
+- Neimark-Sacker: Re prod_{i<j} (mu_i mu_j - 1) with the pair complex at the zero (a neutral
+  saddle, real mu_i mu_j = 1, is not a bifurcation and is not reported).
+
+A change of the transition signature (an impact born or lost, a stick) stops the branch: where a
+free-flight minimum is about to touch the stop, the grazing is located by the augmented system
+(:func:`bifurc.grazing_orbit.locate_grazing`); otherwise the last point before the change is
+reported, not located.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .continuation import SMOOTH_ROLES, BranchPoint, NoConvergence, SpecialPoint, flags_of, in_section
+from .grazing_orbit import closest_flight_minimum, locate_grazing
+
+__all__ = ["TESTS", "detect", "discontinuity", "event_reason", "event_at_section"]
+
+
+def _fold(pt: BranchPoint) -> float:
+    return float(pt.tangent[-1])
+
+
+def _period_doubling(pt: BranchPoint) -> float:
+    return float(np.real(np.prod(pt.multipliers + 1.0)))
+
+
+def _neimark_sacker(pt: BranchPoint) -> float:
+    mu = pt.multipliers
+    out = 1.0 + 0j
+    for i in range(mu.size):
+        for j in range(i + 1, mu.size):
+            out *= mu[i] * mu[j] - 1.0
+    return float(np.real(out))
+
+
+TESTS = {"fold": ("fold", "dp/ds: the parameter component of the unit tangent", _fold),
+         "period_doubling": ("period-doubling", "Re prod(mu_i + 1)", _period_doubling),
+         "neimark_sacker": ("Neimark-Sacker", "Re prod_{i<j}(mu_i mu_j - 1)", _neimark_sacker)}
+
+
+def _complex_pair_on_circle(pt: BranchPoint, tol: float = 1e-6) -> bool:
+    mu = pt.multipliers
+    return bool(np.any((np.abs(mu.imag) > 1e-8) & (np.abs(np.abs(mu) - 1.0) < tol)))
+
+
+# ----- the continuation loop -----------------------------------------------------------------------
+
+
+def event_reason(prev, pt, why, problem) -> str:
+    at = f"{problem.param} = {prev.p:.10g}"
+    if why != "signature":
+        speed = _slowest_impact(problem, prev)
+        near = f"; the slowest impact is at {speed:.3g} (gap rate): near a grazing" if speed < 1e-3 else ""
+        return f"stopped after {at}: {why} at the smallest step{near}"
+    before, after = prev.transitions, pt.transitions
+    nb, na = sum(s.count("impact") for s in before), sum(s.count("impact") for s in after)
+    if _crosses_section(before, after) or event_at_section(problem, prev):
+        return (f"stopped after {at}: an event crosses the strobe section (it happens at a sample time t_k), "
+                f"which moves it between periods; the map in this section is not smooth there")
+    if na > nb:
+        what = "an impact is born (grazing)"
+    elif na < nb:
+        what = "an impact is lost (grazing from the impacting side)"
+    elif any("stick" in s for s in after) and not any("stick" in s for s in before):
+        what = "sticking sets in"
+    else:
+        what = "the transition signature changes"
+    return f"stopped after {at}: {what}; smooth continuation cannot pass it"
+
+
+def detect(problem, a: BranchPoint, b: BranchPoint, kind: str) -> SpecialPoint | None:
+    name, description, fn = TESTS[kind]
+    fa, fb = fn(a), fn(b)
+    if not (fa * fb < 0):
+        return None
+    pt, f, width = _locate(problem, a, b, fn, kind)
+    if pt is None:
+        return SpecialPoint(kind, 0.5 * (a.p + b.p), abs(b.p - a.p), description, math.nan, None,
+                            note=f"{name} between {a.p:.10g} and {b.p:.10g}; location failed")
+    if kind == "neimark_sacker" and not _complex_pair_on_circle(pt):
+        return None                    # a neutral saddle: real mu_i mu_j = 1
+    return SpecialPoint(kind, pt.p, width, description, f, pt)
+
+
+def _locate(problem, a: BranchPoint, b: BranchPoint, fn, kind, *, max_iter: int = 40):
+    """Illinois false position on the arclength from a toward b (one section) for a zero of ``fn``."""
+    with in_section(problem, a):
+        return _false_position(problem, a, b, fn, kind, max_iter)
+
+
+def _false_position(problem, a, b, fn, kind, max_iter):
+    s_lo, s_hi = 0.0, float(a.tangent @ (b.u - a.u))
+    f_lo, f_hi = fn(a), fn(b)
+    p_lo, p_hi = a.p, b.p
+    side, best = 0, None
+    for _ in range(max_iter):
+        s = (s_lo * f_hi - s_hi * f_lo) / (f_hi - f_lo)
+        if not s_lo < s < s_hi:
+            s = 0.5 * (s_lo + s_hi)
+        try:
+            u, F, DF, lins, flags, its = problem.correct(a.u + s * a.tangent, a.tangent, flags_of(a))
+        except NoConvergence:
+            return None, math.nan, math.nan
+        pt = problem.point(u, F, DF, lins, flags, its, a.tangent)
+        f = fn(pt)
+        best = pt
+        if f == 0.0:
+            return pt, f, 0.0
+        if (f < 0) == (f_lo < 0):
+            s_lo, f_lo, p_lo = s, f, pt.p
+            if side == -1:
+                f_hi /= 2
+            side = -1
+        else:
+            s_hi, f_hi, p_hi = s, f, pt.p
+            if side == 1:
+                f_lo /= 2
+            side = 1
+        width = abs(p_hi - p_lo)
+        if s_hi - s_lo < 1e-12 or (kind != "fold" and width < 1e-12 * max(1.0, abs(pt.p))) \
+                or (kind == "fold" and s_hi - s_lo < 1e-8):
+            break
+    return best, fn(best), abs(p_hi - p_lo)
+
+
+def _crosses_section(before, after) -> bool:
+    """The same events in the orbit, distributed differently over its strobe periods."""
+    flat = lambda sig: sorted(r for s in sig for r in s)     # noqa: E731
+    return before != after and flat(before) == flat(after)
+
+
+def event_at_section(problem, pt, within: float = 1e-5) -> bool:
+    """A state-changing event of ``pt`` within ``within`` strobe periods of a sample time."""
+    smap, T = problem.smap, problem.smap.period
+    for j, evs in enumerate(pt.events):
+        t0, t1 = smap.sample_time(problem.k0 + j), smap.sample_time(problem.k0 + j + 1)
+        for ev in evs:
+            if smap.system.role_of(ev.name) not in SMOOTH_ROLES and min(ev.t - t0, t1 - ev.t) < within * T:
+                return True
+    return False
+
+
+def _slowest_impact(problem, pt) -> float:
+    gap = problem.smap.system.gap
+    speeds = [abs(gap(ev.y_minus, problem.smap.params)[1]) for evs in pt.events for ev in evs
+              if problem.smap.system.role_of(ev.name) == "impact"] if gap is not None else []
+    return min(speeds) if speeds else math.inf
+
+
+def discontinuity(problem, prev: BranchPoint, pt: BranchPoint | None) -> SpecialPoint | None:
+    """Locate the event that stopped the branch after ``prev``: a grazing where a free-flight
+    minimum touches the stop (augmented system), else the bracket [prev, pt]."""
+    born = pt is not None and pt.impacts > prev.impacts
+    if closest_flight_minimum(problem, prev) is not None and (born or pt is None):
+        with in_section(problem, prev):
+            p, tol, gap, at, note, data = locate_grazing(problem, prev)
+        return SpecialPoint("grazing", p, tol, "gap h(t_g) and its rate dh/dt(t_g) at the closest free-flight minimum",
+                            gap, at, note=note, data=data)
+    if pt is None or _crosses_section(prev.transitions, pt.transitions) or event_at_section(problem, prev):
+        return None
+    kind = "signature_change"
+    if any("stick" in s for s in pt.transitions) and not any("stick" in s for s in prev.transitions):
+        kind = "stick_onset"
+    elif pt.impacts < prev.impacts:
+        kind = "impact_lost"
+    return SpecialPoint(kind, prev.p, math.nan, "transition signature", math.nan, prev,
+                        note=f"the last point before the change ({_sig(prev)}; the next corrected point, at "
+                             f"{pt.p:.10g}, has {_sig(pt)}): not located")
+
+
+def _sig(pt) -> str:
+    return ";".join(",".join(s) for s in pt.transitions)
