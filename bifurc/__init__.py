@@ -16,10 +16,12 @@ from .orbit import periodic_orbit, sweep_point
 from .periodic import OrbitNotFound, find_periodic_orbit
 from .plot_diagram import plot_diagram
 from .plot_history import plot_time_history
+from .plot_map import plot_regime_map
+from .regime import regime_map
 from .report import class_at, classification_report
 from .sweep import sweep
 
 register_accessor_with_xarray()  # ds.bifurc, without importing xarray in worker processes
 
-__all__ = ["__version__", "sweep", "load", "plot_diagram", "plot_time_history", "classification_report",
+__all__ = ["__version__", "sweep", "load", "plot_diagram", "plot_time_history", "regime_map", "plot_regime_map", "classification_report",
            "class_at", "periodic_orbit", "sweep_point", "find_periodic_orbit", "OrbitNotFound"]

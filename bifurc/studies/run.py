@@ -12,7 +12,8 @@ import math
 import sys
 from pathlib import Path
 
-STUDIES = {"thesis-1dof-relay": "bifurc.studies.thesis_1dof_relay", "thesis-replay": "bifurc.studies.thesis_replay"}
+STUDIES = {"thesis-1dof-relay": "bifurc.studies.thesis_1dof_relay", "thesis-replay": "bifurc.studies.thesis_replay",
+           "regime-maps": "bifurc.studies.regime_maps"}
 
 
 def load_study(name):
@@ -33,9 +34,6 @@ def run_study(name, out, quick=False, progress=True, cases=None, overwrite=False
     from bifurc.report import classification_report
     from bifurc.sweep import sweep
     study = load_study(name)
-    if hasattr(study, "run"):          # a study with its own runner (thesis-replay: report.md and figures)
-        return study.run(out, quick=quick, progress=progress)
-    size = study.QUICK if quick else study.FULL
     out = Path(out)
     if out.exists() and not out.is_dir():
         raise NotADirectoryError(f"{out} is a file, not a folder")
@@ -43,6 +41,9 @@ def run_study(name, out, quick=False, progress=True, cases=None, overwrite=False
     if held and not overwrite:
         raise FileExistsError(f"{out} is not empty ({len(held)} entries, e.g. {held[0]}); {hint} to write into it")
     out.mkdir(parents=True, exist_ok=True)
+    if hasattr(study, "run"):          # a study with its own runner (report.md and figures)
+        return study.run(out, quick=quick, progress=progress)
+    size = study.QUICK if quick else study.FULL
     results = {}
     for case, preset, overrides in study.CASES:
         if cases and case not in cases:
