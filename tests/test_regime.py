@@ -6,8 +6,6 @@ LocalCluster, netCDF4 for the stored attributes, simulated colour blindness for 
 """
 import itertools
 import os
-import signal
-import subprocess
 import sys
 import time
 from pathlib import Path
@@ -20,6 +18,7 @@ from bifurc import regime_map, sweep
 from bifurc.cli import main
 from bifurc.codes import ClassCode, Status
 from bifurc.regime import CELL_VARIABLES, CellJob
+from conftest import kill_when_parts
 
 ROOT = Path(__file__).resolve().parents[1]
 W, V = np.array([3.0, 5.0, 7.0]), np.array([60.0, 90.0, 200.0])
@@ -112,24 +111,12 @@ MAP = ["map", "--preset", "matlab-listing", "--dc-law", "measured", "--from", "3
        "--batch-size", "1", "--workers", "1", "--quiet"]
 
 
-def _completed(parts):
-    return len(list(parts.glob("*.nc"))) if parts.exists() else 0
-
-
 def test_resume_after_sigkill_of_bifurc_map_equals_an_uninterrupted_run(tmp_path):
     """SIGKILL a running `bifurc map` part-way; the rerun computes only the missing cells (one
     resume folder for the whole grid) and equals a run that was never interrupted."""
     path, parts = tmp_path / "k.nc", tmp_path / "k.nc.parts"
     env = dict(os.environ, PYTHONPATH=str(ROOT))
-    proc = subprocess.Popen([sys.executable, "-m", "bifurc", *MAP, "-o", str(path)], env=env)
-    try:
-        deadline = time.monotonic() + 90
-        while _completed(parts) < 2 and time.monotonic() < deadline and proc.poll() is None:
-            time.sleep(0.01)
-    finally:
-        os.kill(proc.pid, signal.SIGKILL)
-        proc.wait()
-    done = _completed(parts)
+    done = kill_when_parts([sys.executable, "-m", "bifurc", *MAP, "-o", str(path)], parts, timeout=90, env=env)
     if not 2 <= done < 9:
         pytest.skip(f"the kill came too late to test a resume ({done} cells done)")
     assert not path.exists() and sorted(p.name for p in parts.iterdir() if p.suffix == ".json") == ["manifest.json"]

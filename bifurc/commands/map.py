@@ -1,7 +1,7 @@
 """`bifurc map`: a two-parameter regime map to netCDF and a figure."""
 import numpy as np
 
-from ._common import add_force_option, add_scene_options, check_outputs, check_plot, check_scheduler, scene_kwargs
+from ._common import add_grid_options, add_scene_options, check_outputs, check_plot, check_scheduler, scene_kwargs
 
 
 def register(subparsers):
@@ -19,19 +19,7 @@ def register(subparsers):
     p.add_argument("--from2", dest="start2", type=float, required=True, help="first value of --param2")
     p.add_argument("--to2", dest="stop2", type=float, required=True, help="last value of --param2")
     p.add_argument("--n2", type=int, default=50, help="number of values of --param2 (default 50)")
-    p.add_argument("--transient", type=int, default=300, help="relay periods discarded per cell")
-    p.add_argument("--record", type=int, default=100, help="relay periods recorded per cell")
-    p.add_argument("--max-period", type=int, default=100, help="cap of the period search in relay periods")
-    p.add_argument("--no-lyapunov", action="store_true", help="skip Lyapunov exponents (faster)")
-    p.add_argument("--workers", type=int, default=None,
-                   help="worker processes (default: every available core, at least 16 cells each)")
-    p.add_argument("--batch-size", type=int, default=4,
-                   help="cells integrated together in heyoka's batch mode (SIMD lanes; default 4)")
-    p.add_argument("--scheduler", default=None, help="Dask scheduler address tcp://host:port")
-    p.add_argument("-o", "--output", required=True, help="netCDF file to write")
-    p.add_argument("--plot", default=None, help="figure file for the map (.png, .pdf, .svg, ...)")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
-    add_force_option(p)
+    add_grid_options(p, "cell")
     p.set_defaults(func=run)
 
 

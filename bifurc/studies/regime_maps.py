@@ -84,7 +84,7 @@ def _finding(ds) -> str:
                 f"voltage that gives it on this grid is {lowest:.4g} V. Where: {_where(ds, h)}.")
     periodic = ds.class_code == ClassCode.PERIODIC
     once = periodic & (ds.impacts_per_period == ds.period)
-    text = f"No cell of this grid hammers periodically with one impact per relay period (period-1, 1 impact)."
+    text = "No cell of this grid hammers periodically with one impact per relay period (period-1, 1 impact)."
     if int(once.sum()):
         text += (f" {int(once.sum())} cell(s) are period-n with n impacts (one impact per relay period on "
                  f"average, repeating only every n periods): {_where(ds, once)}.")
