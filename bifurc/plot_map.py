@@ -114,4 +114,4 @@ def plot_regime_map(ds, path=None, ax=None, curves=None, overwrite=False):
 
 
 def _step(v) -> float:
-    return float(np.min(np.diff(v))) if v.size > 1 else 1.0
+    return float(np.min(np.abs(np.diff(v)))) if v.size > 1 else 1.0

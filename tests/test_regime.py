@@ -85,6 +85,22 @@ def test_netcdf_round_trip_keeps_values_and_cf_attributes(local, tmp_path):
     assert not Path(str(path) + ".parts").exists()
 
 
+def test_a_map_file_is_its_own_kind(local, tmp_path, capsys):
+    """ds.bifurc.plot() draws the map; `bifurc report` (a diagram's report) refuses it in one line."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    assert local.bifurc.kind == "map"
+    ax = local.bifurc.plot()
+    assert ax[0].get_title() == "regime"
+    plt.close(ax[0].figure)
+    path = tmp_path / "m.nc"
+    local.to_netcdf(path)
+    assert main(["report", str(path)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "holds a map dataset" in err and len(err.splitlines()) == 1
+
+
 @pytest.fixture(scope="module")
 def cluster():
     distributed = pytest.importorskip("dask.distributed")
