@@ -31,22 +31,26 @@ def _periodic_text(code, n, m) -> str:
     return describe(code, n, m).split(" (")[0]
 
 
-def regime_categories(ds):
+def regime_categories(ds, colours=PERIODIC_COLOURS):
     """(category index per cell, [(legend text, colour), ...]) of a regime-map Dataset: the
-    periodic n:m categories ordered by period then impacts (colours by frequency), then the
-    other classes in code order; only categories present."""
+    periodic n:m categories ordered by period then impacts, then the other classes in code order;
+    only categories present.  The ``colours`` go to "period-1, 1 impact" (periodic hammering)
+    first, then to the other periodic categories by frequency; the rest share "periodic, other n:m"
+    (``colours=None``: every category its own entry, colour None)."""
     code = ds.class_code.values.astype(int)
     n, m = ds.period.values.astype(int), ds.impacts_per_period.values.astype(int)
     periodic = np.isin(code, [ClassCode.PERIODIC, ClassCode.PERIODIC_NO_IMPACT])
     keys = sorted({(int(a), int(c), int(b)) for a, b, c in zip(n[periodic], m[periodic], code[periodic])},
                   key=lambda k: (k[0], k[1] != ClassCode.PERIODIC, k[2]))
-    count = {k: int(np.sum(periodic & (n == k[0]) & (code == k[1]) & (m == k[2]))) for k in keys}
-    ranked = sorted(keys, key=lambda k: (-count[k], keys.index(k)))
-    colour = {k: PERIODIC_COLOURS[i] for i, k in enumerate(ranked[:len(PERIODIC_COLOURS)])}
+    cells = {k: periodic & (n == k[0]) & (code == k[1]) & (m == k[2]) for k in keys}
+    hammer = (1, int(ClassCode.PERIODIC), 1)
+    ranked = sorted(keys, key=lambda k: (k != hammer, -int(cells[k].sum()), keys.index(k)))
+    colour = {k: (colours[i] if colours is not None else None)
+              for i, k in enumerate(ranked if colours is None else ranked[:len(colours)])}
     cats, index = [], np.full(code.shape, -1)
     for k in keys:
         if k in colour:
-            index[periodic & (n == k[0]) & (code == k[1]) & (m == k[2])] = len(cats)
+            index[cells[k]] = len(cats)
             cats.append((_periodic_text(k[1], k[0], k[2]), colour[k]))
     other = periodic & (index < 0)
     if other.any():
@@ -55,7 +59,7 @@ def regime_categories(ds):
     for c in ClassCode:
         if not c.periodic and (code == c).any():
             index[code == c] = len(cats)
-            cats.append((_TEXT.get(c.label, c.label), CLASS_COLOURS[CLASS_LABELS[c]]))
+            cats.append((_TEXT.get(c.label, c.label), CLASS_COLOURS[CLASS_LABELS[c]] if colours is not None else None))
     if (index < 0).any():
         index[index < 0] = len(cats)
         cats.append(MISSING)

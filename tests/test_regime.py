@@ -246,3 +246,19 @@ def test_regime_maps_quick_study_takes_under_two_minutes(tmp_path):
     assert main(["study", "regime-maps", "--quick", "-o", str(tmp_path)]) == 0
     assert time.perf_counter() - clock < 120
     _check_study(tmp_path, study.QUICK)
+
+
+def test_periodic_hammering_keeps_its_own_colour_when_rare(local):
+    """Ten periodic n:m on the map, "period-1, 1 impact" on one cell only: it still gets the first
+    colour (the study's question), the rarest of the others share "periodic, other n:m"."""
+    from bifurc.plot_map import OTHER_PERIODIC, PERIODIC_COLOURS, regime_categories
+    ds = local.isel(relay_hz=[0, 1, 2, 0], V=[0, 1, 2, 0]).copy(deep=True)   # 16 cells
+    ds["class_code"][:] = ClassCode.PERIODIC
+    ds["period"][:] = 2
+    ds["impacts_per_period"][:] = np.arange(16).reshape(4, 4) % 10 + 2   # ten n:m, 2:2 .. 2:11
+    ds["period"][0, 0], ds["impacts_per_period"][0, 0] = 1, 1             # replaces one 2:2 cell
+    index, cats = regime_categories(ds)
+    assert cats[0] == ("period-1, 1 impact", PERIODIC_COLOURS[0]) and np.sum(index == 0) == 1
+    assert OTHER_PERIODIC in cats and len(cats) == len(PERIODIC_COLOURS) + 1
+    _, every = regime_categories(ds, colours=None)
+    assert len(every) == 11 and all(c is None for _, c in every)

@@ -66,9 +66,10 @@ def _where(ds, mask) -> str:
     for i, w in enumerate(ds[other].values):
         vs = ds[volt].values[m[i]]
         if vs.size:
-            rows.append(f"{other} = {w:.4g} {ds[other].attrs.get('units', '')}: {volt} "
-                        + (f"{vs.min():.4g}-{vs.max():.4g}" if vs.size > 1 else f"{vs[0]:.4g}")
-                        + f" V ({vs.size} cell{'s' if vs.size > 1 else ''})")
+            unit = ds[other].attrs.get("units", "")
+            rows.append(f"{other} = {w:.4g}{' ' + unit if unit not in ('', '1') else ''}: "
+                        + (f"{vs.size} cells with {volt} from {vs.min():.4g} to {vs.max():.4g} V"
+                           if vs.size > 1 else f"{volt} = {vs[0]:.4g} V"))
     return "; ".join(rows)
 
 
@@ -91,10 +92,22 @@ def _finding(ds) -> str:
     return text
 
 
+#: periodic n:m on fewer cells than this share one row of the report's table
+RARE = 3
+
+
 def _counts(ds):
+    """(regime, cells) rows: every n:m on at least RARE cells (and period-1, 1 impact always), the
+    rarer ones in one row, then the other classes."""
     from bifurc.plot_map import regime_categories
-    index, cats = regime_categories(ds)
-    return [(text, int((index == i).sum())) for i, (text, _) in enumerate(cats)]
+    index, cats = regime_categories(ds, colours=None)   # every n:m its own category
+    rows = [(text, int((index == i).sum())) for i, (text, _) in enumerate(cats)]
+    keep = lambda t, n: not t.startswith("period-") or n >= RARE or t == "period-1, 1 impact"  # noqa: E731
+    rare = [(t, n) for t, n in rows if not keep(t, n)]
+    out = [(t, n) for t, n in rows if keep(t, n) and t.startswith("period-")]
+    if rare:
+        out.append((f"other periodic n:m, each on fewer than {RARE} cells ({len(rare)} kinds)", sum(n for _, n in rare)))
+    return out + [(t, n) for t, n in rows if not t.startswith("period-")]
 
 
 def report(results, quick, seconds) -> str:
@@ -118,7 +131,7 @@ def report(results, quick, seconds) -> str:
             lines += ["", f"Not converged within {a['transient_periods']} + {a['recorded_periods']} relay periods "
                           f"({int(nc.sum())} cells; the label claims no more), by stored reason (# : a number "
                           "that varies per cell, see `class_reason` in the .nc):", ""]
-            lines += [f"- {k} cells: {r}" for r, k in reasons.most_common()]
+            lines += [f"- {k} cell{'s' if k > 1 else ''}: {r}" for r, k in reasons.most_common()]
         err = a.get("error_map_step_rel", math.nan)
         lines += ["", f"Numerical error (tol/100): one map step {err:.2g} relative; map computed in "
                       f"{a['values_seconds']:.0f} s of cell time ({a['sweep_seconds']:.0f} s wall, "
