@@ -18,10 +18,13 @@ from .periodic import OrbitNotFound, find_periodic_orbit
 from .plot_branch import plot_branch, plot_curves
 from .plot_diagram import plot_diagram
 from .plot_history import plot_time_history
+from .plot_map import plot_regime_map
+from .regime import regime_map
 from .report import class_at, classification_report
 from .sweep import sweep
 
 register_accessor_with_xarray()  # ds.bifurc, without importing xarray in worker processes
 
-__all__ = ["__version__", "sweep", "load", "plot_diagram", "plot_time_history", "classification_report",
-           "class_at", "periodic_orbit", "continue_orbit", "plot_branch", "plot_curves", "sweep_point", "find_periodic_orbit", "OrbitNotFound"]
+__all__ = ["__version__", "sweep", "load", "plot_diagram", "plot_time_history", "regime_map", "plot_regime_map",
+           "classification_report", "class_at", "periodic_orbit", "continue_orbit", "plot_branch", "plot_curves",
+           "sweep_point", "find_periodic_orbit", "OrbitNotFound"]

@@ -30,7 +30,7 @@ class BifurcAccessor:
 
     @property
     def kind(self) -> str | None:
-        """"diagram", "simulate", "stability", "accuracy" or None (see :data:`bifurc.datasets.KINDS`)."""
+        """"diagram", "map", "simulate", "stability", "accuracy" or None (see :data:`bifurc.datasets.KINDS`)."""
         return kind_of(self._ds)
 
     def _need(self, kind: str) -> None:
@@ -39,15 +39,18 @@ class BifurcAccessor:
             raise ParameterError(f"this needs a {kind} dataset (from {KINDS[kind]}); this is {found}")
 
     def plot(self, **kw):
-        """The figure of this dataset: bifurcation diagram, time history or work-precision plot.
+        """The figure of this dataset: bifurcation diagram, regime map, time history or work-precision plot.
 
-        Keywords go to :func:`bifurc.plot_diagram`, :func:`bifurc.plot_time_history` or
+        Keywords go to :func:`bifurc.plot_diagram`, :func:`bifurc.plot_regime_map`, :func:`bifurc.plot_time_history` or
         :func:`bifurc.verification.accuracy.plot_work_precision` (``ax=``, ``path=``, ...); returns the Axes it drew on.
         """
         kind = self.kind
         if kind == "diagram":
             from .plot_diagram import plot_diagram
             return plot_diagram(self._ds, **kw)
+        if kind == "map":
+            from .plot_map import plot_regime_map
+            return plot_regime_map(self._ds, **kw)
         if kind == "simulate":
             from .plot_history import plot_time_history
             return plot_time_history(self._ds, **kw)
@@ -55,7 +58,7 @@ class BifurcAccessor:
             from .verification.accuracy import plot_work_precision
             return plot_work_precision(self._ds, **kw)
         raise ParameterError(f"no figure for {'a ' + kind + ' dataset' if kind else 'this dataset'}; "
-                             "plots exist for diagram, simulate and accuracy datasets")
+                             "plots exist for diagram, map, simulate and accuracy datasets")
 
     def report(self, at=None) -> Markdown:
         """Markdown classification report of a diagram (``at``: values to tabulate)."""

@@ -23,7 +23,7 @@ from .files import BadFileError
 __all__ = ["COMMANDS", "UsageError", "build_parser", "main"]
 
 #: subcommand modules in bifurc.commands, each with register(subparsers); missing ones are skipped
-COMMANDS = ["scenes", "params", "simulate", "diagram", "orbit", "branch", "report", "accuracy", "verify", "study"]
+COMMANDS = ["scenes", "params", "simulate", "diagram", "map", "orbit", "branch", "report", "accuracy", "verify", "study"]
 
 #: user-facing failures: one line on stderr, exit code 2
 USER_ERRORS = (ParameterError, BadFileError, FileNotFoundError, FileExistsError, IsADirectoryError,

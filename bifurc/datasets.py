@@ -8,13 +8,15 @@ from .files import BadFileError
 __all__ = ["KINDS", "kind_of", "load"]
 
 #: dataset kinds and what writes them
-KINDS = {"diagram": "`bifurc diagram` or bifurc.sweep", "simulate": "`bifurc simulate` or maps.simulate",
+KINDS = {"diagram": "`bifurc diagram` or bifurc.sweep", "map": "`bifurc map` or bifurc.regime_map", "simulate": "`bifurc simulate` or maps.simulate",
          "stability": "`bifurc verify`", "accuracy": "`bifurc accuracy`",
          "orbit": "`bifurc orbit` or bifurc.periodic_orbit"}
 
 
 def kind_of(ds) -> str | None:
-    """"diagram", "simulate", "stability", "accuracy", "orbit", or None for a dataset bifurc did not write."""
+    """"diagram", "map", "simulate", "stability", "accuracy", "orbit", or None for a dataset bifurc did not write."""
+    if "class_code" in ds and "swept_parameter2" in ds.attrs:
+        return "map"
     if "class_code" in ds and "swept_parameter" in ds.attrs:
         return "diagram"
     if "multiplier_abs" in ds and "node" in ds.dims:

@@ -85,7 +85,7 @@ def map_step_error(r, value, job, tight, n_points) -> float:
     pts = r.points[:r.n_recorded + 1]
     ks = np.unique(np.linspace(0, pts.shape[0] - 2, min(n_points, pts.shape[0] - 1)).round().astype(int))
     scale = state_scale(pts, job.atol)
-    params = dict(job.params, **{job.param: float(value)})
+    params = job.at(value)
     worst = math.nan
     maps_ = job.warm(), tight.warm()
     for smap in maps_:

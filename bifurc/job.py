@@ -115,10 +115,14 @@ class ValueJob:
         sc, _ = resolve_scene(self.scene, self.params, **self.options)
         return sc.system.state_vector(sc.initial_state(**self.x0))
 
+    def at(self, value) -> dict:
+        """The parameter values of the grid point ``value`` (here ``param = value``)."""
+        return dict(self.params, **{self.param: float(value)})
+
     def __call__(self, value, start=None) -> ValueResult:
         """Orbit and class at ``param = value``; ``start = (state, flags)`` overrides x0."""
         smap = self.warm()
-        smap.set_params(**dict(self.params, **{self.param: float(value)}))
+        smap.set_params(**self.at(value))
         y0, flags = (self.x0_state(), None) if start is None else start
         clock = _time.perf_counter()
         o = smap.orbit(y0, self.record, transient=self.transient, flags=flags)
@@ -213,7 +217,7 @@ class ValueJob:
         if self.batch_size == 1:
             return [self(v) for v in values]
         clock = _time.perf_counter()
-        over = [dict(self.params, **{self.param: float(v)}) for v in values]
+        over = [self.at(v) for v in values]
         orbits = smap.orbits(over, self.x0_state(), self.record, transient=self.transient,
                              batch_size=self.batch_size)
         classes = [self._classify(o, smap.forcing_period_for(p)) for o, p in zip(orbits, over)]

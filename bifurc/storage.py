@@ -28,7 +28,7 @@ from .files import write_netcdf
 from maps.presets import preset_attrs
 from maps.simulate import dc_law_attrs
 
-__all__ = ["to_dataset", "add_grazing", "add_error_estimate", "save", "load", "STATUS_MEANINGS"]
+__all__ = ["to_dataset", "run_attrs", "add_grazing", "add_error_estimate", "save", "load", "STATUS_MEANINGS"]
 
 STATUS_MEANINGS = " ".join(s.label for s in Status)
 
@@ -68,12 +68,20 @@ def to_dataset(results, values, job, scene, table, mode) -> xr.Dataset:
         ds[var.name] = (var.dims_for(par), _stack(results, branches, var, sizes, par), var.attrs())
     ds[GRAZING_FLAG.name] = grazing_flag(ds.min_gap, ds.min_impact_speed).astype(np.int8).assign_attrs(
         GRAZING_FLAG.attrs())
+    ds.attrs.update({"title": f"{scene.name}: {par} sweep ({mode})", "scene": scene.name, "swept_parameter": par,
+                     "swept_parameter_units": p.unit, "mode": mode,
+                     **run_attrs(job, scene, table, f"scene {scene.name}, {par} sweep ({mode})", skip=(par,))})
+    return ds
+
+
+def run_attrs(job, scene, table, history, skip=()) -> dict:
+    """The attributes every grid dataset carries: the job's settings, the model's options and
+    parameters (except the gridded ones, ``skip``), thresholds, versions and the CF history."""
     o = scene.options
     circuit = (o.circuit if o.ac else "none") if o is not None else "none"
     ac_sign = (o.ac_sign if o.ac else "none") if o is not None else "none"
-    ds.attrs.update({
-        "title": f"{scene.name}: {par} sweep ({mode})", "scene": scene.name, "swept_parameter": par,
-        "swept_parameter_units": p.unit, "mode": mode, "transient_periods": job.transient,
+    return {
+        "transient_periods": job.transient,
         "recorded_periods": job.record, "tol": job.tol, "max_period": job.max_period,
         "max_transient_periods": job.max_transient if job.max_transient is not None else job.transient,
         "classification_rtol": job.rtol, "classification_atol": job.atol,
@@ -85,10 +93,8 @@ def to_dataset(results, values, job, scene, table, mode) -> xr.Dataset:
         "grazing_gap_threshold_m": GRAZING_GAP, "grazing_speed_threshold_m_s": GRAZING_SPEED,
         "bifurc_version": __version__, "heyoka_version": hy.__version__, "numpy_version": np.__version__,
         "xarray_version": xr.__version__, "python_version": platform.python_version(),
-        **cf_attrs(f"scene {scene.name}, {par} sweep ({mode})"),
-    })
-    ds.attrs.update(param_attrs(table, system, skip=(par,)))
-    return ds
+        **cf_attrs(history), **param_attrs(table, scene.system, skip=skip),
+    }
 
 
 def add_grazing(ds: xr.Dataset, found) -> xr.Dataset:

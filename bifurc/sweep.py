@@ -95,14 +95,37 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
     values = np.asarray(values, dtype=float).ravel()
     job, sc, table = _job(scene, param, values, transient, record, preset, params, x0, tol, max_period, rtol, atol,
                           lyapunov, circuit, ac_sign, dc_law, max_transient, batch_size)
+    parts = Parts(path, manifest(job, values, mode)) if path else None
+    results, resumed, seconds, workers = run_values(job, values, mode, parts, workers, scheduler, chunk_size, progress,
+                                                    f"{sc.name} {param}")
+    branches = MODES[mode]
+    from . import storage      # xarray: imported where the Dataset is built (worker processes start faster)
+    ds = storage.to_dataset(results, values, job, sc, table, mode)
+    run_stats(ds, job, seconds, resumed, workers)
+    if grazing:
+        ds = storage.add_grazing(ds, locate_grazing_values(results, values, job, grazing_xtol))
+    if error_sample:
+        ds = storage.add_error_estimate(ds, **error_estimate(results, values, job, branches[0], error_sample))
+    if path:
+        storage.save(ds, path, overwrite=True)  # refused earlier unless overwrite (guarded_output)
+        parts.remove()
+    return ds
+
+
+def run_values(job, values, mode, parts, workers, scheduler, chunk_size, progress, desc):
+    """Every value of the grid through ``job``, resumed from and streamed to ``parts``
+    (:class:`bifurc.resume.Parts`, or None).
+
+    Returns ({branch: [ValueResult per value]}, values resumed, wall seconds of this call,
+    worker processes used (0: a Dask cluster's)).  The grid driver of :func:`sweep` and
+    :func:`bifurc.regime.regime_map` (whose values are the flat indices of its cells)."""
     workers, chunk_size = _execution(job, values.size, workers, scheduler, chunk_size)
     branches = MODES[mode]
-    parts = Parts(path, manifest(job, values, mode)) if path else None
     results = {b: [None] * values.size for b in branches}
     for (b, i), r in (parts.load() if parts else {}).items():
         results[b][i] = r
     resumed = sum(r is not None for b in branches for r in results[b])
-    bar = _progress(values.size * len(branches) - resumed, progress, f"{sc.name} {param}")
+    bar = _progress(values.size * len(branches) - resumed, progress, desc)
 
     def keep(b, indices, chunk):
         for i, r in zip(indices, chunk):
@@ -119,23 +142,18 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
             _run_follow(job, values, results, keep)
     finally:
         bar.close()
-    seconds = _time.perf_counter() - clock
-    from . import storage      # xarray: imported where the Dataset is built (worker processes start faster)
-    ds = storage.to_dataset(results, values, job, sc, table, mode)
+    return results, resumed, _time.perf_counter() - clock, workers
+
+
+def run_stats(ds, job, seconds, resumed, workers) -> None:
+    """Record how a grid ran in ``ds.attrs``: wall time of this call, computation time of every
+    value (resumed ones included), values resumed, workers, SIMD lanes, this process's compile time."""
     ds.attrs["sweep_seconds"] = seconds     # wall time of this call's integrations
     ds.attrs["values_seconds"] = float(np.nansum(ds.run_seconds.values))  # resumed values included
     ds.attrs["resumed_values"] = resumed
     ds.attrs["workers"] = workers           # worker processes (0: a Dask cluster's)
-    ds.attrs["batch_size"] = batch_size     # SIMD lanes (1: one value at a time); results agree to round-off
+    ds.attrs["batch_size"] = job.batch_size  # SIMD lanes (1: one value at a time); results agree to round-off
     ds.attrs["compile_seconds"] = job.warm().compile_seconds  # this process's scalar compile (workers compile their own)
-    if grazing:
-        ds = storage.add_grazing(ds, locate_grazing_values(results, values, job, grazing_xtol))
-    if error_sample:
-        ds = storage.add_error_estimate(ds, **error_estimate(results, values, job, branches[0], error_sample))
-    if path:
-        storage.save(ds, path, overwrite=True)  # refused earlier unless overwrite (guarded_output)
-        parts.remove()
-    return ds
 
 
 def _job(scene, param, values, transient, record, preset, params, x0, tol, max_period, rtol, atol, lyapunov,

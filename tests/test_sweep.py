@@ -10,6 +10,7 @@ from bifurc import storage
 from bifurc.classify import CLASS_LABELS
 from bifurc.job import ValueJob
 from bifurc.sweep import sweep
+from conftest import completed_values, kill_when_parts
 from maps.impacts import impact_table
 
 OSC = dict(w0=1.0, zeta=0.02, F=0.1, Omega=1.0, e=-1.0, r=0.8)
@@ -108,13 +109,7 @@ def test_follow_mode_finds_coexisting_attractors(osc):
         assert float(down.x.sel(Omega=W).isel(sample=-1)) == pytest.approx(x, abs=1e-8)
 
 
-def _completed(parts) -> int:
-    """Values saved in the resume parts (one netCDF file per completed chunk)."""
-    n = 0
-    for f in parts.glob("*.nc"):
-        with xr.open_dataset(f) as ds:
-            n += ds.sizes["value"]
-    return n
+_completed = completed_values
 
 
 def test_interrupted_batch_sweep_resumes_to_the_same_dataset(tmp_path, monkeypatch):
@@ -309,24 +304,12 @@ sweep("thesis-1dof", "relay_hz", np.linspace(4, 9, 8), path=sys.argv[1], **{args
 def test_killed_sweep_keeps_completed_values_and_resumes(tmp_path):
     """SIGKILL a sweep process part-way: the completed values stay on disk (no partial file), and
     the rerun computes only the rest and equals an uninterrupted sweep to 1e-12."""
-    import os
-    import signal
-    import subprocess
     import sys
-    import time
     args = dict(preset="matlab-listing", params={"V": 90.0}, transient=150, record=20, lyapunov=False,
                 grazing=False, error_sample=0, progress=False, chunk_size=2)
     path = tmp_path / "k.nc"
     parts = tmp_path / "k.nc.parts"
-    proc = subprocess.Popen([sys.executable, "-c", KILL_SCRIPT.format(args=repr(args)), str(path)])
-    try:
-        deadline = time.monotonic() + 60
-        while _completed(parts) < 2 and time.monotonic() < deadline and proc.poll() is None:
-            time.sleep(0.01)
-    finally:
-        os.kill(proc.pid, signal.SIGKILL)
-        proc.wait()
-    done = _completed(parts)
+    done = kill_when_parts([sys.executable, "-c", KILL_SCRIPT.format(args=repr(args)), str(path)], parts)
     if not 2 <= done < 8:
         pytest.skip(f"the kill came too late to test a resume ({done} values done)")
     assert not path.exists()  # a .tmp cut by the kill may remain: only whole .nc parts count

@@ -6,7 +6,7 @@ import argparse
 from maps.parameters import ParameterError
 
 __all__ = ["add_parameter_options", "add_scene_options", "add_force_option", "parse_sets", "parse_x0", "parse_floats", "scene_kwargs",
-           "check_outputs", "check_plot", "check_scheduler"]
+           "check_outputs", "check_plot", "check_scheduler", "add_grid_options"]
 
 
 def add_parameter_options(parser, default_scene: str = "thesis-1dof"):
@@ -130,3 +130,24 @@ def check_scheduler(address) -> None:
         reason = exc.strerror or type(exc).__name__
         raise ParameterError(f"--scheduler {address}: no Dask scheduler reachable there within "
                              f"{SCHEDULER_TIMEOUT:g} s ({reason})") from None
+
+
+def add_grid_options(parser, what: str = "value") -> None:
+    """The options of a grid of independent ``what``s (diagram values, map cells): the record per
+    ``what``, the period search, Lyapunov exponents, where it runs, and its outputs."""
+    parser.add_argument("--transient", type=int, default=300, help=f"relay periods discarded per {what}")
+    parser.add_argument("--record", type=int, default=100, help=f"relay periods recorded per {what}")
+    parser.add_argument("--max-period", type=int, default=100,
+                        help="cap of the period search in relay periods (default 100); candidates are the "
+                             "multiples of the forcing period q that fit twice in the record")
+    parser.add_argument("--no-lyapunov", action="store_true", help="skip Lyapunov exponents (faster)")
+    parser.add_argument("--workers", type=int, default=None,
+                        help=f"worker processes (default: every available core, at least 16 {what}s each)")
+    parser.add_argument("--batch-size", type=int, default=4,
+                        help=f"{what}s integrated together in heyoka's batch mode (SIMD lanes; default 4; "
+                             f"1: one {what} at a time)")
+    parser.add_argument("--scheduler", default=None, help="Dask scheduler address tcp://host:port")
+    parser.add_argument("-o", "--output", required=True, help="netCDF file to write")
+    parser.add_argument("--plot", default=None, help="figure file (.png, .pdf, .svg, ...)")
+    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_force_option(parser)

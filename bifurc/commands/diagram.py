@@ -1,7 +1,7 @@
 """`bifurc diagram`: a one-parameter bifurcation diagram to netCDF and a figure."""
 import numpy as np
 
-from ._common import add_force_option, add_scene_options, check_outputs, check_plot, check_scheduler, scene_kwargs
+from ._common import add_grid_options, add_scene_options, check_outputs, check_plot, check_scheduler, scene_kwargs
 
 
 def register(subparsers):
@@ -16,27 +16,12 @@ def register(subparsers):
     p.add_argument("--from", dest="start", type=float, required=True, help="first value")
     p.add_argument("--to", dest="stop", type=float, required=True, help="last value")
     p.add_argument("--n", type=int, default=100, help="number of values (default 100)")
-    p.add_argument("--transient", type=int, default=300, help="relay periods discarded per value")
-    p.add_argument("--record", type=int, default=100, help="relay periods recorded per value")
     p.add_argument("--max-transient", type=int, default=None,
                    help="extend the transient of values still converging, up to this many relay periods")
     p.add_argument("--mode", choices=("independent", "follow"), default="independent",
                    help="independent: every value from x0; follow: each value from the previous one's final "
                         "state, up then down")
-    p.add_argument("--max-period", type=int, default=100,
-                   help="cap of the period search in relay periods (default 100); candidates are the "
-                        "multiples of the forcing period q that fit twice in the record")
-    p.add_argument("--no-lyapunov", action="store_true", help="skip Lyapunov exponents (faster)")
-    p.add_argument("--workers", type=int, default=None,
-                   help="worker processes (independent mode; default: every available core, at least 16 values each)")
-    p.add_argument("--batch-size", type=int, default=4,
-                   help="values integrated together in heyoka's batch mode (SIMD lanes; default 4; "
-                        "1: one value at a time)")
-    p.add_argument("--scheduler", default=None, help="Dask scheduler address tcp://host:port")
-    p.add_argument("-o", "--output", required=True, help="netCDF file to write")
-    p.add_argument("--plot", default=None, help="figure file for the diagram (.png, .pdf, .svg, ...)")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
-    add_force_option(p)
+    add_grid_options(p, "value")
     p.set_defaults(func=run)
 
 

@@ -13,7 +13,7 @@ import sys
 from pathlib import Path
 
 STUDIES = {"thesis-1dof-relay": "bifurc.studies.thesis_1dof_relay", "thesis-replay": "bifurc.studies.thesis_replay",
-           "thesis-orbits": "bifurc.studies.thesis_orbits"}
+           "thesis-orbits": "bifurc.studies.thesis_orbits", "regime-maps": "bifurc.studies.regime_maps"}
 
 
 def load_study(name):

@@ -1,0 +1,54 @@
+"""`bifurc map`: a two-parameter regime map to netCDF and a figure."""
+import numpy as np
+
+from ._common import add_grid_options, add_scene_options, check_outputs, check_plot, check_scheduler, scene_kwargs
+
+
+def register(subparsers):
+    p = subparsers.add_parser("map", help="regime map over two parameters",
+                              description="Classify every cell of a two-parameter grid as a diagram value "
+                                          "(period n with m impacts, quasi-periodic, chaotic, ...; Lyapunov "
+                                          "exponent, clearance); write netCDF and a figure. Interrupted maps resume "
+                                          "from <output>.parts/. An existing output is refused unless --force.")
+    add_scene_options(p, default_tol=1e-10)
+    p.add_argument("--param", default="relay_hz", help="first parameter, the x axis (default relay_hz)")
+    p.add_argument("--from", dest="start", type=float, required=True, help="first value of --param")
+    p.add_argument("--to", dest="stop", type=float, required=True, help="last value of --param")
+    p.add_argument("--n", type=int, default=50, help="number of values of --param (default 50)")
+    p.add_argument("--param2", default="V", help="second parameter, the y axis (default V)")
+    p.add_argument("--from2", dest="start2", type=float, required=True, help="first value of --param2")
+    p.add_argument("--to2", dest="stop2", type=float, required=True, help="last value of --param2")
+    p.add_argument("--n2", type=int, default=50, help="number of values of --param2 (default 50)")
+    add_grid_options(p, "cell")
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    from maps.parameters import ParameterError
+
+    from ..plot_map import regime_categories
+    from ..regime import regime_map
+    for opt, n in (("--n", args.n), ("--n2", args.n2)):
+        if n < 1:
+            raise ParameterError(f"{opt} {n}: need at least 1 value")
+    kw = scene_kwargs(args)
+    check_outputs(args, args.output)
+    check_plot(args)
+    check_scheduler(args.scheduler)
+    ds = regime_map(args.scene, args.param, np.linspace(args.start, args.stop, args.n), args.param2,
+                    np.linspace(args.start2, args.stop2, args.n2), transient=args.transient, record=args.record,
+                    max_period=args.max_period, lyapunov=not args.no_lyapunov, path=args.output,
+                    batch_size=args.batch_size, progress=not args.quiet, workers=args.workers,
+                    scheduler=args.scheduler, overwrite=args.force, **kw)
+    if args.plot:
+        from ..plot_map import plot_regime_map
+        plot_regime_map(ds, args.plot, overwrite=args.force)
+    index, cats = regime_categories(ds)
+    counts = ", ".join(f"{text} {int((index == i).sum())}" for i, (text, _) in enumerate(cats))
+    a = ds.attrs
+    resumed = f", {a['resumed_values']} resumed" if a["resumed_values"] else ""
+    print(f"{a['scene']}: {args.param} {args.start:g}..{args.stop:g} x {args.param2} {args.start2:g}..{args.stop2:g} "
+          f"({args.n} x {args.n2} cells) in {a['values_seconds']:.1f} s of computation ({a['sweep_seconds']:.1f} s "
+          f"wall this run{resumed}): {counts}")
+    print(f"  wrote {args.output}" + (f" and {args.plot}" if args.plot else ""))
+    return 0
