@@ -25,6 +25,7 @@ from .codes import Status
 from .grazing import GRAZING_GAP, GRAZING_SPEED, grazing_flag
 from .schema import GRAZING, GRAZING_FLAG, PARAM, SWEEP, SWEEP_COORDS, flag_variable, param_attrs, state_variable
 from .files import write_netcdf
+from .job import FORCING_PERIODS
 from maps.presets import preset_attrs
 from maps.simulate import dc_law_attrs
 
@@ -74,7 +75,11 @@ def to_dataset(results, values, job, scene, table, mode) -> xr.Dataset:
     ds.attrs.update({
         "title": f"{scene.name}: {par} sweep ({mode})", "scene": scene.name, "swept_parameter": par,
         "swept_parameter_units": p.unit, "mode": mode, "transient_periods": job.transient,
-        "recorded_periods": job.record, "tol": job.tol, "max_period": job.max_period,
+        "recorded_periods": job.record, "max_record_periods": job.record_cap,
+        "record_extension": f"a record holding fewer than {FORCING_PERIODS} forcing periods q (q <= max_period) is "
+                            f"extended to {FORCING_PERIODS} q relay periods, at most max_record_periods (record_used); "
+                            "the exponent and its threshold use each value's whole record unless lyapunov_steps is set",
+        "tol": job.tol, "max_period": job.max_period,
         "max_transient_periods": job.max_transient if job.max_transient is not None else job.transient,
         "classification_rtol": job.rtol, "classification_atol": job.atol,
         "lyapunov_steps": job.exponent_steps, "lyapunov_threshold": lyapunov_threshold(job.exponent_steps),

@@ -313,25 +313,29 @@ class StroboscopicMap:
         res = self._engine.run([job])[0]
         return self._orbit_from(res, job)
 
-    def orbits(self, overrides: list, x0, n: int, *, transient: int = 0, flags: dict | None = None,
+    def orbits(self, overrides: list, x0, n, *, transient: int = 0, flags: dict | None = None,
                method: str = "auto", batch_size: int = 4) -> list[MapOrbit]:
         """One orbit per parameter set: ``overrides[i]`` (a dict) changes this map's parameters.
 
         Every orbit starts from ``x0`` (a state, or a list of one state per set) at t = 0, as
-        :meth:`orbit`.  ``method``: "batch" (heyoka batch mode, ``batch_size`` SIMD lanes: the
-        transient without stops at observation-only guards, then the recorded window with
-        them), "scalar" (one after the other), "auto" (batch where the engine supports the
-        system).  Results agree to round-off, amplified by chaotic dynamics.
+        :meth:`orbit`, and records ``n`` steps (an int, or a list of one per set).  ``method``:
+        "batch" (heyoka batch mode, ``batch_size`` SIMD lanes: the transient without stops at
+        observation-only guards, then the recorded window with them), "scalar" (one after the
+        other), "auto" (batch where the engine supports the system).  Results agree to
+        round-off, amplified by chaotic dynamics.
         """
-        n = int(validate_value("n", n, 1, 1e8))
+        lengths = n if isinstance(n, (list, tuple)) else [n] * len(overrides)
+        if len(lengths) != len(overrides):
+            raise ParameterError(f"n: {len(lengths)} record lengths for {len(overrides)} parameter sets")
+        lengths = [int(validate_value("n", m, 1, 1e8)) for m in lengths]
         transient = int(validate_value("transient", transient, 0, 1e8))
         params = [self.system.validate(dict(self.params, **o)) for o in overrides]
         starts = x0 if isinstance(x0, list) else [x0] * len(params)
         jobs = []
-        for p, s in zip(params, starts):
+        for p, s, m in zip(params, starts, lengths):
             y, given, _ = _split(s)
             jobs.append(self._job(p, self.system.state_vector(y), flags if flags is not None else given,
-                                  0, transient, n, log=True))
+                                  0, transient, m, log=True))
         method = self._method(method, batch_size)
         clock = _time.perf_counter()
         if method == "scalar":
