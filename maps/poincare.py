@@ -18,10 +18,11 @@ import numpy as np
 from .engines import engine_for, unsupported
 from .engines.base import OrbitJob
 from .engines.scalar import ScalarEngine
-from .hybrid import HybridState, HybridSystem, validate_tol
+from .hybrid import HybridState, HybridSystem, IntegrationFailure, validate_tol
 from .parameters import ParameterError, validate_value
 
-__all__ = ["StroboscopicMap", "MapOrbit", "MapLinearization", "ImpactMap", "forcing_period_steps",
+__all__ = ["StroboscopicMap", "MapOrbit", "MapLinearization", "ImpactMap", "ImpactLinearization",
+           "forcing_period_steps",
            "orbit_from_periods"]
 
 
@@ -106,6 +107,37 @@ class MapLinearization:
     rank: int
     signature: tuple
     compile_seconds: float = 0.0
+
+
+@dataclass
+class ImpactLinearization:
+    """The next impact from a state given at a fixed time t0, with its exact derivatives: the
+    impact time ``t`` [s], the hybrid state just after the impact's transition, J = d(that
+    state)/dy0 (d x d) and ``dt_dy`` = dt/dy0 (d,) [s per state unit], the event roles on the
+    way (the impact last), compile time [s]."""
+
+    t: float
+    state: HybridState
+    J: np.ndarray
+    dt_dy: np.ndarray
+    signature: tuple
+    compile_seconds: float = 0.0
+
+
+def _central_differences(end, state, eps):
+    """d end(state)/dy by central differences with steps ``eps`` (default 1e-6 |y_j|, >= 1e-9); the
+    mode of a HybridState is kept (a test oracle: valid where no event is grazed within +-eps)."""
+    y, flags, _ = _split(state)
+    y = np.asarray(y, dtype=float)
+    J = np.empty((y.size, y.size))
+    for j in range(y.size):
+        h = eps if eps is not None else 1e-6 * max(1e-3, abs(y[j]))
+        e = np.zeros(y.size)
+        e[j] = h
+        ends = [np.asarray(end(HybridState(y + s * e, flags) if flags is not None else y + s * e), dtype=float)
+                for s in (1, -1)]
+        J[:, j] = (ends[0] - ends[1]) / (2 * h)
+    return J
 
 
 def _split(state):
@@ -241,15 +273,7 @@ class StroboscopicMap:
         """
         y, flags, _ = _split(state)
         params = tuple(params)
-        run = self._var_runs.get(params)
-        if run is None:
-            from .engines.scalar import VariationalRun
-            run = self._var_runs[params] = VariationalRun(self.system, self.params, y, wrt=params, tol=self.tol,
-                                                          max_events=None,
-                                                          max_events_per_period=self.max_events_per_period)
-        elif run.params != self.params:
-            run.set_params(**self.params)
-        run.record_events = True
+        run = self._variational(params, y)
         run.reset(self.sample_time(k, t0), y, flags)
         n = int(validate_value("n", n, 1, 1e6))
         for j in range(1, n + 1):
@@ -268,6 +292,20 @@ class StroboscopicMap:
         return MapLinearization(HybridState(run.y, dict(run.flags)), J, Y[:, n:], rank, signature,
                                 run.compile_seconds)
 
+    def _variational(self, params: tuple, y):
+        """This map's reusable VariationalRun with respect to the state and ``params`` (compiled
+        once per parameter list; ``y``: a valid state to build it at), with the map's parameter
+        values loaded and events recorded."""
+        run = self._var_runs.get(params)
+        if run is None:
+            from .engines.scalar import VariationalRun
+            run = self._var_runs[params] = VariationalRun(self.system, self.params, y, wrt=params, tol=self.tol, max_events=None,
+                                                          max_events_per_period=self.max_events_per_period)
+        elif run.params != self.params:
+            run.set_params(**self.params)
+        run.record_events = True
+        return run
+
     def jacobian(self, state, k: int = 0, *, eps: float | None = None, t0: float = 0.0,
                  method: str = "exact") -> np.ndarray:
         """d(step)/dy (d x d) at the k-th sample.
@@ -281,18 +319,7 @@ class StroboscopicMap:
             return self.linearize(state, k, t0=t0).J
         if method != "fd":
             raise ParameterError(f"jacobian method {method!r}; allowed: exact, fd")
-        y, flags, _ = _split(state)
-        y = np.asarray(y, dtype=float)
-        d = y.size
-        J = np.empty((d, d))
-        for j in range(d):
-            h = eps if eps is not None else 1e-6 * max(1e-3, abs(y[j]))
-            e = np.zeros(d)
-            e[j] = h
-            plus = self.step(HybridState(y + e, flags) if flags is not None else y + e, k, t0)
-            minus = self.step(HybridState(y - e, flags) if flags is not None else y - e, k, t0)
-            J[:, j] = (_split(plus)[0] - _split(minus)[0]) / (2 * h)
-        return J
+        return _central_differences(lambda s: _split(self.step(s, k, t0))[0], state, eps)
 
     def orbit(self, x0, n: int, *, transient: int = 0, t0: float = 0.0, flags: dict | None = None) -> MapOrbit:
         """Start from ``x0`` at ``t0`` [s], discard the samples before k = ``transient``, record ``n`` steps.
@@ -487,6 +514,57 @@ class ImpactMap:
     def __init__(self, system_or_scene, params: dict, *, tol: float = 1e-12, period: float | None = None,
                  fp_type=float):
         self.stroboscopic = StroboscopicMap(system_or_scene, params, tol=tol, period=period, fp_type=fp_type)
+
+    def _to_impact(self, run, state, t0: float, max_periods: float):
+        """Advance ``run`` from ``state`` at ``t0`` [s] to just after the next impact's transition."""
+        y, flags, _ = _split(state)
+        run.reset(t0, y, flags)
+        run.advance(t0 + max_periods * self.stroboscopic.period, stop_roles=("impact",))
+        if run.stopped_by is None:
+            raise IntegrationFailure(f"no impact within {max_periods:g} periods of t0 = {t0:.9g} s", run.t, run.y)
+        return run
+
+    def step(self, state, t0: float = 0.0, *, max_periods: float = 1000) -> tuple[float, HybridState]:
+        """(t [s], hybrid state just after the transition) of the next impact from ``state`` at ``t0``.
+        Raises :class:`~maps.hybrid.IntegrationFailure` when none comes within ``max_periods`` periods."""
+        run = self.stroboscopic._run
+        run.record_events = False
+        run = self._to_impact(run, state, t0, max_periods)
+        return run.t, HybridState(run.y, dict(run.flags))
+
+    def linearize(self, state, t0: float = 0.0, *, max_periods: float = 1000) -> ImpactLinearization:
+        """The next impact from ``state`` at ``t0`` [s] with its exact Jacobian: the flow's
+        sensitivities Phi (variational equations, saltation at the events on the way), projected
+        onto the impact section g = 0 whose hitting time moves with y0, then the impact's transition:
+
+            J = R_y (I - f- grad(g)^T / (grad(g) . f- + dg/dt)) Phi = Y+ + f+ dt/dy0,
+
+        Y+ the saltation-updated sensitivities compared at the impact instant (the state then
+        moves with f+ while the end follows the impact), dt/dy0 = -grad(g) Phi / (grad(g) . f- + dg/dt).
+        A grazing impact (denominator 0) has no Jacobian: ZeroDivisionError."""
+        s = self.stroboscopic
+        y, _, _ = _split(state)
+        run = self._to_impact(s._variational((), y), state, t0, max_periods)
+        n = len(s.system.states)
+        d = run.derivatives
+        f_plus = d.rhs(run.t, run.y, d.pars(run.params, run.flags))
+        dt = run.event_time_row[:n]
+        J = run.sensitivities[:, :n] + np.outer(f_plus, dt)
+        signature = tuple(s.system.role_of(ev.name) for ev in run.events)
+        run.events = []
+        return ImpactLinearization(run.t, HybridState(run.y, dict(run.flags)), J, dt, signature,
+                                   run.compile_seconds)
+
+    def jacobian(self, state, t0: float = 0.0, *, method: str = "exact", eps: float | None = None,
+                 max_periods: float = 1000) -> np.ndarray:
+        """d(state just after the next impact)/dy0 (d x d) from ``state`` at ``t0`` [s]:
+        ``method="exact"`` (:meth:`linearize`) or "fd", central differences with steps ``eps``
+        (default 1e-6 |y_j|, >= 1e-9), a test oracle only."""
+        if method == "exact":
+            return self.linearize(state, t0, max_periods=max_periods).J
+        if method != "fd":
+            raise ParameterError(f"jacobian method {method!r}; allowed: exact, fd")
+        return _central_differences(lambda s: self.step(s, t0, max_periods=max_periods)[1].y, state, eps)
 
     def iterate(self, x0, n_impacts: int, transient_periods: int = 0, *, max_periods: int = 100_000,
                 chunk: int = 20):

@@ -167,3 +167,83 @@ def test_a_stick_makes_the_step_rank_deficient_along_the_projected_directions():
         assert np.max(np.abs(d)) < 1e-6 * s[0]
     moving = (smap.step(y0 + 1e-7 * vt[0], 0) - smap.step(y0 - 1e-7 * vt[0], 0)) / 2e-7
     assert np.max(np.abs(moving)) > 0.1 * s[0]
+
+
+# ----- the impact map: the next impact's state and time, with the section's moving hitting time ---------
+def _free_flight(y0, t0):
+    """The oscillator's free flight in closed form: y(t) = y_p(t) + expm(A (t - t0)) (y0 - y_p(t0)),
+    y_p the steady forced response X cos(W t) + Y sin(W t)."""
+    w0, z, F, W = (OSC[k] for k in ("w0", "zeta", "F", "Omega"))
+    A = np.array([[0.0, 1.0], [-w0 * w0, -2 * z * w0]])
+    X, Y = np.linalg.solve([[w0 * w0 - W * W, 2 * z * w0 * W], [-2 * z * w0 * W, w0 * w0 - W * W]], [F, 0.0])
+
+    def yp(t):
+        return np.array([X * math.cos(W * t) + Y * math.sin(W * t), W * (Y * math.cos(W * t) - X * math.sin(W * t))])
+    return A, (lambda t: yp(t) + expm(A * (t - t0)) @ (np.asarray(y0, float) - yp(t0)))
+
+
+def _hand_impact(y0, t0):
+    """(t1, y after the impact, J, dt1/dy0) of the next impact, derived by hand: the first root of
+    x(t) = e of the closed-form flight (brentq), J = R (I - f- g^T / (g . f-)) expm(A (t1 - t0)) with
+    g = (1, 0), R = diag(1, -r), f- = (v-, F cos(W t1) - 2 zeta w0 v- - w0^2 e)."""
+    from scipy.optimize import brentq
+    w0, z, F, W, e, r = (OSC[k] for k in ("w0", "zeta", "F", "Omega", "e", "r"))
+    A, y = _free_flight(y0, t0)
+    grid = t0 + np.linspace(1e-9, 4 * math.pi / W, 4001)
+    gap = np.array([y(t)[0] - e for t in grid])
+    i = int(np.argmax(gap[1:] < 0)) + 1                 # the first crossing downward
+    t1 = brentq(lambda t: y(t)[0] - e, grid[i - 1], grid[i], xtol=1e-15, rtol=1e-15)
+    v = y(t1)[1]
+    f = np.array([v, F * math.cos(W * t1) - 2 * z * w0 * v - w0 * w0 * e])
+    g = np.array([1.0, 0.0])
+    Phi = expm(A * (t1 - t0))
+    J = np.diag([1.0, -r]) @ (np.eye(2) - np.outer(f, g) / (g @ f)) @ Phi
+    return t1, np.array([e, -r * v]), J, -(g @ Phi) / (g @ f)
+
+
+def test_impact_map_jacobian_is_the_hand_derived_projection(osc_orbit):
+    """From a state in free flight, then from the impact's own state on the section: impact time,
+    state after the reset, J and dt/dy0 against the closed form, to 1e-9 (the finite difference only
+    as an oracle, to 1e-6)."""
+    system, smap, o = osc_orbit
+    imap = maps.ImpactMap(system, OSC, tol=1e-14)
+    T = 2 * math.pi / OSC["Omega"]
+    state, t0 = o.points[1], 201 * T
+    for hop in range(2):
+        t1, y1, J, dt = _hand_impact(state, t0)
+        L = imap.linearize(state, t0)
+        assert L.signature[-1] == "impact" and abs(L.t - t1) < 1e-10
+        assert np.max(np.abs(L.state.y - y1)) < 1e-10
+        assert np.max(np.abs(L.J - J)) / np.max(np.abs(J)) < 1e-9          # measured 3e-14, 2e-13
+        assert np.max(np.abs(L.dt_dy - dt)) / np.max(np.abs(dt)) < 1e-9
+        assert np.max(np.abs(L.J[0])) < 1e-12 and np.max(np.abs(L.J[1])) > 0.04   # x = e after: the section
+        fd = imap.jacobian(state, t0, method="fd", eps=1e-7)
+        assert np.max(np.abs(fd - J)) / np.max(np.abs(J)) < 1e-6          # measured 9e-9
+        state, t0 = y1, t1                                # the impact map proper: impact to impact
+
+
+def test_impact_map_jacobian_against_long_double_differences(thesis):
+    """thesis-1dof, 9 Hz: from the strobe sample before a contact at 0.6 m/s to the contact onset
+    (the compliant contact: no reset), against Richardson central differences of the onset state
+    computed in long double at tol 1e-18."""
+    sc, p, smap, o = thesis
+    imap = maps.ImpactMap(sc, p, tol=1e-12)
+    y = o.points[K].astype(np.longdouble)
+    t0 = smap.sample_time(K)
+
+    def onset(yy):
+        run = HybridRun(sc.system, p, np.array(yy, dtype=np.longdouble), t0=t0, tol=1e-18, fp_type=np.longdouble,
+                        max_events=None)
+        run.advance(t0 + 2 * smap.period, stop_roles=("impact",))
+        assert run.stopped_by == "contact"
+        return np.array(run.ta.state, dtype=np.longdouble)
+    cols = []
+    for j in range(4):
+        e = np.zeros(4, dtype=np.longdouble)
+        e[j] = 1
+        cols.append(_richardson(lambda h, e=e: onset(y + h * e), np.longdouble(1e-5) * max(abs(y[j]), np.longdouble(1e-3))))
+    oracle = np.array(cols, dtype=float).T
+    L = imap.linearize(o.state(K), t0)
+    assert L.signature.count("impact") == 1 and smap.sample_time(K) < L.t < smap.sample_time(K + 1)
+    err = np.linalg.norm(L.J - oracle) / np.linalg.norm(oracle)
+    assert err < 1e-8                                   # measured 3e-12

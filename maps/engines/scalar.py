@@ -168,11 +168,13 @@ class HybridRun:
     def next_switch_time(self):
         return tr.next_switch(self.system, self.params, self._next_switch)
 
-    def advance(self, t_end: float, on_segment: Callable | None = None) -> "HybridRun":
+    def advance(self, t_end: float, on_segment: Callable | None = None, stop_roles: tuple = ()) -> "HybridRun":
         """Integrate to ``t_end`` [s], stopping on every guard and switch.
 
         ``on_segment(c_output, t_start, t_stop)`` receives heyoka's continuous
         output of each smooth segment (dense output; requested only when given).
+        ``stop_roles``: return right after the transition of the first guard with one of these
+        roles (e.g. ``("impact",)``: the impact map), which ``stopped_by`` then names (else None).
         Raises :class:`IntegrationFailure` on a non-finite state, :class:`EventCap` beyond
         the event caps and :class:`Escaped` when a halt flag is set.
         """
@@ -182,6 +184,7 @@ class HybridRun:
         sys = self.system
         c_out = on_segment is not None
         n_groups = len(sys._groups)
+        self.stopped_by = None
         while float(ta.time) < t_end:
             t_sw, sw = self.next_switch_time()
             t_stop = min(t_end, t_sw)
@@ -219,6 +222,9 @@ class HybridRun:
                     if out.halted:
                         raise Escaped(f"{guard.name}: the state left the model's domain at t = {t:.9g} s",
                                       t, self.y)
+                    if stop_roles and guard.role in stop_roles:
+                        self.stopped_by = guard.name
+                        return self
                 continue
             state = self.y
             if outcome == hy.taylor_outcome.err_nf_state:
@@ -239,7 +245,8 @@ class VariationalRun(HybridRun):
     A switch frequency W among ``wrt`` (the relay's) moves every switch instant t_s = n/(2W):
     each switch adds (f- - f+) dt_s/dW to its column, with dt_s/dW = -t_s/W, and a run started at
     a switch instant t0 starts its column at f(t0, y0) t0/W (the start moves with the schedule).
-    The end time's own term belongs to the caller that fixes the end (the map: f(t1) dt1/dW)."""
+    The end time's own term belongs to the caller that fixes the end (the map: f(t1) dt1/dW).
+    ``event_time_row`` is dt_e/d(y0, p) of the last state event (the impact map's moving end)."""
 
     def __init__(self, system, params, x0, *, wrt: tuple = (), **kw):
         from ..variational import Derivatives
@@ -256,6 +263,7 @@ class VariationalRun(HybridRun):
         return variational_integrator(self.system, tol, self.wrt)
 
     def _start_sensitivities(self, t0):
+        self.event_time_row = None
         n, m = self._n, len(self.wrt)
         Y = np.hstack([np.eye(n), np.zeros((n, m))])
         if self._freq_cols:
@@ -310,8 +318,9 @@ class VariationalRun(HybridRun):
                 R_y, R_p = P_y @ R_y, P_y @ R_p + P_p
             y_after = out.y if out.y is not None else y_minus
             grad, g_t, g_p = d.guard(guard, t, y_minus, before)
-            Y = tr.saltation(Y, d.rhs(t, y_minus, before), d.rhs(t, y_after, after),
-                             grad, g_t, g_p, R_y, R_p)
+            f_minus = d.rhs(t, y_minus, before)
+            self.event_time_row = tr.event_time_row(Y, f_minus, grad, g_t, g_p)
+            Y = tr.saltation(Y, f_minus, d.rhs(t, y_after, after), grad, g_t, g_p, R_y, R_p, self.event_time_row)
         elif out.projection is not None:            # a projection at a fixed time
             P_y, P_p = d.projection(out.projection, t, self.y, p, flags_after)
             Y = tr.projected(Y, P_y, P_p)
