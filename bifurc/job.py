@@ -110,6 +110,7 @@ class ValueJob:
     max_transient: int | None = None  # extend a still-converging transient up to this [relay periods]
     batch_size: int = 4               # SIMD lanes of run_many (heyoka batch mode); 1: scalar path
     max_record: int | None = None   # cap of the record extension [relay periods] (None: RECORD_FACTOR x record)
+    lyapunov_method: str = "tangent"  # "tangent": a tangent vector with the batch engine's record; "companion"
 
     def warm(self) -> StroboscopicMap:
         """The process-wide map for this scene structure and tolerance (compiled once)."""
@@ -142,7 +143,8 @@ class ValueJob:
         smap.set_params(**dict(self.params, **{self.param: float(value)}))
         y0, flags = (self.x0_state(), None) if start is None else start
         clock = _time.perf_counter()
-        o = smap.orbit(y0, self.record_for(smap.forcing_period_steps), transient=self.transient, flags=flags)
+        o = smap.orbit(y0, self.record_for(smap.forcing_period_steps), transient=self.transient, flags=flags,
+                       tangent=self._tangent)
         return self._complete(value, smap, o, clock)
 
     @property
@@ -159,6 +161,17 @@ class ValueJob:
 
     def _lyapunov_scale(self, o):
         return state_scale(o.points, self.atol)
+
+    @property
+    def _tangent(self) -> bool:
+        """Integrate a tangent vector with the record (the exponent's method)."""
+        return self.lyapunov and self.lyapunov_method == "tangent"
+
+    def _tangent_exponent(self, o, steps: int):
+        """(exponent, low, high) over the first ``steps`` of the tangent vector integrated with ``o``
+        (None: none was, or the record is shorter)."""
+        st = o.tangent_stretch(self._lyapunov_scale(o))
+        return None if st is None or steps > st.size else exponent_interval(st[:steps])
 
     def _classify(self, o, q: int, **kw):
         """Classify orbit ``o`` of a map whose forcing repeats every ``q`` samples (0: never)."""
@@ -179,17 +192,18 @@ class ValueJob:
         while self._extends(o, cls, used):  # still converging: integrate on
             extra = max(1, min(used, limit - used))  # doubling, up to the limit
             o = smap.orbit(o.final_state, record, transient=extra, flags=o.final_flags,
-                           t0=smap.sample_time(used + record) - smap.sample_time(0))
+                           t0=smap.sample_time(used + record) - smap.sample_time(0), tangent=self._tangent)
             used, steps, lyap = used + record + extra, steps + o.n_steps, None
             cls = self._classify(o, q)
         steps_l = self._exponent_steps(record)
         if self._lyapunov_needed(o, cls):
             if lyap is None:
                 scale = self._lyapunov_scale(o)
-                if steps_l <= record:           # along the recorded window
+                lyap = self._tangent_exponent(o, steps_l)
+                if lyap is None and steps_l <= record:    # the companion along the recorded window
                     lyap = exponent_interval(smap.stretch([o.points[:steps_l + 1]], [{}], k0=[used],
                                                           scales=[scale], method="scalar")[0])
-                else:                           # two trajectories after it (no interval)
+                elif lyap is None:                        # two trajectories after it (no interval)
                     lyap = (largest_lyapunov(smap.step, o.final_state, steps_l, scale=scale,
                                              k0=used + record), math.nan, math.nan)
             cls = self._classify(o, q, lyapunov=lyap[0], lyap_tol=lyapunov_threshold(steps_l),
@@ -231,11 +245,12 @@ class ValueJob:
 
     # ----- many values at once: the map's ensemble method ----------------------------
     def run_many(self, values) -> list:
-        """The same results as ``[self(v) for v in values]`` (up to round-off), with the orbits
-        and the Lyapunov companions of every value integrated together by the map
-        (:meth:`maps.StroboscopicMap.orbits` and ``stretch``: heyoka's batch mode where the
-        engine supports the system).  Values that are still converging and may integrate on
-        (``max_transient``) continue one by one."""
+        """The same results as ``[self(v) for v in values]`` (up to round-off), with the orbits of
+        every value integrated together by the map (:meth:`maps.StroboscopicMap.orbits`: heyoka's
+        batch mode where the engine supports the system).  The Lyapunov exponent comes from the
+        tangent vector integrated with each recorded window (``lyapunov_method="tangent"``),
+        else from companions (``StroboscopicMap.stretch``).  Values that are still converging
+        and may integrate on (``max_transient``) continue one by one."""
         smap = self.warm()
         if self.batch_size == 1:
             return [self(v) for v in values]
@@ -244,12 +259,15 @@ class ValueJob:
         qs = [smap.forcing_period_for(p) for p in over]
         records = [self.record_for(q) for q in qs]
         orbits = smap.orbits(over, self.x0_state(), records, transient=self.transient,
-                             batch_size=self.batch_size)
+                             batch_size=self.batch_size, tangent=self._tangent)
         classes = [self._classify(o, q) for o, q in zip(orbits, qs)]
         lyap = [None] * len(values)
         want = [i for i, (o, cls) in enumerate(zip(orbits, classes))
                 if self._lyapunov_needed(o, cls) and self._exponent_steps(records[i]) <= records[i]
                 and not self._extends(o, cls)]
+        for i in want:                                    # the tangent vector integrated with the record
+            lyap[i] = self._tangent_exponent(orbits[i], self._exponent_steps(records[i]))
+        want = [i for i in want if lyap[i] is None]       # else the companions (the cross-check)
         if want:
             stretch = smap.stretch([orbits[i].points[:self._exponent_steps(records[i]) + 1] for i in want],
                                    [over[i] for i in want], k0=[self.transient] * len(want),

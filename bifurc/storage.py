@@ -20,7 +20,7 @@ from maps.provenance import cf_attrs
 
 from ._version import __version__
 from .classify import lyapunov_threshold
-from .lyapunov import INTERVAL_METHOD
+from .lyapunov import INTERVAL_METHOD, METHODS
 from .codes import Status
 from .grazing import GRAZING_GAP, GRAZING_SPEED, grazing_flag
 from .schema import GRAZING, GRAZING_FLAG, PARAM, SWEEP, SWEEP_COORDS, flag_variable, param_attrs, state_variable
@@ -83,7 +83,7 @@ def to_dataset(results, values, job, scene, table, mode) -> xr.Dataset:
         "max_transient_periods": job.max_transient if job.max_transient is not None else job.transient,
         "classification_rtol": job.rtol, "classification_atol": job.atol,
         "lyapunov_steps": job.exponent_steps, "lyapunov_threshold": lyapunov_threshold(job.exponent_steps),
-        "lyapunov_interval_method": INTERVAL_METHOD,
+        "lyapunov_interval_method": INTERVAL_METHOD, "lyapunov_method": METHODS[job.lyapunov_method],
         "circuit": circuit, "ac_sign": ac_sign, **(dc_law_attrs(o) if o is not None else {"dc_law": "none"}),
         **preset_attrs(table),
         "initial_state": ", ".join(f"{k}={v:g}" for k, v in scene.initial_state(**job.x0).items()),

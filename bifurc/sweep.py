@@ -18,6 +18,7 @@ from __future__ import annotations
 import sys
 import time as _time
 import warnings
+from dataclasses import replace
 
 import numpy as np
 
@@ -31,6 +32,7 @@ from .executor import default_workers, map_values
 from .files import guarded_output
 from .grazing import GRAZING_GAP, GRAZING_SPEED, locate_grazing_values
 from .job import ValueJob
+from .lyapunov import METHODS
 from .resume import Parts, manifest
 from .scene import SystemScene, resolve_scene
 
@@ -45,7 +47,7 @@ MODES = {"independent": ("independent",), "follow": ("up", "down")}
 def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independent", transient=300,
           record=100, max_record=None, preset=None, params=None, x0=None, tol=1e-10, max_period=100, rtol=1e-6,
           atol=1e-9,
-          lyapunov=True, grazing=True, grazing_xtol=None, circuit=None, ac_sign=None, dc_law=None, path=None,
+          lyapunov=True, lyapunov_method="tangent", grazing=True, grazing_xtol=None, circuit=None, ac_sign=None, dc_law=None, path=None,
           progress=True, workers=None, scheduler=None, error_sample=3, max_transient=None, batch_size=4,
           chunk_size=None, overwrite=False):
     """Sweep ``param`` over ``values``; returns an xarray Dataset (see bifurc.storage).
@@ -74,6 +76,8 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
         needing two whole periods in the record (q = 0: the forcing never repeats, no period).
     lyapunov : bool
         Compute the largest Lyapunov exponent where the orbit is not periodic.
+    lyapunov_method : "tangent" (default) or "companion"
+        How the exponent is integrated (:data:`bifurc.lyapunov.METHODS`, stored as an attribute).
     grazing : bool
         Locate grazing values between neighbours where the orbit changes between
         impacting and not impacting, by bisection to ``grazing_xtol``.
@@ -100,6 +104,9 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
     values = np.asarray(values, dtype=float).ravel()
     job, sc, table = _job(scene, param, values, transient, record, preset, params, x0, tol, max_period, rtol, atol,
                           lyapunov, circuit, ac_sign, dc_law, max_transient, batch_size, max_record)
+    if lyapunov_method not in METHODS:
+        raise ParameterError(f"lyapunov_method {lyapunov_method!r}; allowed: {', '.join(METHODS)}")
+    job = replace(job, lyapunov_method=lyapunov_method)
     workers, chunk_size = _execution(job, values.size, workers, scheduler, chunk_size)
     branches = MODES[mode]
     parts = Parts(path, manifest(job, values, mode)) if path else None

@@ -80,10 +80,24 @@ class MapOrbit:
     flag_names: tuple = ()
     point_flags: np.ndarray | None = None   # (n+1, len(flag_names)) flags at each point
     signature: list = field(default_factory=list)  # per step: the ordered roles of its events
+    tangent_start: np.ndarray | None = None   # (d,) unit tangent vector at points[0] (None: none integrated)
+    tangent: np.ndarray | None = None         # (m, d) the tangent vector at the end of each step, m <= n
 
     @property
     def n(self) -> int:
         return len(self.impacts_per_step)
+
+    def tangent_stretch(self, scale=None) -> np.ndarray | None:
+        """Log stretch [per step] of the tangent vector integrated with the flow, in the norm scaled
+        by ``scale`` (:func:`maps.tangent.tangent_stretch`); NaN after it ended; None: none integrated."""
+        if self.tangent_start is None:
+            return None
+        out = np.full(self.n, np.nan)
+        if self.tangent is not None and len(self.tangent):
+            from .tangent import tangent_stretch
+            m = min(len(self.tangent), self.n)
+            out[:m] = tangent_stretch(self.tangent_start, self.tangent[:m], scale)
+        return out
 
     def state(self, k: int) -> HybridState:
         """The hybrid state (continuous state and flags) at point k (negative: from the end)."""
@@ -321,7 +335,8 @@ class StroboscopicMap:
             raise ParameterError(f"jacobian method {method!r}; allowed: exact, fd")
         return _central_differences(lambda s: _split(self.step(s, k, t0))[0], state, eps)
 
-    def orbit(self, x0, n: int, *, transient: int = 0, t0: float = 0.0, flags: dict | None = None) -> MapOrbit:
+    def orbit(self, x0, n: int, *, transient: int = 0, t0: float = 0.0, flags: dict | None = None,
+              tangent: bool = False) -> MapOrbit:
         """Start from ``x0`` at ``t0`` [s], discard the samples before k = ``transient``, record ``n`` steps.
 
         ``x0`` is a continuous state (mapping or array) or a :class:`~maps.hybrid.HybridState`;
@@ -329,19 +344,20 @@ class StroboscopicMap:
         ``final_flags`` of a previous orbit) default to those of a HybridState, else to the
         system's rule.  Failures (escape, non-finite state, more than ``max_events_per_period``
         events in a period) end the orbit early with ``status`` set and never raise; arrays
-        then hold only the completed steps.
+        then hold only the completed steps.  ``tangent``: a tangent vector is integrated with the
+        recorded window (:meth:`MapOrbit.tangent_stretch`).
         """
         n = int(validate_value("n", n, 1, 1e8))
         transient = int(validate_value("transient", transient, 0, 1e8))
         y0, given, _ = _split(x0)
         flags = flags if flags is not None else given
         y0 = self.system.state_vector(y0)
-        job = self._job(self.params, y0, flags, 0, transient, n, t0, log=True)
+        job = self._job(self.params, y0, flags, 0, transient, n, t0, log=True, tangent=self._tangent_start(tangent))
         res = self._engine.run([job])[0]
         return self._orbit_from(res, job)
 
     def orbits(self, overrides: list, x0, n, *, transient: int = 0, flags: dict | None = None,
-               method: str = "auto", batch_size: int = 4) -> list[MapOrbit]:
+               method: str = "auto", batch_size: int = 4, tangent: bool = False) -> list[MapOrbit]:
         """One orbit per parameter set: ``overrides[i]`` (a dict) changes this map's parameters.
 
         Every orbit starts from ``x0`` (a state, or a list of one state per set) at t = 0, as
@@ -349,7 +365,9 @@ class StroboscopicMap:
         "batch" (heyoka batch mode, ``batch_size`` SIMD lanes: the transient without stops at
         observation-only guards, then the recorded window with them), "scalar" (one after the
         other), "auto" (batch where the engine supports the system).  Results agree to
-        round-off, amplified by chaotic dynamics.
+        round-off, amplified by chaotic dynamics.  ``tangent``: a tangent vector is integrated
+        with each recorded window from :func:`maps.tangent.start_direction`
+        (:meth:`MapOrbit.tangent_stretch`).
         """
         lengths = n if isinstance(n, (list, tuple)) else [n] * len(overrides)
         if len(lengths) != len(overrides):
@@ -362,13 +380,13 @@ class StroboscopicMap:
         for p, s, m in zip(params, starts, lengths):
             y, given, _ = _split(s)
             jobs.append(self._job(p, self.system.state_vector(y), flags if flags is not None else given,
-                                  0, transient, m, log=True))
+                                  0, transient, m, log=True, tangent=self._tangent_start(tangent)))
         method = self._method(method, batch_size)
         clock = _time.perf_counter()
         if method == "scalar":
             results = self._engine.run(jobs)
         else:
-            full = self._batch_engine(batch_size, observations=True)
+            full = self._batch_engine(batch_size, observations=True, tangent=tangent)
             if transient:
                 first = self._batch_engine(batch_size, observations=False).run([replace(j, record=0, log=False) for j in jobs])
                 second = full.run([replace(j, y0=r.final_state, flags=r.final_flags, k0=transient, transient=0)
@@ -417,10 +435,17 @@ class StroboscopicMap:
             out.append(st)
         return out
 
-    def _batch_engine(self, batch_size: int, observations: bool):
+    def _tangent_start(self, tangent: bool):
+        """The start direction of a tangent vector (:func:`maps.tangent.start_direction`), or None."""
+        if not tangent:
+            return None
+        from .tangent import start_direction
+        return start_direction(len(self.system.states))
+
+    def _batch_engine(self, batch_size: int, observations: bool, tangent: bool = False):
         """The process-wide batch engine for this system, tolerance and event cap (compiled once)."""
         return engine_for(self.system, self.tol, "batch", observations=observations, batch_size=batch_size,
-                          max_events_per_period=self.max_events_per_period)
+                          max_events_per_period=self.max_events_per_period, tangent=tangent)
 
     def _method(self, method, batch_size) -> str:
         if method not in ("auto", "batch", "scalar"):
@@ -441,7 +466,9 @@ class StroboscopicMap:
         names = self.system.flag_names
         point_flags = np.array([[fl.get(f, np.nan) for f in names] for fl in flags], dtype=float)
         W = job.params.get("relay_hz", 1.0 / job.period)
-        return orbit_from_periods(self.system, job.params, W, times, points, r.period_events,
+        tangent = {} if job.tangent is None else dict(tangent_start=np.asarray(job.tangent, dtype=float),
+                                                      tangent=np.array(r.tangent).reshape(-1, len(job.y0)))
+        return orbit_from_periods(self.system, job.params, W, times, points, r.period_events, **tangent,
                                   status=r.status, failure=r.failure, failure_time=r.failure_time,
                                   n_steps=r.n_steps, run_seconds=r.seconds, final_state=r.final_state,
                                   final_flags=dict(r.final_flags), flag_names=names, point_flags=point_flags)
