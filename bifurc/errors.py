@@ -82,7 +82,7 @@ def error_estimate(results, values, job, branch, sample, step_points=32) -> dict
 def map_step_error(r, value, job, tight, n_points) -> float:
     """Largest scaled difference of one relay period at ``job.tol`` and at ``tight.tol`` from the
     same recorded states of result ``r`` (flags from the state, as StroboscopicMap.step)."""
-    pts = r.points[:r.n_recorded + 1]
+    pts = r.points[:r.record_used + 1]
     ks = np.unique(np.linspace(0, pts.shape[0] - 2, min(n_points, pts.shape[0] - 1)).round().astype(int))
     scale = state_scale(pts, job.atol)
     params = job.at(value)

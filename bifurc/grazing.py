@@ -66,7 +66,7 @@ def locate_grazing(signed_clearance, a: float, b: float, *, xtol: float) -> dict
 
 def _impact_rate(r) -> float:
     """Contacts per recorded period."""
-    return r.n_impacts / max(1, r.n_recorded)
+    return r.n_impacts / max(1, r.record_used)
 
 
 def locate_grazing_values(results, values, job, xtol):
@@ -147,7 +147,7 @@ class BranchFollower:
             r = self.job(p, self.start)
         else:
             start, short = self.start, replace(self.job, transient=max(1, self.job.transient // self.substeps),
-                                               record=3)
+                                               record=3, max_record=3)  # a ramp: never extended
             for j in range(1, self.substeps):
                 r = short(self.value + (p - self.value) * j / self.substeps, start)
                 if r.status != Status.OK:

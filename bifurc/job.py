@@ -19,9 +19,15 @@ from .codes import ClassCode, Status
 from .lyapunov import exponent_interval, largest_lyapunov
 from .scene import SystemScene, resolve_scene
 
-__all__ = ["ValueJob", "ValueResult"]
+__all__ = ["ValueJob", "ValueResult", "RECORD_FACTOR", "FORCING_PERIODS"]
 
 _MAPS: dict = {}
+#: default cap of the record extension, in multiples of ``record`` (3 x 100 periods holds three forcing
+#: periods of every q up to the default max_period of 100)
+RECORD_FACTOR = 3
+#: whole forcing periods q the record must hold before the period search (two for the recurrence
+#: test of period q, one more for its decay fit); a shorter record is extended up to ``max_record``
+FORCING_PERIODS = 3
 
 
 @dataclass
@@ -34,7 +40,8 @@ class ValueResult:
     value: float
     points: np.ndarray                      # (record + 1, states) stroboscopic samples, NaN after an escape
     point_flags: np.ndarray                 # (record + 1, flags) the mode at each sample, NaN after an escape
-    n_recorded: int                         # relay periods actually recorded
+    record_used: int                        # relay periods recorded and classified (extended for a long q;
+                                            # fewer after an escape); ``points`` keeps the first ``record``
     class_code: ClassCode
     period: int                             # period n of the orbit in relay periods (0: not periodic)
     candidate_period: int                   # period of the best recurrence candidate (0: none)
@@ -102,6 +109,8 @@ class ValueJob:
     max_impacts: int = 400
     max_transient: int | None = None  # extend a still-converging transient up to this [relay periods]
     batch_size: int = 4               # SIMD lanes of run_many (heyoka batch mode); 1: scalar path
+    max_record: int | None = None   # cap of the record extension [relay periods] (None: RECORD_FACTOR x record)
+    lyapunov_method: str = "tangent"  # "tangent": a tangent vector with the batch engine's record; "companion"
 
     def warm(self) -> StroboscopicMap:
         """The process-wide map for this scene structure and tolerance (compiled once)."""
@@ -110,6 +119,19 @@ class ValueJob:
         if key not in _MAPS:
             _MAPS[key] = StroboscopicMap(sc.system if isinstance(sc, SystemScene) else sc, self.params, tol=self.tol)
         return _MAPS[key]
+
+    @property
+    def record_cap(self) -> int:
+        """The longest record of a value [relay periods]: ``max_record``, else RECORD_FACTOR x ``record``."""
+        return self.max_record if self.max_record is not None else RECORD_FACTOR * self.record
+
+    def record_for(self, q: int) -> int:
+        """Relay periods to record at a value whose forcing repeats every ``q`` periods: ``record``,
+        extended to FORCING_PERIODS x q (never beyond :attr:`record_cap`) when the period search
+        has candidates (0 < q <= max_period) and the record holds fewer than FORCING_PERIODS of them."""
+        if 0 < q <= self.max_period and self.record < FORCING_PERIODS * q:
+            return max(self.record, min(FORCING_PERIODS * q, self.record_cap))
+        return self.record
 
     def x0_state(self):
         sc, _ = resolve_scene(self.scene, self.params, **self.options)
@@ -125,19 +147,35 @@ class ValueJob:
         smap.set_params(**self.at(value))
         y0, flags = (self.x0_state(), None) if start is None else start
         clock = _time.perf_counter()
-        o = smap.orbit(y0, self.record, transient=self.transient, flags=flags)
+        o = smap.orbit(y0, self.record_for(smap.forcing_period_steps), transient=self.transient, flags=flags,
+                       tangent=self._tangent)
         return self._complete(value, smap, o, clock)
 
     @property
     def exponent_steps(self) -> int:
-        """Map steps the Lyapunov exponent is estimated over (the recorded window by default)."""
-        return self.record if self.lyapunov_steps is None else self.lyapunov_steps
+        """Map steps the Lyapunov exponent is estimated over at an unextended record (the
+        recorded window by default; a value's own window: :meth:`_exponent_steps`)."""
+        return self._exponent_steps(self.record)
+
+    def _exponent_steps(self, record: int) -> int:
+        return record if self.lyapunov_steps is None else self.lyapunov_steps
 
     def _lyapunov_needed(self, o, cls) -> bool:
         return self.lyapunov and o.status == "ok" and not ClassCode(cls["code"]).periodic
 
     def _lyapunov_scale(self, o):
         return state_scale(o.points, self.atol)
+
+    @property
+    def _tangent(self) -> bool:
+        """Integrate a tangent vector with the record (the exponent's method)."""
+        return self.lyapunov and self.lyapunov_method == "tangent"
+
+    def _tangent_exponent(self, o, steps: int):
+        """(exponent, low, high) over the first ``steps`` of the tangent vector integrated with ``o``
+        (None: none was, or the record is shorter)."""
+        st = o.tangent_stretch(self._lyapunov_scale(o))
+        return None if st is None or steps > st.size else exponent_interval(st[:steps])
 
     def _classify(self, o, q: int, **kw):
         """Classify orbit ``o`` of a map whose forcing repeats every ``q`` samples (0: never)."""
@@ -152,24 +190,26 @@ class ValueJob:
         time is the time since ``clock``, plus ``seconds`` already spent on it (a batch's share)."""
         used, steps = self.transient, o.n_steps
         q = smap.forcing_period_steps        # smap holds this value's parameters
+        record = self.record_for(q)
         cls = self._classify(o, q) if cls is None else cls
         limit = self.max_transient if self.max_transient is not None else self.transient
         while self._extends(o, cls, used):  # still converging: integrate on
             extra = max(1, min(used, limit - used))  # doubling, up to the limit
-            o = smap.orbit(o.final_state, self.record, transient=extra, flags=o.final_flags,
-                           t0=smap.sample_time(used + self.record) - smap.sample_time(0))
-            used, steps, lyap = used + self.record + extra, steps + o.n_steps, None
+            o = smap.orbit(o.final_state, record, transient=extra, flags=o.final_flags,
+                           t0=smap.sample_time(used + record) - smap.sample_time(0), tangent=self._tangent)
+            used, steps, lyap = used + record + extra, steps + o.n_steps, None
             cls = self._classify(o, q)
-        steps_l = self.exponent_steps
+        steps_l = self._exponent_steps(record)
         if self._lyapunov_needed(o, cls):
             if lyap is None:
                 scale = self._lyapunov_scale(o)
-                if steps_l <= self.record:      # along the recorded window
+                lyap = self._tangent_exponent(o, steps_l)
+                if lyap is None and steps_l <= record:    # the companion along the recorded window
                     lyap = exponent_interval(smap.stretch([o.points[:steps_l + 1]], [{}], k0=[used],
                                                           scales=[scale], method="scalar")[0])
-                else:                           # two trajectories after it (no interval)
+                elif lyap is None:                        # two trajectories after it (no interval)
                     lyap = (largest_lyapunov(smap.step, o.final_state, steps_l, scale=scale,
-                                             k0=used + self.record), math.nan, math.nan)
+                                             k0=used + record), math.nan, math.nan)
             cls = self._classify(o, q, lyapunov=lyap[0], lyap_tol=lyapunov_threshold(steps_l),
                                  lyapunov_interval=lyap[1:])
         else:
@@ -179,24 +219,25 @@ class ValueJob:
     def _pack(self, value, smap, o, cls, lyap, used, steps, seconds) -> ValueResult:
         cap = self.max_impacts
         pad = lambda a: np.concatenate([a[:cap], np.full(max(0, cap - a.size), np.nan)])  # noqa: E731
-        n_rec = o.points.shape[0]
+        keep = min(o.points.shape[0], self.record + 1)       # an extended record: its first ``record`` steps
         points = np.full((self.record + 1, o.points.shape[1]), np.nan)
-        points[:n_rec] = o.points
+        points[:keep] = o.points[:keep]
         point_flags = np.full((self.record + 1, len(o.flag_names)), np.nan)
         if o.point_flags is not None:
-            point_flags[:n_rec] = o.point_flags
+            point_flags[:keep] = o.point_flags[:keep]
         gaps = o.min_gap_per_step
         speeds = o.min_impact_speed_per_step
+        per_step = lambda a, fill: np.pad(a[:self.record], (0, max(0, self.record - a.size)),  # noqa: E731
+                                          constant_values=fill)
         periodic = ClassCode(cls["code"]).periodic
         return ValueResult(
-            value=float(value), points=points, point_flags=point_flags, n_recorded=n_rec - 1, class_code=ClassCode(cls["code"]),
+            value=float(value), points=points, point_flags=point_flags, record_used=o.n, class_code=ClassCode(cls["code"]),
             period=cls["period"] if periodic else 0, candidate_period=cls["period"],
             impacts_per_period=cls["impacts_per_period"], recurrence=cls["recurrence"],
             convergence_rate=cls["convergence_rate"], lyapunov=lyap[0], lyapunov_low=lyap[1], lyapunov_high=lyap[2],
             class_reason=cls.get("reason", ""), forcing_period=smap.forcing_period_steps,
-            impacts_per_step=np.pad(o.impacts_per_step, (0, self.record - o.n), constant_values=-1),
-            min_gap_per_step=np.pad(gaps, (0, self.record - gaps.size), constant_values=np.nan),
-            min_impact_speed_per_step=np.pad(speeds, (0, self.record - speeds.size), constant_values=np.nan),
+            impacts_per_step=per_step(o.impacts_per_step, -1), min_gap_per_step=per_step(gaps, np.nan),
+            min_impact_speed_per_step=per_step(speeds, np.nan),
             min_gap=float(np.min(gaps)) if gaps.size else math.nan,
             min_flight_gap=float(np.min(o.min_flight_gap_per_step)) if gaps.size else math.nan,
             min_impact_speed=float(np.min(speeds)) if speeds.size else math.nan,  # NaN: no step recorded
@@ -208,24 +249,31 @@ class ValueJob:
 
     # ----- many values at once: the map's ensemble method ----------------------------
     def run_many(self, values) -> list:
-        """The same results as ``[self(v) for v in values]`` (up to round-off), with the orbits
-        and the Lyapunov companions of every value integrated together by the map
-        (:meth:`maps.StroboscopicMap.orbits` and ``stretch``: heyoka's batch mode where the
-        engine supports the system).  Values that are still converging and may integrate on
-        (``max_transient``) continue one by one."""
+        """The same results as ``[self(v) for v in values]`` (up to round-off), with the orbits of
+        every value integrated together by the map (:meth:`maps.StroboscopicMap.orbits`: heyoka's
+        batch mode where the engine supports the system).  The Lyapunov exponent comes from the
+        tangent vector integrated with each recorded window (``lyapunov_method="tangent"``),
+        else from companions (``StroboscopicMap.stretch``).  Values that are still converging
+        and may integrate on (``max_transient``) continue one by one."""
         smap = self.warm()
         if self.batch_size == 1:
             return [self(v) for v in values]
         clock = _time.perf_counter()
         over = [self.at(v) for v in values]
-        orbits = smap.orbits(over, self.x0_state(), self.record, transient=self.transient,
-                             batch_size=self.batch_size)
-        classes = [self._classify(o, smap.forcing_period_for(p)) for o, p in zip(orbits, over)]
+        qs = [smap.forcing_period_for(p) for p in over]
+        records = [self.record_for(q) for q in qs]
+        orbits = smap.orbits(over, self.x0_state(), records, transient=self.transient,
+                             batch_size=self.batch_size, tangent=self._tangent)
+        classes = [self._classify(o, q) for o, q in zip(orbits, qs)]
         lyap = [None] * len(values)
         want = [i for i, (o, cls) in enumerate(zip(orbits, classes))
-                if self._lyapunov_needed(o, cls) and self.exponent_steps <= self.record and not self._extends(o, cls)]
+                if self._lyapunov_needed(o, cls) and self._exponent_steps(records[i]) <= records[i]
+                and not self._extends(o, cls)]
+        for i in want:                                    # the tangent vector integrated with the record
+            lyap[i] = self._tangent_exponent(orbits[i], self._exponent_steps(records[i]))
+        want = [i for i in want if lyap[i] is None]       # else the companions (the cross-check)
         if want:
-            stretch = smap.stretch([orbits[i].points[:self.exponent_steps + 1] for i in want],
+            stretch = smap.stretch([orbits[i].points[:self._exponent_steps(records[i]) + 1] for i in want],
                                    [over[i] for i in want], k0=[self.transient] * len(want),
                                    scales=[self._lyapunov_scale(orbits[i]) for i in want],
                                    batch_size=self.batch_size)

@@ -47,7 +47,9 @@ def classification_report(ds, at=None) -> str:
     keys = [k for k in sorted(a) if k.startswith("param_") and not k.endswith(("_units", "_source"))]
     lines += ["## Settings", "",
               f"- grid: {values.size} values of `{par}` from {values.min():g} to {values.max():g} {units}",
-              f"- per value: {a['transient_periods']} transient + {a['recorded_periods']} recorded relay periods; "
+              f"- per value: {a['transient_periods']} transient + {a['recorded_periods']} recorded relay periods "
+              f"(extended up to {a.get('max_record_periods', a['recorded_periods'])} to hold three forcing periods; "
+              f"`record_used`); "
               f"heyoka tol {a['tol']:g}; circuit {a.get('circuit')}; AC sign {a.get('ac_sign')}; "
               f"DC-force law {a.get('dc_law', 'not recorded')}",
               f"- initial state: {a.get('initial_state', '')}",
@@ -57,7 +59,7 @@ def classification_report(ds, at=None) -> str:
               f"record; otherwise a decaying recurrence is *not-converged*, and a Lyapunov exponent over "
               f"{a.get('lyapunov_steps', '?')} periods decides chaotic (> {a.get('lyapunov_threshold', float('nan')):.3g}) "
               "vs quasi-periodic, unless its 95 % interval contains the threshold; undecided is *not-converged* "
-              "(`class_reason` says why)",
+              f"(`class_reason` says why); exponent by {a.get('lyapunov_method', 'companion (not recorded)')}",
               "- parameters: " + ", ".join(f"{k[6:]} = {a[k]:g} {a.get(k + '_units', '')}" for k in keys), ""]
     codes = ds.class_code.values
     lines += ["## Class counts", "", "| class | " + " | ".join(map(str, ds.branch.values)) + " |",

@@ -105,6 +105,9 @@ SWEEP = [
     Variable("status", V, np.int8, -1, "1", "integration status (-1: not computed)", _flags(Status)),
     Variable("failure_time", V, float, np.nan, "s", "time of escape or failure (NaN: none)"),
     Variable("n_steps", V, np.int64, 0, "1", "Taylor steps"),
+    Variable("record_used", V, np.int32, -1, "1",
+             "relay periods recorded, classified and used for the exponent (record, extended up to max_record "
+             "to hold three forcing periods; fewer after an escape); the stored samples are its first record"),
     Variable("transient_used", V, np.int64, -1, "1",
              "transient discarded before the record, in relay periods (extended where still converging)"),
     Variable("run_seconds", V, float, np.nan, "s",

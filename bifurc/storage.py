@@ -20,11 +20,12 @@ from maps.provenance import cf_attrs
 
 from ._version import __version__
 from .classify import lyapunov_threshold
-from .lyapunov import INTERVAL_METHOD
+from .lyapunov import INTERVAL_METHOD, METHODS
 from .codes import Status
 from .grazing import GRAZING_GAP, GRAZING_SPEED, grazing_flag
 from .schema import GRAZING, GRAZING_FLAG, PARAM, SWEEP, SWEEP_COORDS, flag_variable, param_attrs, state_variable
 from .files import write_netcdf
+from .job import FORCING_PERIODS
 from maps.presets import preset_attrs
 from maps.simulate import dc_law_attrs
 
@@ -82,11 +83,15 @@ def run_attrs(job, scene, table, history, skip=()) -> dict:
     ac_sign = (o.ac_sign if o.ac else "none") if o is not None else "none"
     return {
         "transient_periods": job.transient,
-        "recorded_periods": job.record, "tol": job.tol, "max_period": job.max_period,
+        "recorded_periods": job.record, "max_record_periods": job.record_cap,
+        "record_extension": f"a record holding fewer than {FORCING_PERIODS} forcing periods q (q <= max_period) is "
+                            f"extended to {FORCING_PERIODS} q relay periods, at most max_record_periods (record_used); "
+                            "the exponent and its threshold use each value's whole record unless lyapunov_steps is set",
+        "tol": job.tol, "max_period": job.max_period,
         "max_transient_periods": job.max_transient if job.max_transient is not None else job.transient,
         "classification_rtol": job.rtol, "classification_atol": job.atol,
         "lyapunov_steps": job.exponent_steps, "lyapunov_threshold": lyapunov_threshold(job.exponent_steps),
-        "lyapunov_interval_method": INTERVAL_METHOD,
+        "lyapunov_interval_method": INTERVAL_METHOD, "lyapunov_method": METHODS[job.lyapunov_method],
         "circuit": circuit, "ac_sign": ac_sign, **(dc_law_attrs(o) if o is not None else {"dc_law": "none"}),
         **preset_attrs(table),
         "initial_state": ", ".join(f"{k}={v:g}" for k, v in scene.initial_state(**job.x0).items()),

@@ -18,6 +18,7 @@ from __future__ import annotations
 import sys
 import time as _time
 import warnings
+from dataclasses import replace
 
 import numpy as np
 
@@ -31,6 +32,7 @@ from .executor import default_workers, map_values
 from .files import guarded_output
 from .grazing import GRAZING_GAP, GRAZING_SPEED, locate_grazing_values
 from .job import ValueJob
+from .lyapunov import METHODS
 from .resume import Parts, manifest
 from .scene import SystemScene, resolve_scene
 
@@ -43,8 +45,9 @@ MODES = {"independent": ("independent",), "follow": ("up", "down")}
 @recorded("bifurc.sweep")
 @guarded_output("path")
 def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independent", transient=300,
-          record=100, preset=None, params=None, x0=None, tol=1e-10, max_period=100, rtol=1e-6, atol=1e-9,
-          lyapunov=True, grazing=True, grazing_xtol=None, circuit=None, ac_sign=None, dc_law=None, path=None,
+          record=100, max_record=None, preset=None, params=None, x0=None, tol=1e-10, max_period=100, rtol=1e-6,
+          atol=1e-9,
+          lyapunov=True, lyapunov_method="tangent", grazing=True, grazing_xtol=None, circuit=None, ac_sign=None, dc_law=None, path=None,
           progress=True, workers=None, scheduler=None, error_sample=3, max_transient=None, batch_size=4,
           chunk_size=None, overwrite=False):
     """Sweep ``param`` over ``values``; returns an xarray Dataset (see bifurc.storage).
@@ -59,6 +62,10 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
     mode : "independent" or "follow" ("continuation": deprecated alias of "follow").
     transient, record : int
         Relay periods discarded, then recorded, per value.
+    max_record : int
+        Where the record holds fewer than three forcing periods q (q <= max_period), it is
+        extended to 3 q relay periods, never beyond ``max_record`` (default 3 x record); the
+        length used is stored per value (``record_used``), the stored samples are its first ``record``.
     max_transient : int
         Where a value is not-converged with a geometrically decaying recurrence, integrate on
         (doubling the transient) up to this many relay periods; the transient used is stored.
@@ -69,6 +76,8 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
         needing two whole periods in the record (q = 0: the forcing never repeats, no period).
     lyapunov : bool
         Compute the largest Lyapunov exponent where the orbit is not periodic.
+    lyapunov_method : "tangent" (default) or "companion"
+        How the exponent is integrated (:data:`bifurc.lyapunov.METHODS`, stored as an attribute).
     grazing : bool
         Locate grazing values between neighbours where the orbit changes between
         impacting and not impacting, by bisection to ``grazing_xtol``.
@@ -94,7 +103,10 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
         raise ParameterError(f"mode {mode!r}; allowed: {', '.join(MODES)}")
     values = np.asarray(values, dtype=float).ravel()
     job, sc, table = _job(scene, param, values, transient, record, preset, params, x0, tol, max_period, rtol, atol,
-                          lyapunov, circuit, ac_sign, dc_law, max_transient, batch_size)
+                          lyapunov, circuit, ac_sign, dc_law, max_transient, batch_size, max_record)
+    if lyapunov_method not in METHODS:
+        raise ParameterError(f"lyapunov_method {lyapunov_method!r}; allowed: {', '.join(METHODS)}")
+    job = replace(job, lyapunov_method=lyapunov_method)
     parts = Parts(path, manifest(job, values, mode)) if path else None
     results, resumed, seconds, workers = run_values(job, values, mode, parts, workers, scheduler, chunk_size, progress,
                                                     f"{sc.name} {param}")
@@ -157,7 +169,7 @@ def run_stats(ds, job, seconds, resumed, workers) -> None:
 
 
 def _job(scene, param, values, transient, record, preset, params, x0, tol, max_period, rtol, atol, lyapunov,
-         circuit, ac_sign, dc_law, max_transient, batch_size):
+         circuit, ac_sign, dc_law, max_transient, batch_size, max_record=None):
     """The ValueJob of a sweep, its scene and parameter table, every argument checked before anything runs."""
     tol = validate_tol(tol)
     if values.size == 0 or not np.all(np.isfinite(values)):
@@ -170,6 +182,8 @@ def _job(scene, param, values, transient, record, preset, params, x0, tol, max_p
     sc.initial_state(**(x0 or {}))
     transient = int(validate_value("transient", transient, 0, 1e7))
     record = int(validate_value("record", record, 3, 1e7))
+    if max_record is not None:
+        max_record = int(validate_value("max_record", max_record, record, 1e7))
     if max_transient is not None:
         max_transient = int(validate_value("max_transient", max_transient, transient, 1e8))
     batch_size = int(validate_value("batch_size", batch_size, 1, 64))
@@ -178,7 +192,7 @@ def _job(scene, param, values, transient, record, preset, params, x0, tol, max_p
         options["dc_law"] = sc.options.dc_law
     name = sc.system if isinstance(sc, SystemScene) else sc.name  # a bare system runs in this process
     job = ValueJob(name, param, base, options, dict(x0 or {}), transient, record, float(tol), max_period,
-                   rtol, atol, lyapunov, max_transient=max_transient, batch_size=batch_size)
+                   rtol, atol, lyapunov, max_transient=max_transient, batch_size=batch_size, max_record=max_record)
     return job, sc, table
 
 

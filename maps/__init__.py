@@ -14,7 +14,7 @@ from .hybrid import (ROLES, Escaped, EventCap, EventRecord, Guard, HybridState, 
                      PeriodicSwitch, State)
 from .model import PARAMETERS, ModelOptions, build_system
 from .parameters import Parameter, ParameterError
-from .poincare import ImpactMap, MapLinearization, MapOrbit, StroboscopicMap
+from .poincare import ImpactLinearization, ImpactMap, MapLinearization, MapOrbit, StroboscopicMap
 from .presets import PRESETS
 from .scenes import SCENES, Scene, get_scene, scene_names
 from .simulate import resolve, run_scene, simulate
@@ -24,4 +24,4 @@ __all__ = ["__version__", "Escaped", "EventRecord", "Guard", "HybridRun", "Hybri
            "ParameterError", "PRESETS", "SCENES", "Scene", "get_scene", "scene_names", "resolve",
            "run_scene", "simulate", "forced_oscillator_with_stop", "StroboscopicMap", "ImpactMap",
            "MapOrbit", "HybridState", "EventCap", "ROLES", "ScalarEngine", "BatchEngine", "OrbitJob",
-           "OrbitResult", "engine_for", "MapLinearization"]
+           "OrbitResult", "engine_for", "MapLinearization", "ImpactLinearization"]

@@ -18,10 +18,11 @@ import numpy as np
 from .engines import engine_for, unsupported
 from .engines.base import OrbitJob
 from .engines.scalar import ScalarEngine
-from .hybrid import HybridState, HybridSystem, validate_tol
+from .hybrid import HybridState, HybridSystem, IntegrationFailure, validate_tol
 from .parameters import ParameterError, validate_value
 
-__all__ = ["StroboscopicMap", "MapOrbit", "MapLinearization", "ImpactMap", "forcing_period_steps",
+__all__ = ["StroboscopicMap", "MapOrbit", "MapLinearization", "ImpactMap", "ImpactLinearization",
+           "forcing_period_steps",
            "orbit_from_periods"]
 
 
@@ -79,10 +80,24 @@ class MapOrbit:
     flag_names: tuple = ()
     point_flags: np.ndarray | None = None   # (n+1, len(flag_names)) flags at each point
     signature: list = field(default_factory=list)  # per step: the ordered roles of its events
+    tangent_start: np.ndarray | None = None   # (d,) unit tangent vector at points[0] (None: none integrated)
+    tangent: np.ndarray | None = None         # (m, d) the tangent vector at the end of each step, m <= n
 
     @property
     def n(self) -> int:
         return len(self.impacts_per_step)
+
+    def tangent_stretch(self, scale=None) -> np.ndarray | None:
+        """Log stretch [per step] of the tangent vector integrated with the flow, in the norm scaled
+        by ``scale`` (:func:`maps.tangent.tangent_stretch`); NaN after it ended; None: none integrated."""
+        if self.tangent_start is None:
+            return None
+        out = np.full(self.n, np.nan)
+        if self.tangent is not None and len(self.tangent):
+            from .tangent import tangent_stretch
+            m = min(len(self.tangent), self.n)
+            out[:m] = tangent_stretch(self.tangent_start, self.tangent[:m], scale)
+        return out
 
     def state(self, k: int) -> HybridState:
         """The hybrid state (continuous state and flags) at point k (negative: from the end)."""
@@ -107,6 +122,37 @@ class MapLinearization:
     signature: tuple
     compile_seconds: float = 0.0
     events: tuple = ()          # the step's EventRecords (time, guard, state before and after)
+
+
+@dataclass
+class ImpactLinearization:
+    """The next impact from a state given at a fixed time t0, with its exact derivatives: the
+    impact time ``t`` [s], the hybrid state just after the impact's transition, J = d(that
+    state)/dy0 (d x d) and ``dt_dy`` = dt/dy0 (d,) [s per state unit], the event roles on the
+    way (the impact last), compile time [s]."""
+
+    t: float
+    state: HybridState
+    J: np.ndarray
+    dt_dy: np.ndarray
+    signature: tuple
+    compile_seconds: float = 0.0
+
+
+def _central_differences(end, state, eps):
+    """d end(state)/dy by central differences with steps ``eps`` (default 1e-6 |y_j|, >= 1e-9); the
+    mode of a HybridState is kept (a test oracle: valid where no event is grazed within +-eps)."""
+    y, flags, _ = _split(state)
+    y = np.asarray(y, dtype=float)
+    J = np.empty((y.size, y.size))
+    for j in range(y.size):
+        h = eps if eps is not None else 1e-6 * max(1e-3, abs(y[j]))
+        e = np.zeros(y.size)
+        e[j] = h
+        ends = [np.asarray(end(HybridState(y + s * e, flags) if flags is not None else y + s * e), dtype=float)
+                for s in (1, -1)]
+        J[:, j] = (ends[0] - ends[1]) / (2 * h)
+    return J
 
 
 def _split(state):
@@ -246,15 +292,7 @@ class StroboscopicMap:
         """
         y, flags, _ = _split(state)
         params = tuple(params)
-        run = self._var_runs.get(params)
-        if run is None:
-            from .engines.scalar import VariationalRun
-            run = self._var_runs[params] = VariationalRun(self.system, self.params, y, wrt=params, tol=self.tol,
-                                                          max_events=None,
-                                                          max_events_per_period=self.max_events_per_period)
-        elif run.params != self.params:
-            run.set_params(**self.params)
-        run.record_events = True
+        run = self._variational(params, y)
         run.reset(self.sample_time(k, t0), y, flags)
         n = int(validate_value("n", n, 1, 1e6))
         if until is not None:
@@ -278,6 +316,20 @@ class StroboscopicMap:
         return MapLinearization(HybridState(run.y, dict(run.flags)), J, Y[:, n:], rank, signature,
                                 run.compile_seconds, events)
 
+    def _variational(self, params: tuple, y):
+        """This map's reusable VariationalRun with respect to the state and ``params`` (compiled
+        once per parameter list; ``y``: a valid state to build it at), with the map's parameter
+        values loaded and events recorded."""
+        run = self._var_runs.get(params)
+        if run is None:
+            from .engines.scalar import VariationalRun
+            run = self._var_runs[params] = VariationalRun(self.system, self.params, y, wrt=params, tol=self.tol, max_events=None,
+                                                          max_events_per_period=self.max_events_per_period)
+        elif run.params != self.params:
+            run.set_params(**self.params)
+        run.record_events = True
+        return run
+
     def jacobian(self, state, k: int = 0, *, eps: float | None = None, t0: float = 0.0,
                  method: str = "exact") -> np.ndarray:
         """d(step)/dy (d x d) at the k-th sample.
@@ -291,20 +343,10 @@ class StroboscopicMap:
             return self.linearize(state, k, t0=t0).J
         if method != "fd":
             raise ParameterError(f"jacobian method {method!r}; allowed: exact, fd")
-        y, flags, _ = _split(state)
-        y = np.asarray(y, dtype=float)
-        d = y.size
-        J = np.empty((d, d))
-        for j in range(d):
-            h = eps if eps is not None else 1e-6 * max(1e-3, abs(y[j]))
-            e = np.zeros(d)
-            e[j] = h
-            plus = self.step(HybridState(y + e, flags) if flags is not None else y + e, k, t0)
-            minus = self.step(HybridState(y - e, flags) if flags is not None else y - e, k, t0)
-            J[:, j] = (_split(plus)[0] - _split(minus)[0]) / (2 * h)
-        return J
+        return _central_differences(lambda s: _split(self.step(s, k, t0))[0], state, eps)
 
-    def orbit(self, x0, n: int, *, transient: int = 0, t0: float = 0.0, flags: dict | None = None) -> MapOrbit:
+    def orbit(self, x0, n: int, *, transient: int = 0, t0: float = 0.0, flags: dict | None = None,
+              tangent: bool = False) -> MapOrbit:
         """Start from ``x0`` at ``t0`` [s], discard the samples before k = ``transient``, record ``n`` steps.
 
         ``x0`` is a continuous state (mapping or array) or a :class:`~maps.hybrid.HybridState`;
@@ -312,42 +354,49 @@ class StroboscopicMap:
         ``final_flags`` of a previous orbit) default to those of a HybridState, else to the
         system's rule.  Failures (escape, non-finite state, more than ``max_events_per_period``
         events in a period) end the orbit early with ``status`` set and never raise; arrays
-        then hold only the completed steps.
+        then hold only the completed steps.  ``tangent``: a tangent vector is integrated with the
+        recorded window (:meth:`MapOrbit.tangent_stretch`).
         """
         n = int(validate_value("n", n, 1, 1e8))
         transient = int(validate_value("transient", transient, 0, 1e8))
         y0, given, _ = _split(x0)
         flags = flags if flags is not None else given
         y0 = self.system.state_vector(y0)
-        job = self._job(self.params, y0, flags, 0, transient, n, t0, log=True)
+        job = self._job(self.params, y0, flags, 0, transient, n, t0, log=True, tangent=self._tangent_start(tangent))
         res = self._engine.run([job])[0]
         return self._orbit_from(res, job)
 
-    def orbits(self, overrides: list, x0, n: int, *, transient: int = 0, flags: dict | None = None,
-               method: str = "auto", batch_size: int = 4) -> list[MapOrbit]:
+    def orbits(self, overrides: list, x0, n, *, transient: int = 0, flags: dict | None = None,
+               method: str = "auto", batch_size: int = 4, tangent: bool = False) -> list[MapOrbit]:
         """One orbit per parameter set: ``overrides[i]`` (a dict) changes this map's parameters.
 
         Every orbit starts from ``x0`` (a state, or a list of one state per set) at t = 0, as
-        :meth:`orbit`.  ``method``: "batch" (heyoka batch mode, ``batch_size`` SIMD lanes: the
-        transient without stops at observation-only guards, then the recorded window with
-        them), "scalar" (one after the other), "auto" (batch where the engine supports the
-        system).  Results agree to round-off, amplified by chaotic dynamics.
+        :meth:`orbit`, and records ``n`` steps (an int, or a list of one per set).  ``method``:
+        "batch" (heyoka batch mode, ``batch_size`` SIMD lanes: the transient without stops at
+        observation-only guards, then the recorded window with them), "scalar" (one after the
+        other), "auto" (batch where the engine supports the system).  Results agree to
+        round-off, amplified by chaotic dynamics.  ``tangent``: a tangent vector is integrated
+        with each recorded window from :func:`maps.tangent.start_direction`
+        (:meth:`MapOrbit.tangent_stretch`).
         """
-        n = int(validate_value("n", n, 1, 1e8))
+        lengths = n if isinstance(n, (list, tuple)) else [n] * len(overrides)
+        if len(lengths) != len(overrides):
+            raise ParameterError(f"n: {len(lengths)} record lengths for {len(overrides)} parameter sets")
+        lengths = [int(validate_value("n", m, 1, 1e8)) for m in lengths]
         transient = int(validate_value("transient", transient, 0, 1e8))
         params = [self.system.validate(dict(self.params, **o)) for o in overrides]
         starts = x0 if isinstance(x0, list) else [x0] * len(params)
         jobs = []
-        for p, s in zip(params, starts):
+        for p, s, m in zip(params, starts, lengths):
             y, given, _ = _split(s)
             jobs.append(self._job(p, self.system.state_vector(y), flags if flags is not None else given,
-                                  0, transient, n, log=True))
+                                  0, transient, m, log=True, tangent=self._tangent_start(tangent)))
         method = self._method(method, batch_size)
         clock = _time.perf_counter()
         if method == "scalar":
             results = self._engine.run(jobs)
         else:
-            full = self._batch_engine(batch_size, observations=True)
+            full = self._batch_engine(batch_size, observations=True, tangent=tangent)
             if transient:
                 first = self._batch_engine(batch_size, observations=False).run([replace(j, record=0, log=False) for j in jobs])
                 second = full.run([replace(j, y0=r.final_state, flags=r.final_flags, k0=transient, transient=0)
@@ -396,10 +445,17 @@ class StroboscopicMap:
             out.append(st)
         return out
 
-    def _batch_engine(self, batch_size: int, observations: bool):
+    def _tangent_start(self, tangent: bool):
+        """The start direction of a tangent vector (:func:`maps.tangent.start_direction`), or None."""
+        if not tangent:
+            return None
+        from .tangent import start_direction
+        return start_direction(len(self.system.states))
+
+    def _batch_engine(self, batch_size: int, observations: bool, tangent: bool = False):
         """The process-wide batch engine for this system, tolerance and event cap (compiled once)."""
         return engine_for(self.system, self.tol, "batch", observations=observations, batch_size=batch_size,
-                          max_events_per_period=self.max_events_per_period)
+                          max_events_per_period=self.max_events_per_period, tangent=tangent)
 
     def _method(self, method, batch_size) -> str:
         if method not in ("auto", "batch", "scalar"):
@@ -420,7 +476,9 @@ class StroboscopicMap:
         names = self.system.flag_names
         point_flags = np.array([[fl.get(f, np.nan) for f in names] for fl in flags], dtype=float)
         W = job.params.get("relay_hz", 1.0 / job.period)
-        return orbit_from_periods(self.system, job.params, W, times, points, r.period_events,
+        tangent = {} if job.tangent is None else dict(tangent_start=np.asarray(job.tangent, dtype=float),
+                                                      tangent=np.array(r.tangent).reshape(-1, len(job.y0)))
+        return orbit_from_periods(self.system, job.params, W, times, points, r.period_events, **tangent,
                                   status=r.status, failure=r.failure, failure_time=r.failure_time,
                                   n_steps=r.n_steps, run_seconds=r.seconds, final_state=r.final_state,
                                   final_flags=dict(r.final_flags), flag_names=names, point_flags=point_flags)
@@ -493,6 +551,57 @@ class ImpactMap:
     def __init__(self, system_or_scene, params: dict, *, tol: float = 1e-12, period: float | None = None,
                  fp_type=float):
         self.stroboscopic = StroboscopicMap(system_or_scene, params, tol=tol, period=period, fp_type=fp_type)
+
+    def _to_impact(self, run, state, t0: float, max_periods: float):
+        """Advance ``run`` from ``state`` at ``t0`` [s] to just after the next impact's transition."""
+        y, flags, _ = _split(state)
+        run.reset(t0, y, flags)
+        run.advance(t0 + max_periods * self.stroboscopic.period, stop_roles=("impact",))
+        if run.stopped_by is None:
+            raise IntegrationFailure(f"no impact within {max_periods:g} periods of t0 = {t0:.9g} s", run.t, run.y)
+        return run
+
+    def step(self, state, t0: float = 0.0, *, max_periods: float = 1000) -> tuple[float, HybridState]:
+        """(t [s], hybrid state just after the transition) of the next impact from ``state`` at ``t0``.
+        Raises :class:`~maps.hybrid.IntegrationFailure` when none comes within ``max_periods`` periods."""
+        run = self.stroboscopic._run
+        run.record_events = False
+        run = self._to_impact(run, state, t0, max_periods)
+        return run.t, HybridState(run.y, dict(run.flags))
+
+    def linearize(self, state, t0: float = 0.0, *, max_periods: float = 1000) -> ImpactLinearization:
+        """The next impact from ``state`` at ``t0`` [s] with its exact Jacobian: the flow's
+        sensitivities Phi (variational equations, saltation at the events on the way), projected
+        onto the impact section g = 0 whose hitting time moves with y0, then the impact's transition:
+
+            J = R_y (I - f- grad(g)^T / (grad(g) . f- + dg/dt)) Phi = Y+ + f+ dt/dy0,
+
+        Y+ the saltation-updated sensitivities compared at the impact instant (the state then
+        moves with f+ while the end follows the impact), dt/dy0 = -grad(g) Phi / (grad(g) . f- + dg/dt).
+        A grazing impact (denominator 0) has no Jacobian: ZeroDivisionError."""
+        s = self.stroboscopic
+        y, _, _ = _split(state)
+        run = self._to_impact(s._variational((), y), state, t0, max_periods)
+        n = len(s.system.states)
+        d = run.derivatives
+        f_plus = d.rhs(run.t, run.y, d.pars(run.params, run.flags))
+        dt = run.event_time_row[:n]
+        J = run.sensitivities[:, :n] + np.outer(f_plus, dt)
+        signature = tuple(s.system.role_of(ev.name) for ev in run.events)
+        run.events = []
+        return ImpactLinearization(run.t, HybridState(run.y, dict(run.flags)), J, dt, signature,
+                                   run.compile_seconds)
+
+    def jacobian(self, state, t0: float = 0.0, *, method: str = "exact", eps: float | None = None,
+                 max_periods: float = 1000) -> np.ndarray:
+        """d(state just after the next impact)/dy0 (d x d) from ``state`` at ``t0`` [s]:
+        ``method="exact"`` (:meth:`linearize`) or "fd", central differences with steps ``eps``
+        (default 1e-6 |y_j|, >= 1e-9), a test oracle only."""
+        if method == "exact":
+            return self.linearize(state, t0, max_periods=max_periods).J
+        if method != "fd":
+            raise ParameterError(f"jacobian method {method!r}; allowed: exact, fd")
+        return _central_differences(lambda s: self.step(s, t0, max_periods=max_periods)[1].y, state, eps)
 
     def iterate(self, x0, n_impacts: int, transient_periods: int = 0, *, max_periods: int = 100_000,
                 chunk: int = 20):

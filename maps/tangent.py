@@ -1,10 +1,14 @@
-"""Tangent directions by a companion trajectory (Benettin et al., Meccanica 15 (1980) 9-20).
+"""Tangent growth along an orbit, one direction at a time (Benettin et al., Meccanica 15 (1980) 9-20).
 
-A companion starts ``d0`` away from a reference state (norm scaled by ``scale``) and after
-each map step is moved back to distance ``d0`` from the reference; the log of each step's
-stretch is the tangent growth along the companion's direction.  Engines integrate the
-companion (:mod:`maps.engines`); the exponent and its spread are analysis
-(:mod:`bifurc.lyapunov`).
+Two ways, both integrated by the engines (:mod:`maps.engines`); the exponent and its spread
+are analysis (:mod:`bifurc.lyapunov`):
+
+- a *tangent vector* u integrated with the flow (u' = (df/dy) u, the saltation rule applied to
+  u at every state event, :meth:`maps.variational.Derivatives.transition`) and renormalised to
+  unit length after each map step; :func:`tangent_stretch` gives each step's log stretch;
+- a *companion* trajectory that starts ``d0`` away from a reference state (norm scaled by
+  ``scale``) and after each map step is moved back to distance ``d0`` from the reference (a
+  finite-difference stand-in for the tangent vector, kept as a cross-check).
 """
 from __future__ import annotations
 
@@ -12,15 +16,50 @@ import math
 
 import numpy as np
 
-__all__ = ["companion_start", "renormalise"]
+__all__ = ["companion_start", "renormalise", "start_direction", "tangent_stretch", "tangent_sample"]
+
+
+def start_direction(d: int) -> np.ndarray:
+    """The fixed random unit direction (d,) that tangent vectors and companions start along."""
+    u = np.random.default_rng(12345).standard_normal(d)
+    return u / np.linalg.norm(u)
 
 
 def companion_start(y0, d0: float = 1e-8, scale=None) -> np.ndarray:
-    """The companion's start: ``d0`` from ``y0`` along a fixed random direction (norm scaled by ``scale``)."""
+    """The companion's start: ``d0`` from ``y0`` along :func:`start_direction` (norm scaled by ``scale``)."""
     y = np.asarray(y0, dtype=float)
     s = np.ones_like(y) if scale is None else np.asarray(scale, dtype=float)
-    u = np.random.default_rng(12345).standard_normal(y.size)
-    return y + d0 * (u / np.linalg.norm(u)) * s
+    return y + d0 * start_direction(y.size) * s
+
+
+def tangent_sample(u, log: list, start=None) -> bool:
+    """At a recorded sample, the tangent vector ``u`` (an engine's live view, changed in place)
+    starts at ``start``, or is appended to ``log`` and scaled back to unit length.  False (and u
+    zeroed): it is no longer finite or vanished, nothing more to log."""
+    if start is not None:
+        u[:] = start
+        return True
+    log.append(np.array(u, dtype=float))
+    norm = math.sqrt(float(np.dot(u, u)))
+    if math.isfinite(norm) and norm > 0.0:
+        u /= norm
+        return True
+    u[:] = 0.0
+    return False
+
+
+def tangent_stretch(start, ends, scale=None) -> np.ndarray:
+    """Log stretch of each map step of a tangent vector in the norm scaled by ``scale``.
+
+    ``ends[k]`` (m, d) is the vector at the end of step k, which started from ``start`` (k = 0)
+    or from ``ends[k-1]`` renormalised to unit Euclidean length: the stretch is
+    log(|ends[k] / scale| / |ends[k-1] / scale| * |ends[k-1]|).  The direction, hence the
+    stretch, does not depend on the norm the vector was renormalised in."""
+    u = np.asarray(ends, dtype=float)
+    s = np.ones(u.shape[1]) if scale is None else np.asarray(scale, dtype=float)
+    before = np.vstack([np.asarray(start, dtype=float)[None, :], u[:-1] / np.linalg.norm(u[:-1], axis=1)[:, None]])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.log(np.linalg.norm(u / s, axis=1) / np.linalg.norm(before / s, axis=1))
 
 
 def renormalise(reference, z, d0: float = 1e-8, scale=None) -> tuple[np.ndarray, float]:

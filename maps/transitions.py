@@ -28,7 +28,7 @@ import numpy as np
 from .hybrid import EventCap, Guard, HybridSystem, settle_may_act
 
 __all__ = ["event_surfaces", "GuardChoice", "Outcome", "NOTHING", "fire", "settle", "halted", "EventBudget",
-           "start_flags", "next_switch", "saltation", "projected"]
+           "start_flags", "next_switch", "saltation", "event_time_row", "projected"]
 
 
 def event_surfaces(system: HybridSystem, observations: bool = True) -> list[list[Guard]]:
@@ -206,7 +206,7 @@ def next_switch(system: HybridSystem, params: Mapping[str, float], counters: Map
     return best, which
 
 
-def saltation(Y: np.ndarray, f_minus, f_plus, grad, g_t: float, g_p, R_y, R_p) -> np.ndarray:
+def saltation(Y: np.ndarray, f_minus, f_plus, grad, g_t: float, g_p, R_y, R_p, dt=None) -> np.ndarray:
     """Sensitivities after a state event: ``Y`` (n x (n + m)) holds dy/d(y0, p) just before it.
 
     A guard g(y, t; p) = 0 crossed at t_e moves with the perturbation: dt_e = -(grad g . dy +
@@ -217,18 +217,25 @@ def saltation(Y: np.ndarray, f_minus, f_plus, grad, g_t: float, g_p, R_y, R_p) -
 
     ``R`` is the whole transition: the guard's reset composed with any settle projection, and
     ``f+`` the vector field of the mode entered.  A grazing crossing (denominator 0) has no
-    finite saltation: ZeroDivisionError.
+    finite saltation: ZeroDivisionError.  ``dt``: :func:`event_time_row`, if already computed.
     """
     n = Y.shape[0]
+    out = R_y @ Y
+    out[:, n:] += R_p
+    out -= np.outer(f_plus - R_y @ f_minus, event_time_row(Y, f_minus, grad, g_t, g_p) if dt is None else dt)
+    return out
+
+
+def event_time_row(Y: np.ndarray, f_minus, grad, g_t: float, g_p) -> np.ndarray:
+    """dt_e/d(y0, p) (n + m,) of a state event g(y, t; p) = 0 reached with sensitivities ``Y``
+    (n x (n + m)) just before it: -(grad g . Y- + [0 | g_p]) / (grad g . f- + dg/dt).  A grazing
+    crossing (denominator 0): ZeroDivisionError."""
     rate = float(grad @ f_minus) + g_t
     if rate == 0.0:
         raise ZeroDivisionError("grazing event: grad(g) . f + dg/dt = 0, the saltation matrix is unbounded")
-    dt_row = grad @ Y
-    dt_row[n:] += g_p
-    out = R_y @ Y
-    out[:, n:] += R_p
-    out += np.outer(f_plus - R_y @ f_minus, dt_row / rate)
-    return out
+    row = grad @ Y
+    row[Y.shape[0]:] += g_p
+    return -row / rate
 
 
 def projected(Y: np.ndarray, P_y, P_p) -> np.ndarray:

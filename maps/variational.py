@@ -26,10 +26,11 @@ import time as _time
 import heyoka as hy
 import numpy as np
 
+from . import transitions as tr
 from .hybrid import call_cfunc, time_derivative
 from .parameters import ParameterError
 
-__all__ = ["Derivatives", "variational_integrator"]
+__all__ = ["Derivatives", "variational_integrator", "tangent_integrator", "tangent_equations"]
 
 _COMPILED: dict = {}
 
@@ -38,17 +39,40 @@ def variational_integrator(system, tol: float, params: tuple = ()):
     """A heyoka integrator of the system with its first-order variational equations with
     respect to the state and the named ``params`` (state layout: y, then dy_i/d(y0, p)_j row
     by row), the system's guard events included; compiled once per (structure, tol, params)."""
-    key = (system.structure, float(tol), tuple(params))
+    for p in params:
+        system.parameter(p)          # unknown names: one line naming the allowed ones
+
+    def build():
+        args = list(system.sym.state_vars) + [system.sym[p] for p in params]
+        return hy.var_ode_sys(system.heyoka_system(), args, order=1)
+    return _compiled(system, tol, tuple(params), build)
+
+
+def tangent_equations(system) -> list:
+    """(u_i, sum_j df_i/dy_j u_j): the variational equations along one tangent vector u, as
+    heyoka (variable, expression) pairs (heyoka's ``diff`` of the vector field)."""
+    ys = system.sym.state_vars
+    us = [hy.make_vars(f"tangent_{i}") for i in range(len(ys))]
+    return [(u, hy.sum([hy.diff(f, y) * uj for y, uj in zip(ys, us)])) for u, f in zip(us, system.rhs)]
+
+
+def tangent_integrator(system, tol: float):
+    """A heyoka integrator of the system and one tangent vector (state layout: y, then u), the
+    system's guard events included; compiled once per (structure, tol)."""
+    return _compiled(system, tol, "tangent", lambda: system.heyoka_system() + tangent_equations(system))
+
+
+def _compiled(system, tol, kind, build):
+    """A copy of the integrator of ``build()`` (the augmented system), compiled once per (structure, tol, kind)."""
+    key = (system.structure, float(tol), kind)
     proto = _COMPILED.get(key)
     if proto is None:
-        for p in params:
-            system.parameter(p)          # unknown names: one line naming the allowed ones
         clock = _time.perf_counter()
-        args = list(system.sym.state_vars) + [system.sym[p] for p in params]
-        vsys = hy.var_ode_sys(system.heyoka_system(), args, order=1)
         # compact_mode=False: ~2.5x faster steps (a Jacobian step 4.6x a plain step on thesis-1dof,
         # against 11x compact) for a longer one-time compile (~4 s instead of ~1 s; benchmarks/jacobian.py)
-        proto = hy.taylor_adaptive(vsys, np.zeros(len(system.states)), tol=tol,
+        dynamics = build()     # a var_ode_sys takes the state alone (heyoka starts its sensitivities)
+        size = len(system.states) if isinstance(dynamics, hy.var_ode_sys) else len(dynamics)
+        proto = hy.taylor_adaptive(dynamics, np.zeros(size), tol=tol,
                                    t_events=system.heyoka_events(float), compact_mode=False)
         proto.compile_seconds = _time.perf_counter() - clock
         _COMPILED[key] = proto
@@ -105,6 +129,30 @@ class Derivatives:
                                  f"declared as expressions (system.projections[{name!r}])")
         key = ("projection", name, tuple(sorted(flags.items())))
         return self._jacobian(key, lambda: decl(self.system.sym, flags), t, y, self.pars(params, flags))
+
+    def transition(self, Y, out, t, params, flags_before, flags_after, guard=None, y_minus=None, y_now=None):
+        """(sensitivities after the transition ``out``, dt_e/d(y0, p) or None): ``Y`` (n x (n + m),
+        or n x 1 for one tangent vector) holds them just before it.  A guard crossed in ``y_minus``
+        under ``flags_before``: the saltation rule with the reset composed with any settle
+        projection; no guard (a settle at a fixed time, in state ``y_now`` before it): the
+        projection's Jacobian, if it projects; else ``Y`` unchanged."""
+        p = params
+        if guard is not None:
+            before, after = self.pars(p, flags_before), self.pars(p, flags_after)    # built once per event
+            R_y, R_p = self.reset(guard, t, y_minus, before)
+            if out.projection is not None:
+                here = out.records[0][2]            # the state the guard left, before the projection
+                P_y, P_p = self.projection(out.projection, t, here, p, flags_after)
+                R_y, R_p = P_y @ R_y, P_y @ R_p + P_p
+            y_after = out.y if out.y is not None else y_minus
+            grad, g_t, g_p = self.guard(guard, t, y_minus, before)
+            f_minus = self.rhs(t, y_minus, before)
+            dt = tr.event_time_row(Y, f_minus, grad, g_t, g_p)
+            return tr.saltation(Y, f_minus, self.rhs(t, y_after, after), grad, g_t, g_p, R_y, R_p, dt), dt
+        if out.projection is not None:            # a projection at a fixed time
+            P_y, P_p = self.projection(out.projection, t, y_now, p, flags_after)
+            return tr.projected(Y, P_y, P_p), None
+        return Y, None
 
     def _jacobian(self, key, exprs, t, y, pars):
         f = self._maps.get(key)

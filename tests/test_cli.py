@@ -115,6 +115,7 @@ def test_atomic_write_keeps_the_old_file_when_writing_fails(tmp_path, reference)
     (["simulate", "--bogus"], "--bogus"),
     (["nope"], "nope"),
     (["diagram", "--from", "2", "--to", "3", "-o", "x.nc", "--batch-size", "0"], "batch_size"),
+    (["diagram", "--from", "2", "--to", "3", "-o", "x.nc", "--record", "100", "--max-record", "50"], "max_record"),
 ])
 def test_bad_input_is_one_line_naming_the_parameter(argv, named, capsys):
     assert main(argv) == 2

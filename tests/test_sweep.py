@@ -86,7 +86,7 @@ def test_no_grazing_search_between_two_unconverged_values():
             raise AssertionError("no evaluation expected")
 
     def r(code, n):
-        return SimpleNamespace(status=0, class_code=code, n_impacts=n, n_recorded=100)
+        return SimpleNamespace(status=0, class_code=code, n_impacts=n, record_used=100)
     values = np.array([2.0, 2.01, 2.02])
     results = {"independent": [r(4, 0), r(4, 37), r(4, 0)]}
     assert locate_grazing_values(results, values, Forbidden(), 1e-6) == []
@@ -360,9 +360,9 @@ def test_resume_refuses_parts_of_another_format(tmp_path):
 
 
 def test_the_exponent_uses_the_whole_recorded_window_with_an_interval_and_reasons():
-    """record = 200: the exponent is the mean over all 200 recorded periods (the same stretch series
-    recomputed here from the stored points), its interval brackets it, and every not-converged
-    value says why."""
+    """record = 200: the exponent is the mean over all 200 recorded periods (the same tangent stretch
+    series recomputed here by the exact one-period Jacobians at the stored points, each an exact
+    restart with its mode), its interval brackets it, and every not-converged value says why."""
     ds = sweep("thesis-1dof", "relay_hz", np.array([5.0, 9.0]), preset="matlab-listing", params={"V": 90},
                transient=50, record=200, grazing=False, error_sample=0, progress=False, batch_size=1).isel(branch=0)
     assert ds.attrs["lyapunov_steps"] == 200 and "batch means" in ds.attrs["lyapunov_interval_method"]
@@ -372,8 +372,16 @@ def test_the_exponent_uses_the_whole_recorded_window_with_an_interval_and_reason
     smap = maps.StroboscopicMap(sc, sc.parameters(preset="matlab-listing", V=90.0, relay_hz=9.0), tol=1e-10)
     pts = np.column_stack([ds[s].values[1] for s in ("x", "v", "i", "z")])
     scale = np.maximum(np.nanmax(np.abs(pts), axis=0), 1e-9)
-    st = smap.stretch([pts], [{}], k0=[int(ds.transient_used.values[1])], scales=[scale], method="scalar")[0]
-    assert st.size == 200 and abs(float(np.mean(st)) - lam[1]) < 1e-9
+    flags = np.column_stack([ds[f"flag_{f}"].values[1] for f in sc.system.flag_names])
+    u, st = maps.tangent.start_direction(4), []
+    for k in range(200):
+        J = smap.linearize(maps.HybridState(pts[k], dict(zip(sc.system.flag_names, flags[k]))),
+                           int(ds.transient_used.values[1]) + k).J
+        w = J @ u
+        st.append(np.log(np.linalg.norm(w / scale) / np.linalg.norm(u / scale)))
+        u = w / np.linalg.norm(w)
+    assert ds.attrs["lyapunov_method"].startswith("tangent")
+    assert abs(float(np.mean(st)) - lam[1]) < 1e-9          # measured 1.6e-11
     for code, reason in zip(ds.class_code.values, ds.class_reason.values):
         assert (str(reason) != "") == (int(code) == 4)
 
@@ -410,3 +418,29 @@ def test_periods_are_searched_among_multiples_of_the_forcing_period():
                **kw).isel(branch=0, relay_hz=0)
     assert int(q0.forcing_period) == 0 and ClassCode(int(q0.class_code)) == ClassCode.NOT_CONVERGED
     assert "no candidate period" in str(q0.class_reason.values) and int(q0.period) == 0
+
+
+def test_record_extended_to_three_forcing_periods_up_to_max_record():
+    """8.9 Hz at 90 V (listing law): the forcing repeats after q = 89 relay periods, so a 100-period
+    record cannot test period 89 (it needs two whole periods).  The record is extended to 3 q = 267
+    periods (under the default cap 3 x 100) and the period-89 orbit is found; with --max-record 150
+    the extension stops at 150 (on the one-value path too) and the period is missed, as it is at 100."""
+    from bifurc.codes import ClassCode
+    job = ValueJob("thesis-1dof", "relay_hz", {}, record=100, max_period=100)
+    assert job.record_cap == 300 and job.record_for(89) == 267 and job.record_for(17) == 100
+    assert job.record_for(0) == 100 and job.record_for(101) == 100     # nothing to search: no extension
+    assert ValueJob("thesis-1dof", "relay_hz", {}, record=100, max_record=120).record_for(89) == 120
+    kw = dict(preset="matlab-listing", params={"V": 90}, grazing=False, error_sample=0, progress=False)
+    ds = sweep("thesis-1dof", "relay_hz", np.array([8.9]), **kw)
+    v = ds.isel(branch=0, relay_hz=0)
+    assert int(v.forcing_period) == 89 and int(v.record_used) == 267 and ds.attrs["max_record_periods"] == 300
+    assert ClassCode(int(v.class_code)) == ClassCode.PERIODIC and int(v.period) == 89
+    assert ds.sizes["sample"] == 101 and np.all(np.isfinite(v.x.values))    # the stored window stays record + 1
+    assert ds.record_used.attrs["units"] == "1" and "max_record" in ds.record_used.attrs["long_name"]
+    for cap, batch in ((150, 1), (100, 4)):
+        short = sweep("thesis-1dof", "relay_hz", np.array([8.9]), max_record=cap, batch_size=batch,
+                      **kw).isel(branch=0, relay_hz=0)
+        assert int(short.record_used) == cap and int(short.period) == 0
+        assert ClassCode(int(short.class_code)) != ClassCode.PERIODIC
+    with pytest.raises(maps.parameters.ParameterError, match="max_record"):
+        sweep("thesis-1dof", "relay_hz", np.array([8.9]), max_record=50, **kw)

@@ -16,6 +16,9 @@ def register(subparsers):
     p.add_argument("--from", dest="start", type=float, required=True, help="first value")
     p.add_argument("--to", dest="stop", type=float, required=True, help="last value")
     p.add_argument("--n", type=int, default=100, help="number of values (default 100)")
+    p.add_argument("--max-record", type=int, default=None,
+                   help="extend the record of a value whose forcing period q exceeds record/3 (q <= --max-period) "
+                        "to 3 q relay periods, at most this many (default 3 x --record)")
     p.add_argument("--max-transient", type=int, default=None,
                    help="extend the transient of values still converging, up to this many relay periods")
     p.add_argument("--mode", choices=("independent", "follow"), default="independent",
@@ -38,7 +41,7 @@ def run(args) -> int:
     check_scheduler(args.scheduler)
     values = np.linspace(args.start, args.stop, args.n)
     ds = sweep(args.scene, args.param, values, mode=args.mode, transient=args.transient, record=args.record,
-               max_period=args.max_period, lyapunov=not args.no_lyapunov, path=args.output,
+               max_record=args.max_record, max_period=args.max_period, lyapunov=not args.no_lyapunov, path=args.output,
                max_transient=args.max_transient, batch_size=args.batch_size,
                progress=not args.quiet, workers=args.workers, scheduler=args.scheduler, overwrite=args.force,
                **kw)

@@ -13,7 +13,9 @@ times and, with ``log``, every guard crossing in between.  A job with a ``refere
 ``record + 1`` states of another orbit at the same sample times) is a *companion*: after each
 recorded period it is moved back to distance ``d0`` (norm scaled by ``scale``) from the
 reference, and the log of each period's stretch is returned (the tangent direction of
-Benettin's method; the exponent itself is analysis, :mod:`bifurc.lyapunov`).
+Benettin's method; the exponent itself is analysis, :mod:`bifurc.lyapunov`).  A job with a
+``tangent`` start direction, on an engine that carries tangent vectors, also returns the tangent
+vector integrated with the flow over each recorded period (:mod:`maps.tangent`).
 """
 from __future__ import annotations
 
@@ -43,6 +45,7 @@ class OrbitJob:
     reference: list | None = None     # companion: the reference orbit's record + 1 states
     d0: float = 1e-8
     scale: np.ndarray | None = None
+    tangent: np.ndarray | None = None  # start direction of a tangent vector over the record (engines that carry one)
 
     def sample_time(self, k: int) -> float:
         return self.offset + (k / self.rate if self.rate is not None else k * self.period)
@@ -70,6 +73,7 @@ class OrbitResult:
     n_switches: int = 0
     seconds: float = 0.0
     stretch: list = field(default_factory=list)
+    tangent: list = field(default_factory=list)   # the tangent vector at the end of each recorded period
 
 
 class Engine:

@@ -10,6 +10,12 @@ clock.  What keeps the lanes busy and Python out of the way:
   rules of :mod:`maps.transitions` (the same as the scalar engine's);
 - a lane whose job ends is refilled at once with the next job.
 
+With ``tangent=True`` the integrator also carries one tangent vector u per lane (u' = (df/dy) u,
+heyoka's ``diff`` of the vector field), which the callbacks update by the saltation rule at every
+state event and by the projection's Jacobian where a settle projects the state
+(:meth:`maps.variational.Derivatives.transition`; a relay switch at a fixed time needs nothing),
+and renormalise to unit length at every recorded sample (:mod:`maps.tangent`).
+
 Supported: systems with at most one periodic switch.  heyoka deep-copies event callbacks;
 the callbacks here return themselves from ``__deepcopy__`` so that every copy sees the
 engine's live lanes.
@@ -25,7 +31,7 @@ import numpy as np
 from .. import transitions as tr
 from ..hybrid import EVENT_COOLDOWN
 from ..parameters import ParameterError
-from ..tangent import renormalise
+from ..tangent import renormalise, tangent_sample
 from .base import Engine, OrbitJob, OrbitResult
 
 __all__ = ["BatchEngine", "unsupported"]
@@ -46,7 +52,7 @@ def unsupported(system) -> str | None:
 
 class _Lane:
     __slots__ = ("job", "res", "W", "n_sw", "t_sw", "k_next", "t_k", "rec_k", "last", "flags", "params",
-                 "events", "recording", "budget", "done", "start_clock")
+                 "events", "recording", "budget", "done", "start_clock", "tangent")
 
 
 class BatchEngine(Engine):
@@ -55,7 +61,7 @@ class BatchEngine(Engine):
     name = "batch"
 
     def __init__(self, system, tol: float, *, batch_size: int = 4, observations: bool = True,
-                 max_events_per_period: int = 10_000):
+                 max_events_per_period: int = 10_000, tangent: bool = False):
         import heyoka as hy
         super().__init__(system, tol, max_events_per_period=max_events_per_period, observations=observations)
         reason = unsupported(system)
@@ -76,9 +82,15 @@ class BatchEngine(Engine):
         events.append(hy.t_event_batch((hy.time - hy.par[self.i_next]) * hy.par[self.i_rate],
                                        direction=hy.event_direction.positive, cooldown=EVENT_COOLDOWN,
                                        callback=_ClockCallback(self)))
-        n = len(system.states)
+        n = self.n = len(system.states)
+        self.tangent = bool(tangent)
+        dynamics = system.heyoka_system()
         t0 = _time.perf_counter()
-        self.ta = hy.taylor_adaptive_batch(system.heyoka_system(), np.zeros((n, self.B)), tol=tol,
+        if self.tangent:
+            from ..variational import Derivatives, tangent_equations
+            self.derivatives = Derivatives(system)
+            dynamics = dynamics + tangent_equations(system)
+        self.ta = hy.taylor_adaptive_batch(dynamics, np.zeros((len(dynamics), self.B)), tol=tol,
                                            t_events=events)
         self.compile_seconds = _time.perf_counter() - t0
         self.state, self.pars, self.time = self.ta.state, self.ta.pars, self.ta.time   # live views
@@ -96,7 +108,7 @@ class BatchEngine(Engine):
         if out is tr.NOTHING:
             return True
         if out.y is not None:
-            self.state[:, j] = out.y
+            self.state[:self.n, j] = out.y
         if out.changes:
             self._set_flags(j, lane, out.changes)
         for name, y_minus, _, _ in out.records:
@@ -114,21 +126,38 @@ class BatchEngine(Engine):
 
     def _sample(self, j, lane, t):
         res = lane.res
+        if lane.tangent:
+            self._renormalise_tangent(j, lane, first=not res.points)
         res.times.append(t)
-        res.points.append(self.state[:, j].copy())
+        res.points.append(self.state[:self.n, j].copy())
         res.flags.append(dict(lane.flags))
         if lane.job.log and lane.recording and len(res.points) > 1:
             res.period_events.append(lane.events)
             lane.events = []
 
+    def _renormalise_tangent(self, j, lane, first):
+        """At a recorded sample: the tangent vector starts (``first``), or is logged and scaled back
+        to unit length (a vector that is no longer finite or vanished ends the tangent: no more logs)."""
+        lane.tangent = tangent_sample(self.state[self.n:, j], lane.res.tangent, lane.job.tangent if first else None)
+
+    def _tangent_transition(self, j, lane, out, t, flags_before, guard=None, y_now=None):
+        """The tangent vector through a transition (saltation, projection)."""
+        if not lane.tangent or out is tr.NOTHING or (out.y is None and not out.changes):
+            return
+        u = self.state[self.n:, j]
+        y_minus = out.records[0][1] if guard is not None else None
+        Y, _ = self.derivatives.transition(u[:, None], out, t, lane.params, flags_before, lane.flags,
+                                           guard, y_minus, y_now)
+        u[:] = Y[:, 0]
+
     def _renormalise(self, j, lane, t, i):
         """Companion: back to d0 from the reference's i-th state, flags by the system's rule."""
         job = lane.job
-        z, stretch = renormalise(job.reference[i], self.state[:, j], job.d0, job.scale)
+        z, stretch = renormalise(job.reference[i], self.state[:self.n, j], job.d0, job.scale)
         lane.res.stretch.append(stretch)
         if not math.isfinite(stretch):
             return False
-        self.state[:, j] = z
+        self.state[:self.n, j] = z
         flags = tr.start_flags(self.system, t, z, lane.params, None)
         self._set_flags(j, lane, {k: v for k, v in flags.items() if lane.flags.get(k) != v})
         self.ta.reset_cooldowns(j)
@@ -142,7 +171,7 @@ class BatchEngine(Engine):
             if lane.job.log:
                 res.tail_events = lane.events
         res.final_time = float(self.time[j])
-        res.final_state = self.state[:, j].copy()
+        res.final_state = self.state[:self.n, j].copy()
         res.final_flags = dict(lane.flags)
         res.n_events = lane.budget.total
         lane.done = True
@@ -166,15 +195,17 @@ class BatchEngine(Engine):
         lane.rec_k = job.k0 + job.transient
         lane.last = lane.rec_k + job.record
         lane.events, lane.recording, lane.done = [], False, False
+        lane.tangent = self.tangent and job.tangent is not None
         lane.budget = tr.EventBudget(None, self.max_events_per_period)
         lane.start_clock = _time.perf_counter()
         hi[j], lo[j] = t0, 0.0
-        self.state[:, j] = job.y0
+        self.state[:, j] = 0.0
+        self.state[:self.n, j] = job.y0
         self.pars[:, j] = system.par_vector(job.params, lane.flags) + [min(lane.t_sw, lane.t_k, _FAR), 1.0 / job.period]
         self.ta.reset_cooldowns(j)
         target[j] = job.sample_time(lane.last + 1)     # never reached: the last sample ends the lane
         self.lanes[j] = lane
-        out = tr.settle(system, t0, self.state[:, j], lane.flags, lane.params)
+        out = tr.settle(system, t0, self.state[:self.n, j], lane.flags, lane.params)
         if not self._apply(j, lane, out, t0):
             return
         if job.transient == 0:
@@ -195,7 +226,7 @@ class BatchEngine(Engine):
         success = int(hy.taylor_outcome.success)
         if jobs:   # what a lane without a job holds: a valid state and parameters, and no motion
             j0 = jobs[0]
-            parked = np.asarray(j0.y0, dtype=float)
+            parked = np.concatenate([np.asarray(j0.y0, dtype=float), np.zeros(self.state.shape[0] - self.n)])
             flags0 = tr.start_flags(self.system, 0.0, parked, j0.params, j0.flags)
             parked_pars = self.system.par_vector(j0.params, flags0) + [_FAR, 1.0 / j0.period]
 
@@ -279,8 +310,15 @@ class _ClockCallback(_Callback):
 
     def _settle(self, eng, lane, j, t) -> bool:
         """The system's settle after the switch (maps.transitions.settle: NOTHING where it cannot act)."""
-        out = tr.settle(self.system, t, eng.state[:, j], lane.flags, lane.params)
-        return out is tr.NOTHING or eng._apply(j, lane, out, t)
+        y = eng.state[:eng.n, j]
+        out = tr.settle(self.system, t, y, lane.flags, lane.params)
+        if out is tr.NOTHING:
+            return True
+        y_now = y.copy() if lane.tangent else None
+        if not eng._apply(j, lane, out, t):
+            return False
+        eng._tangent_transition(j, lane, out, t, None, y_now=y_now)
+        return True
 
     def fire(self, eng, lane, d_sgn, j):
         t_sw, t_k = lane.t_sw, lane.t_k
@@ -338,5 +376,12 @@ class _GuardCallback(_Callback):
         if guard is None:
             return True
         t = float(eng.time[j])
-        out = tr.fire(eng.system, guard, t, eng.state[:, j], lane.flags, lane.params)
-        return eng._apply(j, lane, out, t)
+        out = tr.fire(eng.system, guard, t, eng.state[:eng.n, j], lane.flags, lane.params)
+        if not lane.tangent:
+            return eng._apply(j, lane, out, t)
+        before = dict(lane.flags)
+        if not eng._apply(j, lane, out, t):
+            return False
+        eng._tangent_transition(j, lane, out, t, before, guard)
+        return True
+

@@ -18,10 +18,10 @@ from .. import transitions as tr
 from ..hybrid import (_CROSSING, _FP_TYPES, Escaped, EventRecord, HybridState, HybridSystem,
                       IntegrationFailure, _fp, _np_dtype, validate_tol)
 from ..parameters import ParameterError, validate_value
-from ..tangent import renormalise
+from ..tangent import renormalise, tangent_sample
 from .base import Engine, OrbitJob, OrbitResult
 
-__all__ = ["HybridRun", "VariationalRun", "ScalarEngine"]
+__all__ = ["HybridRun", "VariationalRun", "TangentRun", "ScalarEngine"]
 
 
 class HybridRun:
@@ -169,11 +169,13 @@ class HybridRun:
     def next_switch_time(self):
         return tr.next_switch(self.system, self.params, self._next_switch)
 
-    def advance(self, t_end: float, on_segment: Callable | None = None) -> "HybridRun":
+    def advance(self, t_end: float, on_segment: Callable | None = None, stop_roles: tuple = ()) -> "HybridRun":
         """Integrate to ``t_end`` [s], stopping on every guard and switch.
 
         ``on_segment(c_output, t_start, t_stop)`` receives heyoka's continuous
         output of each smooth segment (dense output; requested only when given).
+        ``stop_roles``: return right after the transition of the first guard with one of these
+        roles (e.g. ``("impact",)``: the impact map), which ``stopped_by`` then names (else None).
         Raises :class:`IntegrationFailure` on a non-finite state, :class:`EventCap` beyond
         the event caps and :class:`Escaped` when a halt flag is set.
         """
@@ -183,6 +185,7 @@ class HybridRun:
         sys = self.system
         c_out = on_segment is not None
         n_groups = len(sys._groups)
+        self.stopped_by = None
         while float(ta.time) < t_end:
             t_sw, sw = self.next_switch_time()
             t_stop = min(t_end, t_sw)
@@ -220,6 +223,9 @@ class HybridRun:
                     if out.halted:
                         raise Escaped(f"{guard.name}: the state left the model's domain at t = {t:.9g} s",
                                       t, self.y)
+                    if stop_roles and guard.role in stop_roles:
+                        self.stopped_by = guard.name
+                        return self
                 continue
             state = self.y
             if outcome == hy.taylor_outcome.err_nf_state:
@@ -240,7 +246,8 @@ class VariationalRun(HybridRun):
     A switch frequency W among ``wrt`` (the relay's) moves every switch instant t_s = n/(2W):
     each switch adds (f- - f+) dt_s/dW to its column, with dt_s/dW = -t_s/W, and a run started at
     a switch instant t0 starts its column at f(t0, y0) t0/W (the start moves with the schedule).
-    The end time's own term belongs to the caller that fixes the end (the map: f(t1) dt1/dW)."""
+    The end time's own term belongs to the caller that fixes the end (the map: f(t1) dt1/dW).
+    ``event_time_row`` is dt_e/d(y0, p) of the last state event (the impact map's moving end)."""
 
     def __init__(self, system, params, x0, *, wrt: tuple = (), **kw):
         from ..variational import Derivatives
@@ -257,6 +264,7 @@ class VariationalRun(HybridRun):
         return variational_integrator(self.system, tol, self.wrt)
 
     def _start_sensitivities(self, t0):
+        self.event_time_row = None
         n, m = self._n, len(self.wrt)
         Y = np.hstack([np.eye(n), np.zeros((n, m))])
         if self._freq_cols:
@@ -299,25 +307,46 @@ class VariationalRun(HybridRun):
         if out is tr.NOTHING or (out.y is None and not out.changes):
             super()._apply(out, t, guard, y_minus, flags_before)
             return
-        d, p = self.derivatives, self.params
-        Y = self.sensitivities
-        flags_after = dict(self.flags, **out.changes)
-        if guard is not None:
-            before, after = d.pars(p, flags_before), d.pars(p, flags_after)    # built once per event
-            R_y, R_p = d.reset(guard, t, y_minus, before)
-            if out.projection is not None:
-                here = out.records[0][2]            # the state the guard left, before the projection
-                P_y, P_p = d.projection(out.projection, t, here, p, flags_after)
-                R_y, R_p = P_y @ R_y, P_y @ R_p + P_p
-            y_after = out.y if out.y is not None else y_minus
-            grad, g_t, g_p = d.guard(guard, t, y_minus, before)
-            Y = tr.saltation(Y, d.rhs(t, y_minus, before), d.rhs(t, y_after, after),
-                             grad, g_t, g_p, R_y, R_p)
-        elif out.projection is not None:            # a projection at a fixed time
-            P_y, P_p = d.projection(out.projection, t, self.y, p, flags_after)
-            Y = tr.projected(Y, P_y, P_p)
+        Y, dt = self.derivatives.transition(self.sensitivities, out, t, self.params, flags_before,
+                                            dict(self.flags, **out.changes), guard, y_minus, self.y)
+        if dt is not None:
+            self.event_time_row = dt
         super()._apply(out, t, guard, y_minus, flags_before)
         self.ta.state[self._n:] = Y.ravel()
+
+
+class TangentRun(VariationalRun):
+    """A :class:`HybridRun` that carries one tangent vector u (u' = (df/dy) u between events, the
+    saltation rule and projections of :class:`VariationalRun` applied to it), zero until the caller
+    starts it (:func:`maps.tangent.tangent_sample`)."""
+
+    def __init__(self, system, params, x0, **kw):
+        super().__init__(system, params, x0, wrt=(), **kw)
+
+    def _integrator(self, tol, fp_type):
+        if fp_type is not float:
+            raise ParameterError("tangent vectors run in double precision (fp_type=float)")
+        from ..variational import tangent_integrator
+        return tangent_integrator(self.system, tol)
+
+    def _start_sensitivities(self, t0):
+        self.event_time_row = None
+        self.ta.state[self._n:] = 0.0
+
+    @property
+    def tangent(self) -> np.ndarray:
+        """The tangent vector's live view (n,)."""
+        return self.ta.state[self._n:]
+
+    def _apply(self, out, t, guard=None, y_minus=None, flags_before=None):
+        if self.ta.state[self._n:].any():       # a zero vector (not started) stays zero
+            super()._apply(out, t, guard, y_minus, flags_before)
+        else:
+            HybridRun._apply(self, out, t, guard, y_minus, flags_before)
+
+    @property
+    def sensitivities(self) -> np.ndarray:
+        return np.array(self.ta.state[self._n:], dtype=float).reshape(self._n, 1)
 
 
 class ScalarEngine(Engine):
@@ -330,6 +359,7 @@ class ScalarEngine(Engine):
         super().__init__(system, tol, max_events_per_period=max_events_per_period, observations=observations)
         self.fp_type = fp_type
         self._run: HybridRun | None = None
+        self._tangent_run: TangentRun | None = None
 
     def hybrid_run(self, params) -> HybridRun:
         """This engine's reusable run, with ``params`` loaded (compiled once per structure)."""
@@ -341,6 +371,15 @@ class ScalarEngine(Engine):
             self._run.set_params(**params)
         return self._run
 
+    def tangent_run(self, params) -> TangentRun:
+        """This engine's reusable run with a tangent vector (compiled on first use)."""
+        if self._tangent_run is None:
+            self._tangent_run = TangentRun(self.system, params, np.zeros(len(self.system.states)), tol=self.tol,
+                                           max_events=None, max_events_per_period=self.max_events_per_period)
+        elif self._tangent_run.params != params:
+            self._tangent_run.set_params(**params)
+        return self._tangent_run
+
     @property
     def compile_seconds(self) -> float:
         return self._run.compile_seconds if self._run is not None else 0.0
@@ -351,9 +390,10 @@ class ScalarEngine(Engine):
     def _one(self, job: OrbitJob) -> OrbitResult:
         clock = _time.perf_counter()
         res = OrbitResult()
+        tangent = job.tangent is not None
         run = self.hybrid_run(job.params)
         run.record_events = False
-        k = job.k0
+        k, steps_before = job.k0, 0
         try:
             run.reset(job.sample_time(k), job.y0, job.flags)
             end_transient = k + job.transient
@@ -361,6 +401,12 @@ class ScalarEngine(Engine):
                 k += 1
                 run.advance(job.sample_time(k))
                 run.budget.new_period()
+            if tangent:                  # the record carries a tangent vector: its run takes over here
+                steps_before, state = run.n_steps, run.state
+                run = self.tangent_run(job.params)
+                run.record_events = False
+                run.reset(job.sample_time(k), state)
+                tangent = tangent_sample(run.tangent, res.tangent, job.tangent)
             if job.reference is None:
                 self._sample(res, run)
             run.record_events = job.log
@@ -369,6 +415,8 @@ class ScalarEngine(Engine):
                 k += 1
                 run.advance(job.sample_time(k))
                 run.budget.new_period()
+                if tangent:
+                    tangent = tangent_sample(run.tangent, res.tangent)
                 if job.reference is None:
                     self._sample(res, run)
                     if job.log:
@@ -387,7 +435,7 @@ class ScalarEngine(Engine):
             res.tail_events = [(ev.name, ev.t, ev.y_minus) for ev in run.events]
         run.events = []
         res.final_time, res.final_state, res.final_flags = run.t, run.y, dict(run.flags)
-        res.n_steps, res.n_events, res.n_switches = run.n_steps, run.n_events, run.n_switches
+        res.n_steps, res.n_events, res.n_switches = run.n_steps + steps_before, run.n_events, run.n_switches
         res.seconds = _time.perf_counter() - clock
         return res
 
