@@ -89,7 +89,7 @@ class ValueJob:
     scene: object  # scene name, or a HybridSystem (runs in this process only)
     param: str
     params: dict
-    options: dict = field(default_factory=dict)   # circuit, ac_sign, dc_law
+    options: dict = field(default_factory=dict)   # circuit, ac_sign, dc_law, soil, compaction
     x0: dict = field(default_factory=dict)
     transient: int = 300
     record: int = 100

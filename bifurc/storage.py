@@ -26,7 +26,7 @@ from .grazing import GRAZING_GAP, GRAZING_SPEED, grazing_flag
 from .schema import GRAZING, GRAZING_FLAG, PARAM, SWEEP, SWEEP_COORDS, flag_variable, param_attrs, state_variable
 from .files import write_netcdf
 from maps.presets import preset_attrs
-from maps.simulate import dc_law_attrs
+from maps.simulate import dc_law_attrs, soil_law_attrs
 
 __all__ = ["to_dataset", "add_grazing", "add_error_estimate", "save", "load", "STATUS_MEANINGS"]
 
@@ -80,6 +80,7 @@ def to_dataset(results, values, job, scene, table, mode) -> xr.Dataset:
         "lyapunov_steps": job.exponent_steps, "lyapunov_threshold": lyapunov_threshold(job.exponent_steps),
         "lyapunov_interval_method": INTERVAL_METHOD,
         "circuit": circuit, "ac_sign": ac_sign, **(dc_law_attrs(o) if o is not None else {"dc_law": "none"}),
+        **soil_law_attrs(o),
         **preset_attrs(table),
         "initial_state": ", ".join(f"{k}={v:g}" for k, v in scene.initial_state(**job.x0).items()),
         "grazing_gap_threshold_m": GRAZING_GAP, "grazing_speed_threshold_m_s": GRAZING_SPEED,

@@ -19,7 +19,7 @@ from .scenes import get_scene
 if TYPE_CHECKING:  # xarray is imported where used: worker processes start faster
     import xarray as xr
 
-__all__ = ["simulate", "run_scene", "resolve", "dc_law_attrs"]
+__all__ = ["simulate", "run_scene", "resolve", "dc_law_attrs", "soil_law_attrs"]
 
 
 def dc_law_attrs(options) -> dict:
@@ -30,17 +30,34 @@ def dc_law_attrs(options) -> dict:
     return {"dc_law": options.dc_law, "dc_law_source": DC_LAWS[options.dc_law]}
 
 
-def resolve(scene, params=None, preset=None, circuit=None, ac_sign=None, energy=None, dc_law=None):
+def soil_law_attrs(options) -> dict:
+    """Dataset attributes naming the soil law of a 2-DOF scene, its provenance (MODEL.md section 2)
+    and its compaction (the resistance's growth with depth, or "none")."""
+    from .model import COMPACTION, SOIL_LAWS
+    if options is None or options.dof != 2:
+        return {"soil": "none", "soil_source": "no rig and no soil in this scene", "soil_compaction": "none"}
+    return {"soil": options.soil, "soil_source": SOIL_LAWS[options.soil],
+            "soil_compaction": COMPACTION if options.compaction else "none"}
+
+
+def resolve(scene, params=None, preset=None, circuit=None, ac_sign=None, energy=None, dc_law=None, soil=None,
+            compaction=None):
     """The scene with structural options applied, and its validated parameter values
     with provenance: ``(scene, {name: (value, provenance)})``.
 
     ``dc_law`` ("listing", "fit", "measured"; MODEL.md section 1) defaults to the law of
-    ``preset`` when one is given (matlab-listing: "listing", thesis-text: "fit"), else to the scene's."""
+    ``preset`` when one is given (matlab-listing: "listing", thesis-text: "fit"), else to the scene's.  ``soil`` ("viscous", "coulomb", "drift"; 2-DOF
+    scenes, MODEL.md section 2) defaults to the scene's; ``compaction`` (True: the coulomb or drift
+    resistance grows with depth, ``maps.model.COMPACTION``) to False."""
     sc = get_scene(scene)
     if dc_law is None and preset is not None and sc.options is not None and sc.options.dc:
         dc_law = preset_dc_law(preset)
-    opts = {k: v for k, v in dict(circuit=circuit, ac_sign=ac_sign, energy=energy, dc_law=dc_law).items()
-            if v is not None}
+    if soil is not None and (sc.options is None or sc.options.dof != 2):
+        from .model import SOIL_LAWS
+        raise ParameterError(f"option 'soil' = {soil!r} needs a 2-DOF scene (bar and rig); scene {sc.name!r} has no "
+                             f"soil (soil laws: {', '.join(SOIL_LAWS)})")
+    opts = {k: v for k, v in dict(circuit=circuit, ac_sign=ac_sign, energy=energy, dc_law=dc_law,
+                                  soil=soil, compaction=compaction).items() if v is not None}
     if opts:
         sc = sc.with_options(**opts)
     if params is not None and not isinstance(params, Mapping):  # else a TypeError from the ** below
@@ -51,14 +68,14 @@ def resolve(scene, params=None, preset=None, circuit=None, ac_sign=None, energy=
 
 def run_scene(scene, t_end, params=None, preset=None, x0=None, tol=1e-12, circuit=None,
               ac_sign=None, energy=None, fp_type=float, on_segment=None, max_events=100_000,
-              max_events_per_period=None, dc_law=None):
+              max_events_per_period=None, dc_law=None, soil=None, compaction=None):
     """Integrate a scene to ``t_end`` [s] and return the :class:`~maps.engines.scalar.HybridRun`.
 
     Failures (non-finite state, escape, event cap: ``max_events`` per run,
     ``max_events_per_period`` per relay period) are recorded on the run as
     ``run.status`` / ``run.failure`` instead of raised.
     """
-    sc, table = resolve(scene, params, preset, circuit, ac_sign, energy, dc_law)
+    sc, table = resolve(scene, params, preset, circuit, ac_sign, energy, dc_law, soil, compaction)
     values = {k: v for k, (v, _) in table.items()}
     t_end = validate_value("t_end", t_end, 0.0, 1e7, low_open=True, unit="s")
     if x0 is not None and not isinstance(x0, Mapping):
@@ -83,7 +100,7 @@ def run_scene(scene, t_end, params=None, preset=None, x0=None, tol=1e-12, circui
 @recorded("maps.simulate")
 def simulate(scene, *, periods=None, t_end=None, params=None, preset=None, x0=None, tol=1e-12,
              dt=None, t_eval=None, circuit=None, ac_sign=None, energy=None,
-             max_events_per_period=None, dc_law=None) -> xr.Dataset:
+             max_events_per_period=None, dc_law=None, soil=None, compaction=None) -> xr.Dataset:
     """Time history of ``scene`` sampled on a grid from heyoka's dense output.
 
     Parameters
@@ -108,12 +125,16 @@ def simulate(scene, *, periods=None, t_end=None, params=None, preset=None, x0=No
     dc_law : str
         DC-force law: "listing" (listing C.9), "fit" (eqs 4.6-4.7) or "measured" (Table 4.1
         only, zero beyond |xa| = 29 mm); default: the preset's (MODEL.md section 1).
+    soil : str
+        2-DOF soil law: "viscous", "coulomb" or "drift" (MODEL.md section 2); default: the scene's.
+    compaction : bool
+        Coulomb and drift soils: the resistance grows with depth (``maps.model.COMPACTION``).
 
     Returns
     -------
     xarray.Dataset with ``time`` and ``impact`` dimensions.
     """
-    sc, table = resolve(scene, params, preset, circuit, ac_sign, energy, dc_law)
+    sc, table = resolve(scene, params, preset, circuit, ac_sign, energy, dc_law, soil, compaction)
     values = {k: v for k, (v, _) in table.items()}
     t_end = _duration(values, periods, t_end)
     if t_eval is None:
@@ -174,6 +195,11 @@ def to_dataset(run, t_eval, samples, table) -> xr.Dataset:
         ds["rig_stuck"] = ("time", vals, {"units": "1", "long_name": "rig stuck in the soil",
                                           "flag_values": np.array([0, 1], np.int8),
                                           "flag_meanings": "slipping stuck"})
+    if "soil_pl" in system.flag_names:
+        mode = np.array([fl["soil_el"] + 2 * fl["soil_pl"] for _, fl in run.flag_log], dtype=np.int8)[idx]
+        ds["soil_mode"] = ("time", mode, {"units": "1", "long_name": "drift soil mode",
+                                          "flag_values": np.array([0, 1, 2], np.int8),
+                                          "flag_meanings": "clear elastic progression"})
     imp = impact_table(run)
     ds = ds.assign_coords(impact=("impact", np.arange(imp["t"].size),
                                   {"units": "1", "long_name": "contact number in time order"}))
@@ -189,8 +215,8 @@ def to_dataset(run, t_eval, samples, table) -> xr.Dataset:
         ds["progression"].attrs = {"units": "m", "long_name": "forward progression into the soil x2(0) - x2(t)"}
     o = sc.options
     model = {"circuit": o.circuit if o.ac else "none", "ac_sign": o.ac_sign if o.ac else "none",
-             "relay": o.relay, **dc_law_attrs(o), "soil": o.soil if o.dof == 2 else "none"} if o is not None else \
-        {"circuit": "none", "ac_sign": "none", "relay": "none", "dc_law": "none", "soil": "none"}
+             "relay": o.relay, **dc_law_attrs(o), **soil_law_attrs(o)} if o is not None else \
+        {"circuit": "none", "ac_sign": "none", "relay": "none", "dc_law": "none", **soil_law_attrs(None)}
     attrs = {
         "scene": sc.name, "scene_summary": sc.summary, **model, "tol": run.tol, "heyoka_version": hy.__version__,
         "run_seconds": run.run_seconds, "compile_seconds": run.compile_seconds,
