@@ -23,9 +23,11 @@ from .classify import lyapunov_threshold
 from .lyapunov import INTERVAL_METHOD
 from .codes import Status
 from .grazing import GRAZING_GAP, GRAZING_SPEED, grazing_flag
-from .schema import GRAZING, GRAZING_FLAG, PARAM, SWEEP, SWEEP_COORDS, flag_variable, param_attrs, state_variable
+from .schema import (GRAZING, GRAZING_FLAG, PARAM, PROGRESSION, SWEEP, SWEEP_COORDS, flag_variable, param_attrs,
+                     state_variable)
 from .files import write_netcdf
 from maps.presets import preset_attrs
+from maps.progression import held_mode, progression_measures
 from maps.simulate import dc_law_attrs, soil_law_attrs
 
 __all__ = ["to_dataset", "add_grazing", "add_error_estimate", "save", "load", "STATUS_MEANINGS"]
@@ -41,6 +43,35 @@ def _stack(results, branches, var, sizes, par, get=None):
             if r is not None:
                 out[bi, i] = getattr(r, var.name) if get is None else get(r)
     return var.finish(out)
+
+
+def _progression(results, branches, job, scene, sizes, par, values, mode) -> dict:
+    """The 2-DOF progression measures (schema.PROGRESSION) of every value over its recorded window,
+    from its relay-period samples and contacts (maps.progression).  A follow sweep starts each
+    value where the previous one ended: no time to depth from the start."""
+    system = scene.system
+    ix2 = system.state_names.index("x2")
+    x2_start = scene.initial_state(**job.x0)["x2"]
+    held_by = held_mode(system)
+    jf = system.flag_names.index(held_by[0]) if held_by else None
+    out = {var: var.empty(sizes, par) for var in PROGRESSION}
+    for bi, b in enumerate(branches):
+        for i, r in enumerate(results[b]):
+            if r is None:
+                continue
+            p = dict(job.params, **{par: float(values[i])})
+            W, n = p["relay_hz"], r.n_recorded
+            t = (r.transient_used + np.arange(n + 1)) / W
+            held = 0.0 if jf is None else float(np.mean(r.point_flags[:n + 1, jf] == held_by[1])) * n / W
+            m = progression_measures(t, r.points[:n + 1, ix2], x2_start=x2_start, relay_hz=W,
+                                     impact_t=r.impact_t, impact_velocity=r.impact_velocity, m1=p["m1"], held=held)
+            if mode != "independent":
+                m["time_to_depth"] = np.nan
+            if r.n_impacts > job.max_impacts:
+                m["impact_energy_per_period"] = np.nan
+            for var in PROGRESSION:
+                out[var][bi, i] = m[var.name]
+    return {var: var.finish(data) for var, data in out.items()}
 
 
 def to_dataset(results, values, job, scene, table, mode) -> xr.Dataset:
@@ -66,6 +97,9 @@ def to_dataset(results, values, job, scene, table, mode) -> xr.Dataset:
                                                   lambda r: r.point_flags[:, j]), var.attrs())
     for var in SWEEP:
         ds[var.name] = (var.dims_for(par), _stack(results, branches, var, sizes, par), var.attrs())
+    if "x2" in system.state_names and "relay_hz" in system.param_names:
+        for var, data in _progression(results, branches, job, scene, sizes, par, values, mode).items():
+            ds[var.name] = (var.dims_for(par), data, var.attrs())
     ds[GRAZING_FLAG.name] = grazing_flag(ds.min_gap, ds.min_impact_speed).astype(np.int8).assign_attrs(
         GRAZING_FLAG.attrs())
     o = scene.options

@@ -84,7 +84,7 @@ def run_scene(scene, t_end, params=None, preset=None, x0=None, tol=1e-12, circui
     y0 = sc.initial_state(**(x0 or {}))
     run = HybridRun(sc.system, values, y0, tol=tol, fp_type=fp_type, max_events=max_events,
                     max_events_per_period=max_events_per_period)
-    run.scene, run.provenance = sc, {k: src for k, (_, src) in table.items()}
+    run.scene, run.provenance, run.y0 = sc, {k: src for k, (_, src) in table.items()}, y0
     run.status, run.failure = "ok", None
     t0 = _time.perf_counter()
     try:
@@ -100,7 +100,8 @@ def run_scene(scene, t_end, params=None, preset=None, x0=None, tol=1e-12, circui
 @recorded("maps.simulate")
 def simulate(scene, *, periods=None, t_end=None, params=None, preset=None, x0=None, tol=1e-12,
              dt=None, t_eval=None, circuit=None, ac_sign=None, energy=None,
-             max_events_per_period=None, dc_law=None, soil=None, compaction=None) -> xr.Dataset:
+             max_events_per_period=None, dc_law=None, soil=None, compaction=None,
+             transient=None) -> xr.Dataset:
     """Time history of ``scene`` sampled on a grid from heyoka's dense output.
 
     Parameters
@@ -129,6 +130,9 @@ def simulate(scene, *, periods=None, t_end=None, params=None, preset=None, x0=No
         2-DOF soil law: "viscous", "coulomb" or "drift" (MODEL.md section 2); default: the scene's.
     compaction : bool
         Coulomb and drift soils: the resistance grows with depth (``maps.model.COMPACTION``).
+    transient : float
+        2-DOF scenes: the progression measures (:mod:`maps.progression`) are taken after this
+        time [s] (default: over the second half of the run).
 
     Returns
     -------
@@ -155,9 +159,31 @@ def simulate(scene, *, periods=None, t_end=None, params=None, preset=None, x0=No
         if hi > lo:
             samples[lo:hi] = c_out(t_eval[lo:hi])
 
+    if transient is not None:
+        transient = validate_value("transient", transient, 0.0, t_end, high_open=True, unit="s")
     run = run_scene(sc, t_end, params=values, x0=x0, tol=tol, on_segment=on_segment,
                     max_events_per_period=max_events_per_period)
-    return to_dataset(run, t_eval, samples, table)
+    return to_dataset(run, t_eval, samples, table, transient)
+
+
+def _add_progression(ds, run, imp, transient):
+    """The progression measures (:mod:`maps.progression`) as scalar variables, over the window
+    from ``transient`` [s] (default: half the run reached) to the run's end."""
+    from .progression import MEASURES, held_mode, held_time, progression_measures
+    t, x2 = ds["time"].values, ds["x2"].values
+    if t.size < 2:
+        return
+    t_b = float(t[-1])
+    t_a = t_b / 2 if transient is None else min(float(transient), t_b)
+    p = run.params
+    m = progression_measures(t, x2, x2_start=float(run.y0["x2"]),
+                             relay_hz=p.get("relay_hz"), impact_t=imp["t"], impact_velocity=imp["velocity"],
+                             m1=p["m1"], held=held_time(run.flag_log, t_a, t_b, held_mode(run.system)),
+                             window=(t_a, t_b))
+    for name, value in m.items():
+        units, long_name = MEASURES[name]
+        ds[name] = ((), value, {"units": units, "long_name": long_name})
+    ds.attrs["progression_window"] = np.array([t_a, t_b])
 
 
 def _duration(values, periods, t_end):
@@ -171,7 +197,7 @@ def _duration(values, periods, t_end):
     return validate_value("t_end", t_end, 0.0, 1e7, low_open=True, unit="s")
 
 
-def to_dataset(run, t_eval, samples, table) -> xr.Dataset:
+def to_dataset(run, t_eval, samples, table, transient=None) -> xr.Dataset:
     """Package a run and its samples: states, flags, impacts, parameters and provenance."""
     import xarray as xr
     system, sc = run.system, run.scene
@@ -213,6 +239,7 @@ def to_dataset(run, t_eval, samples, table) -> xr.Dataset:
     if "x2" in system.state_names:
         ds["progression"] = ds["x2"].isel(time=0) - ds["x2"]
         ds["progression"].attrs = {"units": "m", "long_name": "forward progression into the soil x2(0) - x2(t)"}
+        _add_progression(ds, run, imp, transient)
     o = sc.options
     model = {"circuit": o.circuit if o.ac else "none", "ac_sign": o.ac_sign if o.ac else "none",
              "relay": o.relay, **dc_law_attrs(o), **soil_law_attrs(o)} if o is not None else \
