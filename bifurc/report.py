@@ -18,7 +18,9 @@ def class_at(ds, value, branch=None) -> dict:
     code = int(sub.class_code)
     return {"value": float(sub[par]), "branch": b, "code": code,
             "label": CLASS_LABELS[code] if code >= 0 else "missing",
-            "text": describe(code, int(sub.period), int(sub.impacts_per_period)) if code >= 0 else "missing",
+            "text": describe(code, int(sub.period), int(sub.impacts_per_period),
+                             float(sub.progression_per_period) if "progression_per_period" in sub else None)
+            if code >= 0 else "missing",
             "period": int(sub.period), "impacts": int(sub.impacts_per_period), "lyapunov": float(sub.lyapunov),
             "recurrence": float(sub.recurrence), "convergence_rate": float(sub.convergence_rate),
             "n_impacts": int(sub.n_impacts), "min_gap": float(sub.min_gap),

@@ -124,7 +124,7 @@ class BatchEngine(Engine):
     def _renormalise(self, j, lane, t, i):
         """Companion: back to d0 from the reference's i-th state, flags by the system's rule."""
         job = lane.job
-        z, stretch = renormalise(job.reference[i], self.state[:, j], job.d0, job.scale)
+        z, stretch = renormalise(job.reference[i], self.state[:, j], job.d0, job.scale, job.shift)
         lane.res.stretch.append(stretch)
         if not math.isfinite(stretch):
             return False
