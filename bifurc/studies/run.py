@@ -12,7 +12,8 @@ import math
 import sys
 from pathlib import Path
 
-STUDIES = {"thesis-1dof-relay": "bifurc.studies.thesis_1dof_relay", "thesis-replay": "bifurc.studies.thesis_replay"}
+STUDIES = {"thesis-1dof-relay": "bifurc.studies.thesis_1dof_relay", "thesis-replay": "bifurc.studies.thesis_replay",
+           "prototype-progression": "bifurc.studies.prototype_progression"}
 
 
 def load_study(name):
@@ -34,7 +35,7 @@ def run_study(name, out, quick=False, progress=True, cases=None, overwrite=False
     from bifurc.sweep import sweep
     study = load_study(name)
     if hasattr(study, "run"):          # a study with its own runner (thesis-replay: report.md and figures)
-        return study.run(out, quick=quick, progress=progress)
+        return study.run(out, quick=quick, progress=progress, overwrite=overwrite)
     size = study.QUICK if quick else study.FULL
     out = Path(out)
     if out.exists() and not out.is_dir():

@@ -316,9 +316,12 @@ def report(rows, wells, quick, seconds, physical=()) -> str:
     return "\n".join(lines)
 
 
-def run(out, quick=False, progress=True) -> dict:
-    """Every replay into folder ``out``: ``report.md``, ``replay_<V>V.png``, ``replay.csv``."""
+def run(out, quick=False, progress=True, overwrite=False) -> dict:
+    """Every replay into folder ``out``: ``report.md``, ``replay_<V>V.png``, ``replay.csv`` (an
+    existing report refused unless ``overwrite``)."""
+    from ..files import refuse_existing
     out = Path(out)
+    refuse_existing(out / "report.md", overwrite, hint="use --force")
     out.mkdir(parents=True, exist_ok=True)
     size = QUICK if quick else FULL
     clock = _time.perf_counter()
