@@ -55,7 +55,7 @@ def _sweep(param, values, law, size, dc_law=None, **params):
     sub = ds.isel(branch=0)
     return {"rate": 1e3 * sub.progression_rate.values,
             "energy": sub.impact_energy_per_period.values, "class": sub.class_code.values,
-            "period": sub.period.values, "status": sub.status.values}
+            "period": sub.period.values, "status": sub.status.values, "failure_time": sub.failure_time.values}
 
 
 def measure(size, progress=True) -> dict:
@@ -162,12 +162,12 @@ def disagreements(m, size) -> list[str]:
                        f"F_static/soil_c = {Fv:.1f} mm/s (the model is within {abs(r / Fv - 1) * 100:.2g} % of it; "
                        f"{ac}): the impacts do not set the rate.")
         elif law == "coulomb":
-            out.append(f"{side}, because the 1000 N friction holds the rig {100 * s:.4g} % of the time: it slips "
-                       f"{ref['moves_per_period']:.3g} times per relay period, at the impacts' force peaks "
-                       f"({1e3 * E:.3g} mJ of relative kinetic energy per relay period; {ac}).")
+            out.append(f"{side}, because the 1000 N friction holds the rig {100 * s:.4g} % of the time (slip onsets "
+                       f"per relay period: {ref['moves_per_period']:.3g}, at the impacts' force peaks; "
+                       f"{1e3 * E:.3g} mJ of relative kinetic energy per relay period; {ac}).")
         else:
             out.append(f"{side}, because under the assumed soil values (k_s 1e5 N/m, c_s 200 N s/m, P_max 60 N) "
-                       f"the slider yields {ref['moves_per_period']:.3g} times per relay period and moves "
+                       f"the slider starts to yield {ref['moves_per_period']:.3g} times per relay period and moves "
                        f"{100 * (1 - s):.3g} % of the time, at {1e3 * E:.3g} mJ of impact energy per relay period "
                        f"({ac}).")
     volts = np.asarray(size["volts"], float)
@@ -177,18 +177,31 @@ def disagreements(m, size) -> list[str]:
         ok = np.isfinite(rv)
         if ok.sum() < 2:
             continue
-        rise = "rises" if rv[ok][-1] > rv[ok][0] else "falls"
+        spread = float(np.ptp(rv[ok]) / np.mean(np.abs(rv[ok])))
         monotone = bool(np.all(np.diff(rv[ok]) >= 0) or np.all(np.diff(rv[ok]) <= 0))
+        trend = (f"stays at {_fmt(float(np.mean(rv[ok])))} mm/s (within {100 * spread:.2g} %)" if spread < 0.05 else
+                 f"{'rises' if rv[ok][-1] > rv[ok][0] else 'falls'} {'monotonically' if monotone else 'non-monotonically'}"
+                 f" from {_fmt(rv[ok][0])} to {_fmt(rv[ok][-1])} mm/s")
         off = m["reference"][law][0.0]
-        out.append(f"{law}: over AC {volts[ok][0]:g}-{volts[ok][-1]:g} V RMS the rate {rise} "
-                   f"{'monotonically' if monotone else 'non-monotonically'} from {_fmt(rv[ok][0])} to "
-                   f"{_fmt(rv[ok][-1])} mm/s (AC off: {_fmt(off['rate'])} mm/s), while the measurements at actuator "
+        out.append(f"{law}: over AC {volts[ok][0]:g}-{volts[ok][-1]:g} V RMS the rate {trend} "
+                   f"(AC off: {_fmt(off['rate'])} mm/s), while the measurements at actuator "
                    f"10 V read {', '.join(f'{x:.3g}' for x in t['rate_mm_per_s'][at10])} mm/s at "
                    f"{', '.join(f'{x:g}' for x in t['ac_supply_V'][at10])} V; the impact energy per relay period "
                    f"goes from {_fmt(1e3 * Ev[ok][0])} to {_fmt(1e3 * Ev[ok][-1])} mJ, and is "
                    f"{_fmt(1e3 * off['energy'])} mJ with the AC solenoid off: the antiphase DC well supplies most "
                    f"of it.")
     freqs = np.asarray(size["freqs"], float)
+    from bifurc.codes import Status
+    for law in LAWS:
+        f = m["freq"][law]
+        gone = np.flatnonzero(f["status"] == Status.ESCAPED)
+        if gone.size:
+            out.append(f"{law}: at {', '.join(f'{w:g}' for w in freqs[gone])} Hz the run ends escaped (after "
+                       f"{_fmt(float(np.nanmin(f['failure_time'][gone])))}-{_fmt(float(np.nanmax(f['failure_time'][gone])))} s):"
+                       f" the bar is thrown beyond the model's domain (0.1 m behind the DC solenoid's centre or 2 cm "
+                       f"into the stop), where no rate exists, while the rig measured "
+                       f"{_fmt(float(np.min(np.interp(freqs[gone], t55['relay_Hz'], t55['rate_mm_per_s']))))}-"
+                       f"{_fmt(float(np.max(np.interp(freqs[gone], t55['relay_Hz'], t55['rate_mm_per_s']))))} mm/s.")
     for law in LAWS:
         rf = m["freq"][law]["rate"]
         if np.isfinite(rf).sum() >= 2:
@@ -336,11 +349,16 @@ def report(m, size, quick, seconds) -> str:
               "the measured range. This is analysis, not tuning: no preset changes.", ""]
     for law in ("coulomb", "drift"):
         name, grid = m["map_force"][law]
-        inside = [(F, thr) for j, thr in enumerate(size["map_threshold"][law]) for i, F in enumerate(size["map_force"])
-                  if t["rate_mm_per_s"].min() <= grid[j, i] <= t["rate_mm_per_s"].max()]
-        lines.append(f"- {law}: grid points within the measured range: " +
-                     (", ".join(f"F_static {F:g} N with {name} {thr:g} N" for F, thr in inside) if inside else "none")
-                     + ".")
+        thr = np.asarray(size["map_threshold"][law], float)
+        rows = []
+        for i, F in enumerate(size["map_force"]):
+            hit = thr[(grid[:, i] >= t["rate_mm_per_s"].min()) & (grid[:, i] <= t["rate_mm_per_s"].max())]
+            if hit.size:
+                rows.append(f"F_static {F:g} N: {name} {hit.min():g}-{hit.max():g} N")
+        n_in = sum(1 for j in range(thr.size) for i in range(len(size["map_force"]))
+                   if t["rate_mm_per_s"].min() <= grid[j, i] <= t["rate_mm_per_s"].max())
+        lines.append(f"- {law}: {n_in} of {grid.size} grid points within the measured range" +
+                     (f" ({'; '.join(rows)})" if rows else "") + ".")
     lines += ["", "## Disagreements, each with its measured cause", ""]
     lines += [f"- {s}" for s in disagreements(m, size)]
     lines += ["", "Figures: rates.png (model against the tables), maps.png (the maps).", ""]
