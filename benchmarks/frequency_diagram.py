@@ -161,6 +161,7 @@ class BareBatch(_Same):
                 me.pars[me.i_P, j] = 0.0 if n % 2 else 1.0
                 me.n_sw[j] = m = n + 1
                 me.pars[me.i_next, j] = (m // 2 + (0.5 if m % 2 else 0.0)) / me.W[j]
+                me.after_switch(j)
                 if not n % 2 and me.keep[j] is not None:
                     me.period_end(j, n // 2)
                 if n >= me.last[j]:
@@ -255,6 +256,9 @@ class BareBatch(_Same):
         return out
 
     record_states = False
+
+    def after_switch(self, j):
+        """Lane ``j`` has switched its relay (nothing more here)."""
 
     def start_flags(self, j, t, params, y0):
         """The flags of lane ``j``'s start: the relay's, and contact when starting inside the stop."""

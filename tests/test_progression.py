@@ -73,3 +73,21 @@ def test_sweep_and_time_history_measure_the_same_window_alike():
     assert float(h.time_to_depth) == pytest.approx(0.2 / 0.2304, rel=0.05)
     assert abs(float(ds.time_to_depth[0, 0]) - float(h.time_to_depth)) < 0.1 / W
     assert ds.progression_rate.attrs["units"] == "m s-1"
+
+
+def test_command_line_soil_transient_and_measures(tmp_path, capsys):
+    from bifurc.cli import main
+    nc = tmp_path / "drift.nc"
+    assert main(["simulate", "--scene", "prototype", "--soil", "drift", "--periods", "6", "--transient", "0.5",
+                 "-o", str(nc)]) == 0
+    out = capsys.readouterr().out
+    assert "progression" in out and "mm/s over 0.5-1 s" in out
+    import xarray as xr
+    with xr.open_dataset(nc) as ds:
+        assert ds.attrs["soil"] == "drift" and float(ds.progression_rate) > 0
+        assert ds.progression_rate.attrs["units"] == "m s-1"
+    assert main(["simulate", "--scene", "thesis-1dof", "--soil", "drift", "--periods", "2"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "soil" in err[0] and "2-DOF" in err[0]
+    assert main(["params", "--scene", "prototype", "--soil", "drift"]) == 0
+    assert "P_max" in capsys.readouterr().out
