@@ -51,7 +51,10 @@ def classification_report(ds, at=None) -> str:
               f"- grid: {values.size} values of `{par}` from {values.min():g} to {values.max():g} {units}",
               f"- per value: {a['transient_periods']} transient + {a['recorded_periods']} recorded relay periods; "
               f"heyoka tol {a['tol']:g}; circuit {a.get('circuit')}; AC sign {a.get('ac_sign')}; "
-              f"DC-force law {a.get('dc_law', 'not recorded')}",
+              f"DC-force law {a.get('dc_law', 'not recorded')}"
+              + (f"; soil {a['soil']}" + (" with compaction" if a.get("soil_compaction", "none") != "none" else "")
+                 + " (classes in relative coordinates, the common shift of bar, rig and soil front removed; the progression per period in the class text)"
+                 if a.get("soil", "none") != "none" else ""),
               f"- initial state: {a.get('initial_state', '')}",
               f"- classification: period n, a multiple of the forcing period q (`forcing_period`; none "
               f"when q = 0) up to {a['max_period']}, when the recurrence distance <= "

@@ -67,6 +67,9 @@ def test_sweep_labels_the_progressing_orbit_periodic_with_its_progression():
     system, _, o = _orbit()
     assert float(ds.progression_per_period[0, 0]) == pytest.approx(-advance_per_step(system, o.points).mean(),
                                                                      rel=1e-7)
+    text = bifurc.class_at(ds, 5.0)["text"]
+    assert text.startswith("period-1,") and f"progression {1e3 * float(ds.progression_per_period[0, 0]):.4g} mm" in text
+    assert "soil drift" in bifurc.classification_report(ds)
 
 
 def test_reduced_exponent_and_jacobian_agree_with_newtons_multipliers():
