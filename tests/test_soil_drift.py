@@ -123,3 +123,19 @@ def test_compaction_default_is_fitted_to_fig_5_22():
     L = COMMON["soil_depth_scale"][0]
     assert 4.3 / (1 + 0.9 / L) == pytest.approx(0.65, rel=1e-12)   # rate ~ 1 / resistance (the stated assumption)
     assert "FITTED" in COMMON["soil_depth_scale"][1]
+
+
+def test_drift_compaction_plastic_work_is_the_integral_of_the_growing_threshold():
+    """With compaction the slider's threshold is P_max (1 + depth/L), depth = -d: the plastic work
+    over a travel D is P_max (D + D^2 / (2 L)), and the kinetic energy lost is still that plus the
+    damper's integral."""
+    o = ModelOptions(dof=2, dc=False, ac=False, stop=False, relay="none", soil="drift", energy=True, compaction=True)
+    system = build_system(o)
+    L, V = 0.002, 1.0                       # a 2 mm depth scale: the threshold grows noticeably over the travel
+    run = HybridRun(system, dict(P, F_static=0.0, soil_depth_scale=L), system.state_vector({"v2": -V}), tol=1e-15)
+    run.advance(0.5)
+    D = -run["d"]
+    assert D > 1e-3
+    assert run["E_soil_plastic"] == pytest.approx(P["P_max"] * (D + D**2 / (2 * L)), rel=1e-10)
+    lost = 0.5 * P["m2"] * (V**2 - run["v2"] ** 2)
+    assert lost == pytest.approx(run["E_soil_plastic"] + run["E_soil_damper"], rel=1e-10)

@@ -343,6 +343,16 @@ def report(m, size, quick, seconds) -> str:
         lines.append(f"| {law} | {_cell(m['freq'][law], i6)} | {_cell(m['dc_laws'][(law, 'fit')], 0)} | "
                      f"{_cell(m['dc_laws'][(law, 'measured')], 0)} | "
                      f"{_fmt(off['rate']) if off['status'] == 'ok' else off['status']} |")
+    lines += [""]
+    for law in LAWS:
+        base = float(m["freq"][law]["rate"][i6])
+        said = []
+        for dc_law in ("fit", "measured"):
+            sw = m["dc_laws"][(law, dc_law)]
+            cell = _cell(sw, 0)
+            said.append(f"under `{dc_law}` {cell}" + (f" mm/s ({100 * (float(sw['rate'][0]) / base - 1):+.3g} %)"
+                                                        if cell[0].isdigit() and base > 0 else ""))
+        lines.append(f"- {law}: {_fmt(base)} mm/s under `listing`; " + ", ".join(said) + ".")
     lines += ["", "## What it would take (maps.png)", "",
               "Progression-rate maps over (F_static, soil threshold) at 6 Hz and 90 V RMS, and over (relay "
               "frequency, AC voltage) at F_static 31.1 N, for the coulomb and drift laws; white contours mark "
