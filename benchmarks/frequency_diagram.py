@@ -143,8 +143,7 @@ class BareBatch(_Same):
         import heyoka as hy
         system = maps.get_scene(self.task.scene).with_options(dc_law="listing").system   # matlab-listing's law
         contact = next(g for g in system.guards if g.name == "contact")
-        self.i_contact, self.i_P = par_index(system, "contact"), par_index(system, "P")
-        self.i_next = len(system.param_names) + len(system.flag_names)
+        self.i_contact = par_index(system, "contact")
         me = self
 
         class Contact(_Same):
@@ -152,12 +151,24 @@ class BareBatch(_Same):
                 me.pars[me.i_contact, j] = 1.0 if d_sgn < 0 else 0.0
                 return True
 
+        events = [hy.t_event_batch(contact.expr, direction=hy.event_direction.any, cooldown=1e-10,
+                                   callback=Contact()), self.relay_event(system)]
+        self._build(system, events)
+
+    def relay_event(self, system):
+        """The relay switch as a batch time event (next instant in the extra parameter ``i_next``)."""
+        import heyoka as hy
+        self.i_P = par_index(system, "P")
+        self.i_next = len(system.param_names) + len(system.flag_names)
+        me = self
+
         class Relay(_Same):
             def __call__(self, ta, d_sgn, j):
                 n = me.n_sw[j]
                 me.pars[me.i_P, j] = 0.0 if n % 2 else 1.0
                 me.n_sw[j] = m = n + 1
                 me.pars[me.i_next, j] = (m // 2 + (0.5 if m % 2 else 0.0)) / me.W[j]
+                me.after_switch(j)
                 if not n % 2 and me.keep[j] is not None:
                     me.period_end(j, n // 2)
                 if n >= me.last[j]:
@@ -165,10 +176,11 @@ class BareBatch(_Same):
                     return False
                 return True
 
-        events = [hy.t_event_batch(contact.expr, direction=hy.event_direction.any, cooldown=1e-10,
-                                   callback=Contact()),
-                  hy.t_event_batch((hy.time - hy.par[self.i_next]) * hy.par[par_index(system, "relay_hz")],
-                                   direction=hy.event_direction.positive, cooldown=1e-10, callback=Relay())]
+        return hy.t_event_batch((hy.time - hy.par[self.i_next]) * hy.par[par_index(system, "relay_hz")],
+                                direction=hy.event_direction.positive, cooldown=1e-10, callback=Relay())
+
+    def _build(self, system, events):
+        import heyoka as hy
         self._ta = hy.taylor_adaptive_batch(system.heyoka_system(), np.zeros((len(system.states), 4)),
                                             tol=self.task.tol, t_events=events)
         self.system, self.pars, self.state = system, self._ta.pars, self._ta.state
@@ -224,8 +236,7 @@ class BareBatch(_Same):
                     i = waiting.pop() if waiting else None
                     W, y0, k0, periods, ref = jobs[i if i is not None else 0]
                     params = dict(self.task.params, relay_hz=W)
-                    flags = self.system.initial_flags(k0 / W, params)
-                    flags["contact"] = 1.0 if y0[0] < params["e"] else 0.0
+                    flags = self.start_flags(j, k0 / W, params, y0)
                     self.pars[:, j] = self.system.par_vector(params, flags) + [(k0 + 0.5) / W]
                     self.state[:, j] = y0
                     self.n_sw[j], self.W[j], self.done[j] = 2 * k0 + 1, W, False
@@ -252,6 +263,15 @@ class BareBatch(_Same):
         return out
 
     record_states = False
+
+    def after_switch(self, j):
+        """Lane ``j`` has switched its relay (nothing more here)."""
+
+    def start_flags(self, j, t, params, y0):
+        """The flags of lane ``j``'s start: the relay's, and contact when starting inside the stop."""
+        flags = self.system.initial_flags(t, params)
+        flags["contact"] = 1.0 if y0[0] < params["e"] else 0.0
+        return flags
 
 
 class BareBatchLyapunov(BareBatch):

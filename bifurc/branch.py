@@ -51,7 +51,8 @@ def continue_orbit(scene, param: str, span, *, params=None, preset=None, period:
                    start=None, k0: int | None = None, transient: int = 300, tol: float = 1e-12,
                    newton_tol: float | None = None, step: float = 0.02, max_step: float = 0.1,
                    max_points: int = 200, branch_switch: bool = False, error: bool = True, progress=None,
-                   param2: str | None = None, span2=None, circuit=None, ac_sign=None, dc_law=None):
+                   param2: str | None = None, span2=None, circuit=None, ac_sign=None, dc_law=None, soil=None,
+                   compaction=None):
     """The branch of periodic orbits through the orbit at ``param = span[0]``, followed toward
     ``span[1]``, as an xarray Dataset (dimension ``point``, not indexed by the parameter, so that
     folds fit; special points along ``special``).
@@ -63,7 +64,8 @@ def continue_orbit(scene, param: str, span, *, params=None, preset=None, period:
         branch exists) and any parameter that sets the strobe period.
     span : (float, float)
         Start value and end value; the branch stops where it leaves the interval between them.
-    period, x0, start, k0, transient, preset, circuit, ac_sign, dc_law : as in :func:`periodic_orbit`.
+    period, x0, start, k0, transient, preset, circuit, ac_sign, dc_law, soil, compaction : as in
+        :func:`periodic_orbit`.
     tol, newton_tol : float
         Integration tolerance; largest scaled shooting residual accepted (default 10 tol).
     step, max_step : float
@@ -91,7 +93,7 @@ def continue_orbit(scene, param: str, span, *, params=None, preset=None, period:
             raise ParameterError(f"param2 must differ from param ({param!r})")
         a2, b2 = _span("span2", span2, "from2, to2")
         values_in[param2] = a2
-    sc, table = resolve_scene(scene, values_in, preset, circuit, ac_sign, dc_law)
+    sc, table = resolve_scene(scene, values_in, preset, circuit, ac_sign, dc_law, soil, compaction)
     system = sc.system if isinstance(sc, SystemScene) else sc.system
     values = {k: v for k, (v, _) in table.items()}
     smap = StroboscopicMap(system, values, tol=tol)

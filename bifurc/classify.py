@@ -65,13 +65,18 @@ def state_scale(points, atol: float) -> np.ndarray:
     return np.maximum(np.nanmax(np.abs(points), axis=0), atol)
 
 
-def describe(code: int, period: int = 0, impacts: int = -1) -> str:
-    """Human text: 'period-2, 3 impacts (2:3)', 'quasi-periodic', ..."""
+def describe(code: int, period: int = 0, impacts: int = -1, progression: float | None = None) -> str:
+    """Human text: 'period-2, 3 impacts (2:3)', 'quasi-periodic', ...; ``progression`` [m per
+    relay period] of a shift-invariant system's periodic orbit (classified in reduced coordinates,
+    :mod:`maps.translation`) adds its advance over one period of the orbit."""
     label = CLASS_LABELS[int(code)]
+    adv = ""
+    if progression is not None and math.isfinite(progression) and progression != 0.0:
+        adv = f", progression {1e3 * progression * period:.4g} mm per period"
     if label == "periodic":
-        return f"period-{period}, {impacts} impact{'s' if impacts != 1 else ''} ({period}:{impacts})"
+        return f"period-{period}, {impacts} impact{'s' if impacts != 1 else ''} ({period}:{impacts}){adv}"
     if label == "periodic-no-impact":
-        return f"period-{period}, no impact"
+        return f"period-{period}, no impact{adv}"
     return label
 
 

@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from maps.poincare import StroboscopicMap
+from maps.translation import reduce_points, translation_basis
 
 from .classify import DECAY_RATE, candidate_periods, classify_orbit, lyapunov_threshold, state_scale
 from .codes import ClassCode, Status
@@ -96,7 +97,7 @@ class ValueJob:
     scene: object  # scene name, or a HybridSystem (runs in this process only)
     param: str
     params: dict
-    options: dict = field(default_factory=dict)   # circuit, ac_sign, dc_law
+    options: dict = field(default_factory=dict)   # circuit, ac_sign, dc_law, soil, compaction
     x0: dict = field(default_factory=dict)
     transient: int = 300
     record: int = 100
@@ -164,7 +165,12 @@ class ValueJob:
         return self.lyapunov and o.status == "ok" and not ClassCode(cls["code"]).periodic
 
     def _lyapunov_scale(self, o):
-        return state_scale(o.points, self.atol)
+        return state_scale(self._reduced(o), self.atol)
+
+    def _reduced(self, o):
+        """The orbit's samples in the reduced coordinates of a shift-invariant system (maps.translation):
+        a rig that advances by the same amount every period repeats there."""
+        return reduce_points(self.warm().system, o.points)
 
     @property
     def _tangent(self) -> bool:
@@ -179,7 +185,7 @@ class ValueJob:
 
     def _classify(self, o, q: int, **kw):
         """Classify orbit ``o`` of a map whose forcing repeats every ``q`` samples (0: never)."""
-        return classify_orbit(o.points, o.impacts_per_step, max_period=self.max_period, rtol=self.rtol,
+        return classify_orbit(self._reduced(o), o.impacts_per_step, max_period=self.max_period, rtol=self.rtol,
                               periods=candidate_periods(q, self.max_period),
                               atol=self.atol, status=o.status, **kw)
 
@@ -209,7 +215,8 @@ class ValueJob:
                                                           scales=[scale], method="scalar")[0])
                 elif lyap is None:                        # two trajectories after it (no interval)
                     lyap = (largest_lyapunov(smap.step, o.final_state, steps_l, scale=scale,
-                                             k0=used + record), math.nan, math.nan)
+                                             k0=used + record, shift=translation_basis(smap.system)),
+                            math.nan, math.nan)
             cls = self._classify(o, q, lyapunov=lyap[0], lyap_tol=lyapunov_threshold(steps_l),
                                  lyapunov_interval=lyap[1:])
         else:

@@ -44,24 +44,27 @@ def exponent_interval(stretch, batches: int = 10, level: float = 0.95) -> tuple[
     return mean, mean - half, mean + half
 
 
-def largest_lyapunov(step, y0, n: int, *, d0: float = 1e-8, scale=None, k0: int = 0) -> float:
+def largest_lyapunov(step, y0, n: int, *, d0: float = 1e-8, scale=None, k0: int = 0, shift=None) -> float:
     """Largest Lyapunov exponent [per map step] of ``step(y, k) -> y_next``.
 
     A companion trajectory starts ``d0`` away (in the norm scaled by ``scale``) and
     is renormalised to ``d0`` after every step; the exponent is the mean log growth.
-    ``k0`` is the index of the first step (for non-autonomous maps).  NaN if a
-    step fails or the separation collapses to zero.
+    ``k0`` is the index of the first step (for non-autonomous maps).  ``shift``: a
+    translation the map commutes with (:func:`maps.translation.translation_basis`), removed
+    from the separation.  NaN if a step fails or the separation collapses to zero.
     """
     y = np.asarray(y0, dtype=float).copy()
     s = np.ones_like(y) if scale is None else np.asarray(scale, dtype=float)
     z = companion_start(y, d0, s)
+    if shift is not None:
+        z = renormalise(y, z, d0, s, shift)[0]
     total = 0.0
     for k in range(k0, k0 + int(n)):
         try:
             y1, z1 = step(y, k), step(z, k)
         except Exception:  # a failed step leaves the exponent undetermined
             return math.nan
-        z, stretch = renormalise(y1, z1, d0, s)
+        z, stretch = renormalise(y1, z1, d0, s, shift)
         if not math.isfinite(stretch):
             return math.nan
         total += stretch

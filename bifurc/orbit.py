@@ -45,7 +45,8 @@ def sweep_point(ds, value, *, sample: int = -1, branch=None):
 @recorded("bifurc.periodic_orbit")
 def periodic_orbit(scene, *, params=None, preset=None, period: int | None = None, x0=None, start=None,
                    k0: int | None = None, transient: int = 0, tol: float = 1e-12, newton_tol: float | None = None,
-                   max_iter: int = 40, error: bool = True, circuit=None, ac_sign=None, dc_law=None):
+                   max_iter: int = 40, error: bool = True, circuit=None, ac_sign=None, dc_law=None,
+                   soil=None, compaction=None):
     """A periodic orbit of ``scene`` (name, Scene or HybridSystem) as an xarray Dataset.
 
     Parameters
@@ -62,13 +63,13 @@ def periodic_orbit(scene, *, params=None, preset=None, period: int | None = None
         integration's own noise bounds how far the residual can fall).
     error : bool
         Solve again at tol/100 and store the multipliers' change (``multiplier_error``).
-    preset, circuit, ac_sign, dc_law : as in :func:`maps.simulate` (the DC law follows the preset).
+    preset, circuit, ac_sign, dc_law, soil, compaction : as in :func:`maps.simulate` (the DC law follows the preset).
 
     Raises :class:`OrbitNotFound` (with the reason) when Newton does not converge, and
     :class:`~maps.parameters.ParameterError` for bad input (one line, naming the argument).
     """
     clock = _time.perf_counter()
-    sc, table = resolve_scene(scene, params, preset, circuit, ac_sign, dc_law)
+    sc, table = resolve_scene(scene, params, preset, circuit, ac_sign, dc_law, soil, compaction)
     values = {k: v for k, (v, _) in table.items()}
     smap = StroboscopicMap(sc.system if isinstance(sc, SystemScene) else sc, values, tol=tol)
     transient = int(validate_value("transient", transient, 0, 1e7))

@@ -29,6 +29,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from maps.translation import translation_basis
+
 from maps.hybrid import HybridState, IntegrationFailure
 from maps.parameters import ParameterError, validate_value
 
@@ -94,14 +96,12 @@ class _Coordinates:
 
     def __init__(self, system):
         d = len(system.states)
-        tr = getattr(system, "translation", None)
-        if not tr:
+        basis = translation_basis(system)
+        if basis is None:
             self.E, self.R, self.a, self.e = np.eye(d), np.eye(d), None, None
             self.names = tuple(system.state_names)
             return
-        e = np.array([float(tr.get(n, 0.0)) for n in system.state_names])
-        a = max(i for i, n in enumerate(system.state_names) if tr.get(n, 0.0))
-        e = e / e[a]
+        e, a = basis
         keep = [i for i in range(d) if i != a]
         self.a, self.e = a, e
         self.E = np.eye(d)[:, keep]                              # z -> y (anchor 0)

@@ -57,8 +57,9 @@ class CellJob(ValueJob):
 @guarded_output("path")
 def regime_map(scene="thesis-1dof", param="relay_hz", values=None, param2="V", values2=None, *, transient=300,
                record=100, preset=None, params=None, x0=None, tol=1e-10, max_period=100, rtol=1e-6, atol=1e-9,
-               lyapunov=True, circuit=None, ac_sign=None, dc_law=None, path=None, progress=True, workers=None,
-               scheduler=None, error_sample=3, max_transient=None, batch_size=4, chunk_size=None, overwrite=False):
+               lyapunov=True, circuit=None, ac_sign=None, dc_law=None, soil=None, compaction=None, max_record=None,
+               path=None, progress=True, workers=None, scheduler=None, error_sample=3, max_transient=None,
+               batch_size=4, chunk_size=None, overwrite=False):
     """Classify every cell of the grid ``values`` (of ``param``) x ``values2`` (of ``param2``);
     returns an xarray Dataset with dimensions (param, param2).
 
@@ -78,7 +79,7 @@ def regime_map(scene="thesis-1dof", param="relay_hz", values=None, param2="V", v
         raise ParameterError("values2 must be a non-empty array of finite numbers")
     first = dict(params or {}, **{param2: float(values2[0])})
     job, sc, table = _job(scene, param, values, transient, record, preset, first, x0, tol, max_period, rtol, atol,
-                          lyapunov, circuit, ac_sign, dc_law, max_transient, batch_size)
+                          lyapunov, circuit, ac_sign, dc_law, max_transient, batch_size, max_record, soil, compaction)
     sc.system.parameter(param2)  # raises for an unknown name
     for v in values2:            # every value of param2 valid before anything runs
         sc.parameters(preset, **dict(params or {}, **{param: float(values[0]), param2: float(v)}))

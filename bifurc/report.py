@@ -18,7 +18,9 @@ def class_at(ds, value, branch=None) -> dict:
     code = int(sub.class_code)
     return {"value": float(sub[par]), "branch": b, "code": code,
             "label": CLASS_LABELS[code] if code >= 0 else "missing",
-            "text": describe(code, int(sub.period), int(sub.impacts_per_period)) if code >= 0 else "missing",
+            "text": describe(code, int(sub.period), int(sub.impacts_per_period),
+                             float(sub.progression_per_period) if "progression_per_period" in sub else None)
+            if code >= 0 else "missing",
             "period": int(sub.period), "impacts": int(sub.impacts_per_period), "lyapunov": float(sub.lyapunov),
             "recurrence": float(sub.recurrence), "convergence_rate": float(sub.convergence_rate),
             "n_impacts": int(sub.n_impacts), "min_gap": float(sub.min_gap),
@@ -51,7 +53,10 @@ def classification_report(ds, at=None) -> str:
               f"(extended up to {a.get('max_record_periods', a['recorded_periods'])} to hold three forcing periods; "
               f"`record_used`); "
               f"heyoka tol {a['tol']:g}; circuit {a.get('circuit')}; AC sign {a.get('ac_sign')}; "
-              f"DC-force law {a.get('dc_law', 'not recorded')}",
+              f"DC-force law {a.get('dc_law', 'not recorded')}"
+              + (f"; soil {a['soil']}" + (" with compaction" if a.get("soil_compaction", "none") != "none" else "")
+                 + " (classes in relative coordinates, the common shift of bar, rig and soil front removed; the progression per period in the class text)"
+                 if a.get("soil", "none") != "none" else ""),
               f"- initial state: {a.get('initial_state', '')}",
               f"- classification: period n, a multiple of the forcing period q (`forcing_period`; none "
               f"when q = 0) up to {a['max_period']}, when the recurrence distance <= "

@@ -31,13 +31,14 @@ class SystemScene:
         return self.system.validate(values)
 
 
-def resolve_scene(scene, params, preset=None, circuit=None, ac_sign=None, dc_law=None):
+def resolve_scene(scene, params, preset=None, circuit=None, ac_sign=None, dc_law=None, soil=None,
+                  compaction=None):
     """(scene-like, {name: (value, provenance)}) for a scene name, Scene or HybridSystem."""
     if isinstance(scene, SystemScene):
         scene = scene.system
     if isinstance(scene, HybridSystem):
-        if preset or circuit or ac_sign or dc_law:
-            raise ParameterError("preset, circuit, ac_sign and dc_law apply to scenes, not to a bare HybridSystem")
+        if preset or circuit or ac_sign or dc_law or soil or compaction:
+            raise ParameterError("preset, circuit, ac_sign, dc_law, soil and compaction apply to scenes, not to a bare HybridSystem")
         values = scene.validate(params or {})
         return SystemScene(scene), {k: (v, "set by user") for k, v in values.items()}
-    return resolve(scene, params, preset, circuit, ac_sign, dc_law=dc_law)
+    return resolve(scene, params, preset, circuit, ac_sign, dc_law=dc_law, soil=soil, compaction=compaction)

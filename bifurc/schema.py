@@ -17,8 +17,8 @@ import numpy as np
 from .codes import ClassCode, Status, flag_attrs
 from .grazing import GRAZING_GAP, GRAZING_SPEED
 
-__all__ = ["Variable", "PARAM", "SWEEP", "SWEEP_COORDS", "GRAZING", "HISTORY", "param_attrs", "state_variable", "flag_variable",
-           "ORBIT", "ORBIT_SCALARS", "BRANCH", "SPECIAL", "SPECIAL_KINDS"]
+__all__ = ["Variable", "PARAM", "SWEEP", "SWEEP_COORDS", "GRAZING", "HISTORY", "PROGRESSION", "param_attrs",
+           "state_variable", "flag_variable", "ORBIT", "ORBIT_SCALARS", "BRANCH", "SPECIAL", "SPECIAL_KINDS"]
 
 #: placeholder for the swept parameter's dimension
 PARAM = "<param>"
@@ -221,12 +221,41 @@ HISTORY = [
     Variable("relay", T, np.int8, 0, "1", "relay state (1: AC solenoid powered)", _yes_no("off on")),
     Variable("contact", T, np.int8, 0, "1", "bar in contact with the stop", _yes_no("off on")),
     Variable("rig_stuck", T, np.int8, 0, "1", "rig stuck in the soil", _yes_no("slipping stuck")),
+    Variable("soil_mode", T, np.int8, 0, "1", "drift soil mode",
+             (("flag_values", np.array([0, 1, 2], np.int8)), ("flag_meanings", "clear elastic progression"))),
     Variable("impact", I, np.int64, 0, "1", "contact number in time order"),
     Variable("impact_time", I, float, np.nan, "s", "contact onset time"),
     Variable("impact_velocity", I, float, np.nan, "m s-1", "bar velocity relative to the stop at contact onset"),
     Variable("impact_penetration", I, float, np.nan, "m", "maximum penetration into the stop"),
     Variable("impact_duration", I, float, np.nan, "s", "contact duration (NaN: still in contact at the end)"),
     Variable("progression", T, float, np.nan, "m", "forward progression into the soil x2(0) - x2(t)"),
+    # 2-DOF scenes: the progression measures (maps.progression.MEASURES) over the window
+    # progression_window [s] (the run's second half unless a transient is given)
+    Variable("progression_rate", (), float, np.nan, "m s-1",
+             "mean rate of forward progression into the soil over the window"),
+    Variable("progression_per_period", (), float, np.nan, "m", "forward progression per relay period over the window"),
+    Variable("time_to_depth", (), float, np.nan, "s", "time to progress 0.2 m into the soil (NaN: not reached)"),
+    Variable("impact_energy_per_period", (), float, np.nan, "J",
+             "kinetic energy of the bar relative to the rig at contact onset, summed per relay period over the window"),
+    Variable("stuck_fraction", (), float, np.nan, "1", "fraction of the window in which the soil holds the rig"),
+]
+
+#: 2-DOF sweeps: the progression measures of each value over its recorded window (bifurc.storage
+#: computes them from the stored samples and contacts with maps.progression)
+PROGRESSION = [
+    Variable("progression_rate", V, float, np.nan, "m s-1",
+             "mean rate of forward progression into the soil over the recorded window"),
+    Variable("progression_per_period", V, float, np.nan, "m",
+             "forward progression per relay period over the recorded window"),
+    Variable("time_to_depth", V, float, np.nan, "s",
+             "time to progress 0.2 m into the soil from the start, linear between relay-period samples (NaN: not "
+             "reached by the record's end, reached in the unrecorded transient, or a follow sweep)"),
+    Variable("impact_energy_per_period", V, float, np.nan, "J",
+             "kinetic energy of the bar relative to the rig at contact onset, summed per relay period over the "
+             "recorded window (NaN: more contacts than the impact dimension holds)"),
+    Variable("stuck_fraction", V, float, np.nan, "1",
+             "fraction of the recorded relay-period samples at which the soil holds the rig (sampled once per "
+             "relay period, not time-weighted)"),
 ]
 
 

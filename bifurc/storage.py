@@ -23,11 +23,13 @@ from .classify import lyapunov_threshold
 from .lyapunov import INTERVAL_METHOD, METHODS
 from .codes import Status
 from .grazing import GRAZING_GAP, GRAZING_SPEED, grazing_flag
-from .schema import GRAZING, GRAZING_FLAG, PARAM, SWEEP, SWEEP_COORDS, flag_variable, param_attrs, state_variable
+from .schema import (GRAZING, GRAZING_FLAG, PARAM, PROGRESSION, SWEEP, SWEEP_COORDS, flag_variable, param_attrs,
+                     state_variable)
 from .files import write_netcdf
 from .job import FORCING_PERIODS
 from maps.presets import preset_attrs
-from maps.simulate import dc_law_attrs
+from maps.progression import held_mode, progression_measures
+from maps.simulate import dc_law_attrs, soil_law_attrs
 
 __all__ = ["to_dataset", "run_attrs", "add_grazing", "add_error_estimate", "save", "load", "STATUS_MEANINGS"]
 
@@ -42,6 +44,35 @@ def _stack(results, branches, var, sizes, par, get=None):
             if r is not None:
                 out[bi, i] = getattr(r, var.name) if get is None else get(r)
     return var.finish(out)
+
+
+def _progression(results, branches, job, scene, sizes, par, values, mode) -> dict:
+    """The 2-DOF progression measures (schema.PROGRESSION) of every value over its recorded window,
+    from its relay-period samples and contacts (maps.progression).  A follow sweep starts each
+    value where the previous one ended: no time to depth from the start."""
+    system = scene.system
+    ix2 = system.state_names.index("x2")
+    x2_start = scene.initial_state(**job.x0)["x2"]
+    held_by = held_mode(system)
+    jf = system.flag_names.index(held_by[0]) if held_by else None
+    out = {var: var.empty(sizes, par) for var in PROGRESSION}
+    for bi, b in enumerate(branches):
+        for i, r in enumerate(results[b]):
+            if r is None:
+                continue
+            p = dict(job.params, **{par: float(values[i])})
+            W, n = p["relay_hz"], min(r.record_used, job.record)     # the stored samples: the first record
+            t = (r.transient_used + np.arange(n + 1)) / W
+            held = 0.0 if jf is None else float(np.mean(r.point_flags[:n + 1, jf] == held_by[1])) * n / W
+            m = progression_measures(t, r.points[:n + 1, ix2], x2_start=x2_start, relay_hz=W,
+                                     impact_t=r.impact_t, impact_velocity=r.impact_velocity, m1=p["m1"], held=held)
+            if mode != "independent":
+                m["time_to_depth"] = np.nan
+            if r.n_impacts > job.max_impacts:
+                m["impact_energy_per_period"] = np.nan
+            for var in PROGRESSION:
+                out[var][bi, i] = m[var.name]
+    return {var: var.finish(data) for var, data in out.items()}
 
 
 def to_dataset(results, values, job, scene, table, mode) -> xr.Dataset:
@@ -67,6 +98,9 @@ def to_dataset(results, values, job, scene, table, mode) -> xr.Dataset:
                                                   lambda r: r.point_flags[:, j]), var.attrs())
     for var in SWEEP:
         ds[var.name] = (var.dims_for(par), _stack(results, branches, var, sizes, par), var.attrs())
+    if "x2" in system.state_names and "relay_hz" in system.param_names:
+        for var, data in _progression(results, branches, job, scene, sizes, par, values, mode).items():
+            ds[var.name] = (var.dims_for(par), data, var.attrs())
     ds[GRAZING_FLAG.name] = grazing_flag(ds.min_gap, ds.min_impact_speed).astype(np.int8).assign_attrs(
         GRAZING_FLAG.attrs())
     ds.attrs.update({"title": f"{scene.name}: {par} sweep ({mode})", "scene": scene.name, "swept_parameter": par,
@@ -93,6 +127,7 @@ def run_attrs(job, scene, table, history, skip=()) -> dict:
         "lyapunov_steps": job.exponent_steps, "lyapunov_threshold": lyapunov_threshold(job.exponent_steps),
         "lyapunov_interval_method": INTERVAL_METHOD, "lyapunov_method": METHODS[job.lyapunov_method],
         "circuit": circuit, "ac_sign": ac_sign, **(dc_law_attrs(o) if o is not None else {"dc_law": "none"}),
+        **soil_law_attrs(o),
         **preset_attrs(table),
         "initial_state": ", ".join(f"{k}={v:g}" for k, v in scene.initial_state(**job.x0).items()),
         "grazing_gap_threshold_m": GRAZING_GAP, "grazing_speed_threshold_m_s": GRAZING_SPEED,

@@ -46,15 +46,15 @@ MODES = {"independent": ("independent",), "follow": ("up", "down")}
 @guarded_output("path")
 def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independent", transient=300,
           record=100, max_record=None, preset=None, params=None, x0=None, tol=1e-10, max_period=100, rtol=1e-6,
-          atol=1e-9,
-          lyapunov=True, lyapunov_method="tangent", grazing=True, grazing_xtol=None, circuit=None, ac_sign=None, dc_law=None, path=None,
+          atol=1e-9, lyapunov=True, lyapunov_method="tangent", grazing=True, grazing_xtol=None, circuit=None,
+          ac_sign=None, dc_law=None, soil=None, compaction=None, path=None,
           progress=True, workers=None, scheduler=None, error_sample=3, max_transient=None, batch_size=4,
           chunk_size=None, overwrite=False):
     """Sweep ``param`` over ``values``; returns an xarray Dataset (see bifurc.storage).
 
     Parameters
     ----------
-    scene, preset, params, x0, circuit, ac_sign, dc_law : as in maps.simulate.
+    scene, preset, params, x0, circuit, ac_sign, dc_law, soil, compaction : as in maps.simulate.
     param : str
         Parameter name to sweep (MODEL.md section 6), e.g. "relay_hz", "V", "k".
     values : array
@@ -103,7 +103,7 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
         raise ParameterError(f"mode {mode!r}; allowed: {', '.join(MODES)}")
     values = np.asarray(values, dtype=float).ravel()
     job, sc, table = _job(scene, param, values, transient, record, preset, params, x0, tol, max_period, rtol, atol,
-                          lyapunov, circuit, ac_sign, dc_law, max_transient, batch_size, max_record)
+                          lyapunov, circuit, ac_sign, dc_law, max_transient, batch_size, max_record, soil, compaction)
     if lyapunov_method not in METHODS:
         raise ParameterError(f"lyapunov_method {lyapunov_method!r}; allowed: {', '.join(METHODS)}")
     job = replace(job, lyapunov_method=lyapunov_method)
@@ -169,12 +169,12 @@ def run_stats(ds, job, seconds, resumed, workers) -> None:
 
 
 def _job(scene, param, values, transient, record, preset, params, x0, tol, max_period, rtol, atol, lyapunov,
-         circuit, ac_sign, dc_law, max_transient, batch_size, max_record=None):
+         circuit, ac_sign, dc_law, max_transient, batch_size, max_record=None, soil=None, compaction=None):
     """The ValueJob of a sweep, its scene and parameter table, every argument checked before anything runs."""
     tol = validate_tol(tol)
     if values.size == 0 or not np.all(np.isfinite(values)):
         raise ParameterError("values must be a non-empty array of finite numbers")
-    sc, table = resolve_scene(scene, params, preset, circuit, ac_sign, dc_law)
+    sc, table = resolve_scene(scene, params, preset, circuit, ac_sign, dc_law, soil, compaction)
     base = {k: v for k, (v, _) in table.items()}
     sc.system.parameter(param)  # raises for an unknown name
     for v in values:  # every value must be valid before anything runs
@@ -187,7 +187,7 @@ def _job(scene, param, values, transient, record, preset, params, x0, tol, max_p
     if max_transient is not None:
         max_transient = int(validate_value("max_transient", max_transient, transient, 1e8))
     batch_size = int(validate_value("batch_size", batch_size, 1, 64))
-    options = {k: v for k, v in dict(circuit=circuit, ac_sign=ac_sign).items() if v is not None}
+    options = {k: v for k, v in dict(circuit=circuit, ac_sign=ac_sign, soil=soil, compaction=compaction).items() if v is not None}
     if sc.options is not None and sc.options.dc:   # the resolved law (it may follow the preset): workers get no preset
         options["dc_law"] = sc.options.dc_law
     name = sc.system if isinstance(sc, SystemScene) else sc.name  # a bare system runs in this process

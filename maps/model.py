@@ -19,8 +19,8 @@ import numpy as np
 from .hybrid import Guard, HybridSystem, PeriodicSwitch, State
 from .parameters import Parameter
 
-__all__ = ["ModelOptions", "PARAMETERS", "build_system", "ESCAPE_MARGIN", "DC_LAWS", "dc_region_flags",
-           "measured_dc_regions"]
+__all__ = ["ModelOptions", "PARAMETERS", "build_system", "ESCAPE_MARGIN", "DC_LAWS", "SOIL_LAWS", "COMPACTION",
+           "dc_region_flags", "measured_dc_regions", "soil_flags", "soil_resistance"]
 
 INF = math.inf
 #: the table of every model parameter: name -> Parameter (``bifurc params`` lists them)
@@ -49,7 +49,26 @@ PARAMETERS = {p.name: p for p in [
     Parameter("F_static", "N", "static force pushing the rig into the soil", -1e5, 1e5),
     Parameter("soil_c", "N s m-1", "viscous soil coefficient", 0, 1e7),
     Parameter("soil_friction", "N", "dry-friction limit of the soil", 0, 1e7),
+    Parameter("k_s", "N m-1", "drift soil: stiffness of the visco-elastic element", 0, 1e12, low_open=True),
+    Parameter("c_s", "N s m-1", "drift soil: damping of the visco-elastic element", 0, 1e7, low_open=True),
+    Parameter("P_max", "N", "drift soil: threshold force of the plastic slider", 0, 1e7),
+    Parameter("soil_depth_scale", "m", "compaction: depth over which the soil's resistance grows by its "
+                                       "surface value", 0, 1e6, low_open=True),
 ]}
+
+#: the form of the compaction option (a resistance growing with depth; docs/model.md)
+COMPACTION = ("resistance R(depth) = R0 (1 + depth / soil_depth_scale), R0 = soil_friction (coulomb) or "
+              "P_max (drift), depth = -x2 (coulomb: the rig below its start at x2 = 0) or -d (drift: the "
+              "slider, the soil front)")
+
+#: the soil laws of the 2-DOF scenes (MODEL.md section 2): name -> provenance
+SOIL_LAWS = {
+    "viscous": "listings C.4-C.6: F_soil = -soil_c v2 on the rig",
+    "coulomb": "dry friction with sticking, limit soil_friction (listing C.14's sign(x)*1000, with sticking added)",
+    "drift": "impact with drift (Pavlovskaia, Wiercigroch and Grebogi, Phys. Rev. E 64, 056224, 2001): a "
+             "visco-elastic element (k_s, c_s) in series with a plastic slider of threshold P_max; the slider "
+             "position d is a state; modes no contact / elastic / progression",
+}
 
 #: the bar is "escaped" beyond d_dc + ESCAPE_MARGIN above the stop, or deeper
 #: than STOP_ESCAPE into it [m]: far outside the fitted force laws.
@@ -89,8 +108,10 @@ class ModelOptions:
     ac_sign: str = "physical"    # "physical" or "listing" (listing C.2 reverses the AC force)
     dc_law: str = "listing"      # DC force: "listing" (C.9), "fit" (eqs 4.6-4.7) or "measured"
                                  # (Table 4.1 only, zero beyond 29 mm); see DC_LAWS
-    soil: str = "viscous"        # 2-DOF: "viscous" or "coulomb"
-    energy: bool = False         # add quadrature states for the energy audit (1-DOF)
+    soil: str = "viscous"        # 2-DOF: "viscous", "coulomb" or "drift" (SOIL_LAWS)
+    compaction: bool = False     # coulomb and drift: the resistance grows with depth (COMPACTION)
+    energy: bool = False         # add quadrature states for the energy audit (1-DOF: source,
+                                 # resistance, stop damping; 2-DOF drift soil: the soil's damper and slider)
     stick_speed: float = 1e-4    # [m/s] a contact onset slower than this while the net
                                  # non-contact force presses the bar on the stop ends chattering:
                                  # the bar sticks (x = e, v = 0; 2-DOF: r = e, bar and rig move
@@ -104,25 +125,31 @@ class ModelOptions:
         allowed = {"dof": (1, 2), "relay": ("ssr", "antiphase", "none"),
                    "circuit": ("thesis", "kvl"), "ac_sign": ("physical", "listing"),
                    "dc_law": tuple(DC_LAWS),
-                   "soil": ("viscous", "coulomb")}
+                   "soil": tuple(SOIL_LAWS)}
         for name, values in allowed.items():
             if getattr(self, name) not in values:
                 raise ParameterError(f"option {name!r} = {getattr(self, name)!r}; "
                                      f"allowed: {', '.join(map(str, values))}")
-        for name in ("dc", "ac", "stop", "energy"):
+        for name in ("dc", "ac", "stop", "energy", "compaction"):
             if not isinstance(getattr(self, name), bool):
                 raise ParameterError(f"option {name!r} = {getattr(self, name)!r}; allowed: True, False")
         from .parameters import validate_value
         validate_value("stick_speed", self.stick_speed, 0.0, 1.0, unit="m s-1")
         validate_value("unstick_force", self.unstick_force, 0.0, 1e3, unit="N")
+        if self.compaction and not (self.dof == 2 and self.soil in ("coulomb", "drift")):
+            raise ParameterError("option 'compaction' needs dof=2 and soil 'coulomb' or 'drift'")
         if self.relay != "none" and not self.ac:
             raise ParameterError("option 'relay' needs the AC solenoid (ac=True)")
-        if self.energy and (self.dof != 1 or (self.ac and self.circuit != "kvl")):
-            raise ParameterError("option 'energy' needs dof=1 and, with the AC solenoid, circuit='kvl'")
+        if self.energy and not (self.dof == 2 and self.soil == "drift") and (
+                self.dof != 1 or (self.ac and self.circuit != "kvl")):
+            raise ParameterError("option 'energy' needs dof=1 and, with the AC solenoid, circuit='kvl' "
+                                 "(or dof=2 with soil='drift': the soil's dissipation)")
 
     def parameter_names(self) -> list[str]:
-        names = ["m", "g"] if self.dof == 1 else ["m1", "m2", "F_static",
-                                                  "soil_c" if self.soil == "viscous" else "soil_friction"]
+        soil = {"viscous": ["soil_c"], "coulomb": ["soil_friction"], "drift": ["k_s", "c_s", "P_max"]}
+        names = ["m", "g"] if self.dof == 1 else ["m1", "m2", "F_static"] + soil[self.soil]
+        if self.compaction:
+            names += ["soil_depth_scale"]
         if self.stop:
             names += ["k", "c", "e"]
         if self.dc:
@@ -145,11 +172,24 @@ class ModelOptions:
                 st += [State("i", "A", "AC solenoid current"), State("z", "A s-1", "current rate di/dt")]
             else:
                 st += [State("q", "C", "capacitor charge"), State("i", "A", "AC solenoid current")]
-        if self.energy:
+        if self.drift:
+            st += [State("d", "m", "soil slider position (the soil front; drift law)")]
+        if self.energy and self.dof == 1:
             st += [State("W_src", "J", "work done by the AC source"),
                    State("E_R", "J", "energy dissipated in the resistance"),
                    State("E_c", "J", "energy dissipated by stop damping")]
+        elif self.energy:
+            st += [State("E_soil_damper", "J", "energy dissipated by the soil's damper c_s"),
+                   State("E_soil_plastic", "J", "energy dissipated by the soil's plastic slider")]
         return st
+
+    @property
+    def drift(self) -> bool:
+        """True for the 2-DOF drift soil (slider state d, soil flags soil_el / soil_pl)."""
+        return self.dof == 2 and self.soil == "drift"
+
+    def state_names(self) -> list[str]:
+        return [st.name for st in self.state_list()]
 
     def key(self) -> tuple:
         return tuple(sorted(self.__dict__.items()))
@@ -335,13 +375,25 @@ def _forces(o: ModelOptions, s):
         F_mag = f["F_dc"] + f["F_ac"]
         N_rig_free = -free * F_mag - s.F_static  # without the contact force
         f["N_rig"] = -free * f["F_bar"] - s.F_static  # net force on the rig (bar+rig if stuck) before the soil
-        if o.soil == "viscous":
-            f["F_soil"] = -s.soil_c * s.v2
+        if o.soil != "viscous":     # the resistance (COMPACTION: growing with depth)
+            R0, depth = (s.soil_friction, -s.x2) if o.soil == "coulomb" else (s.P_max, -s.d)
+            f["R_soil"] = R0 + depth / s.soil_depth_scale * R0 if o.compaction else R0
+        if o.soil in ("viscous", "drift"):
+            if o.soil == "viscous":
+                f["F_soil"] = -s.soil_c * s.v2
+            else:
+                # drift (SOIL_LAWS): delta = d - x2 >= 0 compresses the element (the soil lies toward -x);
+                # elastic: F = k_s delta - c_s v2 (slider still); progression: F held at P_max
+                f["soil_delta"] = s.d - s.x2
+                f["F_element"] = f["soil_delta"] * s.k_s - s.v2 * s.c_s
+                f["F_soil"] = f["F_element"] * s.soil_el + f["R_soil"] * s.soil_pl
+                # the slider's rate in progression: k_s delta + c_s (dd/dt - v2) = P_max
+                f["d_rate"] = (s.v2 + (f["R_soil"] - f["soil_delta"] * s.k_s) / s.c_s) * s.soil_pl
             f["a2"] = (f["N_rig"] + f["F_soil"]) / mass
             a2_free = (N_rig_free + f["F_soil"]) / mass
         else:
-            f["a2"] = (1.0 - s.stuck) * (f["N_rig"] - s.slip_dir * s.soil_friction) / mass
-            a2_free = (1.0 - s.stuck) * (N_rig_free - s.slip_dir * s.soil_friction) / mass
+            f["a2"] = (1.0 - s.stuck) * (f["N_rig"] - s.slip_dir * f["R_soil"]) / mass
+            a2_free = (1.0 - s.stuck) * (N_rig_free - s.slip_dir * f["R_soil"]) / mass
         f["a1"] = free * f["F_bar"] / s.m1 + sb * f["a2"]
         # m1 x the bar's acceleration relative to the rig without contact force (> 0: pulls it off the stop)
         f["N_bar"] = F_mag - s.m1 * a2_free
@@ -373,7 +425,14 @@ def _rhs(o: ModelOptions, s):
                           - ((ddL * rdot**2 + dL * f["rddot"]) * i + i / s.C)) / L]
         else:  # d(L i)/dt + R i + q/C = u
             out += [i, (f["u"] - i * s.R - s.q / s.C - dL * rdot * i) / L]
-    if o.energy:
+    if o.drift:
+        out += [f["d_rate"]]
+    if o.energy and o.drift:
+        # damper power c_s (d(delta)/dt)^2: elastic d(delta)/dt = -v2; progression (P_max - k_s delta)/c_s
+        rel = (f["R_soil"] - f["soil_delta"] * s.k_s) / s.c_s
+        out += [s.v2 ** 2 * s.c_s * s.soil_el + rel ** 2 * s.c_s * s.soil_pl,
+                -f["d_rate"] * f["R_soil"]]
+    elif o.energy:
         out += [f["u"] * s.i if o.ac else hy.expression(0.0),
                 s.i**2 * s.R if o.ac else hy.expression(0.0),
                 f["rdot"]**2 * s.c * s.contact if o.stop else hy.expression(0.0)]
@@ -429,11 +488,63 @@ def _guards(o: ModelOptions, s):
         # force surfaces over k (metres), as "unstick": they enter heyoka's step-size norm
         per_k = (lambda F: F / s.k) if o.stop else (lambda F: F)
         gs += [Guard("rig_stop", s.v2, 0, when={"stuck": 0}, then=None, reset=zero_v2, role="stick"),
-               Guard("rig_slip_back", per_k(f["N_rig"] - s.soil_friction), +1, when={"stuck": 1},
+               Guard("rig_slip_back", per_k(f["N_rig"] - f["R_soil"]), +1, when={"stuck": 1},
                      then={"stuck": 0, "slip_dir": 1.0}, role="slip"),
-               Guard("rig_slip_fwd", per_k(f["N_rig"] + s.soil_friction), -1, when={"stuck": 1},
+               Guard("rig_slip_fwd", per_k(f["N_rig"] + f["R_soil"]), -1, when={"stuck": 1},
                      then={"stuck": 0, "slip_dir": -1.0}, role="slip")]
+    if o.drift:
+        # touch/leave the soil front (delta = d - x2 = 0) and yield/hold (element force = P_max),
+        # each one surface [m]; in progression the yield surface is -c_s dd/dt / k_s (>= 0)
+        touch = f["soil_delta"]
+        yield_ = (f["F_element"] - f["R_soil"]) / s.k_s
+        gs += [Guard("soil_touch", touch, +1, when={"soil_el": 0, "soil_pl": 0}, then=_soil_touch(o),
+                     role="other"),
+               Guard("soil_leave", touch, -1, when={"soil_el": 1}, then={"soil_el": 0}, role="other"),
+               Guard("soil_yield", yield_, +1, when={"soil_el": 1}, then={"soil_el": 0, "soil_pl": 1},
+                     role="other"),
+               Guard("soil_hold", yield_, -1, when={"soil_pl": 1}, then={"soil_el": 1, "soil_pl": 0},
+                     role="other")]
     return gs
+
+
+_IX2, _IV2 = 2, 3   # indices of the rig's position and velocity in a 2-DOF state
+
+
+def soil_flags(o: ModelOptions, y, params) -> dict:
+    """The drift soil's mode for a state ``y`` (empty for other laws): in contact with the soil
+    front when compressed (delta = d - x2 > 0) or on it and moving into it; then progressing when
+    the element force k_s delta - c_s v2 exceeds P_max, else elastic.  A rig at rest exactly on
+    the front is taken as touching it (the net force is not known here; an elastic element at
+    zero compression exerts no force, so the motion is the same)."""
+    if not o.drift:
+        return {}
+    y = np.asarray(y, dtype=float)
+    x2, v2, d = y[_IX2], y[_IV2], y[o.state_names().index("d")]
+    delta = d - x2
+    if delta < 0 or (delta == 0 and v2 > 0):
+        return {"soil_el": 0.0, "soil_pl": 0.0}
+    if delta * params["k_s"] - v2 * params["c_s"] > soil_resistance(o, y, params):
+        return {"soil_el": 0.0, "soil_pl": 1.0}
+    return {"soil_el": 1.0, "soil_pl": 0.0}
+
+
+def soil_resistance(o: ModelOptions, y, params) -> float:
+    """The soil's resistance [N] in state ``y``: the friction limit (coulomb) or the slider's
+    threshold (drift), grown with depth under the compaction option (:data:`COMPACTION`)."""
+    R0 = params["soil_friction"] if o.soil == "coulomb" else params["P_max"]
+    if not o.compaction:
+        return R0
+    depth = -y[_IX2] if o.soil == "coulomb" else -y[o.state_names().index("d")]
+    return R0 + depth / params["soil_depth_scale"] * R0
+
+
+def _soil_touch(o: ModelOptions):
+    """Contact with the soil front begins: elastic, or at once progression when the element's
+    damper alone (-c_s v2 at zero compression) exceeds the threshold."""
+    def then(t, y, flags, params):
+        pl = -y[_IV2] * params["c_s"] > soil_resistance(o, y, params)
+        return {"soil_el": 0.0, "soil_pl": 1.0} if pl else {"soil_el": 1.0}
+    return then
 
 
 def _outputs(o: ModelOptions, s):
@@ -441,11 +552,13 @@ def _outputs(o: ModelOptions, s):
     out = {k: f[k] for k in ("F_dc", "F_ac", "F_c", "r", "rdot") if k in f}
     if o.dof == 2:
         out["N_rig"] = f["N_rig"]
+        if o.drift:
+            out.update({k: f[k] for k in ("F_soil", "F_element", "soil_delta", "d_rate")})
         if "N_bar" in f:
             out["N_bar"] = f["N_bar"]
     else:
         out["N_bar"] = f["N_bar"]
-    if o.energy:
+    if o.energy and o.dof == 1:
         E = 0.5 * s.m * s.v**2 + 0.5 * s.contact * s.k * (s.x - s.e) ** 2 if o.stop else 0.5 * s.m * s.v**2
         if o.dc:
             E = E + f["U_dc"]
@@ -457,12 +570,12 @@ def _outputs(o: ModelOptions, s):
     return out
 
 
-def _settle_coulomb(system: HybridSystem):
+def _settle_coulomb(system: HybridSystem, o: ModelOptions):
     """Stick/slip consistency after any transition (relay switch, contact, rig stop)."""
 
     def settle(t, y, flags, params):
         N = float(system.evaluate(["N_rig"], y, params, flags, t)[0])
-        Ff = params["soil_friction"]
+        Ff = soil_resistance(o, y, params)
         v2 = y[3]
         if flags["stuck"] == 1:
             if abs(N) > Ff:
@@ -567,6 +680,7 @@ def start_flags(system: HybridSystem, o: ModelOptions, y, params, flags, given=(
     every engine (simulate, run_scene, StroboscopicMap step/orbit/orbits, the batch lanes).
 
     - the measured DC law's region flags (:func:`dc_region_flags`), always;
+    - the drift soil's mode (:func:`soil_flags`), always;
     - the stop, unless the caller gave ``stuck_bar`` (``given``): a bar inside the stop, or exactly
       on it and moving into it, or at rest on it while the net non-contact force presses it on
       (N_bar <= 0), starts in contact (then ``settle`` may stick it), even where the caller inferred
@@ -576,6 +690,7 @@ def start_flags(system: HybridSystem, o: ModelOptions, y, params, flags, given=(
     """
     y = np.asarray(y, dtype=float)
     out = dc_region_flags(o, y, params)
+    out.update(soil_flags(o, y, params))
     if o.stop and "stuck_bar" not in given and flags.get("contact") != 1.0:
         gap, rate = system.gap(y, params)
         if gap < 0 or (gap == 0 and rate < 0):
@@ -603,6 +718,8 @@ def build_system(options: ModelOptions | None = None, **kw) -> HybridSystem:
     flags["escaped"] = 0.0
     if o.dof == 2 and o.soil == "coulomb":
         flags.update(stuck=0.0, slip_dir=1.0)
+    if o.drift:     # drift soil: elastic contact / progression (both 0: clear of the soil front)
+        flags.update(soil_el=0.0, soil_pl=0.0)
     if o.dc and o.dc_law == "measured":      # defaults: the region of a bar on the stop; a run's
         flags.update(_region_flags(0))       # start takes them from its state (dc_region_flags)
     switches = [PeriodicSwitch("P", "relay_hz")] if o.relay != "none" else []
@@ -613,7 +730,7 @@ def build_system(options: ModelOptions | None = None, **kw) -> HybridSystem:
         switches=switches, outputs=lambda s: _outputs(o, s), structure=o.key(),
         halt_flags=("escaped",), gap=_gap(o))
     if o.dof == 2 and o.soil == "coulomb":
-        system.settle = _settle_coulomb(system)
+        system.settle = _settle_coulomb(system, o)
     if o.stop:
         stick = _settle_stick(system, o)
         system.settle = stick if system.settle is None else _chain(stick, system.settle)
@@ -622,8 +739,9 @@ def build_system(options: ModelOptions | None = None, **kw) -> HybridSystem:
         if system.settle is stick:   # sticking acts only in contact or stuck (Coulomb slip: always)
             system.settle_if = (("contact", 1.0), ("stuck_bar", 1.0))
     system.mode_rule = lambda y, params, flags, given=(): start_flags(system, o, y, params, flags, given)
-    if o.dof == 2:   # bar and rig shifted together: the same motion (no force depends on x1 + x2)
-        system.translation = {"x1": 1.0, "x2": 1.0}
+    if o.dof == 2 and not o.compaction:   # bar and rig shifted together: the same motion (no force
+        # depends on x1 + x2; compaction's resistance depends on the depth: no such symmetry)
+        system.translation = {"x1": 1.0, "x2": 1.0, **({"d": 1.0} if o.drift else {})}
     system.options = o
     _SYSTEMS[o.key()] = system
     return system

@@ -426,14 +426,21 @@ class StroboscopicMap:
         sample ``k0[i]``.  A companion starts ``d0`` from the first (norm scaled by
         ``scales[i]``), mode by the system's rule, and after each step is moved back to ``d0``
         from the next; returned: the log stretch of each step (NaN where it failed).
+        A shift-invariant system (``system.translation``) is measured in its reduced coordinates
+        (:mod:`maps.translation`): the neutral shift is removed at every renormalisation.
         """
-        from .tangent import companion_start
+        from .tangent import companion_start, renormalise
+        from .translation import translation_basis
         method = self._method(method, batch_size)
+        shift = translation_basis(self.system)      # shift-invariant: the reduced coordinates' distance
         jobs = []
         for ref, o, k, s in zip(references, overrides, k0, scales):
             p = self.system.validate(dict(self.params, **o))
             z0 = companion_start(ref[0], d0, s)
-            jobs.append(self._job(p, z0, None, int(k), 0, len(ref) - 1, reference=list(ref), d0=d0, scale=s))
+            if shift is not None:
+                z0 = renormalise(ref[0], z0, d0, s, shift)[0]
+            jobs.append(self._job(p, z0, None, int(k), 0, len(ref) - 1, reference=list(ref), d0=d0, scale=s,
+                                  shift=shift))
         if method == "scalar":
             results = self._engine.run(jobs)
         else:

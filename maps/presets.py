@@ -25,6 +25,15 @@ COMMON = {
     "F_static": (31.1, "static force, section 4.7 / listing C.14 (C5)"),
     "soil_c": (135.0, "viscous soil coefficient Fs, listings C.4-C.6"),
     "soil_friction": (1000.0, "dry soil friction, listing C.14 (C7)"),
+    "k_s": (1e5, "ASSUMPTION (the thesis gives no drift-soil values): element stiffness 1e5 N/m, a tenth of "
+                 "the prototype's stop stiffness; F_static/k_s = 0.3 mm static deflection"),
+    "c_s": (200.0, "ASSUMPTION (the thesis gives none): element damping 200 N s/m, damping ratio "
+                   "c_s / (2 sqrt(k_s m2)) = 0.19 for the rig on the element"),
+    "P_max": (60.0, "ASSUMPTION (the thesis gives none): slider threshold 60 N, about twice F_static = 31.1 N, "
+                    "so that the static force alone holds the rig and only the impacts make it progress"),
+    "soil_depth_scale": (0.9 / (4.3 / 0.65 - 1), "compaction (coulomb, drift): FITTED to the two numbers of thesis "
+                         "Fig 5.22 (4.3 mm/s at the surface falling to 0.65 mm/s at 0.9 m) assuming the progression "
+                         "rate inversely proportional to the resistance (an assumption): 1 + 0.9 m / L = 4.3 / 0.65"),
 }
 
 #: the DC-force cubic's coefficients of each law (``dc_law``; "measured" has none): name -> (value, provenance)

@@ -19,7 +19,7 @@ from .scenes import get_scene
 if TYPE_CHECKING:  # xarray is imported where used: worker processes start faster
     import xarray as xr
 
-__all__ = ["simulate", "run_scene", "resolve", "dc_law_attrs"]
+__all__ = ["simulate", "run_scene", "resolve", "dc_law_attrs", "soil_law_attrs"]
 
 
 def dc_law_attrs(options) -> dict:
@@ -30,17 +30,34 @@ def dc_law_attrs(options) -> dict:
     return {"dc_law": options.dc_law, "dc_law_source": DC_LAWS[options.dc_law]}
 
 
-def resolve(scene, params=None, preset=None, circuit=None, ac_sign=None, energy=None, dc_law=None):
+def soil_law_attrs(options) -> dict:
+    """Dataset attributes naming the soil law of a 2-DOF scene, its provenance (MODEL.md section 2)
+    and its compaction (the resistance's growth with depth, or "none")."""
+    from .model import COMPACTION, SOIL_LAWS
+    if options is None or options.dof != 2:
+        return {"soil": "none", "soil_source": "no rig and no soil in this scene", "soil_compaction": "none"}
+    return {"soil": options.soil, "soil_source": SOIL_LAWS[options.soil],
+            "soil_compaction": COMPACTION if options.compaction else "none"}
+
+
+def resolve(scene, params=None, preset=None, circuit=None, ac_sign=None, energy=None, dc_law=None, soil=None,
+            compaction=None):
     """The scene with structural options applied, and its validated parameter values
     with provenance: ``(scene, {name: (value, provenance)})``.
 
     ``dc_law`` ("listing", "fit", "measured"; MODEL.md section 1) defaults to the law of
-    ``preset`` when one is given (matlab-listing: "listing", thesis-text: "fit"), else to the scene's."""
+    ``preset`` when one is given (matlab-listing: "listing", thesis-text: "fit"), else to the scene's.  ``soil`` ("viscous", "coulomb", "drift"; 2-DOF
+    scenes, MODEL.md section 2) defaults to the scene's; ``compaction`` (True: the coulomb or drift
+    resistance grows with depth, ``maps.model.COMPACTION``) to False."""
     sc = get_scene(scene)
     if dc_law is None and preset is not None and sc.options is not None and sc.options.dc:
         dc_law = preset_dc_law(preset)
-    opts = {k: v for k, v in dict(circuit=circuit, ac_sign=ac_sign, energy=energy, dc_law=dc_law).items()
-            if v is not None}
+    if soil is not None and (sc.options is None or sc.options.dof != 2):
+        from .model import SOIL_LAWS
+        raise ParameterError(f"option 'soil' = {soil!r} needs a 2-DOF scene (bar and rig); scene {sc.name!r} has no "
+                             f"soil (soil laws: {', '.join(SOIL_LAWS)})")
+    opts = {k: v for k, v in dict(circuit=circuit, ac_sign=ac_sign, energy=energy, dc_law=dc_law,
+                                  soil=soil, compaction=compaction).items() if v is not None}
     if opts:
         sc = sc.with_options(**opts)
     if params is not None and not isinstance(params, Mapping):  # else a TypeError from the ** below
@@ -51,14 +68,14 @@ def resolve(scene, params=None, preset=None, circuit=None, ac_sign=None, energy=
 
 def run_scene(scene, t_end, params=None, preset=None, x0=None, tol=1e-12, circuit=None,
               ac_sign=None, energy=None, fp_type=float, on_segment=None, max_events=100_000,
-              max_events_per_period=None, dc_law=None):
+              max_events_per_period=None, dc_law=None, soil=None, compaction=None):
     """Integrate a scene to ``t_end`` [s] and return the :class:`~maps.engines.scalar.HybridRun`.
 
     Failures (non-finite state, escape, event cap: ``max_events`` per run,
     ``max_events_per_period`` per relay period) are recorded on the run as
     ``run.status`` / ``run.failure`` instead of raised.
     """
-    sc, table = resolve(scene, params, preset, circuit, ac_sign, energy, dc_law)
+    sc, table = resolve(scene, params, preset, circuit, ac_sign, energy, dc_law, soil, compaction)
     values = {k: v for k, (v, _) in table.items()}
     t_end = validate_value("t_end", t_end, 0.0, 1e7, low_open=True, unit="s")
     if x0 is not None and not isinstance(x0, Mapping):
@@ -67,7 +84,7 @@ def run_scene(scene, t_end, params=None, preset=None, x0=None, tol=1e-12, circui
     y0 = sc.initial_state(**(x0 or {}))
     run = HybridRun(sc.system, values, y0, tol=tol, fp_type=fp_type, max_events=max_events,
                     max_events_per_period=max_events_per_period)
-    run.scene, run.provenance = sc, {k: src for k, (_, src) in table.items()}
+    run.scene, run.provenance, run.y0 = sc, {k: src for k, (_, src) in table.items()}, y0
     run.status, run.failure = "ok", None
     t0 = _time.perf_counter()
     try:
@@ -83,7 +100,8 @@ def run_scene(scene, t_end, params=None, preset=None, x0=None, tol=1e-12, circui
 @recorded("maps.simulate")
 def simulate(scene, *, periods=None, t_end=None, params=None, preset=None, x0=None, tol=1e-12,
              dt=None, t_eval=None, circuit=None, ac_sign=None, energy=None,
-             max_events_per_period=None, dc_law=None) -> xr.Dataset:
+             max_events_per_period=None, dc_law=None, soil=None, compaction=None,
+             transient=None) -> xr.Dataset:
     """Time history of ``scene`` sampled on a grid from heyoka's dense output.
 
     Parameters
@@ -108,12 +126,19 @@ def simulate(scene, *, periods=None, t_end=None, params=None, preset=None, x0=No
     dc_law : str
         DC-force law: "listing" (listing C.9), "fit" (eqs 4.6-4.7) or "measured" (Table 4.1
         only, zero beyond |xa| = 29 mm); default: the preset's (MODEL.md section 1).
+    soil : str
+        2-DOF soil law: "viscous", "coulomb" or "drift" (MODEL.md section 2); default: the scene's.
+    compaction : bool
+        Coulomb and drift soils: the resistance grows with depth (``maps.model.COMPACTION``).
+    transient : float
+        2-DOF scenes: the progression measures (:mod:`maps.progression`) are taken after this
+        time [s] (default: over the second half of the run).
 
     Returns
     -------
     xarray.Dataset with ``time`` and ``impact`` dimensions.
     """
-    sc, table = resolve(scene, params, preset, circuit, ac_sign, energy, dc_law)
+    sc, table = resolve(scene, params, preset, circuit, ac_sign, energy, dc_law, soil, compaction)
     values = {k: v for k, (v, _) in table.items()}
     t_end = _duration(values, periods, t_end)
     if t_eval is None:
@@ -134,9 +159,31 @@ def simulate(scene, *, periods=None, t_end=None, params=None, preset=None, x0=No
         if hi > lo:
             samples[lo:hi] = c_out(t_eval[lo:hi])
 
+    if transient is not None:
+        transient = validate_value("transient", transient, 0.0, t_end, high_open=True, unit="s")
     run = run_scene(sc, t_end, params=values, x0=x0, tol=tol, on_segment=on_segment,
                     max_events_per_period=max_events_per_period)
-    return to_dataset(run, t_eval, samples, table)
+    return to_dataset(run, t_eval, samples, table, transient)
+
+
+def _add_progression(ds, run, imp, transient):
+    """The progression measures (:mod:`maps.progression`) as scalar variables, over the window
+    from ``transient`` [s] (default: half the run reached) to the run's end."""
+    from .progression import MEASURES, held_mode, held_time, progression_measures
+    t, x2 = ds["time"].values, ds["x2"].values
+    if t.size < 2:
+        return
+    t_b = float(t[-1])
+    t_a = t_b / 2 if transient is None else min(float(transient), t_b)
+    p = run.params
+    m = progression_measures(t, x2, x2_start=float(run.y0["x2"]),
+                             relay_hz=p.get("relay_hz"), impact_t=imp["t"], impact_velocity=imp["velocity"],
+                             m1=p["m1"], held=held_time(run.flag_log, t_a, t_b, held_mode(run.system)),
+                             window=(t_a, t_b))
+    for name, value in m.items():
+        units, long_name = MEASURES[name]
+        ds[name] = ((), value, {"units": units, "long_name": long_name})
+    ds.attrs["progression_window"] = np.array([t_a, t_b])
 
 
 def _duration(values, periods, t_end):
@@ -150,7 +197,7 @@ def _duration(values, periods, t_end):
     return validate_value("t_end", t_end, 0.0, 1e7, low_open=True, unit="s")
 
 
-def to_dataset(run, t_eval, samples, table) -> xr.Dataset:
+def to_dataset(run, t_eval, samples, table, transient=None) -> xr.Dataset:
     """Package a run and its samples: states, flags, impacts, parameters and provenance."""
     import xarray as xr
     system, sc = run.system, run.scene
@@ -174,6 +221,11 @@ def to_dataset(run, t_eval, samples, table) -> xr.Dataset:
         ds["rig_stuck"] = ("time", vals, {"units": "1", "long_name": "rig stuck in the soil",
                                           "flag_values": np.array([0, 1], np.int8),
                                           "flag_meanings": "slipping stuck"})
+    if "soil_pl" in system.flag_names:
+        mode = np.array([fl["soil_el"] + 2 * fl["soil_pl"] for _, fl in run.flag_log], dtype=np.int8)[idx]
+        ds["soil_mode"] = ("time", mode, {"units": "1", "long_name": "drift soil mode",
+                                          "flag_values": np.array([0, 1, 2], np.int8),
+                                          "flag_meanings": "clear elastic progression"})
     imp = impact_table(run)
     ds = ds.assign_coords(impact=("impact", np.arange(imp["t"].size),
                                   {"units": "1", "long_name": "contact number in time order"}))
@@ -187,10 +239,11 @@ def to_dataset(run, t_eval, samples, table) -> xr.Dataset:
     if "x2" in system.state_names:
         ds["progression"] = ds["x2"].isel(time=0) - ds["x2"]
         ds["progression"].attrs = {"units": "m", "long_name": "forward progression into the soil x2(0) - x2(t)"}
+        _add_progression(ds, run, imp, transient)
     o = sc.options
     model = {"circuit": o.circuit if o.ac else "none", "ac_sign": o.ac_sign if o.ac else "none",
-             "relay": o.relay, **dc_law_attrs(o), "soil": o.soil if o.dof == 2 else "none"} if o is not None else \
-        {"circuit": "none", "ac_sign": "none", "relay": "none", "dc_law": "none", "soil": "none"}
+             "relay": o.relay, **dc_law_attrs(o), **soil_law_attrs(o)} if o is not None else \
+        {"circuit": "none", "ac_sign": "none", "relay": "none", "dc_law": "none", **soil_law_attrs(None)}
     attrs = {
         "scene": sc.name, "scene_summary": sc.summary, **model, "tol": run.tol, "heyoka_version": hy.__version__,
         "run_seconds": run.run_seconds, "compile_seconds": run.compile_seconds,

@@ -62,11 +62,19 @@ def tangent_stretch(start, ends, scale=None) -> np.ndarray:
         return np.log(np.linalg.norm(u / s, axis=1) / np.linalg.norm(before / s, axis=1))
 
 
-def renormalise(reference, z, d0: float = 1e-8, scale=None) -> tuple[np.ndarray, float]:
+def renormalise(reference, z, d0: float = 1e-8, scale=None, shift=None) -> tuple[np.ndarray, float]:
     """Move companion ``z`` back to distance ``d0`` from ``reference``; return it and
-    log(distance / d0), the step's stretch (NaN: the distance is not finite or zero)."""
+    log(distance / d0), the step's stretch (NaN: the distance is not finite or zero).
+
+    ``shift = (e, a)`` (:func:`maps.translation.translation_basis`): the flow is invariant under
+    the translation e, so the companion is first shifted along e to the reference's anchor ``a``
+    (the same motion): the distance is measured in the reduced coordinates, without the neutral
+    direction."""
     y = np.asarray(reference, dtype=float)
     dz = np.asarray(z, dtype=float) - y
+    if shift is not None:
+        e, a = shift
+        dz = dz - dz[a] * e
     d = dz if scale is None else dz / np.asarray(scale, dtype=float)
     dist = math.sqrt(float(d @ d))
     if not math.isfinite(dist) or dist == 0.0:

@@ -28,6 +28,10 @@ def _problem(name):
         p = sc.parameters(preset="matlab-listing", V=90.0, relay_hz=7.0)
         y0 = sc.system.state_vector(sc.initial_state(x=0.0, v=0.0, i=0.1, z=0.0))
         return sc.system, p, y0, None, 1.0 / 7.0, 8, 10_000
+    if name == "prototype-drift":
+        sc = maps.get_scene("prototype").with_options(soil="drift")
+        p = sc.parameters()
+        return sc.system, p, sc.system.state_vector(sc.initial_state()), None, 1.0 / p["relay_hz"], 8, 10_000
     if name == "oscillator":
         system = maps.forced_oscillator_with_stop()
         p = system.validate(dict(w0=1.0, zeta=0.05, F=0.5, Omega=2.5, e=0.0, r=0.7))
@@ -46,6 +50,7 @@ PROBLEMS = {
     "thrown-out": "an escape",
     "chatter-no-stick": "the per-period event cap",
     "prototype-stick": "2-DOF, Coulomb soil (a reset map), the bar and the rig sticking",
+    "prototype-drift": "2-DOF, drift soil: the slider state, elastic and progression modes (guards with callables)",
     "oscillator": "the restitution oscillator: a reset map, no relay, strobe period 2 pi / Omega",
     "measured-law": "the measured DC law: region modes set by the start rule and changed by guards",
 }
@@ -90,6 +95,7 @@ def test_problems_exercise_what_they_claim():
     assert capped.status == "failed" and "events in one relay period" in capped.failure
     proto = _run("scalar", "prototype-stick")
     assert {"stick", "rig_stop"} <= names(proto)
+    assert {"soil_yield", "soil_hold", "contact"} <= names(_run("scalar", "prototype-drift"))
     assert "contact" in names(_run("scalar", "oscillator"))
     assert {"dc_up", "contact", "unstick"} <= names(_run("scalar", "measured-law"))
 

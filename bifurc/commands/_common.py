@@ -36,6 +36,13 @@ def add_scene_options(parser: argparse.ArgumentParser, default_scene: str = "the
                    help="DC-force law: listing (listing C.9), fit (eqs 4.6-4.7) or measured (Table 4.1 "
                         "only, zero beyond 29 mm); default: the preset's (matlab-listing: listing, "
                         "thesis-text: fit)")
+    g.add_argument("--soil", choices=("viscous", "coulomb", "drift"), default=None,
+                   help="2-DOF soil law: viscous (listings C.4-C.6), coulomb (dry friction with sticking) or "
+                        "drift (visco-elastic element and plastic slider, Pavlovskaia et al. 2001); "
+                        "default: the scene's")
+    g.add_argument("--compaction", action="store_true", default=None,
+                   help="coulomb and drift soils: the resistance grows with depth, R0 (1 + depth/soil_depth_scale), "
+                        "soil_depth_scale fitted to thesis Fig 5.22 (docs/model.md)")
     g.add_argument("--tol", type=float, default=default_tol, help=f"heyoka tolerance (default {default_tol:g})")
 
 
@@ -82,7 +89,8 @@ def scene_kwargs(args) -> dict:
     if args.relay_hz is not None:
         params["relay_hz"] = args.relay_hz
     return dict(params=params, preset=args.preset, x0=parse_x0(args.x0), tol=args.tol,
-                circuit=args.circuit, ac_sign=args.ac_sign, dc_law=args.dc_law)
+                circuit=args.circuit, ac_sign=args.ac_sign, dc_law=args.dc_law, soil=args.soil,
+                compaction=args.compaction)
 
 
 def add_force_option(parser: argparse.ArgumentParser) -> None:

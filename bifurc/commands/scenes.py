@@ -15,6 +15,8 @@ def run(args) -> int:
     w_states = max(map(len, states.values()))
     for sc in scenes:
         law = f", dc_law {sc.options.dc_law}" if sc.options is not None and sc.options.dc else ""
+        if sc.options is not None and sc.options.dof == 2:
+            law += f", soil {sc.options.soil} (--soil viscous|coulomb|drift)"
         preset = f"preset {sc.preset}" if sc.preset else "no preset: parameters by name"
         print(f"{sc.name:<{w_name}}  {states[sc.name]:<{w_states}}  {sc.summary}; {preset}{law}")
     return 0

@@ -4,7 +4,8 @@ from ._common import add_force_option
 
 def register(subparsers):
     p = subparsers.add_parser("study", help="run a named, reproducible study (bifurc/studies/)")
-    p.add_argument("name", help="study name: thesis-1dof-relay, thesis-replay, thesis-orbits or regime-maps")
+    p.add_argument("name", help="study name: thesis-1dof-relay, thesis-replay, thesis-orbits, regime-maps or "
+                                "prototype-progression")
     p.add_argument("--quick", action="store_true", help="reduced size")
     p.add_argument("-o", "--output", default="out/study", help="output folder")
     p.add_argument("--case", action="append", default=None, help="run only this case (repeatable)")

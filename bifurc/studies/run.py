@@ -13,7 +13,8 @@ import sys
 from pathlib import Path
 
 STUDIES = {"thesis-1dof-relay": "bifurc.studies.thesis_1dof_relay", "thesis-replay": "bifurc.studies.thesis_replay",
-           "thesis-orbits": "bifurc.studies.thesis_orbits", "regime-maps": "bifurc.studies.regime_maps"}
+           "thesis-orbits": "bifurc.studies.thesis_orbits", "regime-maps": "bifurc.studies.regime_maps",
+           "prototype-progression": "bifurc.studies.prototype_progression"}
 
 
 def load_study(name):

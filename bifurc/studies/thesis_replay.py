@@ -317,9 +317,11 @@ def report(rows, wells, quick, seconds, physical=()) -> str:
 
 
 def run(out, quick=False, progress=True, overwrite=False) -> dict:
-    """Every replay into folder ``out``: ``report.md``, ``replay_<V>V.png``, ``replay.csv`` (the caller,
-    :func:`bifurc.studies.run.run_study`, refuses a folder that is not empty unless ``overwrite``)."""
+    """Every replay into folder ``out``: ``report.md``, ``replay_<V>V.png``, ``replay.csv`` (an
+    existing report refused unless ``overwrite``)."""
+    from ..files import refuse_existing
     out = Path(out)
+    refuse_existing(out / "report.md", overwrite, hint="use --force")
     out.mkdir(parents=True, exist_ok=True)
     size = QUICK if quick else FULL
     clock = _time.perf_counter()

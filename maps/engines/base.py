@@ -12,10 +12,11 @@ integrates ``transient`` periods, then records the states at the next ``record +
 times and, with ``log``, every guard crossing in between.  A job with a ``reference`` (the
 ``record + 1`` states of another orbit at the same sample times) is a *companion*: after each
 recorded period it is moved back to distance ``d0`` (norm scaled by ``scale``) from the
-reference, and the log of each period's stretch is returned (the tangent direction of
-Benettin's method; the exponent itself is analysis, :mod:`bifurc.lyapunov`).  A job with a
-``tangent`` start direction, on an engine that carries tangent vectors, also returns the tangent
-vector integrated with the flow over each recorded period (:mod:`maps.tangent`).
+reference (in the reduced coordinates of a shift-invariant system: ``shift``), and the log of each
+period's stretch is returned (the tangent direction of Benettin's method; the exponent itself is
+analysis, :mod:`bifurc.lyapunov`).  A job with a ``tangent`` start direction, on an engine that
+carries tangent vectors, also returns the tangent vector integrated with the flow over each
+recorded period (:mod:`maps.tangent`).
 """
 from __future__ import annotations
 
@@ -46,6 +47,7 @@ class OrbitJob:
     d0: float = 1e-8
     scale: np.ndarray | None = None
     tangent: np.ndarray | None = None  # start direction of a tangent vector over the record (engines that carry one)
+    shift: tuple | None = None        # companion: (translation, anchor) removed before each renormalisation
 
     def sample_time(self, k: int) -> float:
         return self.offset + (k / self.rate if self.rate is not None else k * self.period)

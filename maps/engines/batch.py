@@ -82,7 +82,7 @@ class BatchEngine(Engine):
         events.append(hy.t_event_batch((hy.time - hy.par[self.i_next]) * hy.par[self.i_rate],
                                        direction=hy.event_direction.positive, cooldown=EVENT_COOLDOWN,
                                        callback=_ClockCallback(self)))
-        n = self.n = len(system.states)
+        self.n = len(system.states)
         self.tangent = bool(tangent)
         dynamics = system.heyoka_system()
         t0 = _time.perf_counter()
@@ -153,7 +153,7 @@ class BatchEngine(Engine):
     def _renormalise(self, j, lane, t, i):
         """Companion: back to d0 from the reference's i-th state, flags by the system's rule."""
         job = lane.job
-        z, stretch = renormalise(job.reference[i], self.state[:self.n, j], job.d0, job.scale)
+        z, stretch = renormalise(job.reference[i], self.state[:self.n, j], job.d0, job.scale, job.shift)
         lane.res.stretch.append(stretch)
         if not math.isfinite(stretch):
             return False

@@ -422,7 +422,7 @@ class ScalarEngine(Engine):
                     if job.log:
                         res.period_events.append([(ev.name, ev.t, ev.y_minus) for ev in run.events])
                 else:
-                    z, stretch = renormalise(job.reference[i + 1], run.y, job.d0, job.scale)
+                    z, stretch = renormalise(job.reference[i + 1], run.y, job.d0, job.scale, job.shift)
                     res.stretch.append(stretch)
                     if not math.isfinite(stretch):
                         break
