@@ -20,6 +20,7 @@ from .engines.base import OrbitJob
 from .engines.scalar import ScalarEngine
 from .hybrid import HybridState, HybridSystem, IntegrationFailure, validate_tol
 from .parameters import ParameterError, validate_value
+from .translation import translation_basis
 
 __all__ = ["StroboscopicMap", "MapOrbit", "MapLinearization", "ImpactMap", "ImpactLinearization",
            "forcing_period_steps",
@@ -82,6 +83,7 @@ class MapOrbit:
     signature: list = field(default_factory=list)  # per step: the ordered roles of its events
     tangent_start: np.ndarray | None = None   # (d,) unit tangent vector at points[0] (None: none integrated)
     tangent: np.ndarray | None = None         # (m, d) the tangent vector at the end of each step, m <= n
+    tangent_shift: tuple | None = None        # the translation removed from it after each step (2-DOF)
 
     @property
     def n(self) -> int:
@@ -96,7 +98,7 @@ class MapOrbit:
         if self.tangent is not None and len(self.tangent):
             from .tangent import tangent_stretch
             m = min(len(self.tangent), self.n)
-            out[:m] = tangent_stretch(self.tangent_start, self.tangent[:m], scale)
+            out[:m] = tangent_stretch(self.tangent_start, self.tangent[:m], scale, self.tangent_shift)
         return out
 
     def state(self, k: int) -> HybridState:
@@ -362,7 +364,8 @@ class StroboscopicMap:
         y0, given, _ = _split(x0)
         flags = flags if flags is not None else given
         y0 = self.system.state_vector(y0)
-        job = self._job(self.params, y0, flags, 0, transient, n, t0, log=True, tangent=self._tangent_start(tangent))
+        job = self._job(self.params, y0, flags, 0, transient, n, t0, log=True, tangent=self._tangent_start(tangent),
+                        shift=translation_basis(self.system) if tangent else None)
         res = self._engine.run([job])[0]
         return self._orbit_from(res, job)
 
@@ -390,7 +393,8 @@ class StroboscopicMap:
         for p, s, m in zip(params, starts, lengths):
             y, given, _ = _split(s)
             jobs.append(self._job(p, self.system.state_vector(y), flags if flags is not None else given,
-                                  0, transient, m, log=True, tangent=self._tangent_start(tangent)))
+                                  0, transient, m, log=True, tangent=self._tangent_start(tangent),
+                                  shift=translation_basis(self.system) if tangent else None))
         method = self._method(method, batch_size)
         clock = _time.perf_counter()
         if method == "scalar":
@@ -430,7 +434,6 @@ class StroboscopicMap:
         (:mod:`maps.translation`): the neutral shift is removed at every renormalisation.
         """
         from .tangent import companion_start, renormalise
-        from .translation import translation_basis
         method = self._method(method, batch_size)
         shift = translation_basis(self.system)      # shift-invariant: the reduced coordinates' distance
         jobs = []
@@ -457,7 +460,7 @@ class StroboscopicMap:
         if not tangent:
             return None
         from .tangent import start_direction
-        return start_direction(len(self.system.states))
+        return start_direction(len(self.system.states), translation_basis(self.system))
 
     def _batch_engine(self, batch_size: int, observations: bool, tangent: bool = False):
         """The process-wide batch engine for this system, tolerance and event cap (compiled once)."""
@@ -484,7 +487,8 @@ class StroboscopicMap:
         point_flags = np.array([[fl.get(f, np.nan) for f in names] for fl in flags], dtype=float)
         W = job.params.get("relay_hz", 1.0 / job.period)
         tangent = {} if job.tangent is None else dict(tangent_start=np.asarray(job.tangent, dtype=float),
-                                                      tangent=np.array(r.tangent).reshape(-1, len(job.y0)))
+                                                      tangent=np.array(r.tangent).reshape(-1, len(job.y0)),
+                                                      tangent_shift=job.shift)
         return orbit_from_periods(self.system, job.params, W, times, points, r.period_events, **tangent,
                                   status=r.status, failure=r.failure, failure_time=r.failure_time,
                                   n_steps=r.n_steps, run_seconds=r.seconds, final_state=r.final_state,

@@ -16,13 +16,26 @@ import math
 
 import numpy as np
 
-__all__ = ["companion_start", "renormalise", "start_direction", "tangent_stretch", "tangent_sample"]
+__all__ = ["companion_start", "renormalise", "reduce", "start_direction", "tangent_stretch", "tangent_sample"]
 
 
-def start_direction(d: int) -> np.ndarray:
-    """The fixed random unit direction (d,) that tangent vectors and companions start along."""
-    u = np.random.default_rng(12345).standard_normal(d)
+def start_direction(d: int, shift=None) -> np.ndarray:
+    """The fixed random unit direction (d,) that tangent vectors and companions start along
+    (with ``shift = (e, a)``: without its component along the translation e, see :func:`reduce`)."""
+    u = reduce(np.random.default_rng(12345).standard_normal(d), shift)
     return u / np.linalg.norm(u)
+
+
+def reduce(u, shift=None) -> np.ndarray:
+    """Tangent vectors ``u`` (..., d) less their component along a translation ``shift = (e, a)``
+    (:func:`maps.translation.translation_basis`): u - u[a] e, the anchor's component 0.  The flow
+    commutes with the translation, so J e = e: a tangent vector reduced after every map step evolves
+    by the reduced map's Jacobian, without the neutral multiplier 1.  Unchanged without a shift."""
+    u = np.asarray(u, dtype=float)
+    if shift is None:
+        return u
+    e, a = shift
+    return u - u[..., a:a + 1] * e
 
 
 def companion_start(y0, d0: float = 1e-8, scale=None) -> np.ndarray:
@@ -32,14 +45,16 @@ def companion_start(y0, d0: float = 1e-8, scale=None) -> np.ndarray:
     return y + d0 * start_direction(y.size) * s
 
 
-def tangent_sample(u, log: list, start=None) -> bool:
+def tangent_sample(u, log: list, start=None, shift=None) -> bool:
     """At a recorded sample, the tangent vector ``u`` (an engine's live view, changed in place)
-    starts at ``start``, or is appended to ``log`` and scaled back to unit length.  False (and u
-    zeroed): it is no longer finite or vanished, nothing more to log."""
+    starts at ``start``, or is appended to ``log``, reduced by ``shift`` (:func:`reduce`) and scaled
+    back to unit length.  False (and u zeroed): it is no longer finite or vanished, nothing more to log."""
     if start is not None:
         u[:] = start
         return True
     log.append(np.array(u, dtype=float))
+    if shift is not None:
+        u[:] = reduce(u, shift)
     norm = math.sqrt(float(np.dot(u, u)))
     if math.isfinite(norm) and norm > 0.0:
         u /= norm
@@ -48,14 +63,15 @@ def tangent_sample(u, log: list, start=None) -> bool:
     return False
 
 
-def tangent_stretch(start, ends, scale=None) -> np.ndarray:
+def tangent_stretch(start, ends, scale=None, shift=None) -> np.ndarray:
     """Log stretch of each map step of a tangent vector in the norm scaled by ``scale``.
 
     ``ends[k]`` (m, d) is the vector at the end of step k, which started from ``start`` (k = 0)
     or from ``ends[k-1]`` renormalised to unit Euclidean length: the stretch is
     log(|ends[k] / scale| / |ends[k-1] / scale| * |ends[k-1]|).  The direction, hence the
-    stretch, does not depend on the norm the vector was renormalised in."""
-    u = np.asarray(ends, dtype=float)
+    stretch, does not depend on the norm the vector was renormalised in.  With ``shift`` the
+    vectors are measured reduced (:func:`reduce`), as :func:`tangent_sample` renormalised them."""
+    u = reduce(ends, shift)
     s = np.ones(u.shape[1]) if scale is None else np.asarray(scale, dtype=float)
     before = np.vstack([np.asarray(start, dtype=float)[None, :], u[:-1] / np.linalg.norm(u[:-1], axis=1)[:, None]])
     with np.errstate(divide="ignore", invalid="ignore"):

@@ -93,3 +93,17 @@ def test_description_names_the_progression_per_period():
     from bifurc.classify import describe
     assert describe(ClassCode.PERIODIC, 2, 3, progression=0.001) == "period-2, 3 impacts (2:3), progression 2 mm per period"
     assert describe(ClassCode.PERIODIC, 1, 1) == "period-1, 1 impact (1:1)"
+
+
+def test_the_tangent_vector_exponent_is_taken_in_reduced_coordinates():
+    """The tangent vector (the sweeps' default) loses its component along the translation after
+    every step: its exponent equals ln of Newton's largest reduced multiplier, on both engines,
+    where the full-coordinate vector would tend to the neutral 0."""
+    orb = bifurc.periodic_orbit("prototype", soil="drift", params={"relay_hz": 5.0}, transient=100, error=False)
+    mu0 = float(np.max(orb.multiplier_abs.values))
+    system, smap, o = _orbit(n=40)
+    for method in ("scalar", "batch"):
+        t = smap.orbits([{}], o.points[0], 40, tangent=True, method=method)[0]   # k = 100: the same phase
+        s = state_scale(reduce_points(system, t.points), 1e-9)
+        lam = float(np.nanmean(t.tangent_stretch(s)[10:]))
+        assert lam == pytest.approx(math.log(mu0), abs=0.02), method

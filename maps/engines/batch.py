@@ -138,7 +138,8 @@ class BatchEngine(Engine):
     def _renormalise_tangent(self, j, lane, first):
         """At a recorded sample: the tangent vector starts (``first``), or is logged and scaled back
         to unit length (a vector that is no longer finite or vanished ends the tangent: no more logs)."""
-        lane.tangent = tangent_sample(self.state[self.n:, j], lane.res.tangent, lane.job.tangent if first else None)
+        lane.tangent = tangent_sample(self.state[self.n:, j], lane.res.tangent, lane.job.tangent if first else None,
+                                      lane.job.shift)
 
     def _tangent_transition(self, j, lane, out, t, flags_before, guard=None, y_now=None):
         """The tangent vector through a transition (saltation, projection)."""

@@ -406,7 +406,7 @@ class ScalarEngine(Engine):
                 run = self.tangent_run(job.params)
                 run.record_events = False
                 run.reset(job.sample_time(k), state)
-                tangent = tangent_sample(run.tangent, res.tangent, job.tangent)
+                tangent = tangent_sample(run.tangent, res.tangent, job.tangent, job.shift)
             if job.reference is None:
                 self._sample(res, run)
             run.record_events = job.log
@@ -416,7 +416,7 @@ class ScalarEngine(Engine):
                 run.advance(job.sample_time(k))
                 run.budget.new_period()
                 if tangent:
-                    tangent = tangent_sample(run.tangent, res.tangent)
+                    tangent = tangent_sample(run.tangent, res.tangent, shift=job.shift)
                 if job.reference is None:
                     self._sample(res, run)
                     if job.log:
