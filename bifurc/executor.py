@@ -22,7 +22,7 @@ import numpy as np
 
 from maps.parameters import ParameterError
 
-__all__ = ["map_values", "chunks_of", "available_cores", "default_workers", "MIN_VALUES_PER_WORKER"]
+__all__ = ["map_values", "chunks_of", "guided_chunks", "available_cores", "default_workers", "MIN_VALUES_PER_WORKER"]
 
 #: a worker process pays its start and one compilation (~1-2 s) before it helps: below this many
 #: values per worker the default stays in this process
@@ -65,6 +65,20 @@ def _default_chunk(n, workers, multiple=1):
     return math.ceil(size / multiple) * multiple
 
 
+def guided_chunks(n: int, workers: int, multiple: int = 1, largest: int = 64):
+    """``(start, stop)`` ranges covering ``range(n)`` that shrink toward the end (guided
+    self-scheduling): each is about the remainder / (4 workers), at most ``largest`` and at least
+    ``multiple`` (the batch lanes) values, so that the last chunks finish together instead of one
+    worker running a long last chunk while the others wait."""
+    out, start = [], 0
+    while start < n:
+        size = min(largest, math.ceil((n - start) / (4 * max(1, workers))))
+        size = max(multiple, math.ceil(size / multiple) * multiple)
+        out.append((start, min(n, start + size)))
+        start += size
+    return out
+
+
 def map_values(job, values, workers: int = 1, scheduler=None, chunk_size: int | None = None,
                on_chunk=None, collect: bool = True, mp_context: str = "spawn"):
     """Evaluate ``job(value)`` for every value; returns the results in grid order.
@@ -93,10 +107,10 @@ def map_values(job, values, workers: int = 1, scheduler=None, chunk_size: int | 
             take(a, _run_chunk(job, values[a:b]))
     else:
         import multiprocessing as mp
-        size = chunk_size or _default_chunk(n, workers, getattr(job, "batch_size", 1))
+        ranges = chunks_of(n, chunk_size) if chunk_size else guided_chunks(n, workers, getattr(job, "batch_size", 1))
         with ProcessPoolExecutor(max_workers=workers, mp_context=mp.get_context(mp_context),
                                  initializer=_warm, initargs=(job,)) as pool:
-            pending = chunks_of(n, size)[::-1]
+            pending = ranges[::-1]
             running = {}
             while pending or running:      # at most 2 chunks per worker in flight: bounded memory
                 while pending and len(running) < 2 * workers:
