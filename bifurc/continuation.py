@@ -27,7 +27,7 @@ from maps.parameters import ParameterError
 from .periodic import _Coordinates, _shooting_matrix
 
 __all__ = ["BranchPoint", "SpecialPoint", "Branch", "ContinuationProblem", "NoConvergence", "SMOOTH_ROLES",
-           "transition_signature", "flags_of", "in_section"]
+           "transition_signature", "flags_of", "in_section", "unit_tangent"]
 
 #: event roles that make the map non-smooth when they appear or vanish (observations and
 #: free-flight minima only record; they may come and go along a smooth branch)
@@ -147,13 +147,7 @@ class ContinuationProblem:
         return F, M, C, lins
 
     def tangent(self, DF, reference) -> np.ndarray:
-        """The unit null vector of DF oriented along ``reference``."""
-        A = np.vstack([DF, reference])
-        rhs = np.zeros(A.shape[0])
-        rhs[-1] = 1.0
-        t = np.linalg.solve(A, rhs)
-        t /= np.linalg.norm(t)
-        return t if t @ reference >= 0 else -t
+        return unit_tangent(DF, reference)
 
     def correct(self, u_pred, normal, flags, *, max_iter: int = 10):
         """Newton on [F(u); normal . (u - u_pred)] = 0 from u_pred: converged when the scaled
@@ -203,6 +197,23 @@ class ContinuationProblem:
                            iterations=iterations,
                            residual=float(np.max(np.abs(F))), events=[list(L.events) for L in lins],
                            advance=advance, phase=self.smap.phase, k0=self.k0)
+
+
+def unit_tangent(DF, reference) -> np.ndarray:
+    """The unit null vector of DF (k x k+1) oriented along ``reference`` (where the bordered system
+    is singular, e.g. a bar stuck on its stop whose frozen state has multipliers 1: the right
+    singular vector of DF's smallest singular value)."""
+    A = np.vstack([DF, reference])
+    rhs = np.zeros(A.shape[0])
+    rhs[-1] = 1.0
+    try:
+        t = np.linalg.solve(A, rhs)
+    except np.linalg.LinAlgError:
+        t = np.zeros(A.shape[1])
+    if not np.all(np.isfinite(t)) or not np.any(t):
+        t = np.linalg.svd(DF)[2][-1]
+    t = t / np.linalg.norm(t)
+    return t if t @ reference >= 0 else -t
 
 
 class NoConvergence(RuntimeError):

@@ -29,6 +29,7 @@ import numpy as np
 from maps.hybrid import IntegrationFailure
 from maps.parameters import ParameterError
 
+from .continuation import unit_tangent
 from .grazing_orbit import grazing_rows
 
 __all__ = ["Curve", "CurveProblem", "follow_curve", "CURVE_KINDS"]
@@ -105,7 +106,10 @@ class CurveProblem:
         K = np.block([[A, self.b[:, None]], [self.c[None, :], np.zeros((1, 1))]])
         rhs = np.zeros(K.shape[0])
         rhs[-1] = 1.0
-        return float(np.linalg.solve(K, rhs)[-1])
+        try:
+            return float(np.linalg.solve(K, rhs)[-1])
+        except np.linalg.LinAlgError:
+            raise _Fail("singular bordered matrix of the test function") from None
 
     def evaluate(self, w, flags):
         """(G, DG, linearizations): the defining system and its Jacobian (len(w) - 1 rows)."""
@@ -164,10 +168,7 @@ def _correct(problem, w_pred, normal, flags, tol, max_iter=12):
     raise _Fail("no convergence")      # pragma: no cover
 
 
-def _tangent(DG, reference):
-    t = np.linalg.solve(np.vstack([DG, reference]), np.append(np.zeros(DG.shape[0]), 1.0))
-    t /= np.linalg.norm(t)
-    return t if t @ reference >= 0 else -t
+
 
 
 def follow_curve(problem: CurveProblem, w0, flags, p2_end: float, bounds1, *, step: float = 0.02,
@@ -188,7 +189,7 @@ def follow_curve(problem: CurveProblem, w0, flags, p2_end: float, bounds1, *, st
     except _Fail as exc:
         curve.stop_reason = f"the start does not converge: {exc}"
         return curve
-    t = _tangent(DG, e * math.copysign(1.0, p2_end - p2_start))
+    t = unit_tangent(DG, e * math.copysign(1.0, p2_end - p2_start))
     curve.p1.append(float(problem.values(w)[0]))
     curve.p2.append(float(problem.values(w)[1]))
     curve.residual.append(norm)
@@ -196,7 +197,7 @@ def follow_curve(problem: CurveProblem, w0, flags, p2_end: float, bounds1, *, st
     while len(curve.p1) < max_points:
         try:
             w_new, G, DG, flags_new, norm = _correct(problem, w + h * t, t, flags, tol)
-            t_new = _tangent(DG, t)
+            t_new = unit_tangent(DG, t)
         except _Fail as exc:
             if h / 2 >= min_step:
                 h /= 2
