@@ -15,7 +15,8 @@ _MARKERS = {"fold": "s", "period_doubling": "D", "neimark_sacker": "h", "grazing
             "stick_onset": "X", "signature_change": "P"}
 
 
-def plot_branch(ds, path=None, state=None, node: int = 0, ax=None, diagram=None, overwrite=False):
+def plot_branch(ds, path=None, state=None, node: int = 0, ax=None, diagram=None, overwrite=False, label=None,
+                colour: int = 0):
     """The continuation parameter against ``state`` (default the first state) at strobe node
     ``node`` of each branch point: stable parts solid, unstable dashed, one colour per branch;
     special points marked and labelled (LP fold, PD period doubling, NS Neimark-Sacker, G grazing,
@@ -23,8 +24,9 @@ def plot_branch(ds, path=None, state=None, node: int = 0, ax=None, diagram=None,
 
     ``diagram``: a sweep dataset (bifurc.sweep / ``bifurc diagram``) of the same parameter, drawn
     behind as grey dots (every recorded sample).  ``ax``: draw into this Axes.  ``path``: also save
-    there (an existing file is refused unless ``overwrite``) and close the figure.  Returns the Axes
-    (shown once in Jupyter).
+    there (an existing file is refused unless ``overwrite``) and close the figure.  ``label``,
+    ``colour``: the legend text and first palette index, to tell several datasets apart on one Axes.
+    Returns the Axes (shown once in Jupyter).
     """
     if path is not None:
         check_figure_output(path, overwrite)
@@ -41,11 +43,12 @@ def plot_branch(ds, path=None, state=None, node: int = 0, ax=None, diagram=None,
     for b in np.unique(ds.branch_id.values):
         sel = ds.branch_id.values == b
         p, y, stable = ds[par].values[sel], ds[state].values[sel, node], ds.stable.values[sel] == 1
-        colour = colours[int(b) % len(colours)]
+        tint = colours[(int(b) + colour) % len(colours)]
         name = labels[int(b)] if int(b) < len(labels) else f"branch {b}"
+        name = name if label is None else f"{label}, {name}"
         for k in range(len(p) - 1):       # segment by segment: solid where both ends are stable
-            ax.plot(p[k:k + 2], y[k:k + 2], color=colour, lw=1.8, ls="-" if stable[k] and stable[k + 1] else "--")
-        ax.plot([], [], color=colour, lw=1.8, label=f"{name} (solid: stable, dashed: unstable)")
+            ax.plot(p[k:k + 2], y[k:k + 2], color=tint, lw=1.8, ls="-" if stable[k] and stable[k + 1] else "--")
+        ax.plot([], [], color=tint, lw=1.8, label=f"{name} (solid: stable, dashed: unstable)")
     for i in range(ds.sizes.get("special", 0)):
         kind = SPECIAL_KINDS[int(ds.special_kind.values[i])]
         j = int(ds.special_point.values[i])

@@ -177,8 +177,9 @@ def _figure(case, path, overwrite):
     from bifurc.plot_branch import plot_branch
     fig, ax = plt.subplots(figsize=(9, 5.5))
     first = True
-    for ds in case["branches"]:
-        plot_branch(ds, ax=ax, diagram=case["diagram"] if first else None)
+    for k, ds in enumerate(case["branches"]):
+        plot_branch(ds, ax=ax, diagram=case["diagram"] if first else None, colour=k,
+                    label=f"from {float(ds.V.values[0]):g} V toward {'lower' if ds.V.values[min(1, ds.sizes['point'] - 1)] < ds.V.values[0] else 'higher'} V")
         first = False
     if first:
         from bifurc.plot_diagram import plot_diagram
