@@ -178,8 +178,10 @@ def _figure(case, path, overwrite):
     fig, ax = plt.subplots(figsize=(9, 5.5))
     first = True
     for k, ds in enumerate(case["branches"]):
+        V = ds.V.values
+        way = "lower" if V[min(1, V.size - 1)] < V[0] else "higher"
         plot_branch(ds, ax=ax, diagram=case["diagram"] if first else None, colour=k,
-                    label=f"from {float(ds.V.values[0]):g} V toward {'lower' if ds.V.values[min(1, ds.sizes['point'] - 1)] < ds.V.values[0] else 'higher'} V")
+                    label=f"from {V[0]:g} V toward {way} V")
         first = False
     if first:
         from bifurc.plot_diagram import plot_diagram
