@@ -250,9 +250,10 @@ def test_quick_thesis_orbits_study_writes_its_report(tmp_path):
     assert main(["study", "thesis-orbits", "--quick", "-o", str(tmp_path)]) == 2     # not empty: refused
 
 
-def test_two_parameter_fold_and_grazing_curves_equal_the_closed_form():
+def test_two_parameter_fold_period_doubling_and_grazing_curves_equal_the_closed_form():
     """The fold of the 1:1 family in (e, r): at each r on the curve, the extremum of e(th) of the
-    closed form; the grazing of the non-impacting orbit in (F, zeta): F = -e sqrt(D(zeta))."""
+    closed form; its period doubling in (e, r): the zero of det(P S + I) along the family; the
+    grazing of the non-impacting orbit in (F, zeta): F = -e sqrt(D(zeta))."""
     ds = bifurc.continue_orbit("impact-oscillator", "e", (0.2, 0.6), param2="r", span2=(0.7, 0.9), error=False)
     kinds = [bifurc.curves.CURVE_KINDS[int(k)] for k in ds.curve_kind.values]
     assert kinds == ["fold"]
@@ -263,6 +264,15 @@ def test_two_parameter_fold_and_grazing_curves_equal_the_closed_form():
         p = dict(BASE, r=float(r[i]))
         value, _ = one_to_one_family(**{k: p[k] for k in ("w0", "zeta", "F", "Omega", "r", "e")}, free="e")
         assert abs(e[i] - fold_of(value, th, +1)) < 1e-7
+    pd = bifurc.continue_orbit("impact-oscillator", "e", (0.2, -0.2), param2="r", span2=(0.7, 0.8), error=False)
+    assert [bifurc.curves.CURVE_KINDS[int(k)] for k in pd.curve_kind.values] == ["period_doubling"]
+    e, r = pd.curve_e.values, pd.curve_r.values
+    assert e.size >= 8 and r.max() > 0.79
+    for i in (1, e.size // 2, e.size - 2):
+        p = dict(BASE, r=float(r[i]))
+        value, mult = one_to_one_family(**{k: p[k] for k in ("w0", "zeta", "F", "Omega", "r", "e")}, free="e")
+        closed = [ee for ee, v in period_doublings_of(value, mult, th) if v < 0 and ee < 0.2]
+        assert len(closed) == 1 and abs(e[i] - closed[0]) < 1e-7
     p = dict(BASE, Omega=1.5, e=-0.05)
     g = bifurc.continue_orbit("impact-oscillator", "F", (0.02, 0.3), params=p, x0={"x": 0.0}, error=False,
                               param2="zeta", span2=(0.05, 0.3))
