@@ -26,7 +26,7 @@ from .arclength import continue_branch
 from .continuation import ContinuationProblem
 from .orbit import first_guess, multiplier_change
 from .periodic import OrbitNotFound, find_periodic_orbit
-from .scene import SystemScene, resolve_scene
+from .scene import resolve_scene
 
 __all__ = ["continue_orbit", "branch_dataset"]
 
@@ -94,7 +94,7 @@ def continue_orbit(scene, param: str, span, *, params=None, preset=None, period:
         a2, b2 = _span("span2", span2, "from2, to2")
         values_in[param2] = a2
     sc, table = resolve_scene(scene, values_in, preset, circuit, ac_sign, dc_law, soil, compaction)
-    system = sc.system if isinstance(sc, SystemScene) else sc.system
+    system = sc.system
     values = {k: v for k, (v, _) in table.items()}
     smap = StroboscopicMap(system, values, tol=tol)
     _check_param(smap, system, param, values)
