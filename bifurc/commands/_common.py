@@ -145,6 +145,9 @@ def add_grid_options(parser, what: str = "value") -> None:
     ``what``, the period search, Lyapunov exponents, where it runs, and its outputs."""
     parser.add_argument("--transient", type=int, default=300, help=f"relay periods discarded per {what}")
     parser.add_argument("--record", type=int, default=100, help=f"relay periods recorded per {what}")
+    parser.add_argument("--max-record", type=int, default=None,
+                        help=f"extend the record of a {what} whose forcing period q exceeds record/3 (q <= "
+                             f"--max-period) to 3 q relay periods, at most this many (default 3 x --record)")
     parser.add_argument("--max-period", type=int, default=100,
                         help="cap of the period search in relay periods (default 100); candidates are the "
                              "multiples of the forcing period q that fit twice in the record")

@@ -16,9 +16,6 @@ def register(subparsers):
     p.add_argument("--from", dest="start", type=float, required=True, help="first value")
     p.add_argument("--to", dest="stop", type=float, required=True, help="last value")
     p.add_argument("--n", type=int, default=100, help="number of values (default 100)")
-    p.add_argument("--max-record", type=int, default=None,
-                   help="extend the record of a value whose forcing period q exceeds record/3 (q <= --max-period) "
-                        "to 3 q relay periods, at most this many (default 3 x --record)")
     p.add_argument("--max-transient", type=int, default=None,
                    help="extend the transient of values still converging, up to this many relay periods")
     p.add_argument("--mode", choices=("independent", "follow"), default="independent",
