@@ -119,7 +119,7 @@ class CurveProblem:
             j, d = self.node, self.base.d
             t_g = w[-1] * self.base.smap.period
             try:
-                G2, rows, _ = grazing_rows(self.base, nodes, j, t_g, self.names, self.p_scales,
+                G2, rows, _, _ = grazing_rows(self.base, nodes, j, t_g, self.names, self.p_scales,
                                            float(np.max(self.base.scale)))
             except (IntegrationFailure, ZeroDivisionError, ParameterError) as exc:
                 raise _Fail(str(exc)) from None

@@ -51,8 +51,10 @@ def gap_derivatives(system, params: tuple):
 
 
 def grazing_rows(problem, nodes, j, t_g, names, p_scales, gscale):
-    """(G, rows): the scaled gap and gap rate at t_g in node j's period and their derivatives with
-    respect to the scaled node j (d columns), the parameters ``names`` and t_g / T."""
+    """(G, rows, h, a): the scaled gap and gap rate at t_g in node j's period and their derivatives
+    with respect to the scaled node j (d columns), the parameters ``names`` and t_g / T; the gap h
+    and its acceleration a (> 0 where the gap has a minimum: the orbit touches the stop from the
+    free side)."""
     smap, system = problem.smap, problem.smap.system
     t0, t1 = smap.sample_time(problem.k0 + j), smap.sample_time(problem.k0 + j + 1)
     if not t0 <= t_g <= t1:
@@ -68,7 +70,7 @@ def grazing_rows(problem, nodes, j, t_g, names, p_scales, gscale):
     rows[:, -1] = np.array([r, a]) * T
     rows /= gscale
     rows[1] *= T
-    return np.array([h / gscale, r * T / gscale]), rows, float(h)
+    return np.array([h / gscale, r * T / gscale]), rows, float(h), float(a)
 
 
 def closest_flight_minimum(problem, pt):
@@ -87,9 +89,11 @@ def closest_flight_minimum(problem, pt):
     return best
 
 
-def locate_grazing(problem, prev, *, max_iter: int = 30):
+def locate_grazing(problem, prev, *, max_iter: int = 30, radius: float = 0.1):
     """Solve the augmented system from branch point ``prev``: (parameter value, its tolerance (NaN:
-    not located), the gap at t_g, the grazing BranchPoint or None, a note, {"t_g", "node"})."""
+    not located), the gap at t_g, the grazing BranchPoint or None, a note, {"t_g", "node"}).
+    Iterates stay within ``radius`` (scaled units, as the arclength step) of ``prev``: farther, it is
+    another grazing, and this one is reported as not located."""
     near = closest_flight_minimum(problem, prev)
     if near is None:
         return math.nan, math.nan, math.nan, None, "no free-flight minimum to graze", {}
@@ -101,13 +105,18 @@ def locate_grazing(problem, prev, *, max_iter: int = 30):
         try:
             F, DF, lins = problem.evaluate(u, flags)
             flags = [dict(lins[i - 1].state.flags) for i in range(problem.n)]
-            G, rows, h = grazing_rows(problem, problem.states(u, flags), j, t_g, (problem.param,),
-                                      [problem.p_scale], gscale)
+            j, t_g = _node_of(problem, j, t_g)
+            G, rows, h, acc = grazing_rows(problem, problem.states(u, flags), j, t_g, (problem.param,),
+                                           [problem.p_scale], gscale)
         except (IntegrationFailure, ZeroDivisionError, ParameterError) as exc:
             return problem.parameter(u), math.nan, math.nan, None, f"the augmented Newton failed: {exc}", {}
         norm = max(float(np.max(np.abs(F))), float(np.max(np.abs(G))))
-        extra = sum(Lk.signature.count("impact") for Lk in lins) > impacts
-        if norm < problem.tol and not extra:
+        same = sum(Lk.signature.count("impact") for Lk in lins) == impacts
+        if norm < problem.tol and same:
+            if not acc > 0:
+                return (problem.parameter(u), math.nan, math.nan, None,
+                        f"the augmented Newton converged to a tangency from the wrong side (gap acceleration "
+                        f"{acc:.3g} <= 0 at t_g): not the grazing of this branch", {})
             pt = problem.point(u, F, DF, lins, flags, it, prev.tangent)
             return (pt.p, abs(last_step) * problem.p_scale, h, pt, f"t_g = {t_g:.12g} s in the period of node {j}",
                     {"t_g": t_g, "node": j})
@@ -121,6 +130,9 @@ def locate_grazing(problem, prev, *, max_iter: int = 30):
             step = np.linalg.solve(A, -np.concatenate([F, G]))
         except np.linalg.LinAlgError:
             break
+        if float(np.max(np.abs(u - prev.u))) > radius:
+            return (problem.parameter(u), math.nan, math.nan, None, "the augmented Newton left the neighbourhood "
+                    "of the branch's last point (it heads for another grazing): not located", {})
         lam = 1.0
         while lam > 1e-3:           # damp an iterate that impacts back
             u_try, t_try = u + lam * step[:-1], t_g + lam * step[-1] * problem.smap.period
@@ -131,8 +143,24 @@ def locate_grazing(problem, prev, *, max_iter: int = 30):
     return problem.parameter(u), math.nan, math.nan, None, f"the augmented Newton did not converge (residual {norm:.3g})", {}
 
 
+def _node_of(problem, j, t_g):
+    """(node, t_g) with t_g inside that node's period: a grazing time that Newton moved past a sample
+    time belongs to the neighbouring node (the orbit is periodic: past the last node, the first, a
+    whole orbit period earlier)."""
+    smap, n = problem.smap, problem.n
+    for _ in range(2 * n):
+        if t_g > smap.sample_time(problem.k0 + j + 1):
+            j, t_g = (j + 1, t_g) if j + 1 < n else (0, t_g - (smap.sample_time(problem.k0 + n) - smap.sample_time(problem.k0)))
+        elif t_g < smap.sample_time(problem.k0 + j):
+            j, t_g = (j - 1, t_g) if j > 0 else (n - 1, t_g + (smap.sample_time(problem.k0 + n) - smap.sample_time(problem.k0)))
+        else:
+            break
+    return j, t_g
+
+
 def _clear(problem, u, flags, impacts) -> bool:
-    """True when the orbit's steps from u have no more impacts than the branch had."""
+    """True when the orbit's steps from u have as many impacts as the branch had (an iterate that
+    adds one crosses the grazing; one that loses one has left the branch)."""
     smap = problem.smap
     try:
         smap.set_params(**{problem.param: problem.parameter(u)})
@@ -141,4 +169,4 @@ def _clear(problem, u, flags, impacts) -> bool:
             count += smap.linearize(s, problem.k0 + j).signature.count("impact")
     except (IntegrationFailure, ZeroDivisionError):
         return False
-    return count <= impacts
+    return count == impacts

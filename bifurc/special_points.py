@@ -157,10 +157,18 @@ def _slowest_impact(problem, pt) -> float:
     return min(speeds) if speeds else math.inf
 
 
+def _speed_scale(problem, pt) -> float:
+    """The largest gap rate at the nodes of ``pt`` (the orbit's own speed toward or away from the stop)."""
+    gap = problem.smap.system.gap
+    return max([abs(gap(s.y, problem.smap.params)[1]) for s in pt.nodes] + [1e-300]) if gap is not None else math.inf
+
+
 def discontinuity(problem, prev: BranchPoint, pt: BranchPoint | None) -> SpecialPoint | None:
     """Locate the event that stopped the branch after ``prev``: a grazing where a free-flight
     minimum touches the stop (augmented system), else the bracket [prev, pt]."""
     born = pt is not None and pt.impacts > prev.impacts
+    if pt is None and _slowest_impact(problem, prev) < 1e-3 * _speed_scale(problem, prev):
+        return None    # an impact slowing to 0: a grazing from the impacting side, not a free-flight minimum's
     if closest_flight_minimum(problem, prev) is not None and (born or pt is None):
         with in_section(problem, prev):
             p, tol, gap, at, note, data = locate_grazing(problem, prev)
