@@ -26,12 +26,26 @@ INTERVAL_METHOD = ("95 % Student-t interval of the mean of 10 consecutive batch 
                    "stretch (fewer batches below 50 steps, at least 2)")
 
 
+#: two-sided 95 % Student-t quantiles t_{0.975, df} for df = 1 ... 9 (the batch means of
+#: :func:`exponent_interval`): a table, so that a sweep's worker does not import scipy.stats
+#: (1.3 s per process); tests/test_classify.py checks it against scipy.stats.t.ppf
+T975 = (12.706204736174694, 4.302652729749462, 3.1824463052837078, 2.7764451051977934, 2.5705818356363146,
+        2.4469118511449786, 2.364624251592784, 2.306004135204166, 2.262157162798205)
+
+
+def _student_t(q: float, df: int) -> float:
+    """The ``q`` quantile of Student's t with ``df`` degrees of freedom."""
+    if q == 0.975 and 1 <= df <= len(T975):
+        return T975[df - 1]
+    from scipy.special import stdtrit
+    return float(stdtrit(df, q))
+
+
 def exponent_interval(stretch, batches: int = 10, level: float = 0.95) -> tuple[float, float, float]:
     """(exponent, low, high) [per step] from the log stretch of each step: the mean, and a ``level``
     Student-t interval from the spread of ``batches`` consecutive batch means (the steps are
     correlated; batch means are nearly independent when a batch is longer than the correlation).
     NaN where a step failed; (mean, NaN, NaN) with fewer than 4 steps."""
-    from scipy.stats import t as student_t
     s = np.asarray(stretch, dtype=float)
     if s.size == 0 or not np.all(np.isfinite(s)):
         return math.nan, math.nan, math.nan
@@ -40,7 +54,7 @@ def exponent_interval(stretch, batches: int = 10, level: float = 0.95) -> tuple[
     if s.size < 4 or b < 2:
         return mean, math.nan, math.nan
     means = np.array([np.mean(part) for part in np.array_split(s, b)])
-    half = float(student_t.ppf(0.5 + level / 2, b - 1) * np.std(means, ddof=1) / math.sqrt(b))
+    half = float(_student_t(0.5 + level / 2, b - 1) * np.std(means, ddof=1) / math.sqrt(b))
     return mean, mean - half, mean + half
 
 

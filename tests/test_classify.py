@@ -158,3 +158,14 @@ def test_an_interval_that_straddles_the_threshold_is_not_converged_with_its_reas
     c = classify_orbit(pts, imp, lyapunov=-0.05, lyapunov_interval=(-0.12, 0.0), **base)
     assert c["label"] == "not-converged" and "-0.09" in c["reason"]
     assert classify_orbit(pts, imp, lyapunov=0.0, lyapunov_interval=(-0.02, 0.03), **base)["label"] == "quasi-periodic"
+
+
+def test_the_student_t_table_of_the_exponent_interval_equals_scipy():
+    """The batch-means interval uses a table of t_{0.975, df} (no scipy.stats import in workers)."""
+    from scipy.stats import t
+
+    from bifurc.lyapunov import T975, _student_t
+    for df in range(1, 10):
+        assert T975[df - 1] == pytest.approx(float(t.ppf(0.975, df)), rel=1e-14)
+    assert _student_t(0.95, 4) == pytest.approx(float(t.ppf(0.95, 4)), rel=1e-12)     # off the table: scipy.special
+    assert _student_t(0.975, 30) == pytest.approx(float(t.ppf(0.975, 30)), rel=1e-12)
