@@ -27,14 +27,14 @@ def continue_branch(problem: ContinuationProblem, orbit, p_start: float, p_end: 
     of the two), ``max_points`` points are taken, or a non-smooth event or a corrector failure at
     ``min_step`` stops it (``Branch.stop_reason`` says which).  When a state-changing event comes
     within ``section_margin`` strobe periods of a sample time, the section moves (the map's phase)
-    to the middle of the widest event-free interval of the period, at most ``max_resections`` times:
-    an event crossing the section would move between periods and break the map's smoothness.  ``tangent``: a start direction
-    (scaled unknowns; branch switching), else the null vector pointing toward p_end; ``bounds``:
-    the interval to stay in, if not [p_start, p_end]."""
+    to the middle of the widest event-free interval of the period, at most ``max_resections``
+    times: an event crossing the section would move between periods and break the map's
+    smoothness.  ``tangent``: a start direction (scaled unknowns; branch switching), else the null
+    vector pointing toward p_end; ``bounds``: the interval to stay in, if not [p_start, p_end]."""
     clock = _time.perf_counter()
     lo, hi = sorted(bounds) if bounds is not None else (min(p_start, p_end), max(p_start, p_end))
     branch = Branch(problem.param, problem.n, problem.k0, label=label)
-    flags = [dict(s.flags or {}) for s in orbit.nodes]
+    flags = flags_of(orbit)
     u0 = problem.pack(orbit.nodes, p_start)
     direction = math.copysign(1.0, p_end - p_start) if p_end != p_start else 1.0
     e_p = np.zeros(u0.size)
@@ -68,7 +68,7 @@ def continue_branch(problem: ContinuationProblem, orbit, p_start: float, p_end: 
                 h /= 2
                 continue
             branch.stop_reason = event_reason(prev, pt, why, problem)
-            if locate and pt is not None and why == "signature" or locate and pt is None:
+            if locate and (pt is None or why == "signature"):
                 sp = discontinuity(problem, prev, pt)
                 if sp is not None:
                     sp.index = len(branch.points) - 1
@@ -126,8 +126,7 @@ def _resection(problem, pt):
         smap.phase, problem.k0 = (phase - 1.0, problem.k0 + 1) if phase >= 1.0 else (phase, problem.k0)
         e_p = np.zeros(pt.u.size)
         e_p[-1] = 1.0
-        u, F, DF, lins, flags, its = problem.correct(problem.pack(nodes, pt.p), e_p,
-                                                     [dict(s.flags or {}) for s in nodes])
+        u, F, DF, lins, flags, its = problem.correct(problem.pack(nodes, pt.p), e_p, [dict(s.flags) for s in nodes])
         reference = pt.tangent[-1] * e_p if abs(pt.tangent[-1]) > 1e-3 else e_p
         return problem.point(u, F, DF, lins, flags, its, reference)
     except (NoConvergence, IntegrationFailure, ParameterError):

@@ -23,9 +23,9 @@ from maps.poincare import StroboscopicMap
 from maps.provenance import cf_attrs, recorded
 
 from .arclength import continue_branch
-from .continuation import ContinuationProblem
+from .continuation import ContinuationProblem, flags_of, in_section
 from .orbit import first_guess, multiplier_change
-from .periodic import OrbitNotFound, find_periodic_orbit
+from .periodic import OrbitNotFound, find_periodic_orbit, monodromy
 from .scene import resolve_scene
 
 __all__ = ["continue_orbit", "branch_dataset"]
@@ -129,7 +129,6 @@ def continue_orbit(scene, param: str, span, *, params=None, preset=None, period:
 
 def _curves(problem, branches, param2, span2, span, max_points, progress):
     """Each located fold, period doubling and grazing of the branches, continued in (param, param2)."""
-    from .continuation import in_section
     from .curves import CurveProblem, follow_curve
     out, index = [], 0
     for br in branches:
@@ -144,8 +143,7 @@ def _curves(problem, branches, param2, span2, span, max_points, progress):
                 cp = CurveProblem(base, sp.kind, param2, span2[0], abs(span2[1] - span2[0]),
                                   node=sp.data.get("node", 0))
                 w0 = cp.pack(sp.point.nodes, sp.p, span2[0], sp.data.get("t_g"))
-                curve = follow_curve(cp, w0, [dict(s.flags or {}) for s in sp.point.nodes], span2[1], span,
-                                     max_points=max_points)
+                curve = follow_curve(cp, w0, flags_of(sp.point), span2[1], span, max_points=max_points)
                 problem.smap.set_params(**{param2: span2[0]})
             curve.start = index - 1
             out.append(curve)
@@ -178,10 +176,7 @@ def _switch(smap, problem, sp, span, step, max_step, max_points, say):
     tangent along the multiplier -1's eigenvector v at node 0 (v_{j+1} = J_j v_j, then -v)."""
     pt = sp.point
     smap.phase = pt.phase                     # the section the period doubling was located in
-    M = np.eye(problem.d)
-    for J in pt.jacobians:
-        M = J @ M
-    w, V = np.linalg.eig(M)
+    w, V = np.linalg.eig(monodromy(pt.jacobians))
     v = np.real(V[:, int(np.argmin(np.abs(w + 1.0)))])
     vs = []
     for J in pt.jacobians:

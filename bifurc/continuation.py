@@ -24,10 +24,10 @@ import numpy as np
 from maps.hybrid import HybridState, IntegrationFailure
 from maps.parameters import ParameterError
 
-from .periodic import _Coordinates, _shooting_matrix
+from .periodic import _Coordinates, _shooting_matrix, monodromy
 
 __all__ = ["BranchPoint", "SpecialPoint", "Branch", "ContinuationProblem", "NoConvergence", "SMOOTH_ROLES",
-           "transition_signature", "flags_of", "in_section", "unit_tangent"]
+           "transition_signature", "flags_of", "in_section", "unit_tangent", "bordered_newton", "impact_count"]
 
 #: event roles that make the map non-smooth when they appear or vanish (observations and
 #: free-flight minima only record; they may come and go along a smooth branch)
@@ -63,7 +63,7 @@ class BranchPoint:
 
     @property
     def impacts(self) -> int:
-        return sum(s.count("impact") for s in self.signatures)
+        return sum(sig.count("impact") for sig in self.signatures)
 
     @property
     def transitions(self) -> tuple:
@@ -146,54 +146,25 @@ class ContinuationProblem:
         C = np.vstack([(co.R @ L.J_p) / s[:, None] * np.asarray(p_scales)[None, :] for L in lins])
         return F, M, C, lins
 
-    def tangent(self, DF, reference) -> np.ndarray:
-        return unit_tangent(DF, reference)
-
     def correct(self, u_pred, normal, flags, *, max_iter: int = 10):
-        """Newton on [F(u); normal . (u - u_pred)] = 0 from u_pred: converged when the scaled
-        residual is below ``tol``, or below 100 tol when the iteration stalls or its update falls
-        below tol (the integration's noise floor, amplified by large multipliers near a grazing).
+        """Newton on [F(u); normal . (u - u_pred)] = 0 from u_pred (:func:`bordered_newton`).
 
         Returns (u, F, DF, lins, flags, iterations) or raises NoConvergence."""
-        u = u_pred.copy()
-        flags = list(flags)
-        last = math.inf
-        for it in range(max_iter + 1):
+        def evaluate(u, flags):
             try:
-                F, DF, lins = self.evaluate(u, flags)
+                return self.evaluate(u, flags)
             except (IntegrationFailure, ZeroDivisionError, ParameterError) as exc:
                 raise NoConvergence(f"the integration failed: {exc}") from None
-            flags = [dict(lins[j - 1].state.flags) for j in range(self.n)]
-            norm = float(np.max(np.abs(F)))
-            if not math.isfinite(norm):
-                raise NoConvergence("non-finite residual")
-            stalled = it >= 2 and norm > 0.5 * last
-            if norm < self.tol or (stalled and norm < 100 * self.tol):
-                return u, F, DF, lins, flags, it     # converged, or at the integration's noise floor
-            if it == max_iter or (it >= 3 and stalled):
-                raise NoConvergence(f"the corrector stalled at scaled residual {norm:.3g} after {it} iterations")
-            last = norm
-            A = np.vstack([DF, normal])
-            rhs = np.append(-F, -float(normal @ (u - u_pred)))
-            try:
-                du = np.linalg.solve(A, rhs)
-            except np.linalg.LinAlgError:
-                raise NoConvergence("singular bordered Jacobian") from None
-            if norm < 100 * self.tol and float(np.max(np.abs(du))) < self.tol:
-                return u, F, DF, lins, flags, it      # at the integration's noise floor (large multipliers)
-            u = u + du
-        raise NoConvergence("no convergence")   # pragma: no cover - loop returns or raises
+        return bordered_newton(evaluate, u_pred, normal, flags, self.tol, max_iter=max_iter, stall_after=3,
+                               tiny_update=True)
 
     def point(self, u, F, DF, lins, flags, iterations, reference, *, tangent=None) -> BranchPoint:
         co = self.co
         Js = [co.R @ L.J @ co.E for L in lins]
-        M = np.eye(self.d)
-        for J in Js:
-            M = J @ M
         advance = float(sum(L.state.y[co.a] for L in lins)) if co.a is not None else 0.0
-        return BranchPoint(p=self.parameter(u), nodes=self.states(u, flags), multipliers=np.linalg.eigvals(M),
+        return BranchPoint(p=self.parameter(u), nodes=self.states(u, flags), multipliers=np.linalg.eigvals(monodromy(Js)),
                            signatures=[L.signature for L in lins], jacobians=Js, u=u,
-                           tangent=self.tangent(DF, reference) if tangent is None else tangent / np.linalg.norm(tangent),
+                           tangent=unit_tangent(DF, reference) if tangent is None else tangent / np.linalg.norm(tangent),
                            iterations=iterations,
                            residual=float(np.max(np.abs(F))), events=[list(L.events) for L in lins],
                            advance=advance, phase=self.smap.phase, k0=self.k0)
@@ -220,10 +191,57 @@ class NoConvergence(RuntimeError):
     """The corrector did not converge (the message says how it stopped)."""
 
 
-# ----- test functions -------------------------------------------------------------------------------
+def impact_count(lins) -> int:
+    """Impacts in the steps of linearizations ``lins`` (their events' roles)."""
+    return sum(L.signature.count("impact") for L in lins)
 
 
-def flags_of(pt: BranchPoint) -> list:
+def bordered_newton(evaluate, u_pred, normal, flags, tol: float, *, max_iter: int, stall_after: int,
+                    tiny_update: bool, keep_impacts: bool = False):
+    """Newton on [G(u); normal . (u - u_pred)] = 0 from u_pred, the one corrector of branches
+    (:class:`ContinuationProblem`) and two-parameter curves (:mod:`bifurc.curves`).
+
+    ``evaluate(u, flags) -> (G, DG, linearizations)`` raises :class:`NoConvergence` when it
+    cannot.  Converged when max |G| < ``tol``, or below 100 tol when the iteration stalls (the
+    residual no longer halves) or, with ``tiny_update``, when the Newton update falls below tol:
+    the integration's noise floor, amplified by large multipliers near a grazing.  With
+    ``keep_impacts`` a step that adds an impact (crossing a grazing, where the map is not
+    differentiable) is halved, down to 1e-3 of itself.  Returns (u, G, DG, linearizations,
+    flags, iterations); raises NoConvergence."""
+    u, last, allowed = np.array(u_pred, dtype=float), math.inf, None
+    G, DG, lins = evaluate(u, flags)
+    for it in range(max_iter + 1):
+        flags = [dict(lins[j - 1].state.flags) for j in range(len(lins))]
+        if keep_impacts and allowed is None:
+            allowed = impact_count(lins)
+        norm = float(np.max(np.abs(G)))
+        if not math.isfinite(norm):
+            raise NoConvergence("non-finite residual")
+        stalled = it >= 2 and norm > 0.5 * last
+        if norm < tol or (stalled and norm < 100 * tol):
+            return u, G, DG, lins, flags, it
+        if it == max_iter or (it >= stall_after and stalled):
+            raise NoConvergence(f"the corrector stalled at scaled residual {norm:.3g} after {it} iterations")
+        last = norm
+        try:
+            du = np.linalg.solve(np.vstack([DG, normal]), np.append(-G, -float(normal @ (u - u_pred))))
+        except np.linalg.LinAlgError:
+            raise NoConvergence("singular bordered Jacobian") from None
+        if tiny_update and norm < 100 * tol and float(np.max(np.abs(du))) < tol:
+            return u, G, DG, lins, flags, it
+        lam = 1.0
+        while True:                        # the trial's evaluation is the next iteration's
+            trial = evaluate(u + lam * du, flags)
+            if allowed is None or lam <= 1e-3 or impact_count(trial[2]) <= allowed:
+                break
+            lam /= 2
+        u = u + lam * du
+        G, DG, lins = trial
+    raise NoConvergence("no convergence")   # pragma: no cover - the loop returns or raises
+
+
+def flags_of(pt) -> list:
+    """The mode flags of each node of ``pt`` (anything with ``nodes``: a branch point, an orbit)."""
     return [dict(s.flags or {}) for s in pt.nodes]
 
 

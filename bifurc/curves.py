@@ -29,7 +29,7 @@ import numpy as np
 from maps.hybrid import IntegrationFailure
 from maps.parameters import ParameterError
 
-from .continuation import unit_tangent
+from .continuation import NoConvergence, bordered_newton, unit_tangent
 from .grazing_orbit import grazing_rows
 
 __all__ = ["Curve", "CurveProblem", "follow_curve", "CURVE_KINDS"]
@@ -48,10 +48,6 @@ class Curve:
     residual: list = field(default_factory=list)
     stop_reason: str = ""
     start: int = -1            # index of the special point of the branch it starts from
-
-
-class _Fail(RuntimeError):
-    pass
 
 
 class CurveProblem:
@@ -86,13 +82,13 @@ class CurveProblem:
     def _shoot(self, w, flags):
         p = self.values(w)
         if not np.all(np.isfinite(p)):
-            raise _Fail("non-finite parameters")
+            raise NoConvergence("non-finite parameters")
         try:
             self.base.smap.set_params(**dict(zip(self.names, p)))
             nodes = self.base.states(w, flags)
             F, M, C, lins = self.base.shooting(nodes, self.names, self.p_scales)
         except (IntegrationFailure, ZeroDivisionError, ParameterError) as exc:
-            raise _Fail(str(exc)) from None
+            raise NoConvergence(str(exc)) from None
         return nodes, F, M, C, lins
 
     def refresh_bordering(self, w, flags):
@@ -109,7 +105,7 @@ class CurveProblem:
         try:
             return float(np.linalg.solve(K, rhs)[-1])
         except np.linalg.LinAlgError:
-            raise _Fail("singular bordered matrix of the test function") from None
+            raise NoConvergence("singular bordered matrix of the test function") from None
 
     def evaluate(self, w, flags):
         """(G, DG, linearizations): the defining system and its Jacobian (len(w) - 1 rows)."""
@@ -122,7 +118,7 @@ class CurveProblem:
                 G2, rows, _, _ = grazing_rows(self.base, nodes, j, t_g, self.names, self.p_scales,
                                            float(np.max(self.base.scale)))
             except (IntegrationFailure, ZeroDivisionError, ParameterError) as exc:
-                raise _Fail(str(exc)) from None
+                raise NoConvergence(str(exc)) from None
             B = np.zeros((2, w.size))
             B[:, j * d:(j + 1) * d] = rows[:, :d]
             B[:, self.N:] = rows[:, d:]
@@ -137,38 +133,13 @@ class CurveProblem:
         return np.append(F, sigma), np.vstack([top, grad]), lins
 
 
-def _impacts(lins) -> int:
-    return sum(L.signature.count("impact") for L in lins)
-
-
-def _correct(problem, w_pred, normal, flags, tol, max_iter=12):
-    """Newton on [G(w); normal . (w - w_pred)] = 0.  On a grazing curve an iterate that adds an
-    impact (the map is not differentiable across the grazing) is damped back toward the last one."""
-    w, last, allowed = w_pred.copy(), math.inf, None
-    for it in range(max_iter + 1):
-        G, DG, lins = problem.evaluate(w, flags)
-        if problem.kind == "grazing":
-            allowed = _impacts(lins) if allowed is None else allowed
-        flags = [dict(lins[i - 1].state.flags) for i in range(problem.base.n)]
-        norm = float(np.max(np.abs(G)))
-        stalled = it >= 2 and norm > 0.5 * last
-        if norm < tol or (stalled and norm < 100 * tol):
-            return w, G, DG, flags, norm
-        if it == max_iter or (it >= 4 and stalled):
-            raise _Fail(f"the corrector stalled at {norm:.3g}")
-        last = norm
-        try:
-            dw = np.linalg.solve(np.vstack([DG, normal]), np.append(-G, -float(normal @ (w - w_pred))))
-        except np.linalg.LinAlgError:
-            raise _Fail("singular bordered Jacobian") from None
-        lam = 1.0
-        while allowed is not None and lam > 1e-3 and _impacts(problem.evaluate(w + lam * dw, flags)[2]) > allowed:
-            lam /= 2
-        w = w + lam * dw
-    raise _Fail("no convergence")      # pragma: no cover
-
-
-
+def _correct(problem, w_pred, normal, flags, tol):
+    """Newton on [G(w); normal . (w - w_pred)] = 0 (:func:`bifurc.continuation.bordered_newton`); on
+    a grazing curve an iterate that adds an impact is damped back toward the last one.
+    Returns (w, G, DG, flags, max |G|)."""
+    w, G, DG, _, flags, _ = bordered_newton(problem.evaluate, w_pred, normal, flags, tol, max_iter=12, stall_after=4,
+                                            tiny_update=False, keep_impacts=problem.kind == "grazing")
+    return w, G, DG, flags, float(np.max(np.abs(G)))
 
 
 def follow_curve(problem: CurveProblem, w0, flags, p2_end: float, bounds1, *, step: float = 0.02,
@@ -186,7 +157,7 @@ def follow_curve(problem: CurveProblem, w0, flags, p2_end: float, bounds1, *, st
         e = np.zeros(w0.size)
         e[problem.N + 1] = 1.0                       # fix p2 for the start
         w, G, DG, flags, norm = _correct(problem, w0, e, flags, tol)
-    except _Fail as exc:
+    except NoConvergence as exc:
         curve.stop_reason = f"the start does not converge: {exc}"
         return curve
     t = unit_tangent(DG, e * math.copysign(1.0, p2_end - p2_start))
@@ -198,7 +169,7 @@ def follow_curve(problem: CurveProblem, w0, flags, p2_end: float, bounds1, *, st
         try:
             w_new, G, DG, flags_new, norm = _correct(problem, w + h * t, t, flags, tol)
             t_new = unit_tangent(DG, t)
-        except _Fail as exc:
+        except NoConvergence as exc:
             if h / 2 >= min_step:
                 h /= 2
                 continue
@@ -212,7 +183,7 @@ def follow_curve(problem: CurveProblem, w0, flags, p2_end: float, bounds1, *, st
         if problem.kind != "grazing":
             try:
                 problem.refresh_bordering(w, flags)
-            except _Fail:
+            except NoConvergence:
                 pass
         if not (lo2 - 1e-12 <= p2 <= hi2 + 1e-12 and lo1 - 1e-12 <= p1 <= hi1 + 1e-12):
             curve.stop_reason = f"left the parameter box at ({p1:.10g}, {p2:.10g})"

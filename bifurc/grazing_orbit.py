@@ -24,7 +24,12 @@ import numpy as np
 from maps.hybrid import IntegrationFailure, call_cfunc
 from maps.parameters import ParameterError
 
+from .continuation import flags_of, impact_count
+
 __all__ = ["closest_flight_minimum", "locate_grazing", "gap_derivatives", "grazing_rows"]
+
+#: what makes an evaluation of the map fail
+FAILURES = (IntegrationFailure, ZeroDivisionError, ParameterError)
 
 
 def gap_derivatives(system, params: tuple):
@@ -99,20 +104,25 @@ def locate_grazing(problem, prev, *, max_iter: int = 30, radius: float = 0.1):
         return math.nan, math.nan, math.nan, None, "no free-flight minimum to graze", {}
     j, t_g, _ = near
     gscale = float(np.max(problem.scale))
-    u, flags = prev.u.copy(), [dict(s.flags or {}) for s in prev.nodes]
+    u, flags = prev.u.copy(), flags_of(prev)
     impacts, last_step, norm = prev.impacts, math.inf, math.inf
+
+    def failed(exc):
+        return problem.parameter(u), math.nan, math.nan, None, f"the augmented Newton failed: {exc}", {}
+    try:
+        F, DF, lins = problem.evaluate(u, flags)
+    except FAILURES as exc:
+        return failed(exc)
     for it in range(max_iter + 1):
         try:
-            F, DF, lins = problem.evaluate(u, flags)
             flags = [dict(lins[i - 1].state.flags) for i in range(problem.n)]
             j, t_g = _node_of(problem, j, t_g)
             G, rows, h, acc = grazing_rows(problem, problem.states(u, flags), j, t_g, (problem.param,),
                                            [problem.p_scale], gscale)
-        except (IntegrationFailure, ZeroDivisionError, ParameterError) as exc:
-            return problem.parameter(u), math.nan, math.nan, None, f"the augmented Newton failed: {exc}", {}
+        except FAILURES as exc:
+            return failed(exc)
         norm = max(float(np.max(np.abs(F))), float(np.max(np.abs(G))))
-        same = sum(Lk.signature.count("impact") for Lk in lins) == impacts
-        if norm < problem.tol and same:
+        if norm < problem.tol and impact_count(lins) == impacts:
             if not acc > 0:
                 return (problem.parameter(u), math.nan, math.nan, None,
                         f"the augmented Newton converged to a tangency from the wrong side (gap acceleration "
@@ -134,12 +144,19 @@ def locate_grazing(problem, prev, *, max_iter: int = 30, radius: float = 0.1):
             return (problem.parameter(u), math.nan, math.nan, None, "the augmented Newton left the neighbourhood "
                     "of the branch's last point (it heads for another grazing): not located", {})
         lam = 1.0
-        while lam > 1e-3:           # damp an iterate that impacts back
-            u_try, t_try = u + lam * step[:-1], t_g + lam * step[-1] * problem.smap.period
-            if _clear(problem, u_try, flags, impacts):
+        while True:     # an iterate that adds or loses an impact is damped back; its evaluation is the next one's
+            u_try = u + lam * step[:-1]
+            try:
+                trial, error = problem.evaluate(u_try, flags), None
+            except FAILURES as exc:
+                trial, error = None, exc
+            if lam <= 1e-3 or (trial is not None and impact_count(trial[2]) == impacts):
                 break
             lam /= 2
-        u, t_g, last_step = u_try, t_try, lam * step[-2]
+        u, t_g, last_step = u_try, t_g + lam * step[-1] * problem.smap.period, lam * step[-2]
+        if trial is None:
+            return failed(error)
+        F, DF, lins = trial
     return problem.parameter(u), math.nan, math.nan, None, f"the augmented Newton did not converge (residual {norm:.3g})", {}
 
 
@@ -147,26 +164,13 @@ def _node_of(problem, j, t_g):
     """(node, t_g) with t_g inside that node's period: a grazing time that Newton moved past a sample
     time belongs to the neighbouring node (the orbit is periodic: past the last node, the first, a
     whole orbit period earlier)."""
-    smap, n = problem.smap, problem.n
+    smap, n, k0 = problem.smap, problem.n, problem.k0
+    orbit_period = smap.sample_time(k0 + n) - smap.sample_time(k0)
     for _ in range(2 * n):
-        if t_g > smap.sample_time(problem.k0 + j + 1):
-            j, t_g = (j + 1, t_g) if j + 1 < n else (0, t_g - (smap.sample_time(problem.k0 + n) - smap.sample_time(problem.k0)))
-        elif t_g < smap.sample_time(problem.k0 + j):
-            j, t_g = (j - 1, t_g) if j > 0 else (n - 1, t_g + (smap.sample_time(problem.k0 + n) - smap.sample_time(problem.k0)))
+        if t_g > smap.sample_time(k0 + j + 1):
+            j, t_g = (j + 1, t_g) if j + 1 < n else (0, t_g - orbit_period)
+        elif t_g < smap.sample_time(k0 + j):
+            j, t_g = (j - 1, t_g) if j > 0 else (n - 1, t_g + orbit_period)
         else:
             break
     return j, t_g
-
-
-def _clear(problem, u, flags, impacts) -> bool:
-    """True when the orbit's steps from u have as many impacts as the branch had (an iterate that
-    adds one crosses the grazing; one that loses one has left the branch)."""
-    smap = problem.smap
-    try:
-        smap.set_params(**{problem.param: problem.parameter(u)})
-        count = 0
-        for j, s in enumerate(problem.states(u, flags)):
-            count += smap.linearize(s, problem.k0 + j).signature.count("impact")
-    except (IntegrationFailure, ZeroDivisionError):
-        return False
-    return count == impacts

@@ -34,7 +34,7 @@ from maps.translation import translation_basis
 from maps.hybrid import HybridState, IntegrationFailure
 from maps.parameters import ParameterError, validate_value
 
-__all__ = ["PeriodicOrbit", "OrbitNotFound", "find_periodic_orbit"]
+__all__ = ["PeriodicOrbit", "OrbitNotFound", "find_periodic_orbit", "monodromy"]
 
 
 class OrbitNotFound(RuntimeError):
@@ -76,14 +76,19 @@ class PeriodicOrbit:
 
     @property
     def monodromy(self) -> np.ndarray:
-        M = np.eye(self.jacobians[0].shape[0])
-        for J in self.jacobians:
-            M = J @ M
-        return M
+        return monodromy(self.jacobians)
 
     @property
     def impacts_per_period(self) -> int:
         return sum(sig.count("impact") for sig in self.signatures)
+
+
+def monodromy(jacobians) -> np.ndarray:
+    """J_{n-1} ... J_0: the product of the one-period Jacobians of an orbit, in order."""
+    M = np.eye(jacobians[0].shape[0])
+    for J in jacobians:
+        M = J @ M
+    return M
 
 
 def _scale(states, atol):

@@ -53,29 +53,34 @@ def _complex_pair_on_circle(pt: BranchPoint, tol: float = 1e-6) -> bool:
     return bool(np.any((np.abs(mu.imag) > 1e-8) & (np.abs(np.abs(mu) - 1.0) < tol)))
 
 
-# ----- the continuation loop -----------------------------------------------------------------------
-
-
 def event_reason(prev, pt, why, problem) -> str:
+    """The stop reason of a branch whose step after ``prev`` failed (``why``) or reached ``pt``
+    with another transition signature (``why == "signature"``)."""
     at = f"{problem.param} = {prev.p:.10g}"
     if why != "signature":
         speed = _slowest_impact(problem, prev)
-        near = f"; the slowest impact is at {speed:.3g} (gap rate): near a grazing" if speed < 1e-3 else ""
+        near = f"; the slowest impact is at {speed:.3g} (gap rate): near a grazing" if _impact_slowing(problem, prev) \
+            else ""
         return f"stopped after {at}: {why} at the smallest step{near}"
-    before, after = prev.transitions, pt.transitions
-    nb, na = sum(s.count("impact") for s in before), sum(s.count("impact") for s in after)
-    if _crosses_section(before, after) or event_at_section(problem, prev):
+    what = {"section": None, "impact_born": "an impact is born (grazing)",
+            "impact_lost": "an impact is lost (grazing from the impacting side)", "stick_onset": "sticking sets in",
+            "signature_change": "the transition signature changes"}[_change(problem, prev, pt)]
+    if what is None:
         return (f"stopped after {at}: an event crosses the strobe section (it happens at a sample time t_k), "
                 f"which moves it between periods; the map in this section is not smooth there")
-    if na > nb:
-        what = "an impact is born (grazing)"
-    elif na < nb:
-        what = "an impact is lost (grazing from the impacting side)"
-    elif any("stick" in s for s in after) and not any("stick" in s for s in before):
-        what = "sticking sets in"
-    else:
-        what = "the transition signature changes"
     return f"stopped after {at}: {what}; smooth continuation cannot pass it"
+
+
+def _change(problem, prev, pt) -> str:
+    """How the transition signature changes from ``prev`` to ``pt``: "section" (the same events
+    moved across a sample time), "stick_onset", "impact_born", "impact_lost" or "signature_change"."""
+    if _crosses_section(prev.transitions, pt.transitions) or event_at_section(problem, prev):
+        return "section"
+    if any("stick" in s for s in pt.transitions) and not any("stick" in s for s in prev.transitions):
+        return "stick_onset"
+    if pt.impacts != prev.impacts:
+        return "impact_born" if pt.impacts > prev.impacts else "impact_lost"
+    return "signature_change"
 
 
 def detect(problem, a: BranchPoint, b: BranchPoint, kind: str) -> SpecialPoint | None:
@@ -135,8 +140,7 @@ def _false_position(problem, a, b, fn, kind, max_iter):
 
 def _crosses_section(before, after) -> bool:
     """The same events in the orbit, distributed differently over its strobe periods."""
-    flat = lambda sig: sorted(r for s in sig for r in s)     # noqa: E731
-    return before != after and flat(before) == flat(after)
+    return before != after and sorted(r for s in before for r in s) == sorted(r for s in after for r in s)
 
 
 def event_at_section(problem, pt, within: float = 1e-5) -> bool:
@@ -157,30 +161,31 @@ def _slowest_impact(problem, pt) -> float:
     return min(speeds) if speeds else math.inf
 
 
-def _speed_scale(problem, pt) -> float:
-    """The largest gap rate at the nodes of ``pt`` (the orbit's own speed toward or away from the stop)."""
+def _impact_slowing(problem, pt) -> bool:
+    """The slowest impact of ``pt`` is below 1e-3 of the largest gap rate at its nodes (the orbit's
+    own speed toward or away from the stop): an impact slowing to 0, a grazing from the impacting side."""
     gap = problem.smap.system.gap
-    return max([abs(gap(s.y, problem.smap.params)[1]) for s in pt.nodes] + [1e-300]) if gap is not None else math.inf
+    if gap is None:
+        return False
+    scale = max([abs(gap(s.y, problem.smap.params)[1]) for s in pt.nodes] + [1e-300])
+    return _slowest_impact(problem, pt) < 1e-3 * scale
 
 
 def discontinuity(problem, prev: BranchPoint, pt: BranchPoint | None) -> SpecialPoint | None:
     """Locate the event that stopped the branch after ``prev``: a grazing where a free-flight
     minimum touches the stop (augmented system), else the bracket [prev, pt]."""
-    born = pt is not None and pt.impacts > prev.impacts
-    if pt is None and _slowest_impact(problem, prev) < 1e-3 * _speed_scale(problem, prev):
+    if pt is None and _impact_slowing(problem, prev):
         return None    # an impact slowing to 0: a grazing from the impacting side, not a free-flight minimum's
+    born = pt is not None and pt.impacts > prev.impacts
     if closest_flight_minimum(problem, prev) is not None and (born or pt is None):
         with in_section(problem, prev):
             p, tol, gap, at, note, data = locate_grazing(problem, prev)
         return SpecialPoint("grazing", p, tol, "gap h(t_g) and its rate dh/dt(t_g) at the closest free-flight minimum",
                             gap, at, note=note, data=data)
-    if pt is None or _crosses_section(prev.transitions, pt.transitions) or event_at_section(problem, prev):
+    change = None if pt is None else _change(problem, prev, pt)
+    if change in (None, "section"):
         return None
-    kind = "signature_change"
-    if any("stick" in s for s in pt.transitions) and not any("stick" in s for s in prev.transitions):
-        kind = "stick_onset"
-    elif pt.impacts < prev.impacts:
-        kind = "impact_lost"
+    kind = "signature_change" if change == "impact_born" else change
     return SpecialPoint(kind, prev.p, math.nan, "transition signature", math.nan, prev,
                         note=f"the last point before the change ({_sig(prev)}; the next corrected point, at "
                              f"{pt.p:.10g}, has {_sig(pt)}): not located")
