@@ -525,7 +525,8 @@ def call_cfunc(f, y, pars, t: float = 0.0) -> np.ndarray:
     with the runtime-parameter vector ``pars`` (parameters then flags, as ``par_vector``) and
     time ``t`` [s] (used only when the function depends on time)."""
     kw = {"time": float(t)} if f.is_time_dependent else {}
-    return f(np.asarray(y, dtype=float), pars=np.asarray(pars, dtype=float)[:f.nparams], **kw)
+    return f(np.ascontiguousarray(y, dtype=float), pars=np.ascontiguousarray(np.asarray(pars, dtype=float)[:f.nparams]),
+             **kw)
 
 
 def time_derivative(expr):

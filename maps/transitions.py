@@ -98,9 +98,11 @@ def settle(system: HybridSystem, t: float, y: np.ndarray, flags: Mapping[str, fl
     when the rule cannot act or changes nothing."""
     if system.settle is None or not settle_may_act(system, flags):
         return NOTHING
+    new = system.settle(t, np.array(y, dtype=float), dict(flags), params)
+    if not new:                     # the common case after an event: nothing to settle
+        return NOTHING
     out = Outcome()
     y_minus = np.array(y, dtype=float)
-    new = system.settle(t, y_minus.copy(), dict(flags), params)
     if isinstance(new, tuple):      # (flags, state): a mode entered with a state projection
         new, y_plus = new
         out.y = np.asarray(y_plus, dtype=float)
@@ -125,14 +127,21 @@ def fire(system: HybridSystem, guard: Guard, t: float, y: np.ndarray, flags: Map
     """The transition of ``guard`` crossed at ``t`` in state ``y``: its reset map, its new
     flags, then :func:`settle`.  Every guard, an observation too, gets one record."""
     y_minus = np.array(y, dtype=float)
-    y_guard = system.reset_function(guard)(y_minus.copy(), params) if guard.reset is not None else None
-    here = y_minus if y_guard is None else np.asarray(y_guard, dtype=float)
+    y_guard = None
+    if guard.reset is not None:
+        y_guard = np.asarray(system.reset_function(guard)(y_minus.copy(), params), dtype=float)
+    here = y_minus if y_guard is None else y_guard
     changes: dict = {}
     if guard.then is not None:
         new = guard.then(t, here.copy(), dict(flags), params) if callable(guard.then) else guard.then
-        changes = {k: v for k, v in (new or {}).items() if flags.get(k) != v}
+        if new:
+            changes = {k: v for k, v in new.items() if flags.get(k) != v}
     flags_guard = dict(flags, **changes) if changes else flags
     s = settle(system, t, here, flags_guard, params)
+    if s is NOTHING:                # the common case: the guard's own transition only
+        out = Outcome(y=y_guard, changes=changes, records=[(guard.name, y_minus, here, dict(flags_guard))])
+        out.halted = halted(system, flags_guard)
+        return out
     y_after = s.y if s.y is not None else y_guard
     out = Outcome(y=None if y_after is None else np.asarray(y_after, dtype=float),
                   changes=dict(changes, **s.changes) if s.changes else changes, projection=s.projection)
@@ -149,7 +158,10 @@ def fire(system: HybridSystem, guard: Guard, t: float, y: np.ndarray, flags: Map
 
 def halted(system: HybridSystem, flags: Mapping[str, float]) -> bool:
     """True when a halt flag (e.g. "escaped") is set: the state left the model's domain."""
-    return any(flags.get(f) for f in system.halt_flags)
+    for f in system.halt_flags:
+        if flags.get(f):
+            return True
+    return False
 
 
 class EventBudget:

@@ -322,3 +322,33 @@ def test_sweep_stores_the_exponent_method_and_both_methods_agree():
     assert ClassCode(int(t.class_code)) == ClassCode(int(c.class_code)) == ClassCode.CHAOTIC
     with pytest.raises(maps.ParameterError, match="lyapunov_method"):
         sweep("thesis-1dof", "relay_hz", np.array([4.7]), lyapunov_method="qr", **kw)
+
+
+def test_compiled_tangent_jump_is_the_hand_derived_kelvin_voigt_saltation():
+    """thesis-1dof's compliant stop (force -(k (x - e) + c v) while in contact): at onset (x = e,
+    moving down) the guard g = x - e has grad (1, 0, 0, 0) and rate v, so one tangent vector jumps by
+    u+ = u + (f+ - f-) u_x / v, where the vector field jumps by -c v / m in dv/dt (and in dz/dt
+    through the circuit's coupling to the acceleration); at release the jump is reversed.  The
+    compiled rule the batch engine applies at every recorded event (Derivatives.tangent_jump) against
+    that form, with f+- evaluated from the model's vector field in the two modes."""
+    import heyoka as hy
+    from maps.variational import Derivatives
+    sc = maps.get_scene("thesis-1dof").with_options(dc_law="listing")
+    system = sc.system
+    p = sc.parameters(preset="matlab-listing", V=90.0, relay_hz=5.0)
+    der = Derivatives(system)
+    rhs = hy.cfunc(list(system.rhs), vars=system.sym.state_vars)
+    guards = {g.name: g for g in system.guards}
+    rng = np.random.default_rng(3)
+    t = 0.013
+    for name, before, v in (("contact", 0.0, -0.37), ("release", 1.0, 0.52)):
+        flags = dict(system.initial_flags(0.0, p), contact=before)
+        y = np.array([p["e"], v, 1.3, -20.0])
+        u = rng.standard_normal(4)
+        f = {c: rhs(y, pars=np.array(system.par_vector(p, dict(flags, contact=c)))[:rhs.nparams], time=t)
+             for c in (0.0, 1.0)}
+        jump = f[1.0 - before] - f[before]
+        assert jump[0] == 0.0 and jump[1] == pytest.approx((before - (1.0 - before)) * p["c"] * v / p["m"], rel=1e-13)
+        pars = np.array(system.par_vector(p, flags))
+        got = der.tangent_jump(guards[name], {"contact": 1.0 - before})(np.concatenate([y, u]), pars, t)
+        np.testing.assert_allclose(got, u + jump * u[0] / v, rtol=1e-13, atol=1e-13 * np.abs(jump).max())

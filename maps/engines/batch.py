@@ -29,7 +29,7 @@ from collections import deque
 import numpy as np
 
 from .. import transitions as tr
-from ..hybrid import EVENT_COOLDOWN
+from ..hybrid import EVENT_COOLDOWN, settle_may_act
 from ..parameters import ParameterError
 from ..tangent import renormalise, tangent_sample
 from .base import Engine, OrbitJob, OrbitResult
@@ -307,10 +307,13 @@ class _ClockCallback(_Callback):
     def __init__(self, eng):
         super().__init__(eng)
         self.sw, self.system = eng.sw, eng.system
+        self.may_settle = (lambda system, flags: False) if eng.system.settle is None else settle_may_act
         self.i_flag = eng.i_flag[eng.sw.flag] if eng.sw is not None else None
 
     def _settle(self, eng, lane, j, t) -> bool:
         """The system's settle after the switch (maps.transitions.settle: NOTHING where it cannot act)."""
+        if not self.may_settle(self.system, lane.flags):
+            return True
         y = eng.state[:eng.n, j]
         out = tr.settle(self.system, t, y, lane.flags, lane.params)
         if out is tr.NOTHING:
@@ -376,10 +379,16 @@ class _GuardCallback(_Callback):
         guard = self.choose(d_sgn, lane.flags)
         if guard is None:
             return True
-        t = float(eng.time[j])
+        t = eng.time.item(j)
         out = tr.fire(eng.system, guard, t, eng.state[:eng.n, j], lane.flags, lane.params)
-        if not lane.tangent:
+        if not lane.tangent or out is tr.NOTHING or (out.y is None and not out.changes):
             return eng._apply(j, lane, out, t)
+        if out.projection is None:        # the hot path: one compiled saltation of u
+            u = eng.derivatives.tangent_jump(guard, out.changes)(eng.state[:, j], eng.pars[:, j], t)
+            if not eng._apply(j, lane, out, t):
+                return False
+            eng.state[eng.n:, j] = u
+            return True
         before = dict(lane.flags)
         if not eng._apply(j, lane, out, t):
             return False
