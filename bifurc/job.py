@@ -74,6 +74,7 @@ class ValueResult:
     run_seconds: float                      # time spent on this value (a batch's share, plus its own extension)
     final_state: np.ndarray
     final_flags: dict
+    held_time: float = math.nan             # [s] time the soil holds the rig over the stored samples (NaN: no soil)
 
     @property
     def label(self) -> str:
@@ -252,7 +253,8 @@ class ValueJob:
             impact_penetration=pad(o.impact_penetration), impact_duration=pad(o.impact_duration),
             n_impacts=o.impact_t.size, status=Status.of(o.status), failure_time=o.failure_time,
             failure=o.failure, n_steps=steps, transient_used=used, run_seconds=seconds,
-            final_state=o.final_state, final_flags=o.final_flags)
+            final_state=o.final_state, final_flags=o.final_flags,
+            held_time=float(o.mode_time[keep - 1]) if o.mode_time is not None and len(o.mode_time) >= keep else math.nan)
 
     # ----- many values at once: the map's ensemble method ----------------------------
     def run_many(self, values) -> list:

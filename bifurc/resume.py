@@ -24,7 +24,7 @@ from .storage_io import write_netcdf_atomic
 __all__ = ["Parts", "PARTS_FORMAT", "manifest"]
 
 #: version of the parts' layout (2: pickles, up to bifurc 0.1.0; 3: netCDF chunks)
-PARTS_FORMAT = 6
+PARTS_FORMAT = 7
 _FIELDS = [f.name for f in fields(ValueResult)]
 _CODES = {"class_code": ClassCode, "status": Status}
 

@@ -54,7 +54,6 @@ def _progression(results, branches, job, scene, sizes, par, values, mode) -> dic
     ix2 = system.state_names.index("x2")
     x2_start = scene.initial_state(**job.x0)["x2"]
     held_by = held_mode(system)
-    jf = system.flag_names.index(held_by[0]) if held_by else None
     out = {var: var.empty(sizes, par) for var in PROGRESSION}
     for bi, b in enumerate(branches):
         for i, r in enumerate(results[b]):
@@ -63,7 +62,7 @@ def _progression(results, branches, job, scene, sizes, par, values, mode) -> dic
             p = dict(job.params, **{par: float(values[i])})
             W, n = p["relay_hz"], min(r.record_used, job.record)     # the stored samples: the first record
             t = (r.transient_used + np.arange(n + 1)) / W
-            held = 0.0 if jf is None else float(np.mean(r.point_flags[:n + 1, jf] == held_by[1])) * n / W
+            held = 0.0 if held_by is None else r.held_time      # the time in the mode, from its flag changes
             m = progression_measures(t, r.points[:n + 1, ix2], x2_start=x2_start, relay_hz=W,
                                      impact_t=r.impact_t, impact_velocity=r.impact_velocity, m1=p["m1"], held=held)
             if mode != "independent":

@@ -20,6 +20,7 @@ from .engines.base import OrbitJob
 from .engines.scalar import ScalarEngine
 from .hybrid import HybridState, HybridSystem, IntegrationFailure, validate_tol
 from .parameters import ParameterError, validate_value
+from .progression import held_mode
 from .translation import translation_basis
 
 __all__ = ["StroboscopicMap", "MapOrbit", "MapLinearization", "ImpactMap", "ImpactLinearization",
@@ -84,6 +85,8 @@ class MapOrbit:
     tangent_start: np.ndarray | None = None   # (d,) unit tangent vector at points[0] (None: none integrated)
     tangent: np.ndarray | None = None         # (m, d) the tangent vector at the end of each step, m <= n
     tangent_shift: tuple | None = None        # the translation removed from it after each step (2-DOF)
+    mode_time: np.ndarray | None = None       # (n+1,) [s] time in the soil's holding mode from points[0] to each
+                                              # point (maps.progression.held_mode; None: the system has none)
 
     @property
     def n(self) -> int:
@@ -365,7 +368,7 @@ class StroboscopicMap:
         flags = flags if flags is not None else given
         y0 = self.system.state_vector(y0)
         job = self._job(self.params, y0, flags, 0, transient, n, t0, log=True, tangent=self._tangent_start(tangent),
-                        shift=translation_basis(self.system) if tangent else None)
+                        shift=translation_basis(self.system) if tangent else None, timed=held_mode(self.system))
         res = self._engine.run([job])[0]
         return self._orbit_from(res, job)
 
@@ -394,7 +397,8 @@ class StroboscopicMap:
             y, given, _ = _split(s)
             jobs.append(self._job(p, self.system.state_vector(y), flags if flags is not None else given,
                                   0, transient, m, log=True, tangent=self._tangent_start(tangent),
-                                  shift=translation_basis(self.system) if tangent else None))
+                                  shift=translation_basis(self.system) if tangent else None,
+                                  timed=held_mode(self.system)))
         method = self._method(method, batch_size)
         clock = _time.perf_counter()
         if method == "scalar":
@@ -486,10 +490,12 @@ class StroboscopicMap:
         names = self.system.flag_names
         point_flags = np.array([[fl.get(f, np.nan) for f in names] for fl in flags], dtype=float)
         W = job.params.get("relay_hz", 1.0 / job.period)
-        tangent = {} if job.tangent is None else dict(tangent_start=np.asarray(job.tangent, dtype=float),
+        extra = {} if job.tangent is None else dict(tangent_start=np.asarray(job.tangent, dtype=float),
                                                       tangent=np.array(r.tangent).reshape(-1, len(job.y0)),
                                                       tangent_shift=job.shift)
-        return orbit_from_periods(self.system, job.params, W, times, points, r.period_events, **tangent,
+        if r.mode_time:
+            extra["mode_time"] = np.asarray(r.mode_time, dtype=float)
+        return orbit_from_periods(self.system, job.params, W, times, points, r.period_events, **extra,
                                   status=r.status, failure=r.failure, failure_time=r.failure_time,
                                   n_steps=r.n_steps, run_seconds=r.seconds, final_state=r.final_state,
                                   final_flags=dict(r.final_flags), flag_names=names, point_flags=point_flags)

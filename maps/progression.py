@@ -19,7 +19,7 @@ import math
 
 import numpy as np
 
-__all__ = ["TARGET_DEPTH", "MEASURES", "held_mode", "progression_measures", "held_time"]
+__all__ = ["TARGET_DEPTH", "MEASURES", "held_mode", "progression_measures", "held_time", "time_in_mode"]
 
 #: the thesis' progression distance [m]: time to progress 0.2 m (Chapter 5)
 TARGET_DEPTH = 0.2
@@ -48,16 +48,25 @@ def held_mode(system) -> tuple | None:
 
 def held_time(flag_log, t_a: float, t_b: float, mode) -> float:
     """Time [s] within [t_a, t_b] spent in ``mode`` = (flag, value), from a run's flag log
-    ``[(t, flags), ...]`` (each entry holds until the next); 0 without a mode."""
+    ``[(t, flags), ...]`` (each entry holds until the next; none before the first); 0 without a mode."""
     if mode is None:
         return 0.0
+    t_a = max(float(t_a), float(flag_log[0][0]))
+    return float(time_in_mode(flag_log, [t_a, t_b], mode)[1]) if t_b > t_a else 0.0
+
+
+def time_in_mode(flag_log, times, mode) -> np.ndarray:
+    """Time [s] spent in ``mode`` = (flag, value) from ``times[0]`` to each of ``times`` (cumulative,
+    0 at ``times[0]``), from a run's flag log ``[(t, flags), ...]`` (each entry holds until the next;
+    the first must not come after ``times[0]``)."""
     flag, value = mode
-    total = 0.0
-    for (t0, fl), t1 in zip(flag_log, [t for t, _ in flag_log[1:]] + [math.inf]):
-        lo, hi = max(t0, t_a), min(t1, t_b)
-        if hi > lo and fl.get(flag) == value:
-            total += hi - lo
-    return total
+    starts = np.array([t for t, _ in flag_log], dtype=float)
+    inside = np.array([fl.get(flag) == value for _, fl in flag_log], dtype=float)
+    before = np.concatenate([[0.0], np.cumsum(inside[:-1] * np.diff(starts))])   # integral up to each start
+    times = np.asarray(times, dtype=float)
+    i = np.searchsorted(starts, times, side="right") - 1
+    total = before[i] + inside[i] * (times - starts[i])
+    return total - total[0]
 
 
 def progression_measures(t, x2, *, x2_start: float, relay_hz: float | None,

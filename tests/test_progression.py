@@ -91,3 +91,24 @@ def test_command_line_soil_transient_and_measures(tmp_path, capsys):
     assert len(err) == 1 and "soil" in err[0] and "2-DOF" in err[0]
     assert main(["params", "--scene", "prototype", "--soil", "drift"]) == 0
     assert "P_max" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("soil", ["coulomb", "drift"])
+def test_sweep_stuck_fraction_is_the_time_in_the_holding_mode(soil):
+    """The sweep's stuck_fraction is the time the soil holds the rig (banked at each flag change,
+    batch engine), not the share of relay-period samples that fall in that mode: it equals the time
+    history's (scalar engine, integrated over its flag log) over the same window to 1e-7, on both
+    engines, and a finely sampled flag to the sampling's resolution."""
+    W, tr, rec = 6.0, 4, 12
+    kw = dict(transient=tr, record=rec, workers=1, progress=False, lyapunov=False, grazing=False, error_sample=0,
+              soil=soil, tol=1e-12)                      # the time history's tolerance
+    h = maps.simulate("prototype", t_end=(tr + rec) / W, transient=tr / W, params={"relay_hz": W}, soil=soil,
+                      dt=1.0 / (W * 2000))
+    for batch_size in (4, 1):
+        ds = bifurc.sweep("prototype", "relay_hz", np.array([W]), batch_size=batch_size, **kw)
+        # measured: coulomb 1e-10; drift 1.7e-8 (the engines' soil-event times differ by ~2e-8 s per period)
+        assert float(ds.stuck_fraction[0, 0]) == pytest.approx(float(h.stuck_fraction), rel=1e-7)
+    held = h.rig_stuck.values == 1 if soil == "coulomb" else h.soil_mode.values != 2   # drift: the slider still
+    sampled = float(np.mean(held[h.time.values >= tr / W][:-1]))
+    assert 0.0 < float(h.stuck_fraction) < 1.0
+    assert float(h.stuck_fraction) == pytest.approx(sampled, abs=2e-3)

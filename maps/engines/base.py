@@ -16,7 +16,9 @@ reference (in the reduced coordinates of a shift-invariant system: ``shift``), a
 period's stretch is returned (the tangent direction of Benettin's method; the exponent itself is
 analysis, :mod:`bifurc.lyapunov`).  A job with a ``tangent`` start direction, on an engine that
 carries tangent vectors, also returns the tangent vector integrated with the flow over each
-recorded period (:mod:`maps.tangent`).
+recorded period (:mod:`maps.tangent`).  A job with a ``timed`` mode (flag, value) also returns the
+time spent in that mode from the first recorded sample to each recorded sample (e.g. the time the
+soil holds the rig, :func:`maps.progression.held_mode`).
 """
 from __future__ import annotations
 
@@ -48,6 +50,7 @@ class OrbitJob:
     scale: np.ndarray | None = None
     tangent: np.ndarray | None = None  # start direction of a tangent vector over the record (engines that carry one)
     shift: tuple | None = None        # companion: (translation, anchor) removed before each renormalisation
+    timed: tuple | None = None        # (flag, value): the mode whose time within the record is measured
 
     def sample_time(self, k: int) -> float:
         return self.offset + (k / self.rate if self.rate is not None else k * self.period)
@@ -76,6 +79,8 @@ class OrbitResult:
     seconds: float = 0.0
     stretch: list = field(default_factory=list)
     tangent: list = field(default_factory=list)   # the tangent vector at the end of each recorded period
+    mode_time: list = field(default_factory=list)  # [s] time in the job's ``timed`` mode from the first recorded
+                                                   # sample to each recorded sample (empty: no mode timed)
 
 
 class Engine:

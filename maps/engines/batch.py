@@ -52,7 +52,8 @@ def unsupported(system) -> str | None:
 
 class _Lane:
     __slots__ = ("job", "res", "W", "n_sw", "t_sw", "k_next", "t_k", "rec_k", "last", "flags", "params",
-                 "events", "recording", "budget", "done", "start_clock", "tangent")
+                 "events", "recording", "budget", "done", "start_clock", "tangent", "timed", "in_mode_since",
+                 "mode_total")
 
 
 class BatchEngine(Engine):
@@ -97,11 +98,21 @@ class BatchEngine(Engine):
         self.lanes: list = [None] * self.B
 
     # ----- per-lane helpers -------------------------------------------------------
-    def _set_flags(self, j, lane, changes):
+    def _set_flags(self, j, lane, changes, t):
         pars, i_flag = self.pars, self.i_flag
         for k, v in changes.items():
             lane.flags[k] = v
             pars[i_flag[k], j] = v
+        if lane.timed is not None and lane.timed[0] in changes and lane.res.points:
+            self._time_mode(lane, t)
+
+    @staticmethod
+    def _time_mode(lane, t):
+        """Bank the time in the timed mode up to ``t`` [s] and note whether the lane is in it now."""
+        flag, value = lane.timed
+        if lane.in_mode_since is not None:
+            lane.mode_total += t - lane.in_mode_since
+        lane.in_mode_since = t if lane.flags.get(flag) == value else None
 
     def _apply(self, j, lane, out: tr.Outcome, t) -> bool:
         """Write a transition's outcome into lane j, count and log its records; False: the lane ended."""
@@ -110,7 +121,7 @@ class BatchEngine(Engine):
         if out.y is not None:
             self.state[:self.n, j] = out.y
         if out.changes:
-            self._set_flags(j, lane, out.changes)
+            self._set_flags(j, lane, out.changes, t)
         for name, y_minus, _, _ in out.records:
             cap = lane.budget.count(name, t)
             if cap is not None:
@@ -128,6 +139,9 @@ class BatchEngine(Engine):
         res = lane.res
         if lane.tangent:
             self._renormalise_tangent(j, lane, first=not res.points)
+        if lane.timed is not None:
+            self._time_mode(lane, t)
+            res.mode_time.append(lane.mode_total)
         res.times.append(t)
         res.points.append(self.state[:self.n, j].copy())
         res.flags.append(dict(lane.flags))
@@ -160,7 +174,7 @@ class BatchEngine(Engine):
             return False
         self.state[:self.n, j] = z
         flags = tr.start_flags(self.system, t, z, lane.params, None)
-        self._set_flags(j, lane, {k: v for k, v in flags.items() if lane.flags.get(k) != v})
+        self._set_flags(j, lane, {k: v for k, v in flags.items() if lane.flags.get(k) != v}, t)
         self.ta.reset_cooldowns(j)
         return self._apply(j, lane, tr.settle(self.system, t, z, lane.flags, lane.params), t)
 
@@ -197,6 +211,8 @@ class BatchEngine(Engine):
         lane.last = lane.rec_k + job.record
         lane.events, lane.recording, lane.done = [], False, False
         lane.tangent = self.tangent and job.tangent is not None
+        lane.timed = job.timed if job.reference is None else None
+        lane.in_mode_since, lane.mode_total = None, 0.0
         lane.budget = tr.EventBudget(None, self.max_events_per_period)
         lane.start_clock = _time.perf_counter()
         hi[j], lo[j] = t0, 0.0

@@ -18,6 +18,7 @@ from .. import transitions as tr
 from ..hybrid import (_CROSSING, _FP_TYPES, Escaped, EventRecord, HybridState, HybridSystem,
                       IntegrationFailure, _fp, _np_dtype, validate_tol)
 from ..parameters import ParameterError, validate_value
+from ..progression import time_in_mode
 from ..tangent import renormalise, tangent_sample
 from .base import Engine, OrbitJob, OrbitResult
 
@@ -431,6 +432,8 @@ class ScalarEngine(Engine):
             res.status, res.failure, res.failure_time = "escaped", str(exc), exc.t
         except IntegrationFailure as exc:
             res.status, res.failure, res.failure_time = "failed", str(exc), exc.t
+        if job.timed is not None and job.reference is None and res.times:
+            res.mode_time = time_in_mode(run.flag_log, res.times, job.timed).tolist()
         if job.log and res.status != "ok":
             res.tail_events = [(ev.name, ev.t, ev.y_minus) for ev in run.events]
         run.events = []
