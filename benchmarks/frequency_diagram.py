@@ -52,6 +52,7 @@ class Problem:
     record: int = 100
     tol: float = 1e-10
     x0: dict = field(default_factory=dict)
+    records: tuple = ()     # (value, recorded periods) where the product extended the record
 
 
 def par_index(system, name) -> int:
@@ -230,7 +231,9 @@ class BareBatch(_Same):
         target = np.zeros(B)
 
         def load():
-            hi = np.array(ta.time, dtype=float)
+            # the running lanes keep their double-length time (hi + lo): resetting their lo would
+            # change their trajectories in round-off with the refill order of the other lanes
+            hi, lo = (np.array(a, dtype=float) for a in ta.dtime)
             for j in range(B):
                 if lane_of[j] is None:
                     i = waiting.pop() if waiting else None
@@ -245,11 +248,11 @@ class BareBatch(_Same):
                         self.kept[i] = self.keep[j] = [] if ref is not None or self.record_states else None
                     if ref is not None:
                         self.inv_scale[j] = 1.0 / np.maximum(np.max(np.abs(ref), axis=0), 1e-9)
-                    hi[j] = k0 / W
+                    hi[j], lo[j] = k0 / W, 0.0
                     target[j] = (k0 + periods + 1) / W if i is not None else hi[j]
                     lane_of[j] = i if i is not None else -1
                     ta.reset_cooldowns(j)
-            ta.set_dtime(hi, np.zeros(B))
+            ta.set_dtime(hi, lo)
 
         load()
         while any(i is not None and i >= 0 for i in lane_of):
@@ -292,6 +295,160 @@ class BareBatchLyapunov(BareBatch):
                 for W, r in zip(values, refs)]
         self._run(comp)
         return [float(np.mean(k)) if k else float("nan") for k in self.kept]
+
+
+class BareBatchEvents(BareBatch):
+    """:class:`BareBatch` with every event surface the product integrates, and optionally a tangent vector.
+
+    Events, from the public ``HybridSystem.event_groups()`` in the product's order, then the relay
+    clock: the contact/release surface (the contact flag flips on the crossing's sign); the
+    escape/unstick surface (an escape ends the lane; unsticking needs a stuck bar, never set here);
+    with ``observations`` the flight-minimum/deepest-point surface (v = 0 upward), whose callback
+    does nothing: the product's record stops there (its observation guards), its transient not.
+
+    With ``tangent`` the integrator carries the state and one tangent vector u
+    (``system.heyoka_system() + maps.variational.tangent_equations(system)``, 8 states for
+    thesis-1dof).  At a contact flip u jumps by the saltation rule of a compliant contact (no state
+    reset): u+ = u + (f+ - f-) (grad g . u) / (grad g . f-), with g = x - e (+ 1 mm when stuck,
+    never here), so grad g . u = u_x and grad g . f- = v, and f+ - f- = +-(f|contact=1 - f|contact=0)
+    from one compiled ``hy.cfunc``.  (The perturbed orbit crosses dt = -(grad g . u) / (grad g . f-)
+    later, and in that interval moves by f- where the reference moves by f+: u+ = u - (f+ - f-) dt.)  The relay switch, at a fixed time, moves nothing.  At every
+    period end the state and u are kept, then u is scaled back to unit length.
+    """
+
+    def __init__(self, task, *, tangent: bool = False, observations: bool = False):
+        super().__init__(task)
+        self.tangent, self.observations = tangent, observations
+        self.record_states = tangent          # keep the period ends (and renormalise) in the record
+
+    def _setup(self):
+        import heyoka as hy
+        system = maps.get_scene(self.task.scene).with_options(dc_law="listing").system   # matlab-listing's law
+        self.i_contact = par_index(system, "contact")
+        self.escaped = set()
+        me = self
+
+        class Contact(_Same):
+            def __call__(self, ta, d_sgn, j):
+                new = 1.0 if d_sgn < 0 else 0.0
+                old = me.pars[me.i_contact, j]
+                if old != new:
+                    me.pars[me.i_contact, j] = new
+                    if me.tangent:
+                        y, u = me.state[:me.n, j], me.state[me.n:, j]
+                        # every lane at once: contiguous views, no copies (column j is this lane's)
+                        jump = me.jump(me.state[:me.n], pars=me.pars[:me.jump.nparams], time=me.time)[:, j]
+                        u += jump * ((new - old) * u[0] / y[1])
+                return True
+
+        class Escape(_Same):
+            def __call__(self, ta, d_sgn, j):
+                if d_sgn < 0:            # left the model's domain: the product ends the lane
+                    me.escaped.add(me.W[j])
+                    me.done[j] = True
+                    return False
+                return True
+
+        class Observe(_Same):
+            def __call__(self, ta, d_sgn, j):
+                return True
+
+        events = []
+        for grp in system.event_groups():
+            roles = {g.role for g in grp}
+            if "impact" in roles:
+                cb, direction = Contact(), hy.event_direction.any
+            elif "escape" in roles:
+                cb, direction = Escape(), hy.event_direction.any
+            elif all(g.observes_only for g in grp):
+                if not self.observations:
+                    continue
+                cb, direction = Observe(), grp[0].heyoka_direction()
+            else:
+                raise ValueError(f"BareBatchEvents: no rule for the surface of {sorted(roles)}")
+            events.append(hy.t_event_batch(grp[0].expr, direction=direction, cooldown=1e-10, callback=cb))
+        events.append(self.relay_event(system))
+        self._build(system, events)
+
+    def _build(self, system, events):
+        import heyoka as hy
+        from maps.variational import tangent_equations
+        flow = system.heyoka_system()
+        self.n = len(flow)
+        dynamics = flow + tangent_equations(system) if self.tangent else flow
+        self._ta = hy.taylor_adaptive_batch(dynamics, np.zeros((len(dynamics), 4)), tol=self.task.tol,
+                                            t_events=events)
+        self.system, self.pars, self.state, self.time = system, self._ta.pars, self._ta.state, self._ta.time
+        self.y0 = system.state_vector(maps.get_scene(self.task.scene).initial_state(**self.task.x0))
+        if self.tangent:     # f(contact = 1) - f(contact = 0): the jump of the vector field at a contact flip
+            on, off = ({hy.par[self.i_contact]: hy.expression(v)} for v in (1.0, 0.0))
+            self.jump = hy.cfunc([hy.subs(f, on) - hy.subs(f, off) for _, f in flow],
+                                 vars=[x for x, _ in flow], compact_mode=True)
+
+    def period_end(self, j, k):
+        """Lane j ends relay period k: keep state and u, then scale u back to unit length."""
+        self.keep[j].append(self.state[:, j].copy())
+        u = self.state[self.n:, j]
+        u /= math.sqrt(float(u @ u))
+
+
+class BareBatchTangent:
+    """The product's Lyapunov path, bare: the transient on a plain 4-state batch integrator
+    (:class:`BareBatchEvents` without observations, as the product's transient), then the
+    record on an 8-state one (state + tangent vector, observation surfaces included, as the
+    product's record), u starting along ``maps.tangent.start_direction``; both 4 lanes, lanes
+    refilled as values end.  The record lasts the product's (``Problem.records``: extended to
+    3 q periods where the forcing repeats every q).
+
+    Returns per value (exponent, exponent in the Euclidean norm) [per relay period]: the first in
+    the product's norm (each state component scaled by its largest magnitude over the recorded
+    samples, at least 1e-9): the mean log stretch telescopes to
+    (sum_k log|u_k| + log|u_N / s| - log|u_0 / s|) / N for unit u_0, u_N; the second is the plain
+    mean of log|u_k|.  NaN after an escape.
+
+    Included: every event surface and callback that changes the trajectory or the tangent; the
+    observation events of the record.  Omitted (the product's Python around the same integration):
+    the event log and its processing (impacts, gaps, phases), the settle/stick rule (never acts here:
+    the bar does not stick at 90 V) and the event caps, the mode check at the record's start (the
+    contact flag is read off x < e), classification, periodic values' skipping of the exponent,
+    the exponent's interval, grazing bisection, error estimate, storage.
+    """
+
+    batch_size = 4
+
+    def __init__(self, task):
+        self.task = task
+        self.transient = BareBatchEvents(task)
+        self.record = BareBatchEvents(task, tangent=True, observations=True)
+
+    def warm(self):
+        self.transient.warm()
+        self.record.warm()
+
+    def __call__(self, W):
+        return self.run_many([W])[0]
+
+    def run_many(self, values):
+        from maps.tangent import start_direction
+        self.warm()
+        T, records = self.task.transient, dict(self.task.records)
+        ends = self.transient._run([(float(W), self.transient.y0, 0, T, None) for W in values])
+        u0 = start_direction(self.record.n)
+        go = [i for i, W in enumerate(values) if float(W) not in self.transient.escaped]
+        self.record._run([(float(values[i]), np.concatenate([ends[i], u0]), T,
+                           records.get(float(values[i]), self.task.record), None) for i in go])
+        out = [(math.nan, math.nan)] * len(values)
+        n = self.record.n
+        for i, kept in zip(go, self.record.kept):
+            if float(values[i]) in self.record.escaped or not kept:
+                continue
+            kept = np.array(kept)
+            s = np.maximum(np.max(np.abs(np.vstack([ends[i][None, :], kept[:, :n]])), axis=0), 1e-9)
+            logs = np.log(np.linalg.norm(kept[:, n:], axis=1))
+            u_end = kept[-1, n:] / np.linalg.norm(kept[-1, n:])
+            boundary = math.log(np.linalg.norm(u_end / s)) - math.log(np.linalg.norm(u0 / s))
+            out[i] = ((float(np.sum(logs)) + boundary) / len(logs), float(np.mean(logs)))
+        return out
 
 
 def default_diagram(args):
