@@ -459,6 +459,13 @@ class BareBatchTangent:
         return out
 
 
+def cpu_seconds() -> float:
+    """CPU time [s] of this process and its finished workers (a pool's workers end with it): less
+    sensitive than wall time to the load of a shared machine."""
+    me, kids = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+    return me.ru_utime + me.ru_stime + kids.ru_utime + kids.ru_stime
+
+
 def default_diagram(args):
     """The CLI's default diagram, variants side by side (see the module docstring)."""
     values = np.linspace(2.0, 10.0, args.n)
@@ -468,19 +475,15 @@ def default_diagram(args):
     walls = {k: [] for k in variants}
     cpus = {k: [] for k in variants}
 
-    def cpu():   # this process and its finished workers [s]: less sensitive than wall time to the shared load
-        me, kids = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
-        return me.ru_utime + me.ru_stime + kids.ru_utime + kids.ru_stime
-
     for r in range(args.rounds):
         for label, kw in variants.items():
             load = os.getloadavg()[0]
-            t0, c0 = time.perf_counter(), cpu()
+            t0, c0 = time.perf_counter(), cpu_seconds()
             ds = sweep("thesis-1dof", "relay_hz", values, transient=args.transient, record=args.record,
                        workers=args.workers, progress=False, **kw)
             wall = time.perf_counter() - t0
             walls[label].append(wall)
-            cpus[label].append(cpu() - c0)
+            cpus[label].append(cpu_seconds() - c0)
             codes = ds["class_code"].values.ravel()
             print(f"round {r + 1}, {label}: {wall:.2f} s wall, {cpus[label][-1]:.1f} s CPU (load {load:.2f} before), sweep "
                   f"{ds.attrs['sweep_seconds']:.2f} s, classes {dict(zip(*np.unique(codes, return_counts=True)))}, "
@@ -496,23 +499,23 @@ def default_diagram(args):
     return 0
 
 
-def bare_tangent(problem, values, full, workers) -> float:
+def bare_tangent(problem, values, full, workers) -> tuple[float, float]:
     """Time :class:`BareBatchTangent` over ``values`` (records as long as those of the product's
-    diagram ``full``) and compare its exponents with the product's; returns the wall time [s]."""
+    diagram ``full``) and compare its exponents with the product's; returns (wall, CPU) time [s]."""
     from bifurc.codes import ClassCode
     used = full["record_used"].values.ravel()
     problem = replace(problem, records=tuple((float(v), int(r)) for v, r in zip(values, used)
                                              if 0 < r != problem.record))
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), cpu_seconds()
     out = np.array(map_values(BareBatchTangent(problem), values, workers=workers), dtype=float)
-    wall = time.perf_counter() - t0
-    print(f"bare heyoka ensemble (batch + tangent vector; outside the product), {workers} workers: {wall:.2f} s wall "
-          f"({len(problem.records)} records extended as the product's)")
+    wall, cpu = time.perf_counter() - t0, cpu_seconds() - c0
+    print(f"bare heyoka ensemble (batch + tangent vector; outside the product), {workers} workers: {wall:.2f} s wall, "
+          f"{cpu:.1f} s CPU ({len(problem.records)} records extended as the product's)")
     lyap, codes = full["lyapunov"].values.ravel(), full["class_code"].values.ravel()
     both = np.isfinite(lyap) & np.isfinite(out[:, 0])
     if not both.any():
         print("  no value with an exponent from both")
-        return wall
+        return wall, cpu
     diff = np.abs(out[:, 0] - lyap)
     smooth = both & (codes != int(ClassCode.CHAOTIC))
     worst = int(np.nanargmax(np.where(both, diff, np.nan)))
@@ -522,7 +525,7 @@ def bare_tangent(problem, values, full, workers) -> float:
           f"non-chaotic values ({int(smooth.sum())}): {diff[smooth].max() if smooth.any() else math.nan:.2e}; "
           f"the same exponents in the Euclidean norm "
           f"differ by up to {np.abs(out[both, 1] - lyap[both]).max():.2e} (the norm's boundary term)")
-    return wall
+    return wall, cpu
 
 
 def main(argv=None):
@@ -551,37 +554,39 @@ def main(argv=None):
                 tol=problem.tol, progress=False)
     lean = dict(lyapunov=False, grazing=False, error_sample=0)
 
-    def timed(label, vals, workers, **kw):
+    walls, cpus = {}, {}
+
+    def timed(key, label, vals, workers, **kw):
         path = args.output and f"{args.output}.{label.replace(' ', '-')}.nc"
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), cpu_seconds()
         ds = sweep("thesis-1dof", "relay_hz", vals, workers=workers, path=path, **base, **kw)
-        wall = time.perf_counter() - t0
+        wall = walls[key] = time.perf_counter() - t0
+        cpus[key] = cpu_seconds() - c0
         codes = ds["class_code"].values.ravel()
-        print(f"bifurc.sweep, {label}: {vals.size} values, {workers} workers: {wall:.2f} s wall "
+        print(f"bifurc.sweep, {label}: {vals.size} values, {workers} workers: {wall:.2f} s wall, {cpus[key]:.1f} s CPU "
               f"(per-value times sum to {float(ds['run_seconds'].sum()):.1f} s; status ok "
               f"{int((ds['status'] == 0).sum())}/{vals.size}; {int(ds['n_steps'].sum())} Taylor steps; "
               f"classes {dict(zip(*np.unique(codes, return_counts=True)))})")
-        return wall, ds
+        return ds
 
-    walls = {}
-    walls["full"], full_ds = timed("full (bifurc diagram)", values, args.workers)
-    walls["exponents"], _ = timed("exponents, no grazing or error estimate", values, args.workers,
-                                  grazing=False, error_sample=0)
-    walls["batch"], _ = timed("stroboscopic only, batch mode", values, args.workers, **lean)
-    walls["scalar"], scalar = timed("stroboscopic only, batch_size=1", values, args.workers, batch_size=1, **lean)
+    full_ds = timed("full", "full (bifurc diagram)", values, args.workers)
+    timed("exponents", "exponents, no grazing or error estimate", values, args.workers, grazing=False, error_sample=0)
+    timed("batch", "stroboscopic only, batch mode", values, args.workers, **lean)
+    scalar = timed("scalar", "stroboscopic only, batch_size=1", values, args.workers, batch_size=1, **lean)
     x_scalar = scalar["x"].isel(branch=0, sample=-1).values
 
-    bares = {}
+    bares, bare_cpus = {}, {}
     for label, bare_cls in (("scalar", BareTrajectory), ("batch", BareBatch),
                             ("batch + Lyapunov companions", BareBatchLyapunov)):
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), cpu_seconds()
         final = map_values(bare_cls(problem), values, workers=args.workers)
-        bares[label] = time.perf_counter() - t0
-        print(f"bare heyoka ensemble ({label}; outside the product), {args.workers} workers: {bares[label]:.2f} s wall")
+        bares[label], bare_cpus[label] = time.perf_counter() - t0, cpu_seconds() - c0
+        print(f"bare heyoka ensemble ({label}; outside the product), {args.workers} workers: {bares[label]:.2f} s wall, "
+              f"{bare_cpus[label]:.1f} s CPU")
         if label == "scalar":
             print(f"  bare scalar vs bifurc.sweep (batch_size=1) final x: max |diff| = "
                   f"{np.nanmax(np.abs(np.array(final) - x_scalar)):.2e} m")
-    bares["tangent"] = bare_tangent(problem, values, full_ds, args.workers)
+    bares["tangent"], bare_cpus["tangent"] = bare_tangent(problem, values, full_ds, args.workers)
 
     sub = values[::args.serial_stride]
     t0 = time.perf_counter()
@@ -600,11 +605,12 @@ def main(argv=None):
           f"  (batch_size=1 / bare scalar: {walls['scalar'] / bares['scalar']:.2f})")
     r = full / bares["batch + Lyapunov companions"]
     print(f"full diagram / bare ensemble of the same trajectories, companions included <= 1.5: "
-          f"{r:5.2f}   {'met' if r <= 1.5 else 'NOT met'}")
+          f"{r:5.2f}   {'met' if r <= 1.5 else 'NOT met'}  (CPU {cpus['full'] / bare_cpus['batch + Lyapunov companions']:.2f})")
     r = full / bares["tangent"]
     print(f"full diagram / bare ensemble with tangent vector <= 1.2 (issue 10): "
-          f"{r:5.2f}   {'met' if r <= 1.2 else 'NOT met'}  (exponents without grazing or error estimate / "
-          f"bare: {walls['exponents'] / bares['tangent']:.2f})")
+          f"{r:5.2f}   {'met' if r <= 1.2 else 'NOT met'}  (CPU {cpus['full'] / bare_cpus['tangent']:.2f}; "
+          f"exponents without grazing or error estimate / bare: {walls['exponents'] / bares['tangent']:.2f}, "
+          f"CPU {cpus['exponents'] / bare_cpus['tangent']:.2f})")
     return 0
 
 
