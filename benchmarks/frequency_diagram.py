@@ -43,6 +43,7 @@ import numpy as np
 
 import maps
 from bifurc.executor import map_values
+from maps.tangent import TANGENT_SIZE
 from bifurc.sweep import sweep
 
 
@@ -321,7 +322,7 @@ class BareBatchEvents(BareBatch):
     from one compiled ``hy.cfunc``.  (The perturbed orbit crosses dt = -(grad g . u) / (grad g . f-)
     later, and in that interval moves by f- where the reference moves by f+: u+ = u - (f+ - f-) dt.)
     The relay switch, at a fixed time, moves nothing.  At every period end the state and u are
-    kept, then u is scaled back to unit length.
+    kept, then u is scaled back to the product's length (``maps.tangent.TANGENT_SIZE``).
     """
 
     def __init__(self, task, *, tangent: bool = False, observations: bool = False):
@@ -394,10 +395,11 @@ class BareBatchEvents(BareBatch):
                                  vars=[x for x, _ in flow], compact_mode=True)
 
     def period_end(self, j, k):
-        """Lane j ends relay period k: keep state and u, then scale u back to unit length."""
+        """Lane j ends relay period k: keep state and u, then scale u back to the product's length
+        (``maps.tangent.TANGENT_SIZE``: small beside the state, as the product integrates it)."""
         self.keep[j].append(self.state[:, j].copy())
         u = self.state[self.n:, j]
-        u /= math.sqrt(float(u @ u))
+        u *= TANGENT_SIZE / math.sqrt(float(u @ u))
 
 
 class BareBatchTangent:
@@ -443,7 +445,7 @@ class BareBatchTangent:
         ends = self.transient._run([(float(W), self.transient.y0, 0, T, None) for W in values])
         u0 = start_direction(self.record.n)
         go = [i for i, W in enumerate(values) if float(W) not in self.transient.escaped]
-        self.record._run([(float(values[i]), np.concatenate([ends[i], u0]), T,
+        self.record._run([(float(values[i]), np.concatenate([ends[i], u0 * TANGENT_SIZE]), T,
                            records.get(float(values[i]), self.task.record), None) for i in go])
         out = [(math.nan, math.nan)] * len(values)
         n = self.record.n
@@ -452,7 +454,7 @@ class BareBatchTangent:
                 continue
             kept = np.array(kept)
             s = np.maximum(np.max(np.abs(np.vstack([ends[i][None, :], kept[:, :n]])), axis=0), 1e-9)
-            logs = np.log(np.linalg.norm(kept[:, n:], axis=1))
+            logs = np.log(np.linalg.norm(kept[:, n:] / TANGENT_SIZE, axis=1))
             u_end = kept[-1, n:] / np.linalg.norm(kept[-1, n:])
             boundary = math.log(np.linalg.norm(u_end / s)) - math.log(np.linalg.norm(u0 / s))
             out[i] = ((float(np.sum(logs)) + boundary) / len(logs), float(np.mean(logs)))

@@ -13,7 +13,16 @@ error estimate on, streamed to disk (``path``), as `bifurc map` does.  Measured 
    and the scheduling share of the 1-worker run, 1 - (cell time) / (wall time), which says
    whether the grid is large enough (target < 5 %).
 
+3. with ``--bare-n``: what the integration alone costs.  On a ``--bare-n x --bare-n2`` sub-grid
+   spanning the same plane, in this one process (compilation done beforehand), the CPU time of
+   ``bifurc.regime_map`` (everything; and without the error estimate) against the bare heyoka
+   ensemble of ``benchmarks/frequency_diagram.py`` (``BareBatchTangent``: the same transient and
+   tangent-vector record, records as long as the product's, with the least Python possible), and
+   the 100 x 100 wall time on 2 cores that the bare ensemble alone implies (its CPU per cell times
+   10 000 / 2: a floor under the 180 s target, not a measurement).
+
     python benchmarks/regime_map.py [--n 100] [--n2 100] [--workers 2] [--dask-n 16] [--dask-n2 16] [--chunk 16]
+                                    [--bare-n 10 --bare-n2 10]
 """
 from __future__ import annotations
 
@@ -78,6 +87,39 @@ def dask_runs(args):
           f"scheduling and start share of the 1-worker run {100 * share:.1f} % (target < 5 %)")
 
 
+def bare_floor(args):
+    """Product against the bare tangent-vector ensemble on the same cells, CPU time in one process."""
+    from frequency_diagram import BareBatchTangent, Problem, cpu_seconds
+    W, V = np.linspace(2.0, 10.0, args.bare_n), np.linspace(25.0, 300.0, args.bare_n2)
+    sc = __import__("maps").get_scene("thesis-1dof").with_options(dc_law="listing")
+    run = dict(**PROBLEM, values=W, values2=V, transient=args.transient, record=args.record, workers=1)
+    regime_map(**dict(run, values=W[:1], values2=V[:1], transient=3, record=3))       # compile
+    cpu = {}
+    for label, kw in (("everything", {}), ("without error estimate", dict(error_sample=0))):
+        c0 = cpu_seconds()
+        ds = regime_map(**run, **kw)
+        cpu[label] = cpu_seconds() - c0
+    used = ds["record_used"].values
+    bare = 0.0
+    for j, v in enumerate(V):
+        problem = Problem(sc.parameters(preset="matlab-listing", V=float(v)), transient=args.transient,
+                          record=args.record, tol=PROBLEM["tol"],
+                          records=tuple((float(w), int(r)) for w, r in zip(W, used[:, j]) if 0 < r != args.record))
+        base = BareBatchTangent(problem)
+        base.warm()
+        c0 = cpu_seconds()
+        base.run_many(W)
+        bare += cpu_seconds() - c0
+    cells = W.size * V.size
+    print(f"3. {args.bare_n} x {args.bare_n2} = {cells} cells in one process, CPU time (compiled beforehand): "
+          f"bifurc.regime_map {cpu['everything']:.1f} s ({cpu['without error estimate']:.1f} s without the error "
+          f"estimate), bare tangent-vector ensemble {bare:.1f} s: ratio {cpu['everything'] / bare:.2f} "
+          f"({cpu['without error estimate'] / bare:.2f})")
+    print(f"   per cell: product {1e3 * cpu['everything'] / cells:.1f} ms, bare {1e3 * bare / cells:.1f} ms; "
+          f"the bare ensemble alone implies {bare / cells * 10_000 / 2:.0f} s for 100 x 100 on 2 cores "
+          f"(a floor, extrapolated; target <= 180 s)")
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--n", type=int, default=100)
@@ -90,12 +132,16 @@ def main(argv=None):
     ap.add_argument("--chunk", type=int, default=16, help="cells per Dask task")
     ap.add_argument("--skip-local", action="store_true")
     ap.add_argument("--skip-dask", action="store_true")
+    ap.add_argument("--bare-n", type=int, default=0, help="sub-grid for the bare-ensemble comparison (0: none)")
+    ap.add_argument("--bare-n2", type=int, default=10)
     args = ap.parse_args(argv)
     print(f"load average before: {os.getloadavg()} on {os.cpu_count()} cores")
     if not args.skip_local:
         local_run(args)
     if not args.skip_dask:
         dask_runs(args)
+    if args.bare_n:
+        bare_floor(args)
     print(f"load average after: {os.getloadavg()}")
     return 0
 

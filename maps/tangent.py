@@ -16,7 +16,14 @@ import math
 
 import numpy as np
 
-__all__ = ["companion_start", "renormalise", "reduce", "start_direction", "tangent_stretch", "tangent_sample"]
+__all__ = ["companion_start", "renormalise", "reduce", "start_direction", "tangent_stretch", "tangent_sample",
+           "TANGENT_SIZE"]
+
+#: the length a tangent vector is integrated at (it is logged and renormalised as a unit vector).
+#: heyoka controls the error of all state components together, so a unit vector whose fast
+#: components vary faster than the state set the step size (16 % more steps than the state alone);
+#: at this size the state sets it.  A power of two: scaling back and forth is exact.
+TANGENT_SIZE = 2.0 ** -10
 
 
 def start_direction(d: int, shift=None) -> np.ndarray:
@@ -51,13 +58,14 @@ def tangent_sample(u, log: list, start=None, shift=None) -> bool:
     back to unit length.  False (and u zeroed): it is no longer finite or vanished, nothing more to log."""
     if start is not None:
         u[:] = start
+        u *= TANGENT_SIZE
         return True
-    log.append(np.array(u, dtype=float))
+    log.append(np.array(u, dtype=float) / TANGENT_SIZE)
     if shift is not None:
         u[:] = reduce(u, shift)
     norm = math.sqrt(float(np.dot(u, u)))
     if math.isfinite(norm) and norm > 0.0:
-        u /= norm
+        u *= TANGENT_SIZE / norm
         return True
     u[:] = 0.0
     return False

@@ -20,6 +20,7 @@ depend on the state, need no saltation for derivatives with respect to the state
 from __future__ import annotations
 
 import math
+import operator
 from dataclasses import dataclass, field
 from typing import Mapping
 
@@ -54,11 +55,11 @@ class GuardChoice:
         self.group = group
         self.mixed = len({g.direction for g in group}) > 1
         self.keys = tuple(sorted({k for g in group for k in g.when}))
+        self._flags_of = operator.itemgetter(*self.keys) if self.keys else (lambda flags: ())
         self._cache: dict = {}
 
     def __call__(self, sign: int, flags: Mapping[str, float]) -> Guard | None:
-        sign = int(sign) if self.mixed else 0
-        key = (sign, *[flags[k] for k in self.keys])
+        key = (int(sign) if self.mixed else 0, self._flags_of(flags))
         try:
             return self._cache[key]
         except KeyError:

@@ -168,7 +168,7 @@ class Derivatives:
         column).  One compiled call instead of the general rule's several evaluations and small
         matrix products: the batch engine's hot path in a recorded window.  A grazing crossing
         (denominator 0) gives a non-finite u+, which ends the tangent (:mod:`maps.tangent`)."""
-        key = (guard.name, tuple(sorted(changes.items())))
+        key = (guard.name, *changes.items())
         jump = self._jumps.get(key)
         if jump is None:
             f = self._compile_jump(guard, changes)

@@ -305,12 +305,9 @@ class _Callback:
     def __copy__(self):
         return self
 
-    def __call__(self, ta, d_sgn, j):
-        """heyoka's entry: a free or finished lane stops; otherwise :meth:`fire` decides."""
-        lane = self.eng.lanes[j]
-        if lane is None or lane.done:
-            return False
-        return self.fire(self.eng, lane, d_sgn, j)
+    def __call__(self, ta, d_sgn, j):  # pragma: no cover - interface
+        """heyoka's entry: a free or finished lane stops (returns False); otherwise the event acts."""
+        raise NotImplementedError
 
 
 class _ClockCallback(_Callback):
@@ -340,7 +337,11 @@ class _ClockCallback(_Callback):
         eng._tangent_transition(j, lane, out, t, None, y_now=y_now)
         return True
 
-    def fire(self, eng, lane, d_sgn, j):
+    def __call__(self, ta, d_sgn, j):      # heyoka's entry, inlined (two calls per relay period and lane)
+        eng = self.eng
+        lane = eng.lanes[j]
+        if lane is None or lane.done:
+            return False
         t_sw, t_k = lane.t_sw, lane.t_k
         t_next = t_sw if t_sw < t_k else t_k
         # a switch and a sample computed apart (n / (2 W) against k T) may differ by rounding:
@@ -391,7 +392,11 @@ class _GuardCallback(_Callback):
         super().__init__(eng)
         self.choose = eng.choices[gi]
 
-    def fire(self, eng, lane, d_sgn, j):
+    def __call__(self, ta, d_sgn, j):      # heyoka's entry, inlined (the hot path of every sweep)
+        eng = self.eng
+        lane = eng.lanes[j]
+        if lane is None or lane.done:
+            return False
         guard = self.choose(d_sgn, lane.flags)
         if guard is None:
             return True
