@@ -101,7 +101,7 @@ class BareProgression(BareBatch):
                 self.group = group
 
             def __call__(self, ta, d_sgn, j):
-                flags = {f: me.pars[i, j] for f, i in index.items()}
+                flags = me.lane_flags[j]
                 for g in self.group:
                     if g.direction in (0, d_sgn) and all(flags[k] == v for k, v in g.when.items()):
                         break
@@ -114,9 +114,10 @@ class BareProgression(BareBatch):
                     me.state[:, j] = y
                 new = {}
                 if g.then is not None:
-                    new = dict(g.then(0.0, y, flags, params) if callable(g.then) else g.then)
+                    new = dict(g.then(0.0, y, dict(flags), params) if callable(g.then) else g.then)
                 for k, v in new.items():
                     me.pars[index[k], j] = v
+                    flags[k] = v
                 me.settle(j, ta.time[j])
                 if me.pars[index["escaped"], j]:
                     me.escape_t[me.W[j]] = float(ta.time[j])
@@ -135,23 +136,26 @@ class BareProgression(BareBatch):
                                    cooldown=1e-10, callback=Surface(grp)) for grp in groups]
         self._build(system, events + [self.relay_event(system)])
         self.lane_params = [None] * self.batch_size
+        self.lane_flags = [None] * self.batch_size      # each lane's flags, kept with its pars
 
     def settle(self, j, t):
         """The model's own consistency rule (stick, slip) on lane ``j``, where it may act."""
         system, index = self.system, self.flag_index
         if system.settle is None:
             return
-        flags = {f: self.pars[i, j] for f, i in index.items()}
+        flags = self.lane_flags[j]
         if not settle_may_act(system, flags):
             return
-        out = system.settle(t, self.state[:, j].copy(), flags, self.lane_params[j])
+        out = system.settle(t, self.state[:, j].copy(), dict(flags), self.lane_params[j])
         if isinstance(out, tuple):
             out, y = out
             self.state[:, j] = y
         for k, v in (out or {}).items():
             self.pars[index[k], j] = v
+            flags[k] = v
 
     def after_switch(self, j):
+        self.lane_flags[j]["P"] = float(self.pars[self.i_P, j])     # the relay flag, switched by the time event
         self.settle(j, self._ta.time[j])
 
     def period_end(self, j, k):
@@ -165,9 +169,11 @@ class BareProgression(BareBatch):
         starts in elastic contact)."""
         self.lane_params[j] = params
         if params["relay_hz"] in self.carry:
-            return dict(self.carry[params["relay_hz"]])
-        flags = self.system.initial_flags(t, params)
-        flags.update(self.system.mode_at(y0, params, flags))
+            flags = dict(self.carry[params["relay_hz"]])
+        else:
+            flags = self.system.initial_flags(t, params)
+            flags.update(self.system.mode_at(y0, params, flags))
+        self.lane_flags[j] = dict(flags)
         return flags
 
     def records(self, values):
