@@ -232,7 +232,7 @@ class BareBatch(_Same):
         self.warm()
         ta, B = self._ta, 4
         out, lane_of = [None] * len(jobs), [None] * B
-        self.kept = [None] * len(jobs)
+        self.kept, self.steps = [None] * len(jobs), [0] * len(jobs)
         waiting = list(range(len(jobs)))[::-1]
         self.n_sw, self.W, self.done, self.last = [1] * B, [1.0] * B, [False] * B, [0] * B
         self.keep, self.ref, self.k0, self.inv_scale = [None] * B, [None] * B, [0] * B, [None] * B
@@ -265,6 +265,9 @@ class BareBatch(_Same):
         load()
         while any(i is not None and i >= 0 for i in lane_of):
             ta.propagate_until(target)
+            for j, r in enumerate(ta.propagate_res):     # each job's Taylor steps
+                if lane_of[j] is not None and lane_of[j] >= 0:
+                    self.steps[lane_of[j]] += int(r[3])
             for j in range(B):
                 if lane_of[j] is not None and lane_of[j] >= 0 and self.done[j]:
                     out[lane_of[j]] = self.state[:, j].copy()

@@ -40,10 +40,13 @@ def forcing_period_steps(f_mains: float, relay_hz: float | None, max_steps: int 
     """
     T = 1.0 / relay_hz if period is None else float(period)
     ratios = (T * f_mains,) if relay_hz is None else (T * f_mains, T * relay_hz)
-    for q in range(1, max_steps + 1):
-        if all(abs(q * r - round(q * r)) <= 1e-9 * max(1.0, q * r) for r in ratios):
-            return q
-    return 0
+    q = np.arange(1, int(max_steps) + 1)          # every candidate at once (a loop cost ~1 ms a value)
+    whole = np.ones(q.size, dtype=bool)
+    for r in ratios:
+        x = q * r
+        whole &= np.abs(x - np.round(x)) <= 1e-9 * np.maximum(1.0, x)
+    hit = np.flatnonzero(whole)
+    return int(hit[0]) + 1 if hit.size else 0
 
 
 @dataclass

@@ -104,6 +104,18 @@ def test_forcing_period_in_relay_periods():
     assert forcing_period_steps(50.0, 5.0, period=0.1) == 2 and forcing_period_steps(50.0, 5.0, period=0.4) == 1
 
 
+def test_forcing_period_closed_form():
+    """relay_hz = f_mains b / a: T f_mains = a / b, so q = b / gcd(a, b), the smallest q with q a / b whole
+    (every pair a < 60, b < 1000 on a coarse grid; none within max_steps: 0)."""
+    for a in range(1, 60, 7):
+        for b in list(range(1, 60)) + [97, 331, 500, 997, 1001, 1500]:
+            q = b // math.gcd(a, b)
+            assert forcing_period_steps(50.0, 50.0 * b / a) == (q if q <= 1000 else 0), (a, b)
+    assert forcing_period_steps(50.0, 50.0 / math.sqrt(2.0)) == 0
+    assert forcing_period_steps(50.0, 50.0 * 7 / 3, max_steps=6) == 0 and forcing_period_steps(50.0, 50.0 * 7 / 3,
+                                                                                               max_steps=7) == 7
+
+
 def test_non_autonomous_map_repeats_after_q_steps(scene):
     """At 6 Hz the sampled forcing repeats every 3 relay periods: step(y, k) depends on k mod 3."""
     p = scene.parameters(preset="matlab-listing", V=90, relay_hz=6)
