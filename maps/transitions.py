@@ -73,7 +73,7 @@ class GuardChoice:
         return chosen
 
 
-@dataclass
+@dataclass(slots=True)
 class Outcome:
     """What a transition did: the state after it (None: unchanged), the flags that change,
     the log ``[(name, y_before, y_after, flags_after)]`` (the guard's own record first, then
@@ -140,9 +140,9 @@ def fire(system: HybridSystem, guard: Guard, t: float, y: np.ndarray, flags: Map
     flags_guard = dict(flags, **changes) if changes else flags
     s = settle(system, t, here, flags_guard, params)
     if s is NOTHING:                # the common case: the guard's own transition only
-        out = Outcome(y=y_guard, changes=changes, records=[(guard.name, y_minus, here, dict(flags_guard))])
-        out.halted = halted(system, flags_guard)
-        return out
+        # (flags_guard is this call's own dict where the guard changed a flag: no copy needed)
+        return Outcome(y_guard, changes, [(guard.name, y_minus, here, flags_guard if changes else dict(flags))],
+                       halted(system, flags_guard))
     y_after = s.y if s.y is not None else y_guard
     out = Outcome(y=None if y_after is None else np.asarray(y_after, dtype=float),
                   changes=dict(changes, **s.changes) if s.changes else changes, projection=s.projection)
