@@ -23,6 +23,7 @@ from .scene import SystemScene, resolve_scene
 __all__ = ["ValueJob", "ValueResult", "RECORD_FACTOR", "FORCING_PERIODS"]
 
 _MAPS: dict = {}
+_NAMED: dict = {}     # (scene name, options, tol) -> the map of _MAPS it resolves to
 #: default cap of the record extension, in multiples of ``record`` (3 x 100 periods holds three forcing
 #: periods of every q up to the default max_period of 100)
 RECORD_FACTOR = 3
@@ -115,11 +116,20 @@ class ValueJob:
     lyapunov_method: str = "tangent"  # "tangent": a tangent vector with the batch engine's record; "companion"
 
     def warm(self) -> StroboscopicMap:
-        """The process-wide map for this scene structure and tolerance (compiled once)."""
+        """The process-wide map for this scene structure and tolerance (compiled once).  A scene
+        named by a string is resolved once per (name, options, tol): every value asks again."""
+        named = None
+        if isinstance(self.scene, str):
+            named = (self.scene, tuple(sorted((k, repr(v)) for k, v in self.options.items())), self.tol)
+            smap = _NAMED.get(named)
+            if smap is not None:
+                return smap
         sc, _ = resolve_scene(self.scene, self.params, **self.options)
         key = (sc.options if sc.options is not None else id(sc.system), self.tol)
         if key not in _MAPS:
             _MAPS[key] = StroboscopicMap(sc.system if isinstance(sc, SystemScene) else sc, self.params, tol=self.tol)
+        if named is not None:
+            _NAMED[named] = _MAPS[key]
         return _MAPS[key]
 
     @property
