@@ -48,11 +48,16 @@ def variational_integrator(system, tol: float, params: tuple = ()):
     return _compiled(system, tol, tuple(params), build)
 
 
+def _tangent_vars(n: int) -> list:
+    """The heyoka variables u_0 .. u_{n-1} of one tangent vector."""
+    return [hy.make_vars(f"tangent_{i}") for i in range(n)]
+
+
 def tangent_equations(system) -> list:
     """(u_i, sum_j df_i/dy_j u_j): the variational equations along one tangent vector u, as
     heyoka (variable, expression) pairs (heyoka's ``diff`` of the vector field)."""
     ys = system.sym.state_vars
-    us = [hy.make_vars(f"tangent_{i}") for i in range(len(ys))]
+    us = _tangent_vars(len(ys))
     return [(u, hy.sum([hy.diff(f, y) * uj for y, uj in zip(ys, us)])) for u, f in zip(us, system.rhs)]
 
 
@@ -178,7 +183,7 @@ class Derivatives:
     def _compile_jump(self, guard, changes):
         s, system = self.system.sym, self.system
         ys = list(s.state_vars)
-        us = [hy.make_vars(f"tangent_{i}") for i in range(self.n)]
+        us = _tangent_vars(self.n)
         R = system.reset_expressions(guard)
         R_y = [[hy.diff(r, y) for y in ys] for r in R]
         after = {y: r for y, r in zip(ys, R) if guard.reset is not None}
@@ -187,8 +192,7 @@ class Derivatives:
         f_plus = [hy.subs(f, after) if after else f for f in f_minus]
         g = guard.expr
         grad = [hy.diff(g, y) for y in ys]
-        rate = hy.sum([a * b for a, b in zip(grad, f_minus)] + [time_derivative(g)])
-        along = hy.sum([a * u for a, u in zip(grad, us)]) / rate
+        along = hy.sum([a * u for a, u in zip(grad, us)]) / system.lie_derivative(g)   # / (grad g . f- + dg/dt)
         rows = []
         for i in range(self.n):
             Ru = hy.sum([R_y[i][j] * us[j] for j in range(self.n)])
