@@ -5,7 +5,8 @@ are analysis (:mod:`bifurc.lyapunov`):
 
 - a *tangent vector* u integrated with the flow (u' = (df/dy) u, the saltation rule applied to
   u at every state event, :meth:`maps.variational.Derivatives.transition`) and renormalised to
-  unit length after each map step; :func:`tangent_stretch` gives each step's log stretch;
+  length :data:`TANGENT_SIZE` after each map step (logged as a unit vector);
+  :func:`tangent_stretch` gives each step's log stretch;
 - a *companion* trajectory that starts ``d0`` away from a reference state (norm scaled by
   ``scale``) and after each map step is moved back to distance ``d0`` from the reference (a
   finite-difference stand-in for the tangent vector, kept as a cross-check).
@@ -54,8 +55,9 @@ def companion_start(y0, d0: float = 1e-8, scale=None) -> np.ndarray:
 
 def tangent_sample(u, log: list, start=None, shift=None) -> bool:
     """At a recorded sample, the tangent vector ``u`` (an engine's live view, changed in place)
-    starts at ``start``, or is appended to ``log``, reduced by ``shift`` (:func:`reduce`) and scaled
-    back to unit length.  False (and u zeroed): it is no longer finite or vanished, nothing more to log."""
+    starts at ``start`` (a unit vector), or is appended to ``log`` (as grown from a unit vector),
+    reduced by ``shift`` (:func:`reduce`) and scaled back to length :data:`TANGENT_SIZE`.  False
+    (and u zeroed): it is no longer finite or vanished, nothing more to log."""
     if start is not None:
         u[:] = start
         u *= TANGENT_SIZE
