@@ -364,22 +364,22 @@ class ScalarEngine(Engine):
 
     def hybrid_run(self, params) -> HybridRun:
         """This engine's reusable run, with ``params`` loaded (compiled once per structure)."""
-        if self._run is None:
-            self._run = HybridRun(self.system, params, np.zeros(len(self.system.states)), tol=self.tol,
-                                  fp_type=self.fp_type, max_events=None,
-                                  max_events_per_period=self.max_events_per_period)
-        elif self._run.params != params:
-            self._run.set_params(**params)
+        self._run = self._reuse(self._run, HybridRun, params, fp_type=self.fp_type)
         return self._run
 
     def tangent_run(self, params) -> TangentRun:
         """This engine's reusable run with a tangent vector (compiled on first use)."""
-        if self._tangent_run is None:
-            self._tangent_run = TangentRun(self.system, params, np.zeros(len(self.system.states)), tol=self.tol,
-                                           max_events=None, max_events_per_period=self.max_events_per_period)
-        elif self._tangent_run.params != params:
-            self._tangent_run.set_params(**params)
+        self._tangent_run = self._reuse(self._tangent_run, TangentRun, params)
         return self._tangent_run
+
+    def _reuse(self, run, cls, params, **kw):
+        """``run`` with ``params`` loaded, or a new ``cls`` run if there is none yet."""
+        if run is None:
+            return cls(self.system, params, np.zeros(len(self.system.states)), tol=self.tol, max_events=None,
+                       max_events_per_period=self.max_events_per_period, **kw)
+        if run.params != params:
+            run.set_params(**params)
+        return run
 
     @property
     def compile_seconds(self) -> float:
