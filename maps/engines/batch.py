@@ -29,7 +29,7 @@ from collections import deque
 import numpy as np
 
 from .. import transitions as tr
-from ..hybrid import EVENT_COOLDOWN, settle_may_act
+from ..hybrid import EVENT_COOLDOWN
 from ..parameters import ParameterError
 from ..tangent import renormalise, tangent_sample
 from .base import Engine, OrbitJob, OrbitResult
@@ -320,13 +320,10 @@ class _ClockCallback(_Callback):
     def __init__(self, eng):
         super().__init__(eng)
         self.sw, self.system = eng.sw, eng.system
-        self.may_settle = (lambda system, flags: False) if eng.system.settle is None else settle_may_act
         self.i_flag = eng.i_flag[eng.sw.flag] if eng.sw is not None else None
 
     def _settle(self, eng, lane, j, t) -> bool:
         """The system's settle after the switch (maps.transitions.settle: NOTHING where it cannot act)."""
-        if not self.may_settle(self.system, lane.flags):
-            return True
         y = eng.state[:eng.n, j]
         out = tr.settle(self.system, t, y, lane.flags, lane.params)
         if out is tr.NOTHING:
