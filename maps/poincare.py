@@ -370,8 +370,7 @@ class StroboscopicMap:
         y0, given, _ = _split(x0)
         flags = flags if flags is not None else given
         y0 = self.system.state_vector(y0)
-        job = self._job(self.params, y0, flags, 0, transient, n, t0, log=True, tangent=self._tangent_start(tangent),
-                        shift=translation_basis(self.system) if tangent else None, timed=held_mode(self.system))
+        job = self._job(self.params, y0, flags, 0, transient, n, t0, **self._recorded(tangent))
         res = self._engine.run([job])[0]
         return self._orbit_from(res, job)
 
@@ -395,13 +394,11 @@ class StroboscopicMap:
         transient = int(validate_value("transient", transient, 0, 1e8))
         params = [self.system.validate(dict(self.params, **o)) for o in overrides]
         starts = x0 if isinstance(x0, list) else [x0] * len(params)
-        jobs = []
+        jobs, recorded = [], self._recorded(tangent)
         for p, s, m in zip(params, starts, lengths):
             y, given, _ = _split(s)
             jobs.append(self._job(p, self.system.state_vector(y), flags if flags is not None else given,
-                                  0, transient, m, log=True, tangent=self._tangent_start(tangent),
-                                  shift=translation_basis(self.system) if tangent else None,
-                                  timed=held_mode(self.system)))
+                                  0, transient, m, **recorded))
         method = self._method(method, batch_size)
         clock = _time.perf_counter()
         if method == "scalar":
@@ -462,12 +459,16 @@ class StroboscopicMap:
             out.append(st)
         return out
 
-    def _tangent_start(self, tangent: bool):
-        """The start direction of a tangent vector (:func:`maps.tangent.start_direction`), or None."""
-        if not tangent:
-            return None
-        from .tangent import start_direction
-        return start_direction(len(self.system.states), translation_basis(self.system))
+    def _recorded(self, tangent: bool) -> dict:
+        """The job keywords of a recorded orbit: its event log, the soil's holding mode timed
+        (:func:`maps.progression.held_mode`) and, with ``tangent``, a tangent vector's start direction
+        (:func:`maps.tangent.start_direction`) and the translation removed from it."""
+        kw = dict(log=True, timed=held_mode(self.system))
+        if tangent:
+            from .tangent import start_direction
+            shift = translation_basis(self.system)
+            kw.update(tangent=start_direction(len(self.system.states), shift), shift=shift)
+        return kw
 
     def _batch_engine(self, batch_size: int, observations: bool, tangent: bool = False):
         """The process-wide batch engine for this system, tolerance and event cap (compiled once)."""
