@@ -59,7 +59,7 @@ def _progression(results, branches, job, scene, sizes, par, values, mode) -> dic
         for i, r in enumerate(results[b]):
             if r is None:
                 continue
-            p = dict(job.params, **{par: float(values[i])})
+            p = job.at(values[i])
             W, n = p["relay_hz"], min(r.record_used, job.record)     # the stored samples: the first record
             t = (r.transient_used + np.arange(n + 1)) / W
             held = 0.0 if held_by is None else r.held_time      # the time in the mode, from its flag changes
