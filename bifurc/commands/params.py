@@ -1,6 +1,4 @@
 """`bifurc params`: every parameter of a scene with its value, unit, allowed range and provenance."""
-import maps
-
 from ._common import add_parameter_options, parse_sets
 
 

@@ -222,7 +222,7 @@ def disagreements(m, size) -> list[str]:
             F0, F1 = ACTUATOR_N_PER_V * acts[0], ACTUATOR_N_PER_V * acts[-1]
             why = (f"the static force alone exceeds P_max = 60 N above actuator {60 / ACTUATOR_N_PER_V:.3g} V, and "
                    f"then keeps the slider yielding" if law == "drift" and F1 > 60 else
-                   f"the static force stays far below the 1000 N friction limit, so only the impact peaks move the rig"
+                   "the static force stays far below the 1000 N friction limit, so only the impact peaks move the rig"
                    if law == "coulomb" else "")
             out.append(f"{law}, AC {ac} V: from F_static {F0:.3g} to {F1:.3g} N the rate changes x {rs[-1] / rs[0]:.3g} "
                        f"(measured x {th[1] / th[0]:.3g}){'; ' + why if why else ''}.")
@@ -306,7 +306,7 @@ def report(m, size, quick, seconds) -> str:
              f"{size['transient']} relay periods discarded, rates over the next {size['record']} "
              f"(tol {TOL:g}); wall time {seconds:.0f} s.", "",
              "## Assumptions", "",
-             f"- AC voltages are RMS: source amplitude V = sqrt(2) x RMS (MODEL.md section 4).",
+             "- AC voltages are RMS: source amplitude V = sqrt(2) x RMS (MODEL.md section 4).",
              f"- Actuator volts to static force: F_static = {ACTUATOR_N_PER_V} N/V x actuator volts (31.1 N of "
              "listing C.14 at Table 5.5's 10 V); the thesis gives no mapping.",
              f"- Scatter band: x {BAND[0]:.2f} to x {BAND[1]:.2f} of a measured rate (Tables 5.4 and 5.5 at the "
