@@ -314,6 +314,8 @@ class BareBatchEvents(BareBatch):
     Events, from the public ``HybridSystem.event_groups()`` in the product's order, then the relay
     clock: the contact/release surface (the contact flag flips on the crossing's sign); the
     escape/unstick surface (an escape ends the lane; unsticking needs a stuck bar, never set here);
+    the stick surface (the contact oscillation's amplitude at stick_speed: the bar would stick
+    there; ``rest_crossings`` counts where it would, 0 in this diagram);
     with ``observations`` the flight-minimum/deepest-point surface (v = 0 upward), whose callback
     does nothing: the product's record stops there (its observation guards), its transient not.
 
@@ -338,6 +340,7 @@ class BareBatchEvents(BareBatch):
         system = maps.get_scene(self.task.scene).with_options(dc_law="listing").system   # matlab-listing's law
         self.i_contact = par_index(system, "contact")
         self.escaped = set()
+        self.rest_crossings = 0
         me = self
 
         class Contact(_Same):
@@ -365,6 +368,12 @@ class BareBatchEvents(BareBatch):
             def __call__(self, ta, d_sgn, j):
                 return True
 
+        class Rest(_Same):       # the product's stick guard: counted where it would act (never here)
+            def __call__(self, ta, d_sgn, j):
+                if d_sgn < 0 and me.pars[me.i_contact, j] == 1.0:
+                    me.rest_crossings += 1
+                return True
+
         events = []
         for grp in system.event_groups():
             roles = {g.role for g in grp}
@@ -372,6 +381,8 @@ class BareBatchEvents(BareBatch):
                 cb, direction = Contact(), hy.event_direction.any
             elif "escape" in roles:
                 cb, direction = Escape(), hy.event_direction.any
+            elif roles == {"stick"}:
+                cb, direction = Rest(), grp[0].heyoka_direction()
             elif all(g.observes_only for g in grp):
                 if not self.observations:
                     continue

@@ -69,7 +69,9 @@ class Guard:
 
     ``when`` lists flag values under which the guard is active (inactive
     crossings are passed over).  ``then`` gives the new flag values, or is a
-    callable ``then(t, y, flags, params) -> dict``.  ``reset`` maps the state
+    callable ``then(t, y, flags, params) -> dict``, or ``-> (dict, y)`` to enter the new
+    mode with the state projected (declare the projection's expressions in
+    ``system.projections[name]`` for exact Jacobians).  ``reset`` maps the state
     at the crossing to the state after it (``None``: continuous): a list of heyoka
     expressions, one per state (e.g. ``[s.x, -s.r * s.v]``, differentiable
     symbolically), or a Python function ``reset(y, params) -> y`` (traced on heyoka

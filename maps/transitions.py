@@ -5,7 +5,8 @@ and switch instants.  What happens there is decided here, the same way for every
 
 - :func:`event_surfaces`: guards grouped by surface, one integrator event per surface;
 - :class:`GuardChoice`: which guard of a surface acts, by the crossing's sign and the flags;
-- :func:`fire`: a guard's transition (reset map, new flags), then :func:`settle`;
+- :func:`fire`: a guard's transition (reset map, new flags), then :func:`settle` (not after
+  an observation: what an engine records never changes the motion);
 - :func:`settle`: the system's consistency rule after any transition (stick/unstick, slip),
   which may project the state, and the names of the settle transitions it logs;
 - :func:`halted`: a halt flag ends the run (an escape);
@@ -126,26 +127,41 @@ def settle(system: HybridSystem, t: float, y: np.ndarray, flags: Mapping[str, fl
 def fire(system: HybridSystem, guard: Guard, t: float, y: np.ndarray, flags: Mapping[str, float],
          params: Mapping[str, float]) -> Outcome:
     """The transition of ``guard`` crossed at ``t`` in state ``y``: its reset map, its new
-    flags, then :func:`settle`.  Every guard, an observation too, gets one record."""
+    flags (and the projection its ``then`` may return), then :func:`settle`.  Every guard, an
+    observation too, gets one record.
+
+    An observation (a guard that changes neither flags nor state) is NOT followed by
+    :func:`settle`: an engine may skip its stop (a transient does), so a rule applied there
+    would make the motion depend on what is observed."""
     y_minus = np.array(y, dtype=float)
+    if guard.then is None and guard.reset is None:      # an observation: a record, nothing else
+        return Outcome(None, {}, [(guard.name, y_minus, y_minus, dict(flags))], False)
     y_guard = None
     if guard.reset is not None:
         y_guard = np.asarray(system.reset_function(guard)(y_minus.copy(), params), dtype=float)
     here = y_minus if y_guard is None else y_guard
     changes: dict = {}
+    projected = None
     if guard.then is not None:
         new = guard.then(t, here.copy(), dict(flags), params) if callable(guard.then) else guard.then
+        if isinstance(new, tuple):  # (flags, state): the guard's mode entered with a projection
+            new, projected = new[0], np.asarray(new[1], dtype=float)
         if new:
             changes = {k: v for k, v in new.items() if flags.get(k) != v}
     flags_guard = dict(flags, **changes) if changes else flags
-    s = settle(system, t, here, flags_guard, params)
-    if s is NOTHING:                # the common case: the guard's own transition only
+    y_next = here if projected is None else projected
+    s = settle(system, t, y_next, flags_guard, params)
+    if s is NOTHING and projected is None:   # the common case: the guard's own transition only
         # (flags_guard is this call's own dict where the guard changed a flag: no copy needed)
         return Outcome(y_guard, changes, [(guard.name, y_minus, here, flags_guard if changes else dict(flags))],
                        halted(system, flags_guard))
-    y_after = s.y if s.y is not None else y_guard
+    if projected is not None and s.projection is not None:
+        raise ValueError(f"guard {guard.name!r} projects the state and settle projects it again: "
+                         f"one projection per transition")
+    y_after = s.y if s.y is not None else (projected if projected is not None else y_guard)
     out = Outcome(y=None if y_after is None else np.asarray(y_after, dtype=float),
-                  changes=dict(changes, **s.changes) if s.changes else changes, projection=s.projection)
+                  changes=dict(changes, **s.changes) if s.changes else changes,
+                  projection=guard.name if projected is not None else s.projection)
     # the guard's record shows the state and flags it left (before any settle transition)
     if s.records:
         out.records.append((guard.name, y_minus, here, dict(flags_guard)))

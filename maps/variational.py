@@ -147,7 +147,11 @@ class Derivatives:
             before, after = self.pars(p, flags_before), self.pars(p, flags_after)    # built once per event
             R_y, R_p = self.reset(guard, t, y_minus, before)
             if out.projection is not None:
-                here = out.records[0][2]            # the state the guard left, before the projection
+                if out.projection == guard.name:    # the guard's own projection, after its reset
+                    here = (y_minus if guard.reset is None
+                            else np.asarray(self.system.reset_function(guard)(np.array(y_minus), p), dtype=float))
+                else:
+                    here = out.records[0][2]        # the state the guard left, before settle's projection
                 P_y, P_p = self.projection(out.projection, t, here, p, flags_after)
                 R_y, R_p = P_y @ R_y, P_y @ R_p + P_p
             y_after = out.y if out.y is not None else y_minus

