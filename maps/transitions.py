@@ -29,7 +29,7 @@ import numpy as np
 
 from .hybrid import EventCap, Guard, HybridSystem, settle_may_act
 
-__all__ = ["event_surfaces", "GuardChoice", "Outcome", "NOTHING", "fire", "settle", "halted", "EventBudget",
+__all__ = ["event_surfaces", "GuardChoice", "Outcome", "NOTHING", "fire", "settle", "settle_gate", "halted", "EventBudget",
            "start_flags", "next_switch", "saltation", "event_time_row", "projected"]
 
 
@@ -122,6 +122,24 @@ def settle(system: HybridSystem, t: float, y: np.ndarray, flags: Mapping[str, fl
         out.projection = out.records[0][0]
     out.halted = halted(system, dict(flags, **out.changes))
     return out
+
+
+def settle_gate(system: HybridSystem):
+    """A fast predicate ``may(flags) -> bool``: whether :func:`settle` can act under ``flags``
+    (``system.settle_if``), or None when the system has no settle rule.  For an engine's hot path
+    (a relay switch, twice per period): it calls :func:`settle` only where this is True."""
+    if system.settle is None:
+        return None
+    cond = system.settle_if
+    if cond is None:
+        return lambda flags: True
+    if len(cond) == 1:
+        (k1, v1), = cond
+        return lambda flags: flags[k1] == v1
+    if len(cond) == 2:
+        (k1, v1), (k2, v2) = cond
+        return lambda flags: flags[k1] == v1 or flags[k2] == v2
+    return lambda flags: settle_may_act(system, flags)
 
 
 def fire(system: HybridSystem, guard: Guard, t: float, y: np.ndarray, flags: Mapping[str, float],

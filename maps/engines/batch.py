@@ -321,6 +321,7 @@ class _ClockCallback(_Callback):
         super().__init__(eng)
         self.sw, self.system = eng.sw, eng.system
         self.i_flag = eng.i_flag[eng.sw.flag] if eng.sw is not None else None
+        self.may_settle = tr.settle_gate(eng.system)
 
     def _settle(self, eng, lane, j, t) -> bool:
         """The system's settle after the switch (maps.transitions.settle: NOTHING where it cannot act)."""
@@ -354,7 +355,8 @@ class _ClockCallback(_Callback):
             lane.n_sw = m
             lane.t_sw = (m // 2 + (sw.duty if m % 2 else 0.0)) / lane.W
             lane.res.n_switches += 1
-            if not self._settle(eng, lane, j, t_sw):
+            may = self.may_settle
+            if may is not None and may(lane.flags) and not self._settle(eng, lane, j, t_sw):
                 return False
         if t_k <= close:
             k = lane.k_next
