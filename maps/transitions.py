@@ -146,7 +146,9 @@ def fire(system: HybridSystem, guard: Guard, t: float, y: np.ndarray, flags: Map
          params: Mapping[str, float]) -> Outcome:
     """The transition of ``guard`` crossed at ``t`` in state ``y``: its reset map, its new
     flags (and the projection its ``then`` may return), then :func:`settle`.  Every guard, an
-    observation too, gets one record.
+    observation too, gets one record, except a guard whose callable ``then`` declined and after
+    which nothing changed (e.g. the model's "stick" crossed by a bar pulled off the stop):
+    :data:`NOTHING`, no event.
 
     An observation (a guard that changes neither flags nor state) is NOT followed by
     :func:`settle`: an engine may skip its stop (a transient does), so a rule applied there
@@ -169,6 +171,8 @@ def fire(system: HybridSystem, guard: Guard, t: float, y: np.ndarray, flags: Map
     flags_guard = dict(flags, **changes) if changes else flags
     y_next = here if projected is None else projected
     s = settle(system, t, y_next, flags_guard, params)
+    if s is NOTHING and y_guard is None and projected is None and not changes:
+        return NOTHING              # a conditional transition that did not happen: no event
     if s is NOTHING and projected is None:   # the common case: the guard's own transition only
         # (flags_guard is this call's own dict where the guard changed a flag: no copy needed)
         return Outcome(y_guard, changes, [(guard.name, y_minus, here, flags_guard if changes else dict(flags))],

@@ -226,3 +226,30 @@ def test_prototype_stick_conserves_momentum_or_holds_the_rig():
             assert m1 * v1 + m2 * v2 == pytest.approx(m1 * e.y_minus[1] + m2 * e.y_minus[3], abs=1e-15)
         nxt = next(u for u in run.events[k + 1:] if u.name == "unstick")
         assert nxt.t * p["relay_hz"] % 0.5 == pytest.approx(0.0, abs=1e-12)  # at a relay switch
+
+
+def test_the_stick_guard_sticks_a_pressed_bar_and_declines_a_pulled_one():
+    """The "stick" guard's transition at a state on its surface: pressed on the stop (N < 0,
+    chatter-relay) the bar is put on it at rest, stuck, the projection named by the guard; pulled
+    off it (N > 0: thesis-1dof's listing DC cubic, ~35 N at the stop) nothing happens and no event
+    is logged."""
+    from maps import transitions as tr
+    for name, pressed in (("chatter-relay", True), (None, False)):
+        if name:
+            sc, p = case_scene(_case(name))
+        else:
+            import maps
+            sc = maps.get_scene("thesis-1dof")
+            p = sc.parameters(preset="matlab-listing", V=90.0)
+        system = sc.system
+        guard = next(g for g in system.guards if g.name == "stick")
+        y = system.state_vector(sc.initial_state(x=p["e"] - 1e-9, v=-2e-5))
+        flags = dict(tr.start_flags(system, 0.0, y, p, None), contact=1.0, stuck_bar=0.0)
+        N = float(system.evaluate(["N_bar"], y, p, flags, 0.0)[0])
+        out = tr.fire(system, guard, 0.0, y, flags, p)
+        if pressed:
+            assert N < 0 and out.changes == {"contact": 0.0, "stuck_bar": 1.0} and out.projection == "stick"
+            assert out.y[0] == p["e"] and out.y[1] == 0.0 and np.array_equal(out.y[2:], y[2:])
+            assert [r[0] for r in out.records] == ["stick"]
+        else:
+            assert N > 30 and out is tr.NOTHING

@@ -224,7 +224,7 @@ class HybridRun:
                     if out.halted:
                         raise Escaped(f"{guard.name}: the state left the model's domain at t = {t:.9g} s",
                                       t, self.y)
-                    if stop_roles and guard.role in stop_roles:
+                    if stop_roles and guard.role in stop_roles and out is not tr.NOTHING:
                         self.stopped_by = guard.name
                         return self
                 continue
