@@ -172,8 +172,8 @@ class ContinuationProblem:
 
 def unit_tangent(DF, reference) -> np.ndarray:
     """The unit null vector of DF (k x k+1) oriented along ``reference`` (where the bordered system
-    is singular, e.g. a bar stuck on its stop whose frozen state has multipliers 1: the right
-    singular vector of DF's smallest singular value)."""
+    is singular, e.g. where a multiplier is exactly 1 along the whole branch: the right singular
+    vector of DF's smallest singular value)."""
     A = np.vstack([DF, reference])
     rhs = np.zeros(A.shape[0])
     rhs[-1] = 1.0

@@ -85,4 +85,5 @@ def forced_oscillator_with_stop(stick_speed: float = STICK_SPEED) -> HybridSyste
     system.strobe_period = lambda p: 2 * math.pi / p["Omega"]
     # the stick projection (x = e, v = 0) as expressions, for exact Jacobians through a stick
     system.projections = {"settle": lambda s, flags: [s.e, hy.expression(0.0)]}
+    system.mode_projections = {("stuck", 1.0): "settle"}
     return system

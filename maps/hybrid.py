@@ -215,6 +215,12 @@ class HybridSystem:
     #: by any multiple of it shifts the whole motion; the 2-DOF scenes: bar and rig together);
     #: periodic orbits are then solved in the reduced coordinates, with the advance per period
     translation: Mapping[str, float] | None = None
+    #: ``{(flag, value): name}``: a mode whose states lie on a set, reached by the projection
+    #: ``projections[name]`` (a bar stuck on its stop: x = e, v = 0).  An exact Jacobian started in
+    #: that mode first projects its perturbations onto the set: a perturbation off it is not a
+    #: state of the mode (the physical bar falls back and sticks again), so it is not carried
+    #: along as a frozen offset with multiplier 1.
+    mode_projections: Mapping[tuple, str] = {}
 
     def __init__(self, name: str, states: Sequence[State], parameters: Sequence[Parameter],
                  rhs: Callable, flags: Mapping[str, float] | None = None,

@@ -782,6 +782,7 @@ def build_system(options: ModelOptions | None = None, **kw) -> HybridSystem:
         system.settle = stick if system.settle is None else _chain(stick, system.settle)
         system.settle_events = {"stuck_bar": {1.0: "stick", 0.0: "unstick"}}  # logged as events
         system.projections = {"stick": _stick_projection(o)}                    # their Jacobians
+        system.mode_projections = {("stuck_bar", 1.0): "stick"}                  # the stuck bar's set
         if system.settle is stick:   # sticking acts only in contact or stuck (Coulomb slip: always)
             system.settle_if = (("contact", 1.0), ("stuck_bar", 1.0))
     system.mode_rule = lambda y, params, flags, given=(): start_flags(system, o, y, params, flags, given)

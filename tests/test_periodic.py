@@ -204,3 +204,24 @@ def test_a_2dof_orbit_is_solved_in_relative_coordinates_with_its_advance():
                         error=False)
     assert ds.advance_per_period.attrs["units"] == "m" and abs(float(ds.advance_per_period) - orbit.advance) < 1e-12
     assert float(ds.x2[0]) == 0.0 and "x2 = 0" in ds.attrs["reduced_coordinates_note"]
+
+
+def test_a_bar_resting_on_the_stop_is_a_stable_orbit_with_the_circuits_closed_form_multipliers():
+    """thesis-1dof, measured DC law, 5 Hz, 100 V: the bar stays stuck on the stop (x = e, v = 0).
+    Started in the stuck mode, a perturbation off the stop is not a state of that mode (the bar falls
+    back and sticks again): the Jacobian projects it first, so x and v have multipliers 0, not a
+    frozen offset's 1.  With the bar at rest the circuit (eq. 4.16, i'' + R/L i' + i/(LC) = u'/L,
+    L = L(e) constant) is linear with constant coefficients: its two multipliers over T = 1/5 s have
+    the product det expm(A T) = exp(-R T / L), a complex pair of modulus exp(-R T / (2 L)) here."""
+    import math
+    import bifurc
+    ds = bifurc.periodic_orbit("thesis-1dof", preset="matlab-listing", params={"V": 100.0, "relay_hz": 5.0},
+                               dc_law="measured", transient=100, period=1)
+    assert float(ds.flag_stuck_bar.values[0]) == 1.0
+    p = maps.get_scene("thesis-1dof").with_options(dc_law="measured").parameters(preset="matlab-listing")
+    q = (p["e"] + p["d_ac"]) / p["B"]
+    L = p["A"] / p["B"] * math.exp(-2 * q * q) / math.sqrt(math.pi / 2) + p["L0"]
+    mod = np.sort(ds.multiplier_abs.values)
+    assert np.all(mod[:2] < 1e-12)                                              # x, v: projected
+    np.testing.assert_allclose(mod[2:], math.exp(-p["R"] * 0.2 / (2 * L)), rtol=1e-8)
+    assert int(ds.stable) == 1

@@ -133,8 +133,8 @@ def report(cases, quick, seconds) -> str:
             lines.append(f"- branch from V = {V[0]:g} V: {ds.sizes['point']} points over {V.min():.4g}-{V.max():.4g} V; "
                          f"{ds.attrs['branch_stop_reasons']}")
             if "flag_stuck_bar" in ds and np.all(ds.flag_stuck_bar.values[:, 0] == 1):
-                lines.append("  - the bar rests on the stop (stuck) throughout: its frozen position and velocity have "
-                             "multipliers 1, so the orbit reads 'unstable' (max |mu| = 1); not a hammering orbit")
+                lines.append("  - the bar rests on the stop (stuck) throughout: not a hammering orbit (its position and "
+                             "velocity are held on the stop, multipliers 0; the circuit's multipliers decide stability)")
             for lo, hi, n, m in stable_intervals(ds):
                 lines.append(f"  - stable period-{n} with {m} impact{'s' if m != 1 else ''} per period for V in "
                              f"[{lo:.4g}, {hi:.4g}] V")

@@ -275,6 +275,11 @@ class VariationalRun(HybridRun):
                 col = self._freq_cols.get(sw.flag)
                 if col is not None:
                     Y[:, col] = f * (t0 / self.params[sw.frequency])
+        for (flag, value), name in self.system.mode_projections.items():
+            if self.flags.get(flag) == value:     # started on a mode's set: perturbations projected onto it
+                P_y, P_p = self.derivatives.projection(name, t0, self.y, self.params, self.flags)
+                Y = tr.projected(Y, P_y, P_p)
+                break
         self.ta.state[n:] = Y.ravel()
 
     def _on_switch(self, sw, t, flags_before):
