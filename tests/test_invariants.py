@@ -16,7 +16,7 @@ def test_two_dof_momentum_is_conserved_without_soil_and_static_force():
     run = maps.HybridRun(scene.system, p, scene.initial_state(v1=-1.0), tol=1e-15)
     P0 = p["m1"] * run["v1"] + p["m2"] * run["v2"]
     scale = p["m1"] * 1.0  # the bar's initial momentum magnitude [kg m/s]
-    worst, t = 0.0, 0.0
+    worst = 0.0
     for k in range(1, 21):  # 20 relay periods, checked at each
         run.advance(k / 9.0)
         worst = max(worst, abs(p["m1"] * run["v1"] + p["m2"] * run["v2"] - P0) / scale)

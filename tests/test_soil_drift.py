@@ -8,7 +8,6 @@ element force held at P_max, until the slider's rate v2 + (P_max - k_s delta)/c_
 """
 import math
 
-import numpy as np
 import pytest
 from scipy.optimize import brentq
 

@@ -105,7 +105,7 @@ def _circuit_alone(p, t0, y0, t_end, on):
     def push(t, y):
         return 0.5 * abs(dL) * y[0] ** 2 - p["m"] * p["g"]
     push.terminal, push.direction = True, 1
-    t, y = t0, list(y0)
+    y = list(y0)
     for t_a, t_b, P in on(t0, t_end):
         rhs = lambda t, y, P=P: [y[1], (P * w * p["V"] * math.cos(w * t) - p["R"] * y[1] - y[0] / p["C"]) / L]  # noqa: E731
         sol = solve_ivp(rhs, (t_a, t_b), y, method="DOP853", rtol=1e-13, atol=1e-15, events=push)

@@ -1,6 +1,4 @@
 """The stability suite's verdicts and bounds, sticking and escape against independent estimates."""
-import math
-
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp

@@ -70,7 +70,7 @@ def rhs_1dof(p: dict, dc_law: str = "listing"):
     R, C, V, d_ac, L0, A, B = p["R"], p["C"], p["V"], p["d_ac"], p["L0"], p["A"], p["B"]
     w = 2.0 * math.pi * p["f_mains"]
     norm = A / (B * math.sqrt(math.pi / 2.0))
-    exp, sin, cos = math.exp, math.sin, math.cos
+    exp, cos = math.exp, math.cos
 
     def f(t, y, relay, contact):
         x, v, i, z = y[0], y[1], y[2], y[3]
