@@ -3,9 +3,10 @@ simulation.
 
 For each DC-force law (MODEL.md section 1: `listing`, `fit`, `measured`) and relay frequency 5 and
 10 Hz (q = 1: the mains forcing repeats every relay period), periodic orbits are found by Newton's
-method from simulations started at several voltages (``seeds``) and from the sweep's values
-classified periodic (``sweep_seeds`` of them, skipped when a stable branch already holds them) and
-continued in the AC voltage V
+method from simulations started at several voltages (``seeds``; a simulation's end that Newton
+cannot correct is tried again after as many periods more) and from the sweep's values classified
+periodic (the first ``sweep_seeds`` in V that no stable branch already holds) and continued in the
+AC voltage V
 over 25-300 V by pseudo-arclength (:func:`bifurc.continue_orbit`), stable and unstable parts
 alike, with folds, period doublings, Neimark-Sacker points and grazings located.  Beside each, the
 brute-force classes of a sweep in V (:func:`bifurc.sweep`, same law and relay frequency).  The
@@ -59,21 +60,34 @@ def _case(law, hz, size, progress) -> dict:
     diagram = sweep(SCENE, "V", np.linspace(*V_RANGE, size["sweep_n"]), preset=PRESET, dc_law=law, params=params,
                     transient=size["transient"], record=size["record"], progress=False)
     branches, misses = [], []
-    seeds = [(float(V), None) for V in size["seeds"]] + _periodic_values(diagram, size["sweep_seeds"])
+    seeds = [(float(V), None) for V in size["seeds"]] + _periodic_values(diagram)
+    from_sweep = 0
     for seed, start in seeds:
-        if start is not None and _on_stable_branch(branches, seed, start[2]):
-            continue                       # the sweep's orbit lies on a branch already followed
+        if start is not None:
+            if _on_stable_branch(branches, seed, start[2]):
+                continue                   # the sweep's orbit lies on a branch already followed
+            if from_sweep == size["sweep_seeds"]:
+                break
+            from_sweep += 1
+        transient = size["transient"]
         for end in (V_RANGE[1], V_RANGE[0]):
             if end == seed:
                 continue
-            try:
-                ds = continue_orbit(SCENE, "V", (seed, end), preset=PRESET, dc_law=law, params=params,
-                                    transient=size["transient"], max_points=size["max_points"],
-                                    start=None if start is None else start[:2],
-                                    period=None if start is None else start[2][0])
-            except (OrbitNotFound, ParameterError) as exc:
-                misses.append((seed, "the sweep point" if start else "the simulation",
-                               getattr(exc, "reason", str(exc))))
+            # a simulation's end that Newton cannot correct (a chaotic transient: it lands near no
+            # orbit) is tried once more after as many periods again
+            tries = (transient,) if start is not None or transient != size["transient"] else (transient, 2 * transient)
+            for transient in tries:
+                try:
+                    ds = continue_orbit(SCENE, "V", (seed, end), preset=PRESET, dc_law=law, params=params,
+                                        transient=transient, max_points=size["max_points"],
+                                        start=None if start is None else start[:2],
+                                        period=None if start is None else start[2][0])
+                    break
+                except (OrbitNotFound, ParameterError) as exc:
+                    ds, why = None, getattr(exc, "reason", str(exc))
+            if ds is None:
+                misses.append((seed, "the sweep point" if start else
+                               f"the simulation ({' and '.join(str(t) for t in tries)} periods)", why))
                 break
             branches.append(ds)
             if progress:
@@ -82,13 +96,13 @@ def _case(law, hz, size, progress) -> dict:
     return {"law": law, "hz": hz, "diagram": diagram, "branches": branches, "misses": misses}
 
 
-def _periodic_values(diagram, at_most) -> list:
-    """[(V, (HybridState, k, (period, impacts)))] of up to ``at_most`` sweep values classified periodic."""
+def _periodic_values(diagram) -> list:
+    """[(V, (HybridState, k, (period, impacts)))] of the sweep values classified periodic, in V."""
     from bifurc import sweep_point
     d = diagram.isel(branch=0)
     out = []
     for V, n, m in zip(d.V.values, d.period.values, d.impacts_per_period.values):
-        if n > 0 and len(out) < at_most:
+        if n > 0:
             state, k = sweep_point(diagram, float(V))
             out.append((float(V), (state, k, (int(n), int(m)))))
     return out
