@@ -118,7 +118,8 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
     with pool or nullcontext():     # open through the tail: its workers are warm
         results, resumed, seconds, workers = run_values(job, values, mode, parts, workers, scheduler, chunk_size,
                                                         progress, f"{sc.name} {param}", pool=pool)
-        tail = _start_tail(results, values, job, MODES[mode][0], grazing, grazing_xtol, error_sample, pool)
+        warm = pool if resumed < values.size else None   # every value resumed: no worker started, the tail runs here
+        tail = _start_tail(results, values, job, MODES[mode][0], grazing, grazing_xtol, error_sample, warm)
         from . import storage  # xarray: imported where the Dataset is built (worker processes start faster)
         ds = storage.to_dataset(results, values, job, sc, table, mode)
         run_stats(ds, job, seconds, resumed, workers)
