@@ -62,7 +62,7 @@ class ErrorEstimate:
         idx = _spread(self.good, min(sample, len(self.good)))
         self.idx = sorted(idx + _spread([i for i in ok if i not in self.good], sample - len(idx)))
         self.tight = tight = replace(job, tol=job.tol / TIGHTER, lyapunov=False)
-        # whole re-runs at the tight tolerance (about TIGHTER**(1/10) more steps, counted as twice as long)
+        # costs [relay periods] only order the tasks: a period at tol/TIGHTER counted as two at tol
         length = lambda i: 2.0 * (res[i].transient_used + res[i].record_used)  # noqa: E731
         if branch == "independent":      # one batch pass for the whole sample, job.batch_size values at once
             passes = math.ceil(len(self.idx) / max(1, job.batch_size))

@@ -25,7 +25,8 @@ import numpy as np
 
 from maps.parameters import ParameterError
 
-__all__ = ["map_values", "WorkerPool", "submit_all", "timed", "chunks_of", "guided_chunks", "available_cores", "default_workers", "MIN_VALUES_PER_WORKER"]
+__all__ = ["map_values", "WorkerPool", "submit_all", "timed", "chunks_of", "guided_chunks", "available_cores",
+           "default_workers", "MIN_VALUES_PER_WORKER"]
 
 #: a worker process pays its start and one compilation (~1-2 s) before it helps: below this many
 #: values per worker the default stays in this process
@@ -159,8 +160,8 @@ def map_values(job, values, workers: int = 1, scheduler=None, chunk_size: int | 
     """Evaluate ``job(value)`` for every value; returns the results in grid order.
 
     ``scheduler``: a Dask scheduler address or ``dask.distributed.Client`` (then ``workers``
-    is ignored).  ``pool``: an open :class:`WorkerPool` warmed with this ``job`` (then ``workers``
-    and ``mp_context`` are its own; it stays open).  ``on_chunk(start, results)`` is called as each
+    is ignored).  ``pool``: an open :class:`WorkerPool` warmed with this ``job`` (its job runs,
+    ``workers`` and ``mp_context`` are its own; it stays open).  ``on_chunk(start, results)`` is called as each
     chunk completes (any order).  ``mp_context``: start method of a process pool opened for this call
     ("spawn" is safe with heyoka's threads).
     """
@@ -178,12 +179,12 @@ def map_values(job, values, workers: int = 1, scheduler=None, chunk_size: int | 
 
     if scheduler is not None:
         _map_dask(job, values, scheduler, chunk_size, take)
-    elif pool is None and workers == 1:
+    elif pool is not None:
+        pool._run_chunks(values, _ranges(job, n, pool.workers, chunk_size), take)
+    elif workers == 1:
         size = chunk_size or max(1, n)
         for a, b in chunks_of(n, size):
             take(a, _run_chunk(job, values[a:b]))
-    elif pool is not None:
-        pool._run_chunks(values, _ranges(job, n, pool.workers, chunk_size), take)
     else:
         with WorkerPool(job, workers, mp_context) as own:
             own._run_chunks(values, _ranges(job, n, workers, chunk_size), take)
