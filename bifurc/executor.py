@@ -5,7 +5,9 @@ The job is a picklable callable ``job(value)``, optionally with ``job.run_many(v
 process).  :func:`map_values` evaluates it over a grid in chunks of contiguous values:
 
 - ``workers=1`` and no ``scheduler``: a plain loop in this process;
-- ``workers=N``: a ``ProcessPoolExecutor`` whose initializer warms the job once per worker;
+- ``workers=N``: a :class:`WorkerPool` (processes whose initializer warms the job once each),
+  opened for the call, or ``pool=`` one already open that stays open for other tasks
+  (:meth:`WorkerPool.submit`, :func:`submit_all`: e.g. a sweep's grazing bisections);
 - ``scheduler="tcp://host:port"`` or a ``dask.distributed.Client``: chunks go to the Dask
   workers, each warmed up front with ``client.run``.
 
@@ -16,13 +18,15 @@ from __future__ import annotations
 
 import math
 import os
-from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+import time as _time
+from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 
 import numpy as np
 
 from maps.parameters import ParameterError
 
-__all__ = ["map_values", "chunks_of", "guided_chunks", "available_cores", "default_workers", "MIN_VALUES_PER_WORKER"]
+__all__ = ["map_values", "WorkerPool", "submit_all", "timed", "chunks_of", "guided_chunks", "available_cores",
+           "default_workers", "MIN_VALUES_PER_WORKER"]
 
 #: a worker process pays its start and one compilation (~1-2 s) before it helps: below this many
 #: values per worker the default stays in this process
@@ -79,13 +83,87 @@ def guided_chunks(n: int, workers: int, multiple: int = 1, largest: int = 64):
     return out
 
 
+class WorkerPool:
+    """``workers`` processes, each warmed once with ``job`` (``job.warm()``), kept open for many
+    tasks: chunks of values (:meth:`map_values`) and any picklable call (:meth:`submit`).
+    A context manager; closing waits for the tasks in flight.
+
+    ``mp_context``: start method ("spawn" is safe with heyoka's threads); with it, processes
+    start at the first task.
+    """
+
+    def __init__(self, job, workers: int, mp_context: str = "spawn"):
+        import multiprocessing as mp
+        if workers < 1:
+            raise ParameterError(f"workers = {workers}: need at least 1")
+        self.job, self.workers = job, int(workers)
+        self._pool = ProcessPoolExecutor(max_workers=self.workers, mp_context=mp.get_context(mp_context),
+                                         initializer=_warm, initargs=(job,))
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def close(self) -> None:
+        self._pool.shutdown(wait=True)
+
+    def submit(self, fn, *args) -> Future:
+        """Run ``fn(*args)`` on a worker (``fn`` and ``args`` picklable); returns its Future."""
+        return self._pool.submit(fn, *args)
+
+    def map_values(self, values, chunk_size: int | None = None, on_chunk=None, collect: bool = True):
+        """:func:`map_values` of this pool's job on its workers."""
+        return map_values(self.job, values, chunk_size=chunk_size, on_chunk=on_chunk, collect=collect, pool=self)
+
+    def _run_chunks(self, values, ranges, take):
+        """Every ``(start, stop)`` range of ``values`` through the job, at most 2 chunks per worker in
+        flight (bounded memory); ``take(start, results)`` as each completes."""
+        pending, running = ranges[::-1], {}
+        while pending or running:
+            while pending and len(running) < 2 * self.workers:
+                a, b = pending.pop()
+                running[self.submit(_run_chunk, self.job, values[a:b])] = a
+            finished, _ = wait(running, return_when=FIRST_COMPLETED)
+            for fut in finished:
+                take(running.pop(fut), fut.result())
+
+
+def timed(fn, *args):
+    """``(fn(*args), seconds it took)``: a task that reports its own run time from any process."""
+    clock = _time.perf_counter()
+    out = fn(*args)
+    return out, _time.perf_counter() - clock
+
+
+def submit_all(tasks, pool: WorkerPool | None = None) -> list:
+    """Start ``tasks`` [(cost, fn, args), ...] in decreasing ``cost`` (the longest first, so the last to
+    start are short): on ``pool``'s workers, or without a pool here and now, one after the other.
+    Returns a Future per task, in the order of ``tasks`` (an exception is raised by its ``result()``)."""
+    futures = [None] * len(tasks)
+    for k in sorted(range(len(tasks)), key=lambda k: -tasks[k][0]):
+        _, fn, args = tasks[k]
+        if pool is not None:
+            futures[k] = pool.submit(fn, *args)
+            continue
+        futures[k] = Future()
+        try:
+            futures[k].set_result(fn(*args))
+        except Exception as exc:  # noqa: BLE001 - handed to the caller by result(), as from a worker
+            futures[k].set_exception(exc)
+    return futures
+
+
 def map_values(job, values, workers: int = 1, scheduler=None, chunk_size: int | None = None,
-               on_chunk=None, collect: bool = True, mp_context: str = "spawn"):
+               on_chunk=None, collect: bool = True, mp_context: str = "spawn", pool: WorkerPool | None = None):
     """Evaluate ``job(value)`` for every value; returns the results in grid order.
 
     ``scheduler``: a Dask scheduler address or ``dask.distributed.Client`` (then ``workers``
-    is ignored).  ``on_chunk(start, results)`` is called as each chunk completes (any order).
-    ``mp_context``: start method of the process pool ("spawn" is safe with heyoka's threads).
+    is ignored).  ``pool``: an open :class:`WorkerPool` warmed with this ``job`` (its job runs,
+    ``workers`` and ``mp_context`` are its own; it stays open).  ``on_chunk(start, results)`` is called as each
+    chunk completes (any order).  ``mp_context``: start method of a process pool opened for this call
+    ("spawn" is safe with heyoka's threads).
     """
     values = np.asarray(values, dtype=float).ravel()
     n = values.size
@@ -101,25 +179,21 @@ def map_values(job, values, workers: int = 1, scheduler=None, chunk_size: int | 
 
     if scheduler is not None:
         _map_dask(job, values, scheduler, chunk_size, take)
+    elif pool is not None:
+        pool._run_chunks(values, _ranges(job, n, pool.workers, chunk_size), take)
     elif workers == 1:
         size = chunk_size or max(1, n)
         for a, b in chunks_of(n, size):
             take(a, _run_chunk(job, values[a:b]))
     else:
-        import multiprocessing as mp
-        ranges = chunks_of(n, chunk_size) if chunk_size else guided_chunks(n, workers, getattr(job, "batch_size", 1))
-        with ProcessPoolExecutor(max_workers=workers, mp_context=mp.get_context(mp_context),
-                                 initializer=_warm, initargs=(job,)) as pool:
-            pending = ranges[::-1]
-            running = {}
-            while pending or running:      # at most 2 chunks per worker in flight: bounded memory
-                while pending and len(running) < 2 * workers:
-                    a, b = pending.pop()
-                    running[pool.submit(_run_chunk, job, values[a:b])] = a
-                finished, _ = wait(running, return_when=FIRST_COMPLETED)
-                for fut in finished:
-                    take(running.pop(fut), fut.result())
+        with WorkerPool(job, workers, mp_context) as own:
+            own._run_chunks(values, _ranges(job, n, workers, chunk_size), take)
     return out
+
+
+def _ranges(job, n, workers, chunk_size):
+    """Chunks of a process pool: ``chunk_size`` values each, else guided (shrinking toward the end)."""
+    return chunks_of(n, chunk_size) if chunk_size else guided_chunks(n, workers, getattr(job, "batch_size", 1))
 
 
 def _map_dask(job, values, scheduler, chunk_size, take):

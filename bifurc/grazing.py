@@ -2,13 +2,15 @@
 
 A located graze is a parameter value between two grid neighbours whose impacts per period
 differ, found by bisection (:func:`locate_grazing`) on the signed clearance of the branch
-with fewer impacts (:class:`BranchFollower`); :func:`locate_grazing_values` picks the
-neighbour pairs of a sweep where that is meaningful.
+with fewer impacts (:class:`BranchFollower`).  :func:`grazing_brackets` picks the neighbour
+pairs of a sweep where that is meaningful (cheap), :func:`locate_bracket` bisects one (a task
+with a small picklable payload, run on a sweep's workers); :func:`locate_grazing_values` does
+both here.
 """
 from __future__ import annotations
 
 import math
-from dataclasses import replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -17,7 +19,8 @@ from maps.parameters import ParameterError
 from .codes import ClassCode, Status
 
 __all__ = ["GRAZING_GAP", "GRAZING_SPEED", "GRAZE_SHRINK", "grazing_flag", "locate_grazing",
-           "locate_grazing_values", "BranchFollower"]
+           "locate_grazing_values", "grazing_brackets", "locate_bracket", "bracket_cost", "GrazingBracket",
+           "BranchFollower"]
 
 #: an orbit grazes when its smallest clearance is below GRAZING_GAP [m] without contact,
 #: or its slowest impact is below GRAZING_SPEED [m/s]
@@ -69,16 +72,31 @@ def _impact_rate(r) -> float:
     return r.n_impacts / max(1, r.record_used)
 
 
-def locate_grazing_values(results, values, job, xtol):
-    """Grazing values between neighbours whose number of impacts per period differs.
+@dataclass(frozen=True)
+class GrazingBracket:
+    """Grid neighbours ``a < b`` of ``branch`` whose impacts per period differ, and where the
+    bisection starts: the neighbour with fewer impacts (``clear_value``, its end state
+    ``clear_start = (state, flags)`` and contact count ``clear_impacts``)."""
 
-    ``results``: {branch: [ValueResult or None per value]}; ``job``: the sweep's ValueJob.
-    From no impact to impacts, one neighbour must be periodic and the other periodic or
-    not-converged (near a grazing bifurcation convergence is slow); from m > 0 to m'
-    impacts per period both must be periodic.  Between chaotic or quasi-periodic neighbours the sign of the
-    clearance brackets nothing meaningful.  The bisection follows the side with fewer impacts (see
-    :class:`BranchFollower`); an attractor that changes under re-computation brackets
-    nothing and is skipped.  Returns [(branch, locate_grazing result + neighbour data), ...].
+    branch: str
+    a: float
+    b: float
+    impacts_below: int      # contacts in the record at a
+    impacts_above: int      # contacts in the record at b
+    clear_value: float
+    clear_start: tuple
+    clear_impacts: int
+    xtol: float             # bisection bracket width to reach [parameter units]
+
+
+def grazing_brackets(results, values, xtol) -> list:
+    """The :class:`GrazingBracket` of every neighbour pair whose number of impacts per period differs.
+
+    ``results``: {branch: [ValueResult or None per value]}; ``xtol`` None: a thousandth of the grid
+    spacing.  From no impact to impacts, one neighbour must be periodic and the other periodic or
+    not-converged (near a grazing bifurcation convergence is slow); from m > 0 to m' impacts per
+    period both must be periodic.  Between chaotic or quasi-periodic neighbours the sign of the
+    clearance brackets nothing meaningful.  Nothing is integrated.
     """
     found = []
     if xtol is None and values.size > 1:  # default: a thousandth of the grid spacing
@@ -96,24 +114,50 @@ def locate_grazing_values(results, values, job, xtol):
                 continue
             if ra.n_impacts and rb.n_impacts and not (ra.class_code == rb.class_code == ClassCode.PERIODIC):
                 continue  # m -> m' > 0 impacts: only between periodic orbits (a transient's count drifts)
-            clear = (values[i], ra) if _impact_rate(ra) < _impact_rate(rb) else (values[i + 1], rb)
-            follower = BranchFollower(job, clear[0], clear[1])
-            try:
-                g = locate_grazing(follower, values[i], values[i + 1], xtol=xtol)
-            except ParameterError:
-                continue
-            g["impacts_below"], g["impacts_above"] = ra.n_impacts, rb.n_impacts
-            g["clearance"], g["impact_speed"] = follower.clearance[-1], follower.speed[-1]
-            # a graze: the clearance of the branch with fewer impacts vanishes as the bracket shrinks;
-            # if it stays finite the branch ends otherwise (a jump, e.g. a saddle-node).  The impact
-            # speed past a graze need not be small: the orbit may jump to a distant impacting attractor.
-            # A grid value on the graze itself starts with a clearance already at the grazing gap:
-            # that is a graze too, not a jump (nothing is left to shrink).
-            g["confirmed"] = (follower.clearance[-1] <= GRAZE_SHRINK * follower.clearance[0]
-                              or follower.clearance[0] < GRAZING_GAP)
-            g["clearance_start"] = follower.clearance[0]
-            found.append((b, g))
+            value, clear = (values[i], ra) if _impact_rate(ra) < _impact_rate(rb) else (values[i + 1], rb)
+            found.append(GrazingBracket(b, values[i], values[i + 1], ra.n_impacts, rb.n_impacts, value,
+                                        clear.end_state, clear.n_impacts, xtol))
     return found
+
+
+def bracket_cost(job, bracket: GrazingBracket) -> float:
+    """Relay periods :func:`locate_bracket` integrates, roughly: a value and its ramp per bisection step."""
+    steps = 2 + max(0.0, math.log2(abs(bracket.b - bracket.a) / bracket.xtol)) if bracket.xtol > 0 else 2
+    return steps * (2 * job.transient + job.record)
+
+
+def locate_bracket(job, bracket: GrazingBracket):
+    """Bisect one :class:`GrazingBracket` along the branch with fewer impacts (see
+    :class:`BranchFollower`); ``job``: the sweep's ValueJob.  Returns the :func:`locate_grazing`
+    result with the neighbours' data, or None where the bracket holds no sign change (an attractor
+    that changes under re-computation brackets nothing)."""
+    follower = BranchFollower(job, bracket.clear_value, bracket.clear_start, bracket.clear_impacts)
+    try:
+        g = locate_grazing(follower, bracket.a, bracket.b, xtol=bracket.xtol)
+    except ParameterError:
+        return None
+    g["impacts_below"], g["impacts_above"] = bracket.impacts_below, bracket.impacts_above
+    g["clearance"], g["impact_speed"] = follower.clearance[-1], follower.speed[-1]
+    # a graze: the clearance of the branch with fewer impacts vanishes as the bracket shrinks;
+    # if it stays finite the branch ends otherwise (a jump, e.g. a saddle-node).  The impact
+    # speed past a graze need not be small: the orbit may jump to a distant impacting attractor.
+    # A grid value on the graze itself starts with a clearance already at the grazing gap:
+    # that is a graze too, not a jump (nothing is left to shrink).
+    g["confirmed"] = (follower.clearance[-1] <= GRAZE_SHRINK * follower.clearance[0]
+                      or follower.clearance[0] < GRAZING_GAP)
+    g["clearance_start"] = follower.clearance[0]
+    return g
+
+
+def locate_grazing_values(results, values, job, xtol):
+    """Grazing values between neighbours whose number of impacts per period differs, here, one
+    bracket after the other (:func:`grazing_brackets`, :func:`locate_bracket`).
+
+    ``results``: {branch: [ValueResult or None per value]}; ``job``: the sweep's ValueJob.
+    Returns [(branch, locate_grazing result + neighbour data), ...].
+    """
+    located = [(br.branch, locate_bracket(job, br)) for br in grazing_brackets(results, values, xtol)]
+    return [(b, g) for b, g in located if g is not None]
 
 
 class BranchFollower:
@@ -130,10 +174,10 @@ class BranchFollower:
     clear, becomes the new starting point: the branch is followed up to its graze.
     """
 
-    def __init__(self, job, value, result, substeps=8):
+    def __init__(self, job, value, start, impacts, substeps=8):
+        """From ``value`` whose orbit ended at ``start = (state, flags)`` with ``impacts`` contacts in its record."""
         self.job, self.substeps = replace(job, lyapunov=False), substeps
-        self.value, self.start = value, result.end_state
-        self.impacts = result.n_impacts
+        self.value, self.start, self.impacts = value, start, impacts
         self.clearance, self.speed = [], []  # every positive and negative value returned, in order
 
     def __call__(self, p):

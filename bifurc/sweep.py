@@ -10,6 +10,10 @@ With ``path`` every completed chunk of values is saved at once under ``<path>.pa
 (:mod:`bifurc.resume`); an interrupted sweep loses nothing and a rerun with the same
 arguments resumes.  The final Dataset is written atomically and the parts are removed.
 
+The tail after the grid (grazing bisections, error estimate) runs on the sweep's worker
+processes, still open and warm, while this process builds the Dataset (independent mode on a
+process pool; here otherwise).
+
 The pieces: :mod:`bifurc.job` (one value), :mod:`bifurc.executor` (many values),
 :mod:`bifurc.grazing`, :mod:`bifurc.errors`, :mod:`bifurc.storage`.
 """
@@ -18,6 +22,7 @@ from __future__ import annotations
 import sys
 import time as _time
 import warnings
+from contextlib import nullcontext
 from dataclasses import replace
 
 import numpy as np
@@ -27,10 +32,10 @@ from maps.parameters import ParameterError, validate_value
 from maps.provenance import recorded
 
 from .codes import Status
-from .errors import error_estimate
-from .executor import default_workers, map_values
+from .errors import ErrorEstimate
+from .executor import WorkerPool, default_workers, map_values, submit_all
 from .files import guarded_output
-from .grazing import GRAZING_GAP, GRAZING_SPEED, locate_grazing_values
+from .grazing import GRAZING_GAP, GRAZING_SPEED, bracket_cost, grazing_brackets, locate_bracket
 from .job import ValueJob
 from .lyapunov import METHODS
 from .resume import Parts, manifest
@@ -108,25 +113,49 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
         raise ParameterError(f"lyapunov_method {lyapunov_method!r}; allowed: {', '.join(METHODS)}")
     job = replace(job, lyapunov_method=lyapunov_method)
     parts = Parts(path, manifest(job, values, mode)) if path else None
-    results, resumed, seconds, workers = run_values(job, values, mode, parts, workers, scheduler, chunk_size, progress,
-                                                    f"{sc.name} {param}")
-    branches = MODES[mode]
-    from . import storage      # xarray: imported where the Dataset is built (worker processes start faster)
-    ds = storage.to_dataset(results, values, job, sc, table, mode)
-    run_stats(ds, job, seconds, resumed, workers)
+    workers, chunk_size = _execution(job, values.size, workers, scheduler, chunk_size)
+    pool = WorkerPool(job, workers) if mode == "independent" and workers > 1 else None
+    with pool or nullcontext():     # open through the tail: its workers are warm
+        results, resumed, seconds, workers = run_values(job, values, mode, parts, workers, scheduler, chunk_size,
+                                                        progress, f"{sc.name} {param}", pool=pool)
+        warm = pool if resumed < values.size else None   # every value resumed: no worker started, the tail runs here
+        tail = _start_tail(results, values, job, MODES[mode][0], grazing, grazing_xtol, error_sample, warm)
+        from . import storage  # xarray: imported where the Dataset is built (worker processes start faster)
+        ds = storage.to_dataset(results, values, job, sc, table, mode)
+        run_stats(ds, job, seconds, resumed, workers)
+        found, estimate = tail()
     if grazing:
-        ds = storage.add_grazing(ds, locate_grazing_values(results, values, job, grazing_xtol))
+        ds = storage.add_grazing(ds, found)
     if error_sample:
-        ds = storage.add_error_estimate(ds, **error_estimate(results, values, job, branches[0], error_sample))
+        ds = storage.add_error_estimate(ds, **estimate)
     if path:
         storage.save(ds, path, overwrite=True)  # refused earlier unless overwrite (guarded_output)
         parts.remove()
     return ds
 
 
-def run_values(job, values, mode, parts, workers, scheduler, chunk_size, progress, desc):
+def _start_tail(results, values, job, branch, grazing, xtol, error_sample, pool):
+    """Start the grazing bisections (if ``grazing``, to ``xtol``) and the error estimate's
+    integrations (``error_sample`` values, 0: none) together, the longest first, on
+    ``pool``'s workers (None: here, now).  Returns a function that waits for them and gives
+    (located grazes for :func:`bifurc.storage.add_grazing`, keywords of
+    :func:`bifurc.storage.add_error_estimate` or None)."""
+    brackets = grazing_brackets(results, values, xtol) if grazing else []
+    est = ErrorEstimate(results, values, job, branch, error_sample) if error_sample else None
+    tasks = [(bracket_cost(job, br), locate_bracket, (job, br)) for br in brackets] + (est.tasks if est else [])
+    futures = submit_all(tasks, pool)
+
+    def finish():
+        located = [(br.branch, f.result()) for br, f in zip(brackets, futures)]
+        return ([(b, g) for b, g in located if g is not None],
+                est.result(futures[len(brackets):]) if est else None)
+    return finish
+
+
+def run_values(job, values, mode, parts, workers, scheduler, chunk_size, progress, desc, pool=None):
     """Every value of the grid through ``job``, resumed from and streamed to ``parts``
-    (:class:`bifurc.resume.Parts`, or None).
+    (:class:`bifurc.resume.Parts`, or None); independent values on ``pool`` (an open
+    :class:`bifurc.executor.WorkerPool` warmed with ``job``, ``workers`` processes) if given.
 
     Returns ({branch: [ValueResult per value]}, values resumed, wall seconds of this call,
     worker processes used (0: a Dask cluster's)).  The grid driver of :func:`sweep` and
@@ -149,7 +178,7 @@ def run_values(job, values, mode, parts, workers, scheduler, chunk_size, progres
     clock = _time.perf_counter()
     try:
         if mode == "independent":
-            _run_independent(job, values, results["independent"], keep, workers, scheduler, chunk_size)
+            _run_independent(job, values, results["independent"], keep, workers, scheduler, chunk_size, pool)
         else:
             _run_follow(job, values, results, keep)
     finally:
@@ -213,8 +242,9 @@ def _execution(job, n_values, workers, scheduler, chunk_size):
     return workers, chunk_size
 
 
-def _run_independent(job, values, results, keep, workers, scheduler, chunk_size):
-    """Every value not yet in ``results`` from the same start, on ``workers`` processes or a Dask cluster."""
+def _run_independent(job, values, results, keep, workers, scheduler, chunk_size, pool=None):
+    """Every value not yet in ``results`` from the same start, on ``workers`` processes (``pool``: an
+    open one) or a Dask cluster."""
     missing = [i for i in range(values.size) if results[i] is None]
     if not missing:
         return
@@ -224,7 +254,7 @@ def _run_independent(job, values, results, keep, workers, scheduler, chunk_size)
         warm = threading.Thread(target=_warm_xarray, daemon=True)
         warm.start()
     map_values(job, values[missing], workers=max(1, workers), scheduler=scheduler, collect=False, chunk_size=chunk_size,
-               on_chunk=lambda start, chunk: keep("independent", missing[start:start + len(chunk)], chunk))
+               on_chunk=lambda start, chunk: keep("independent", missing[start:start + len(chunk)], chunk), pool=pool)
     if warm is not None:
         warm.join()
 
