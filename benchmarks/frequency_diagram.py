@@ -620,8 +620,8 @@ def main(argv=None):
     print(f"stroboscopic diagram / bare ensemble <= 1.5: {eff:6.2f}     {'met' if eff <= 1.5 else 'NOT met'}"
           f"  (batch_size=1 / bare scalar: {walls['scalar'] / bares['scalar']:.2f})")
     r = full / bares["batch + Lyapunov companions"]
-    print(f"full diagram / bare ensemble of the same trajectories, companions included <= 1.5: "
-          f"{r:5.2f}   {'met' if r <= 1.5 else 'NOT met'}  (CPU {cpus['full'] / bare_cpus['batch + Lyapunov companions']:.2f})")
+    print(f"full diagram / bare ensemble with companions (no target: what the product integrated before the "
+          f"tangent vector, other work): {r:5.2f}  (CPU {cpus['full'] / bare_cpus['batch + Lyapunov companions']:.2f})")
     r = full / bares["tangent"]
     print(f"full diagram / bare ensemble with tangent vector <= 1.2 (issue 10): "
           f"{r:5.2f}   {'met' if r <= 1.2 else 'NOT met'}  (CPU {cpus['full'] / bare_cpus['tangent']:.2f}; "

@@ -112,10 +112,15 @@ class BareProgression(BareBatch):
                 if g.reset is not None:
                     y = system.reset_function(g)(y.copy(), params)
                     me.state[:, j] = y
+                if g.observes_only:             # the product: an observation changes nothing, no settle
+                    return True
                 new = {}
                 if g.then is not None:
-                    new = dict(g.then(0.0, y, dict(flags), params) if callable(g.then) else g.then)
-                for k, v in new.items():
+                    new = g.then(0.0, y, dict(flags), params) if callable(g.then) else g.then
+                    if isinstance(new, tuple):  # (flags, state): the mode entered with a projection
+                        new, y = new
+                        me.state[:, j] = y
+                for k, v in (new or {}).items():
                     me.pars[index[k], j] = v
                     flags[k] = v
                 me.settle(j, ta.time[j])
