@@ -4,7 +4,8 @@ simulation.
 For each DC-force law (MODEL.md section 1: `listing`, `fit`, `measured`) and relay frequency 5 and
 10 Hz (q = 1: the mains forcing repeats every relay period), periodic orbits are found by Newton's
 method from simulations started at several voltages (``seeds``; a simulation's end that Newton
-cannot correct is tried again after as many periods more) and from the sweep's values classified
+cannot correct is tried again after as many periods more; one on a stable branch already followed
+is not followed again) and from the sweep's values classified
 periodic (the first ``sweep_seeds`` in V that no stable branch already holds) and continued in the
 AC voltage V
 over 25-300 V by pseudo-arclength (:func:`bifurc.continue_orbit`), stable and unstable parts
@@ -59,7 +60,7 @@ def _case(law, hz, size, progress) -> dict:
     params = {"relay_hz": hz}
     diagram = sweep(SCENE, "V", np.linspace(*V_RANGE, size["sweep_n"]), preset=PRESET, dc_law=law, params=params,
                     transient=size["transient"], record=size["record"], progress=False)
-    branches, misses = [], []
+    branches, misses, again = [], [], []
     seeds = [(float(V), None) for V in size["seeds"]] + _periodic_values(diagram)
     from_sweep = 0
     for seed, start in seeds:
@@ -69,7 +70,7 @@ def _case(law, hz, size, progress) -> dict:
             if from_sweep == size["sweep_seeds"]:
                 break
             from_sweep += 1
-        transient = size["transient"]
+        transient, first = size["transient"], True
         for end in (V_RANGE[1], V_RANGE[0]):
             if end == seed:
                 continue
@@ -89,11 +90,22 @@ def _case(law, hz, size, progress) -> dict:
                 misses.append((seed, "the sweep point" if start else
                                f"the simulation ({' and '.join(str(t) for t in tries)} periods)", why))
                 break
+            if first and start is None and _seed_followed(branches, ds, seed):
+                again.append((seed, int(ds.period.values[0]), int(ds.impacts_per_period.values[0])))
+                break                      # the simulation landed on a stable branch already followed
+            first = False
             branches.append(ds)
             if progress:
                 print(f"{law:8s} {hz:g} Hz, from V = {seed:g} toward {end:g}: {ds.sizes['point']} points, "
                       f"{ds.sizes['special']} special, {ds.attrs['run_seconds']:.1f} s", flush=True)
-    return {"law": law, "hz": hz, "diagram": diagram, "branches": branches, "misses": misses}
+    return {"law": law, "hz": hz, "diagram": diagram, "branches": branches, "misses": misses, "again": again}
+
+
+def _seed_followed(branches, ds, V) -> bool:
+    """True when the orbit a branch ``ds`` starts from (at ``V``) is stable and lies on a stable
+    stretch of an earlier branch with the same period and impact count."""
+    key = (int(ds.period.values[0]), int(ds.impacts_per_period.values[0]))
+    return int(ds.stable.values[0]) == 1 and _on_stable_branch(branches, V, key)
 
 
 def _periodic_values(diagram) -> list:
@@ -160,6 +172,9 @@ def report(cases, quick, seconds) -> str:
                 lines.append(f"  - {kind} at V = {float(ds.special_value[i]):.8g} V"
                              + ("" if not math.isfinite(tol) else f" (+- {tol:.1g})")
                              + f"; multipliers |mu| = {', '.join(f'{m:.4g}' for m in ds.special_multiplier_abs.values[i])}")
+        for seed, n, m in c.get("again", []):
+            lines.append(f"- the simulation at V = {seed:g} V lands on a stable period-{n} orbit with {m} impact"
+                         f"{'s' if m != 1 else ''} per period already followed")
         for seed, source, why in c["misses"]:
             lines.append(f"- no orbit from {source} at V = {seed:g} V: {why}")
         lines += ["", "Brute-force classes of the sweep at the same law and frequency:", "",
