@@ -160,8 +160,9 @@ class HybridRun:
             self.ta.state[:self._n] = np.asarray(out.y, dtype=_np_dtype(self.fp_type))
         self._set_flags(out.changes, t)
         for name, y_minus, y_plus, flags in out.records:
-            cap = self.budget.count(name, t, self.y)
+            cap = self.budget.count(name, t)
             if cap is not None:
+                cap.state = self.y
                 raise cap
             if self.record_events:
                 self.events.append(EventRecord(t, name, y_minus, np.array(y_plus, dtype=float), flags))
@@ -187,11 +188,12 @@ class HybridRun:
         c_out = on_segment is not None
         n_groups = len(sys._groups)
         self.stopped_by = None
+        t_sw, sw = self.next_switch_time()
+        may_settle = tr.settle_gate(sys)
         while float(ta.time) < t_end:
-            t_sw, sw = self.next_switch_time()
             t_stop = min(t_end, t_sw)
             t_start = float(ta.time)
-            y_start = self.y
+            y_start = self.y        # heyoka leaves a non-finite state after a failed step
             if t_stop > t_start:
                 res = ta.propagate_until(_fp(t_stop, self.fp_type), c_output=c_out)
                 outcome, nsteps = res[0], res[3]
@@ -212,7 +214,9 @@ class HybridRun:
                     flags_before = dict(self.flags)
                     self._set_flags({sw.flag: sw.value_for_index(n)}, t_sw)
                     self._on_switch(sw, t_sw, flags_before)
-                    self._apply(tr.settle(sys, t_sw, self.y, self.flags, self.params), t_sw)
+                    if may_settle is not None and may_settle(self.flags):
+                        self._apply(tr.settle(sys, t_sw, self.y, self.flags, self.params), t_sw)
+                    t_sw, sw = self.next_switch_time()
                 continue
             code = int(outcome)
             if -n_groups - 1 < code < 0:
