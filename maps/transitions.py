@@ -171,7 +171,7 @@ def fire(system: HybridSystem, guard: Guard, t: float, y: np.ndarray, flags: Map
     flags_guard = dict(flags, **changes) if changes else flags
     y_next = here if projected is None else projected
     s = settle(system, t, y_next, flags_guard, params)
-    if s is NOTHING and y_guard is None and projected is None and not changes:
+    if s is NOTHING and callable(guard.then) and y_guard is None and projected is None and not changes:
         return NOTHING              # a conditional transition that did not happen: no event
     if s is NOTHING and projected is None:   # the common case: the guard's own transition only
         # (flags_guard is this call's own dict where the guard changed a flag: no copy needed)
