@@ -792,4 +792,3 @@ def build_system(options: ModelOptions | None = None, **kw) -> HybridSystem:
     system.options = o
     _SYSTEMS[o.key()] = system
     return system
-

@@ -58,6 +58,7 @@ class HybridRun:
             max_events_per_period = int(validate_value("max_events_per_period", max_events_per_period, 1, math.inf))
         self.max_events_per_period = max_events_per_period
         self._choices = [tr.GuardChoice(g) for g in system._groups]
+        self._may_settle = tr.settle_gate(system)     # after a switch: settle only where it can act
         self.reset(t0, x0, flags)
 
     def reset(self, t0: float, x0, flags: Mapping[str, float] | None = None) -> "HybridRun":
@@ -189,7 +190,7 @@ class HybridRun:
         n_groups = len(sys._groups)
         self.stopped_by = None
         t_sw, sw = self.next_switch_time()
-        may_settle = tr.settle_gate(sys)
+        may_settle = self._may_settle
         while float(ta.time) < t_end:
             t_stop = min(t_end, t_sw)
             t_start = float(ta.time)
