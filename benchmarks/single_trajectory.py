@@ -90,7 +90,7 @@ def bare_run(tol, repeats=100, rounds=5):
 
         def __call__(self, ta, d_sgn):
             g = choices[self.gi](d_sgn, flags)
-            if g is not None and g.then is not None:
+            if g is not None and g.then is not None and not callable(g.then):   # constant flags only
                 for k, v in g.then.items():
                     flags[k] = v
                     ta.pars[index[k]] = v
