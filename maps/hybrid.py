@@ -331,8 +331,10 @@ class HybridSystem:
     def heyoka_system(self):
         return list(zip(self.sym.state_vars, self.rhs))
 
-    def event_groups(self) -> list[list[Guard]]:
-        """Guards grouped by identical expression: one heyoka event per surface.
+    def event_groups(self, observations: bool = True) -> list[list[Guard]]:
+        """Guards grouped by identical expression: one heyoka event per surface, in declaration
+        order.  ``observations=False`` leaves out guards that change neither flags nor state
+        (and a surface left without a guard), for a run that records none of them.
 
         Guards that share a surface must not be separate events: a tie between two
         terminal events at the same instant can lose the active one (the free-flight
@@ -346,24 +348,30 @@ class HybridSystem:
         groups: dict = {}
         for g in self.guards:
             groups.setdefault(str(g.expr), []).append(g)
-        return list(groups.values())
+        if observations:
+            return list(groups.values())
+        kept = ([g for g in grp if not g.observes_only] for grp in groups.values())
+        return [grp for grp in kept if grp]
 
-    def heyoka_events(self, fp_type=float):
+    def heyoka_events(self, fp_type=float, observations: bool = True):
+        """heyoka's terminal events, one per surface of :meth:`event_groups` (same order)."""
         kw = {} if fp_type is float else {"fp_type": fp_type}
         events = []
-        for grp in self._groups:
+        for grp in (self._groups if observations else self.event_groups(False)):
             extra = dict(direction=hy.event_direction.any, callback=_record_crossing) if len(
                 {g.direction for g in grp}) > 1 else \
                 dict(direction=grp[0].heyoka_direction())
             events.append(hy.t_event(grp[0].expr, cooldown=_fp(EVENT_COOLDOWN, fp_type), **extra, **kw))
         return events
 
-    def integrator(self, tol: float = 1e-12, fp_type=float, compact_mode: bool = False):
-        """A heyoka integrator for this system, compiled once per (structure, tol, fp_type).
+    def integrator(self, tol: float = 1e-12, fp_type=float, compact_mode: bool = False,
+                   observations: bool = True):
+        """A heyoka integrator for this system, compiled once per (structure, tol, fp_type,
+        observations): its events are those of ``event_groups(observations)``.
 
         Returns a fresh deep copy so that several runs never share state.
         """
-        key = (self.structure, float(tol), fp_type, compact_mode)
+        key = (self.structure, float(tol), fp_type, compact_mode, bool(observations))
         proto = _COMPILED.get(key)
         if proto is None:
             t0 = _time.perf_counter()
@@ -374,7 +382,7 @@ class HybridSystem:
             # heyoka sizes its parameter array to the highest index used; a flag used
             # by no expression (a halt flag) lives only on the Python side.
             proto = hy.taylor_adaptive(self.heyoka_system(), y0, tol=_fp(tol, fp_type),
-                                       t_events=self.heyoka_events(fp_type),
+                                       t_events=self.heyoka_events(fp_type, observations),
                                        compact_mode=compact_mode, **kw)
             proto.compile_seconds = _time.perf_counter() - t0
             _COMPILED[key] = proto

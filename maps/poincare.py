@@ -413,8 +413,10 @@ class StroboscopicMap:
                 for pre, r in zip(first, second):
                     if pre.status != "ok":          # ended in the transient: nothing recorded
                         results.append(pre)
-                    else:
+                    else:               # counts of the whole job, as the scalar engine's
                         r.n_steps += pre.n_steps
+                        r.n_events += pre.n_events
+                        r.n_switches += pre.n_switches
                         results.append(r)
             else:
                 results = full.run(jobs)

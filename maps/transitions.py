@@ -34,15 +34,15 @@ __all__ = ["event_surfaces", "GuardChoice", "Outcome", "NOTHING", "fire", "settl
 
 
 def event_surfaces(system: HybridSystem, observations: bool = True) -> list[list[Guard]]:
-    """Guards grouped by identical surface, in declaration order: one integrator event each.
+    """Guards grouped by identical surface, in declaration order: one integrator event each
+    (:meth:`HybridSystem.event_groups`).
 
     ``observations=False`` leaves out guards that change neither flags nor state, so an
     engine that needs no record of them takes no stop there (a transient).  A surface whose
     guards have different directions is one event of direction "any" (see
     :meth:`HybridSystem.event_groups` for why surfaces are never split).
     """
-    groups = ([g for g in grp if observations or not g.observes_only] for grp in system.event_groups())
-    return [grp for grp in groups if grp]
+    return system.event_groups(observations)
 
 
 class GuardChoice:

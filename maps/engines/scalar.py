@@ -38,12 +38,15 @@ class HybridRun:
     def __init__(self, system: HybridSystem, params: Mapping[str, float], x0, t0: float = 0.0,
                  flags: Mapping[str, float] | None = None, tol: float = 1e-12, fp_type=float,
                  max_events: int | None = 100_000, record_events: bool = True,
-                 max_events_per_period: int | None = None):
+                 max_events_per_period: int | None = None, observations: bool = True):
         """``x0`` is a continuous state (mapping, array) or a :class:`HybridState`.
         ``max_events`` caps the events of the whole run, ``max_events_per_period`` those of
         any one period of the first switch (a relay period); more raise :class:`EventCap`.
-        ``max_period_events`` reports the most events seen in one such period."""
+        ``max_period_events`` reports the most events seen in one such period.
+        ``observations=False``: no stop (and no record) at guards that change neither flags nor
+        state (e.g. the bar's turning points); the motion is the same (a transient)."""
         self.system = system
+        self.observations = bool(observations)
         self.params = system.validate(params)
         self.tol = validate_tol(tol)
         if fp_type not in _FP_TYPES:  # else a TypeError from deep inside heyoka
@@ -59,7 +62,7 @@ class HybridRun:
         if max_events_per_period is not None:
             max_events_per_period = int(validate_value("max_events_per_period", max_events_per_period, 1, math.inf))
         self.max_events_per_period = max_events_per_period
-        self._choices = [tr.GuardChoice(g) for g in system._groups]
+        self._choices = [tr.GuardChoice(g) for g in tr.event_surfaces(system, self.observations)]
         self._may_settle = tr.settle_gate(system)     # after a switch: settle only where it can act
         # live views of heyoka's own buffers (never reallocated): the hot loop writes through them
         self._y_view, self._pars_view = self.ta.state[:self._n], self.ta.pars
@@ -102,7 +105,7 @@ class HybridRun:
         return float(self.ta.time)
 
     def _integrator(self, tol, fp_type):
-        return self.system.integrator(tol, fp_type)
+        return self.system.integrator(tol, fp_type, observations=self.observations)
 
     def _start_sensitivities(self, t0):
         """Hook: a run that carries derivatives starts them here (see VariationalRun)."""
@@ -205,7 +208,8 @@ class HybridRun:
         ta, sys, params, flags = self.ta, self.system, self.params, self.flags
         propagate, y_view, fp = ta.propagate_until, self._y_view, self.fp_type
         c_out = on_segment is not None
-        n_groups, choices, may_settle, on_switch = len(sys._groups), self._choices, self._may_settle, self._on_switch
+        choices, may_settle, on_switch = self._choices, self._may_settle, self._on_switch
+        n_groups = len(choices)
         first_switch = sys.switches[0] if sys.switches else None
         self.stopped_by = None
         t_sw, sw = self.next_switch_time()
@@ -291,6 +295,8 @@ class VariationalRun(HybridRun):
     def _integrator(self, tol, fp_type):
         if fp_type is not float:
             raise ParameterError("exact Jacobians run in double precision (fp_type=float)")
+        if not self.observations:
+            raise ParameterError("runs with sensitivities stop at every guard (observations=True)")
         from ..variational import variational_integrator
         return variational_integrator(self.system, tol, self.wrt)
 
@@ -362,6 +368,8 @@ class TangentRun(VariationalRun):
     def _integrator(self, tol, fp_type):
         if fp_type is not float:
             raise ParameterError("tangent vectors run in double precision (fp_type=float)")
+        if not self.observations:
+            raise ParameterError("runs with sensitivities stop at every guard (observations=True)")
         from ..variational import tangent_integrator
         return tangent_integrator(self.system, tol)
 
@@ -386,7 +394,10 @@ class TangentRun(VariationalRun):
 
 
 class ScalarEngine(Engine):
-    """Runs jobs one after the other on one :class:`HybridRun` (any system, any sampling)."""
+    """Runs jobs one after the other on one :class:`HybridRun` (any system, any sampling).
+
+    As the batch engine does, a transient and a companion run without stops at observation-only
+    guards (nothing of them is kept); a window whose crossings are logged runs with them."""
 
     name = "scalar"
 
@@ -395,12 +406,18 @@ class ScalarEngine(Engine):
         super().__init__(system, tol, max_events_per_period=max_events_per_period, observations=observations)
         self.fp_type = fp_type
         self._run: HybridRun | None = None
+        self._quiet_run: HybridRun | None = None
         self._tangent_run: TangentRun | None = None
 
-    def hybrid_run(self, params) -> HybridRun:
-        """This engine's reusable run, with ``params`` loaded (compiled once per structure)."""
-        self._run = self._reuse(self._run, HybridRun, params, fp_type=self.fp_type)
-        return self._run
+    def hybrid_run(self, params, observations: bool = True) -> HybridRun:
+        """This engine's reusable run, with ``params`` loaded (compiled once per structure);
+        ``observations=False`` (or an engine built without them): the run that takes no stop at
+        observation-only guards."""
+        if observations and self.observations:
+            self._run = self._reuse(self._run, HybridRun, params, fp_type=self.fp_type)
+            return self._run
+        self._quiet_run = self._reuse(self._quiet_run, HybridRun, params, fp_type=self.fp_type, observations=False)
+        return self._quiet_run
 
     def tangent_run(self, params) -> TangentRun:
         """This engine's reusable run with a tangent vector (compiled on first use)."""
@@ -418,7 +435,7 @@ class ScalarEngine(Engine):
 
     @property
     def compile_seconds(self) -> float:
-        return self._run.compile_seconds if self._run is not None else 0.0
+        return sum(r.compile_seconds for r in (self._run, self._quiet_run) if r is not None)
 
     def run(self, jobs: list[OrbitJob]) -> list[OrbitResult]:
         return [self._one(job) for job in jobs]
@@ -427,9 +444,11 @@ class ScalarEngine(Engine):
         clock = _time.perf_counter()
         res = OrbitResult()
         tangent = job.tangent is not None
-        run = self.hybrid_run(job.params)
+        run = self.hybrid_run(job.params, observations=False) if job.transient or not job.log else \
+            self.hybrid_run(job.params)
         run.record_events = False
-        k, steps_before = job.k0, 0
+        k = job.k0
+        before = [0, 0, 0]           # steps, events and switches of the runs handed over
         try:
             run.reset(job.sample_time(k), job.y0, job.flags)
             end_transient = k + job.transient
@@ -438,11 +457,10 @@ class ScalarEngine(Engine):
                 run.advance(job.sample_time(k))
                 run.budget.new_period()
             if tangent:                  # the record carries a tangent vector: its run takes over here
-                steps_before, state = run.n_steps, run.state
-                run = self.tangent_run(job.params)
-                run.record_events = False
-                run.reset(job.sample_time(k), state)
+                run = self._hand_over(run, self.tangent_run(job.params), job.sample_time(k), before)
                 tangent = tangent_sample(run.tangent, res.tangent, job.tangent, job.shift)
+            elif job.log and not run.observations:     # the logged window stops at every guard
+                run = self._hand_over(run, self.hybrid_run(job.params), job.sample_time(k), before)
             if job.reference is None:
                 self._sample(res, run)
             run.record_events = job.log
@@ -473,9 +491,21 @@ class ScalarEngine(Engine):
             res.tail_events = [(ev.name, ev.t, ev.y_minus) for ev in run.events]
         run.events = []
         res.final_time, res.final_state, res.final_flags = run.t, run.y, dict(run.flags)
-        res.n_steps, res.n_events, res.n_switches = run.n_steps + steps_before, run.n_events, run.n_switches
+        res.n_steps, res.n_events, res.n_switches = (run.n_steps + before[0], run.n_events + before[1],
+                                                     run.n_switches + before[2])
         res.seconds = _time.perf_counter() - clock
         return res
+
+    @staticmethod
+    def _hand_over(run: HybridRun, other: HybridRun, t: float, before: list) -> HybridRun:
+        """``other`` restarted at ``t`` [s] in ``run``'s hybrid state; ``before`` accumulates
+        ``run``'s steps, events and switches."""
+        before[0] += run.n_steps
+        before[1] += run.n_events
+        before[2] += run.n_switches
+        other.record_events = False
+        other.reset(t, run.state)
+        return other
 
     @staticmethod
     def _sample(res: OrbitResult, run: HybridRun):
