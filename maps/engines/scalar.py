@@ -22,7 +22,7 @@ from ..progression import time_in_mode
 from ..tangent import renormalise, tangent_sample
 from .base import Engine, OrbitJob, OrbitResult
 
-_TIME_LIMIT = hy.taylor_outcome.time_limit
+_TIME_LIMIT = int(hy.taylor_outcome.time_limit)
 
 __all__ = ["HybridRun", "VariationalRun", "TangentRun", "ScalarEngine"]
 
@@ -91,7 +91,7 @@ class HybridRun:
         self._load_pars()
         self._start_sensitivities(t0)
         self.events = []
-        self.n_steps = self.n_switches = 0
+        self.n_switches = 0
         self.budget = tr.EventBudget(self.max_events, self.max_events_per_period)
         self.flag_log = [(t0, dict(self.flags))]
         self._log_steps = [0]       # Taylor steps taken in each flag_log entry's mode
@@ -122,6 +122,11 @@ class HybridRun:
     def state(self) -> HybridState:
         """The hybrid state now: continuous state and flags."""
         return HybridState(self.y, dict(self.flags))
+
+    @property
+    def n_steps(self) -> int:
+        """Taylor steps taken since the reset."""
+        return sum(self._log_steps)
 
     @property
     def n_events(self) -> int:
@@ -213,21 +218,23 @@ class HybridRun:
         first_switch = sys.switches[0] if sys.switches else None
         self.stopped_by = None
         t_sw, sw = self.next_switch_time()
+        log_steps, flag_log = self._log_steps, self.flag_log    # reset() rebinds them, never advance()
+        slots, pars = self._flag_slots, self._pars_view
         t = float(ta.time)
         while t < t_end:
             t_stop = t_end if t_end < t_sw else t_sw
             if t_stop > t:
                 t_start, y_start = t, y_view.copy()   # heyoka leaves a non-finite state after a failed step
                 res = propagate(t_stop if fp is float else _fp(t_stop, fp), c_output=c_out)
-                outcome, nsteps = res[0], res[3]
-                self.n_steps += nsteps
-                self._log_steps[-1] += nsteps  # one propagate_until, one mode: every guard stops it
+                outcome = res[0]
+                code = int(outcome)
+                log_steps[-1] += res[3]     # one propagate_until, one mode: every guard stops it
                 if c_out and res[4] is not None:
                     on_segment(res[4], t, float(ta.time))
                 t = float(ta.time)
             else:
-                outcome = _TIME_LIMIT
-            if outcome == _TIME_LIMIT:
+                code = _TIME_LIMIT
+            if code == _TIME_LIMIT:
                 if sw is not None and t_stop == t_sw:
                     counters = self._next_switch
                     n = counters[sw.flag]
@@ -235,19 +242,25 @@ class HybridRun:
                     self.n_switches += 1
                     if sw is first_switch and n % 2 == 0:
                         self.budget.in_period = 0      # a new relay period begins
-                    flags_before = dict(flags) if on_switch is not None else None
-                    self._set_flags({sw.flag: sw.off_value if n % 2 else sw.on_value}, t_sw)
                     if on_switch is not None:
+                        flags_before = dict(flags)
+                        self._set_flags({sw.flag: sw.off_value if n % 2 else sw.on_value}, t_sw)
                         on_switch(sw, t_sw, flags_before)
+                    else:                              # _set_flags of one flag, inline
+                        flags[sw.flag] = value = sw.off_value if n % 2 else sw.on_value
+                        slot = slots.get(sw.flag)
+                        if slot is not None:
+                            pars[slot] = value
+                        flag_log.append((t_sw, dict(flags)))
+                        log_steps.append(0)
                     if may_settle is not None and may_settle(flags):
                         self._apply(tr.settle(sys, t_sw, y_view, flags, params), t_sw)
                     if len(counters) == 1:             # one switch: its next instant, inline
-                        m = n + 1
-                        t_sw = (m // 2 + (sw.duty if m % 2 else 0.0)) / params[sw.frequency]
+                        n += 1
+                        t_sw = (n // 2 + (sw.duty if n % 2 else 0.0)) / params[sw.frequency]
                     else:
                         t_sw, sw = self.next_switch_time()
                 continue
-            code = int(outcome)
             if -n_groups - 1 < code < 0:
                 guard = choices[-code - 1](_CROSSING[0], flags)
                 if guard is not None:
