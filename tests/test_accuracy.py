@@ -12,7 +12,7 @@ T_END = 1.0     # two contacts (0.85 s and 0.97 s)
 
 @pytest.fixture(scope="module")
 def study():
-    ladders = {"heyoka": [1e-6, 1e-9, 1e-12, 1e-15], "scipy-DOP853": [1e-6, 1e-9],
+    ladders = {"heyoka": [1e-6, 1e-9, 1e-12, 1e-15], "heyoka-transient": [1e-9, 1e-15], "scipy-DOP853": [1e-6, 1e-9],
                "rk4-bisection": [3e-4, 1e-4]}
     return work_precision("thesis-1dof", T_END, ladders=ladders, repeats=1, **SETUP)
 
@@ -28,8 +28,10 @@ def test_reference_bound_and_impacts(study):
     assert (study["n_impacts"].values == 2).all()
 
 
-def test_tight_double_run_agrees_with_reference(study):
-    h = _method(study, "heyoka")
+@pytest.mark.parametrize("method", ["heyoka", "heyoka-transient"])
+def test_tight_double_run_agrees_with_reference(study, method):
+    """Both toolkit runs (with and without the stops at turning points) against long double."""
+    h = _method(study, method)
     tight = h.where(h["tol"] == 1e-15, drop=True)
     # double round-off over ~500 steps bounds the agreement; the reference is 100x better
     assert float(tight["final_state_error"].item()) < 1e-12
