@@ -73,7 +73,7 @@ def run(args) -> int:
     out.mkdir(parents=True, exist_ok=True)
 
     def progress(row):
-        print(f"{row['method']:>14s} tol {row['tol']:8.1e}  error {row['final_state_error']:9.2e}  "
+        print(f"{row['method']:>16s} tol {row['tol']:8.1e}  error {row['final_state_error']:9.2e}  "
               f"impact-time error {row['impact_time_error']:9.2e} s  impacts {row['n_impacts']:3d}  "
               f"{row['run_seconds'] * 1e3:9.2f} ms", flush=True)
 
