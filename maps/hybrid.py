@@ -353,25 +353,33 @@ class HybridSystem:
         kept = ([g for g in grp if not g.observes_only] for grp in groups.values())
         return [grp for grp in kept if grp]
 
-    def heyoka_events(self, fp_type=float, observations: bool = True):
-        """heyoka's terminal events, one per surface of :meth:`event_groups` (same order)."""
+    def heyoka_events(self, fp_type=float, observations: bool = True, callbacks: bool = False):
+        """heyoka's terminal events, one per surface of ``event_groups(observations)`` (same order).
+
+        ``callbacks``: each event calls an :class:`EventCallback` (its surface's index), which a
+        run binds to itself (the scalar engine applies the transition there); else an event just
+        stops the integration (a mixed-direction surface's callback keeps the crossing's sign
+        in ``_CROSSING``)."""
         kw = {} if fp_type is float else {"fp_type": fp_type}
         events = []
-        for grp in (self._groups if observations else self.event_groups(False)):
-            extra = dict(direction=hy.event_direction.any, callback=_record_crossing) if len(
-                {g.direction for g in grp}) > 1 else \
-                dict(direction=grp[0].heyoka_direction())
+        for i, grp in enumerate(self._groups if observations else self.event_groups(False)):
+            mixed = len({g.direction for g in grp}) > 1
+            extra = dict(direction=hy.event_direction.any if mixed else grp[0].heyoka_direction())
+            if callbacks:
+                extra["callback"] = EventCallback(i)
+            elif mixed:
+                extra["callback"] = _record_crossing
             events.append(hy.t_event(grp[0].expr, cooldown=_fp(EVENT_COOLDOWN, fp_type), **extra, **kw))
         return events
 
     def integrator(self, tol: float = 1e-12, fp_type=float, compact_mode: bool = False,
-                   observations: bool = True):
+                   observations: bool = True, callbacks: bool = False):
         """A heyoka integrator for this system, compiled once per (structure, tol, fp_type,
-        observations): its events are those of ``event_groups(observations)``.
+        observations, callbacks): its events are those of :meth:`heyoka_events`.
 
         Returns a fresh deep copy so that several runs never share state.
         """
-        key = (self.structure, float(tol), fp_type, compact_mode, bool(observations))
+        key = (self.structure, float(tol), fp_type, compact_mode, bool(observations), bool(callbacks))
         proto = _COMPILED.get(key)
         if proto is None:
             t0 = _time.perf_counter()
@@ -382,7 +390,7 @@ class HybridSystem:
             # heyoka sizes its parameter array to the highest index used; a flag used
             # by no expression (a halt flag) lives only on the Python side.
             proto = hy.taylor_adaptive(self.heyoka_system(), y0, tol=_fp(tol, fp_type),
-                                       t_events=self.heyoka_events(fp_type, observations),
+                                       t_events=self.heyoka_events(fp_type, observations, callbacks),
                                        compact_mode=compact_mode, **kw)
             proto.compile_seconds = _time.perf_counter() - t0
             _COMPILED[key] = proto
@@ -534,6 +542,29 @@ def _record_crossing(ta, d_sgn):
     """Terminal-event callback: remember the crossing direction, stop the integration."""
     _CROSSING[0] = int(d_sgn)
     return False
+
+
+class EventCallback:
+    """The callback of the terminal event of surface ``index``: returns
+    ``run._on_event(index, sign)`` (True: integrate on) for the run bound to this integrator copy
+    (``run``: a weak reference, set by the run); unbound, it stops the integration as
+    :func:`_record_crossing` does.  heyoka deep-copies callbacks with the integrator: each copy
+    gets a callback of its own, bound to no run."""
+
+    __slots__ = ("index", "run")
+
+    def __init__(self, index: int):
+        self.index, self.run = index, None
+
+    def __deepcopy__(self, memo):
+        return EventCallback(self.index)
+
+    def __call__(self, ta, d_sgn):
+        run = self.run() if self.run is not None else None
+        if run is None:
+            _CROSSING[0] = int(d_sgn)
+            return False
+        return run._on_event(self.index, d_sgn)
 
 
 def call_cfunc(f, y, pars, t: float = 0.0) -> np.ndarray:

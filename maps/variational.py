@@ -78,7 +78,7 @@ def _compiled(system, tol, kind, build):
         dynamics = build()     # a var_ode_sys takes the state alone (heyoka starts its sensitivities)
         size = len(system.states) if isinstance(dynamics, hy.var_ode_sys) else len(dynamics)
         proto = hy.taylor_adaptive(dynamics, np.zeros(size), tol=tol,
-                                   t_events=system.heyoka_events(float), compact_mode=False)
+                                   t_events=system.heyoka_events(float, callbacks=True), compact_mode=False)
         proto.compile_seconds = _time.perf_counter() - clock
         _COMPILED[key] = proto
     return copy.deepcopy(proto), proto.compile_seconds

@@ -145,7 +145,8 @@ def _run(case: Case, fp_type=float, tol=None, t_end=None) -> dict:
     sc, values = case_scene(case)
     y0 = _typed_state(sc.system.state_vector(sc.initial_state(**case.x0)), fp_type)
     run = HybridRun(sc.system, values, y0, tol=tol or case.tol, fp_type=fp_type, max_events=case.max_events,
-                    max_events_per_period=case.max_events_per_period, flags=case.flags or None)
+                    max_events_per_period=case.max_events_per_period, flags=case.flags or None,
+                    steps_by_mode=True)    # steps per contact (_mechanics)
     clock = _time.perf_counter()
     res = {"run": run, "status": "ok", "failure": "", "t_fail": math.nan, "y_fail": None}
     try:

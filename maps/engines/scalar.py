@@ -9,13 +9,14 @@ from __future__ import annotations
 
 import math
 import time as _time
+import weakref
 from typing import Callable, Mapping
 
 import heyoka as hy
 import numpy as np
 
 from .. import transitions as tr
-from ..hybrid import (_CROSSING, _FP_TYPES, Escaped, EventRecord, HybridState, HybridSystem,
+from ..hybrid import (_FP_TYPES, Escaped, EventRecord, HybridState, HybridSystem,
                       IntegrationFailure, _fp, _np_dtype, validate_tol)
 from ..parameters import ParameterError, validate_value
 from ..progression import time_in_mode
@@ -23,12 +24,17 @@ from ..tangent import renormalise, tangent_sample
 from .base import Engine, OrbitJob, OrbitResult
 
 _TIME_LIMIT = int(hy.taylor_outcome.time_limit)
+_NF_STATE = int(hy.taylor_outcome.err_nf_state)
 
 __all__ = ["HybridRun", "VariationalRun", "TangentRun", "ScalarEngine"]
 
 
 class HybridRun:
     """One trajectory of a :class:`HybridSystem`, advanced through guards and switches.
+
+    Relay switches end ``propagate_until`` at their exact instants; a guard's transition is
+    applied in its event's callback, inside ``propagate_until`` (as the batch engine does), and
+    the integration goes on unless it must end there (a halt, a ``stop_roles`` guard, a cap).
 
     >>> run = HybridRun(system, params, x0, tol=1e-12)
     >>> run.advance(2.0)          # to t = 2 s
@@ -38,15 +44,20 @@ class HybridRun:
     def __init__(self, system: HybridSystem, params: Mapping[str, float], x0, t0: float = 0.0,
                  flags: Mapping[str, float] | None = None, tol: float = 1e-12, fp_type=float,
                  max_events: int | None = 100_000, record_events: bool = True,
-                 max_events_per_period: int | None = None, observations: bool = True):
+                 max_events_per_period: int | None = None, observations: bool = True,
+                 steps_by_mode: bool = False):
         """``x0`` is a continuous state (mapping, array) or a :class:`HybridState`.
         ``max_events`` caps the events of the whole run, ``max_events_per_period`` those of
         any one period of the first switch (a relay period); more raise :class:`EventCap`.
         ``max_period_events`` reports the most events seen in one such period.
         ``observations=False``: no stop (and no record) at guards that change neither flags nor
-        state (e.g. the bar's turning points); the motion is the same (a transient)."""
+        state (e.g. the bar's turning points); the motion is the same (a transient).
+        ``steps_by_mode``: ``propagate_until`` also ends at every transition, so that the Taylor
+        steps of each mode are counted (:meth:`steps_where`); dense output (``on_segment``)
+        does so too."""
         self.system = system
         self.observations = bool(observations)
+        self.steps_by_mode = bool(steps_by_mode)
         self.params = system.validate(params)
         self.tol = validate_tol(tol)
         if fp_type not in _FP_TYPES:  # else a TypeError from deep inside heyoka
@@ -67,6 +78,14 @@ class HybridRun:
         # live views of heyoka's own buffers (never reallocated): the hot loop writes through them
         self._y_view, self._pars_view = self.ta.state[:self._n], self.ta.pars
         self._flag_slots = {k: i for k, i in system._flag_index.items() if i < len(self._pars_view)}
+        self._roles = {g.role for grp in tr.event_surfaces(system, self.observations) for g in grp}
+        self._stop_on: frozenset = frozenset()     # stop_roles of the advance under way
+        self._stop_each = self.steps_by_mode      # end propagate_until after every transition
+        self._pending = None        # an exception raised in an event callback, re-raised by advance()
+        self.stopped_by = None
+        me = weakref.ref(self)      # this integrator copy's event callbacks act on this run
+        for ev in (self.ta.t_events if self.ta.with_events else ()):
+            ev.callback.run = me
         self.reset(t0, x0, flags)
 
     def reset(self, t0: float, x0, flags: Mapping[str, float] | None = None) -> "HybridRun":
@@ -91,6 +110,7 @@ class HybridRun:
         self._load_pars()
         self._start_sensitivities(t0)
         self.events = []
+        self._pending = None
         self.n_switches = 0
         self.budget = tr.EventBudget(self.max_events, self.max_events_per_period)
         self.flag_log = [(t0, dict(self.flags))]
@@ -105,7 +125,7 @@ class HybridRun:
         return float(self.ta.time)
 
     def _integrator(self, tol, fp_type):
-        return self.system.integrator(tol, fp_type, observations=self.observations)
+        return self.system.integrator(tol, fp_type, observations=self.observations, callbacks=True)
 
     def _start_sensitivities(self, t0):
         """Hook: a run that carries derivatives starts them here (see VariationalRun)."""
@@ -141,7 +161,9 @@ class HybridRun:
 
     @property
     def mode_steps(self) -> dict:
-        """Taylor steps per mode: {tuple of flag values (system order): steps} since the reset."""
+        """Taylor steps per mode: {tuple of flag values (system order): steps} since the reset
+        (a run built with ``steps_by_mode=True``)."""
+        self._need_steps_by_mode()
         out: dict = {}
         for (_, fl), n in zip(self.flag_log, self._log_steps):
             key = tuple(fl.values())
@@ -149,9 +171,16 @@ class HybridRun:
         return out
 
     def steps_where(self, **flags) -> int:
-        """Taylor steps taken in modes with these flag values, e.g. ``steps_where(contact=1)``."""
+        """Taylor steps taken in modes with these flag values, e.g. ``steps_where(contact=1)``
+        (a run built with ``steps_by_mode=True``)."""
+        self._need_steps_by_mode()
         return sum(n for (_, fl), n in zip(self.flag_log, self._log_steps)
                    if all(fl.get(k) == v for k, v in flags.items()))
+
+    def _need_steps_by_mode(self):
+        if not self.steps_by_mode:
+            raise ParameterError("steps per mode are counted by a run built with steps_by_mode=True "
+                                 "(transitions then end each propagate_until)")
 
     def set_params(self, **values):
         """Change parameter values in place (no recompilation)."""
@@ -196,8 +225,35 @@ class HybridRun:
     def next_switch_time(self):
         return tr.next_switch(self.system, self.params, self._next_switch)
 
+    def _on_event(self, gi: int, sign) -> bool:
+        """heyoka's callback of terminal event ``gi`` (its surface crossed with ``sign``), at the
+        event, inside ``propagate_until``: the chosen guard's transition (:func:`maps.transitions.fire`).
+        True: integrate on; False: ``propagate_until`` returns (a halt or an exception, kept in
+        ``_pending`` for :meth:`advance` to raise; a ``stop_roles`` guard; ``_stop_each``).
+        Nothing may be raised through heyoka."""
+        try:
+            guard = self._choices[gi](sign, self.flags)
+            if guard is None:
+                return True                 # a crossing no guard acts on
+            t = float(self.ta.time)
+            out = tr.fire(self.system, guard, t, self._y_view, self.flags, self.params)
+            if out is tr.NOTHING:
+                return True
+            self._apply(out, t, guard, out.records[0][1])   # the state the guard met, fire's copy
+            if out.halted:
+                self._pending = Escaped(f"{guard.name}: the state left the model's domain at t = {t:.9g} s",
+                                        t, self.y)
+                return False
+            if guard.role in self._stop_on:
+                self.stopped_by = guard.name
+                return False
+            return not self._stop_each
+        except Exception as exc:            # noqa: BLE001 - re-raised by advance() once heyoka returned
+            self._pending = exc
+            return False
+
     def advance(self, t_end: float, on_segment: Callable | None = None, stop_roles: tuple = ()) -> "HybridRun":
-        """Integrate to ``t_end`` [s], stopping on every guard and switch.
+        """Integrate to ``t_end`` [s] through every guard and switch.
 
         ``on_segment(c_output, t_start, t_stop)`` receives heyoka's continuous
         output of each smooth segment (dense output; requested only when given).
@@ -208,15 +264,18 @@ class HybridRun:
         """
         if not math.isfinite(float(t_end)):  # NaN: silent no-op; inf: ValueError inside heyoka
             raise ParameterError(f"'t_end' must be a finite time [s], got {t_end}")
-        # The hot loop of every scalar run (69 stops in 2 s of thesis-1dof at 9 Hz): names are
-        # bound once, the state is read through a live view and copied only where kept.
+        if stop_roles and not self._roles.issuperset(stop_roles):
+            raise ParameterError(f"stop_roles {tuple(stop_roles)}: allowed roles here: {', '.join(sorted(self._roles))}")
+        # The hot loop of every scalar run: it runs once per relay switch (guards act in callbacks);
+        # names are bound once, the state is read through a live view and copied only where kept.
         ta, sys, params, flags = self.ta, self.system, self.params, self.flags
         propagate, y_view, fp = ta.propagate_until, self._y_view, self.fp_type
         c_out = on_segment is not None
-        choices, may_settle, on_switch = self._choices, self._may_settle, self._on_switch
-        n_groups = len(choices)
+        n_groups, may_settle, on_switch = len(self._choices), self._may_settle, self._on_switch
         first_switch = sys.switches[0] if sys.switches else None
         self.stopped_by = None
+        self._stop_on = frozenset(stop_roles)
+        self._stop_each = self.steps_by_mode or c_out     # smooth segments: one per propagate_until
         t_sw, sw = self.next_switch_time()
         log_steps, flag_log = self._log_steps, self.flag_log    # reset() rebinds them, never advance()
         slots, pars = self._flag_slots, self._pars_view
@@ -225,12 +284,15 @@ class HybridRun:
             t_stop = t_end if t_end < t_sw else t_sw
             if t_stop > t:
                 t_start, y_start = t, y_view.copy()   # heyoka leaves a non-finite state after a failed step
+                mode = len(log_steps) - 1             # the mode the segment starts in
                 res = propagate(t_stop if fp is float else _fp(t_stop, fp), c_output=c_out)
-                outcome = res[0]
-                code = int(outcome)
-                log_steps[-1] += res[3]     # one propagate_until, one mode: every guard stops it
+                code = int(res[0])
+                log_steps[mode] += res[3]   # exact per mode where each transition ends propagate_until
                 if c_out and res[4] is not None:
-                    on_segment(res[4], t, float(ta.time))
+                    on_segment(res[4], t, float(ta.time))     # the segment up to a failed transition too
+                if self._pending is not None:
+                    exc, self._pending = self._pending, None
+                    raise exc
                 t = float(ta.time)
             else:
                 code = _TIME_LIMIT
@@ -261,26 +323,16 @@ class HybridRun:
                     else:
                         t_sw, sw = self.next_switch_time()
                 continue
-            if -n_groups - 1 < code < 0:
-                guard = choices[-code - 1](_CROSSING[0], flags)
-                if guard is not None:
-                    out = tr.fire(sys, guard, t, y_view, flags, params)
-                    if out is tr.NOTHING:
-                        continue
-                    self._apply(out, t, guard, out.records[0][1])   # the state the guard met, fire's copy
-                    if out.halted:
-                        raise Escaped(f"{guard.name}: the state left the model's domain at t = {t:.9g} s",
-                                      t, self.y)
-                    if stop_roles and guard.role in stop_roles:
-                        self.stopped_by = guard.name
-                        return self
+            if -n_groups - 1 < code < 0:       # a callback ended propagate_until after its transition
+                if self.stopped_by is not None:
+                    return self
                 continue
-            if outcome == hy.taylor_outcome.err_nf_state:
+            if code == _NF_STATE:
                 y_start = np.array(y_start, dtype=float)
                 raise IntegrationFailure(f"non-finite state in the step after t = {t_start:.9g} s "
                                          f"(last finite state {np.array2string(y_start, precision=6)})",
                                          t_start, y_start)
-            raise IntegrationFailure(f"integration stopped with {outcome} at t = {float(ta.time):.9g} s",
+            raise IntegrationFailure(f"integration stopped with {res[0]} at t = {float(ta.time):.9g} s",
                                      float(ta.time), self.y)
         return self
 
