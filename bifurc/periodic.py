@@ -156,6 +156,8 @@ def find_periodic_orbit(smap, start, period: int, *, k0: int = 0, tol: float = 1
     scale = _scale([co.reduce(s.y) for s in nodes], atol)
     signatures_seen = []
     for it in range(max_iter + 1):
+        if it:      # the orbit's magnitude, not the first guess's (a guess at rest scaled v by atol)
+            scale = _scale([co.reduce(s.y) for s in nodes], atol)
         try:
             lins = [smap.linearize(s, k0 + j) for j, s in enumerate(nodes)]
         except (IntegrationFailure, ZeroDivisionError) as exc:
