@@ -45,19 +45,19 @@ class Parameter:
 def validate_value(name, value, low=-math.inf, high=math.inf, low_open=False,
                    high_open=False, unit="", long_name="") -> float:
     """Check one scalar against a range; the error names the parameter and the range."""
+    if not isinstance(value, (str, bytes, bool)):
+        try:
+            x = float(value)
+        except (TypeError, ValueError):
+            x = None
+        if x is not None and math.isfinite(x) and not (x <= low if low_open else x < low) \
+                and not (x >= high if high_open else x > high):
+            return x                # the common case: no message to build
     what = f"parameter {name!r}" + (f" ({long_name})" if long_name else "")
-    if isinstance(value, (str, bytes, bool)):
+    if isinstance(value, (str, bytes, bool)) or x is None:
         raise ParameterError(f"{what} must be a number, got {value!r}")
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise ParameterError(f"{what} must be a number, got {value!r}") from None
     rng = Parameter(name, unit, long_name, low, high, low_open, high_open).range_text()
     units = f" {unit}" if unit and unit not in ("-", "1") else ""  # "1": dimensionless (CF)
     if not math.isfinite(x):
         raise ParameterError(f"{what} must be finite, got {x}; allowed range {rng}{units}")
-    bad_low = x <= low if low_open else x < low
-    bad_high = x >= high if high_open else x > high
-    if bad_low or bad_high:
-        raise ParameterError(f"{what} = {x:g}{units} is outside its allowed range {rng}{units}")
-    return x
+    raise ParameterError(f"{what} = {x:g}{units} is outside its allowed range {rng}{units}")

@@ -184,7 +184,31 @@ class Derivatives:
             jump = self._jumps[key] = lambda state, pars, t: call_cfunc(f, state, pars, t)
         return jump
 
-    def _compile_jump(self, guard, changes):
+    def matrix_jump(self, guard, changes):
+        """The saltation rule of :meth:`tangent_jump` for every column of Y = dy/dy0 (n x n, no
+        parameter columns) in ONE batch call of one compiled function, with the event time's row:
+        ``jump(y, Y, pars, t) -> (Y+, dt_e/dy0)``, where dt_e/dy0 = -(grad g . Y) / (grad g . f- + dg/dt)
+        (:func:`maps.transitions.event_time_row` without parameters).  The scalar engine's path for
+        a state Jacobian (Floquet multipliers, a map's linearisation); a grazing crossing gives
+        non-finite values (the caller falls back to the general rule, which says so)."""
+        key = ("matrix", guard.name, *changes.items())
+        jump = self._jumps.get(key)
+        if jump is None:
+            f = self._compile_jump(guard, changes, time_row=True)
+            n, k = self.n, f.nparams
+
+            def jump(y, Y, pars, t):
+                N = Y.shape[1]
+                inputs = np.empty((2 * n, N))
+                inputs[:n] = np.asarray(y, dtype=float)[:, None]
+                inputs[n:] = Y
+                kw = {"time": np.full(N, float(t))} if f.is_time_dependent else {}
+                out = f(inputs, pars=np.repeat(np.asarray(pars, dtype=float)[:k, None], N, axis=1), **kw)
+                return out[:n], out[n]
+            self._jumps[key] = jump
+        return jump
+
+    def _compile_jump(self, guard, changes, time_row: bool = False):
         s, system = self.system.sym, self.system
         ys = list(s.state_vars)
         us = _tangent_vars(self.n)
@@ -202,6 +226,8 @@ class Derivatives:
             Ru = hy.sum([R_y[i][j] * us[j] for j in range(self.n)])
             Rf = hy.sum([R_y[i][j] * f_minus[j] for j in range(self.n)])
             rows.append(Ru + (f_plus[i] - Rf) * along)
+        if time_row:
+            rows.append(-along)
         return hy.cfunc(rows, vars=ys + us, compact_mode=True)
 
     def _jacobian(self, key, exprs, t, y, pars):

@@ -352,3 +352,45 @@ def test_compiled_tangent_jump_is_the_hand_derived_kelvin_voigt_saltation():
         pars = np.array(system.par_vector(p, flags))
         got = der.tangent_jump(guards[name], {"contact": 1.0 - before})(np.concatenate([y, u]), pars, t)
         np.testing.assert_allclose(got, u + jump * u[0] / v, rtol=1e-13, atol=1e-13 * np.abs(jump).max())
+
+
+def test_compiled_matrix_jump_is_the_hand_derived_saltation_with_the_event_time_row():
+    """The scalar engine's state-Jacobian path (Derivatives.matrix_jump: every column of Y in one
+    batch call) against closed forms.  thesis-1dof's compliant stop as above: Y+ = Y + (f+ - f-)
+    Y[0] / v and dt_e/dy0 = -Y[0] / v.  The restitution oscillator (reset v -> -r v at x = e):
+    R = diag(1, -r), f- = (v, a-), f+ = (-r v, a+), so Y+ = R Y + (f+ - R f-) Y[0] / v =
+    R Y + (-(1 + r) v, a+ + r a-) Y[0] / v, with a-+ = F cos(Omega t) - w0^2 e - 2 zeta w0 v-+
+    (v- = v, v+ = -r v); dt_e/dy0 = -Y[0] / v in both."""
+    import heyoka as hy
+    from maps.variational import Derivatives
+    rng = np.random.default_rng(5)
+    sc = maps.get_scene("thesis-1dof").with_options(dc_law="listing")
+    system = sc.system
+    p = sc.parameters(preset="matlab-listing", V=90.0, relay_hz=5.0)
+    der = Derivatives(system)
+    rhs = hy.cfunc(list(system.rhs), vars=system.sym.state_vars)
+    guards = {g.name: g for g in system.guards}
+    t = 0.013
+    for name, before, v in (("contact", 0.0, -0.37), ("release", 1.0, 0.52)):
+        flags = dict(system.initial_flags(0.0, p), contact=before)
+        y = np.array([p["e"], v, 1.3, -20.0])
+        Y = rng.standard_normal((4, 4))
+        f = {c: rhs(y, pars=np.array(system.par_vector(p, dict(flags, contact=c)))[:rhs.nparams], time=t)
+             for c in (0.0, 1.0)}
+        jump = f[1.0 - before] - f[before]
+        got, dt = der.matrix_jump(guards[name], {"contact": 1.0 - before})(y, Y, system.par_vector(p, flags), t)
+        np.testing.assert_allclose(got, Y + np.outer(jump, Y[0] / v), rtol=1e-13, atol=1e-13 * np.abs(jump).max())
+        np.testing.assert_allclose(dt, -Y[0] / v, rtol=1e-14)
+    osc = maps.forced_oscillator_with_stop()
+    q = osc.validate(dict(w0=1.0, zeta=0.05, F=0.5, Omega=0.8, e=-0.6, r=0.7))
+    contact = next(g for g in osc.guards if g.name == "contact")
+    t, v = 2.1, -0.9
+    a = q["F"] * math.cos(q["Omega"] * t) - q["w0"] ** 2 * q["e"] - 2 * q["zeta"] * q["w0"] * v
+    a_plus = q["F"] * math.cos(q["Omega"] * t) - q["w0"] ** 2 * q["e"] + 2 * q["zeta"] * q["w0"] * q["r"] * v
+    Y = rng.standard_normal((2, 2))
+    R = np.diag([1.0, -q["r"]])
+    got, dt = Derivatives(osc).matrix_jump(contact, {})(np.array([q["e"], v]), Y,
+                                                         osc.par_vector(q, {"stuck": 0.0}), t)
+    expect = R @ Y + np.outer([-q["r"] * v - v, a_plus + q["r"] * a], Y[0] / v)
+    np.testing.assert_allclose(got, expect, rtol=1e-13, atol=1e-15)
+    np.testing.assert_allclose(dt, -Y[0] / v, rtol=1e-14)

@@ -368,7 +368,7 @@ class VariationalRun(HybridRun):
     def _start_sensitivities(self, t0):
         self.event_time_row = None
         n, m = self._n, len(self.wrt)
-        Y = np.hstack([np.eye(n), np.zeros((n, m))])
+        Y = np.eye(n, n + m)             # [I | 0]
         if self._freq_cols:
             d = self.derivatives
             f = d.rhs(t0, self.y, d.pars(self.params, self.flags))
@@ -414,6 +414,14 @@ class VariationalRun(HybridRun):
         if out is tr.NOTHING or (out.y is None and not out.changes):
             super()._apply(out, t, guard, y_minus)
             return
+        if guard is not None and out.projection is None and not self.wrt:   # dy/dy0 alone: one compiled call
+            d = self.derivatives
+            Y, dt = d.matrix_jump(guard, out.changes)(y_minus, self.sensitivities, d.pars(self.params, self.flags), t)
+            if np.isfinite(Y).all() and np.isfinite(dt).all():
+                self.event_time_row = dt
+                super()._apply(out, t, guard, y_minus)
+                self.ta.state[self._n:] = Y.ravel()
+                return          # else a grazing crossing: the general rule below says so
         Y, dt = self.derivatives.transition(self.sensitivities, out, t, self.params, dict(self.flags),
                                             dict(self.flags, **out.changes), guard, y_minus, self.y)
         if dt is not None:
