@@ -100,6 +100,18 @@ def test_no_impacting_1_1_orbit_only_a_sticking_one():
     assert "unstick" in orbit.signatures[0]
 
 
+def test_without_the_stick_mode_newton_refuses_the_zeno_cascade():
+    """The same case without the stick mode (stick_speed = 0): the chattering cascade has infinitely
+    many impacts before the forcing pulls the mass off, which no integration resolves; Newton must
+    say it found no orbit, with the reason, never return one."""
+    p = dict(BASE, Omega=0.5)
+    smap = maps.StroboscopicMap(maps.forced_oscillator_with_stop(stick_speed=0.0), p, tol=1e-12,
+                                max_events_per_period=2000)
+    with pytest.raises(OrbitNotFound) as err:
+        find_periodic_orbit(smap, np.array([0.5, 0.0]), 1, max_iter=25)
+    assert err.value.reason
+
+
 def test_a_stable_orbit_is_the_attractor_of_a_long_simulation():
     system = maps.forced_oscillator_with_stop()
     smap = maps.StroboscopicMap(system, BASE, tol=1e-14)

@@ -1,9 +1,10 @@
 """The scalar engine: one trajectory at a time on a heyoka ``taylor_adaptive``.
 
-:class:`HybridRun` integrates one trajectory: it stops on every guard surface and switch
-instant, applies the transition rules of :mod:`maps.transitions` and never steps across a
-mode change with one smooth right-hand side.  :class:`ScalarEngine` runs
-:class:`~maps.engines.base.OrbitJob` s with it, one after the other.
+:class:`HybridRun` integrates one trajectory: every guard surface is a terminal event whose
+callback applies the transition rules of :mod:`maps.transitions` at the crossing, and every
+relay switch ends ``propagate_until`` at its exact instant, so no Taylor step crosses a mode
+change.  :class:`ScalarEngine` runs :class:`~maps.engines.base.OrbitJob` s with it, one after
+the other (transients without the stops at observation-only guards).
 """
 from __future__ import annotations
 
@@ -532,7 +533,7 @@ class ScalarEngine(Engine):
             if tangent:                  # the record carries a tangent vector: its run takes over here
                 run = self._hand_over(run, self.tangent_run(job.params), job.sample_time(k), before)
                 tangent = tangent_sample(run.tangent, res.tangent, job.tangent, job.shift)
-            elif job.log and not run.observations:     # the logged window stops at every guard
+            elif job.log and not run.observations:     # the logged window records every guard
                 run = self._hand_over(run, self.hybrid_run(job.params), job.sample_time(k), before)
             if job.reference is None:
                 self._sample(res, run)
