@@ -324,6 +324,27 @@ def test_sweep_stores_the_exponent_method_and_both_methods_agree():
         sweep("thesis-1dof", "relay_hz", np.array([4.7]), lyapunov_method="qr", **kw)
 
 
+def _kelvin_voigt_case():
+    """thesis-1dof (listing law, 90 V, 5 Hz): (system, params, Derivatives, the vector field as a
+    cfunc, guards by name)."""
+    import heyoka as hy
+    from maps.variational import Derivatives
+    sc = maps.get_scene("thesis-1dof").with_options(dc_law="listing")
+    system = sc.system
+    return (system, sc.parameters(preset="matlab-listing", V=90.0, relay_hz=5.0), Derivatives(system),
+            hy.cfunc(list(system.rhs), vars=system.sym.state_vars), {g.name: g for g in system.guards})
+
+
+def _kelvin_voigt_crossings(system, p, rhs, t):
+    """(guard name, contact flag before, v, flags before, y, f+ - f-) at contact onset and release."""
+    for name, before, v in (("contact", 0.0, -0.37), ("release", 1.0, 0.52)):
+        flags = dict(system.initial_flags(0.0, p), contact=before)
+        y = np.array([p["e"], v, 1.3, -20.0])
+        f = {c: rhs(y, pars=np.array(system.par_vector(p, dict(flags, contact=c)))[:rhs.nparams], time=t)
+             for c in (0.0, 1.0)}
+        yield name, before, v, flags, y, f[1.0 - before] - f[before]
+
+
 def test_compiled_tangent_jump_is_the_hand_derived_kelvin_voigt_saltation():
     """thesis-1dof's compliant stop (force -(k (x - e) + c v) while in contact): at onset (x = e,
     moving down) the guard g = x - e has grad (1, 0, 0, 0) and rate v, so one tangent vector jumps by
@@ -331,23 +352,11 @@ def test_compiled_tangent_jump_is_the_hand_derived_kelvin_voigt_saltation():
     through the circuit's coupling to the acceleration); at release the jump is reversed.  The
     compiled rule the batch engine applies at every recorded event (Derivatives.tangent_jump) against
     that form, with f+- evaluated from the model's vector field in the two modes."""
-    import heyoka as hy
-    from maps.variational import Derivatives
-    sc = maps.get_scene("thesis-1dof").with_options(dc_law="listing")
-    system = sc.system
-    p = sc.parameters(preset="matlab-listing", V=90.0, relay_hz=5.0)
-    der = Derivatives(system)
-    rhs = hy.cfunc(list(system.rhs), vars=system.sym.state_vars)
-    guards = {g.name: g for g in system.guards}
+    system, p, der, rhs, guards = _kelvin_voigt_case()
     rng = np.random.default_rng(3)
     t = 0.013
-    for name, before, v in (("contact", 0.0, -0.37), ("release", 1.0, 0.52)):
-        flags = dict(system.initial_flags(0.0, p), contact=before)
-        y = np.array([p["e"], v, 1.3, -20.0])
+    for name, before, v, flags, y, jump in _kelvin_voigt_crossings(system, p, rhs, t):
         u = rng.standard_normal(4)
-        f = {c: rhs(y, pars=np.array(system.par_vector(p, dict(flags, contact=c)))[:rhs.nparams], time=t)
-             for c in (0.0, 1.0)}
-        jump = f[1.0 - before] - f[before]
         assert jump[0] == 0.0 and jump[1] == pytest.approx((before - (1.0 - before)) * p["c"] * v / p["m"], rel=1e-13)
         pars = np.array(system.par_vector(p, flags))
         got = der.tangent_jump(guards[name], {"contact": 1.0 - before})(np.concatenate([y, u]), pars, t)
@@ -361,23 +370,12 @@ def test_compiled_matrix_jump_is_the_hand_derived_saltation_with_the_event_time_
     R = diag(1, -r), f- = (v, a-), f+ = (-r v, a+), so Y+ = R Y + (f+ - R f-) Y[0] / v =
     R Y + (-(1 + r) v, a+ + r a-) Y[0] / v, with a-+ = F cos(Omega t) - w0^2 e - 2 zeta w0 v-+
     (v- = v, v+ = -r v); dt_e/dy0 = -Y[0] / v in both."""
-    import heyoka as hy
     from maps.variational import Derivatives
+    system, p, der, rhs, guards = _kelvin_voigt_case()
     rng = np.random.default_rng(5)
-    sc = maps.get_scene("thesis-1dof").with_options(dc_law="listing")
-    system = sc.system
-    p = sc.parameters(preset="matlab-listing", V=90.0, relay_hz=5.0)
-    der = Derivatives(system)
-    rhs = hy.cfunc(list(system.rhs), vars=system.sym.state_vars)
-    guards = {g.name: g for g in system.guards}
     t = 0.013
-    for name, before, v in (("contact", 0.0, -0.37), ("release", 1.0, 0.52)):
-        flags = dict(system.initial_flags(0.0, p), contact=before)
-        y = np.array([p["e"], v, 1.3, -20.0])
+    for name, before, v, flags, y, jump in _kelvin_voigt_crossings(system, p, rhs, t):
         Y = rng.standard_normal((4, 4))
-        f = {c: rhs(y, pars=np.array(system.par_vector(p, dict(flags, contact=c)))[:rhs.nparams], time=t)
-             for c in (0.0, 1.0)}
-        jump = f[1.0 - before] - f[before]
         got, dt = der.matrix_jump(guards[name], {"contact": 1.0 - before})(y, Y, system.par_vector(p, flags), t)
         np.testing.assert_allclose(got, Y + np.outer(jump, Y[0] / v), rtol=1e-13, atol=1e-13 * np.abs(jump).max())
         np.testing.assert_allclose(dt, -Y[0] / v, rtol=1e-14)
