@@ -98,7 +98,9 @@ def locate_grazing(problem, prev, *, max_iter: int = 30, radius: float = 0.1):
     """Solve the augmented system from branch point ``prev``: (parameter value, its tolerance (NaN:
     not located), the gap at t_g, the grazing BranchPoint or None, a note, {"t_g", "node"}).
     Iterates stay within ``radius`` (scaled units, as the arclength step) of ``prev``: farther, it is
-    another grazing, and this one is reported as not located."""
+    another grazing, and this one is reported as not located.  Converged when the residual is below
+    the problem's tol, or at the integration's noise floor (residual and Newton update both below
+    100 tol, as :func:`~bifurc.periodic.find_periodic_orbit`), the tolerance then the update left."""
     near = closest_flight_minimum(problem, prev)
     if near is None:
         return math.nan, math.nan, math.nan, None, "no free-flight minimum to graze", {}
@@ -122,14 +124,17 @@ def locate_grazing(problem, prev, *, max_iter: int = 30, radius: float = 0.1):
         except FAILURES as exc:
             return failed(exc)
         norm = max(float(np.max(np.abs(F))), float(np.max(np.abs(G))))
-        if norm < problem.tol and impact_count(lins) == impacts:
+
+        def converged(last):
             if not acc > 0:
                 return (problem.parameter(u), math.nan, math.nan, None,
                         f"the augmented Newton converged to a tangency from the wrong side (gap acceleration "
                         f"{acc:.3g} <= 0 at t_g): not the grazing of this branch", {})
             pt = problem.point(u, F, DF, lins, flags, it, prev.tangent)
-            return (pt.p, abs(last_step) * problem.p_scale, h, pt, f"t_g = {t_g:.12g} s in the period of node {j}",
+            return (pt.p, abs(last) * problem.p_scale, h, pt, f"t_g = {t_g:.12g} s in the period of node {j}",
                     {"t_g": t_g, "node": j})
+        if norm < problem.tol and impact_count(lins) == impacts:
+            return converged(last_step)
         if it == max_iter:
             break
         B = np.zeros((2, u.size + 1))
@@ -140,6 +145,11 @@ def locate_grazing(problem, prev, *, max_iter: int = 30, radius: float = 0.1):
             step = np.linalg.solve(A, -np.concatenate([F, G]))
         except np.linalg.LinAlgError:
             break
+        if norm < 100 * problem.tol and float(np.max(np.abs(step[:-1]))) < 100 * problem.tol \
+                and impact_count(lins) == impacts:
+            # the integration's noise floor (as find_periodic_orbit's): residual and update are both
+            # round-off; the value is as good as the update Newton still asks for
+            return converged(step[-2])
         if float(np.max(np.abs(u - prev.u))) > radius:
             return (problem.parameter(u), math.nan, math.nan, None, "the augmented Newton left the neighbourhood "
                     "of the branch's last point (it heads for another grazing): not located", {})

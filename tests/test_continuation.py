@@ -340,3 +340,30 @@ def test_an_impact_born_on_the_unstable_branch_is_a_grazing_located_by_the_augme
     assert clearance(lo) * clearance(hi) < 0
     th_g = brentq(clearance, lo, hi, xtol=1e-14)
     assert abs(grazes[0] - value(th_g)) < 1e-8
+
+
+def test_a_thesis_grazing_is_located_at_the_integrations_noise_floor():
+    """thesis-1dof (listing law, 5 Hz): the stable period-6 orbit with 7 impacts through V = 165 V
+    (a state of the thesis-orbits study's sweep) is followed up in V until a free flight touches
+    the stop.  The augmented Newton's residual there hovers at 1-3e-11 against a tol of 1e-11 (the
+    integration's round-off), and the grazing was once reported as not located, with NaN
+    multipliers.  Now it is located, and where the branch's own minimum flight clearance (from the
+    plain runs' records of its last points) extrapolates linearly to zero: measured 1.3e-10 V apart."""
+    from maps.hybrid import HybridState
+    y = np.array([0.11657860100686679, -1.781064610968027, 0.0542832187049277, 5.6271235218329645])
+    flags = {"P": 1.0, "contact": 0.0, "stuck_bar": 0.0, "escaped": 0.0}
+    ds = bifurc.continue_orbit("thesis-1dof", "V", (165.0, 300.0), preset="matlab-listing", dc_law="listing",
+                               params={"relay_hz": 5.0}, max_points=100, start=(HybridState(y, flags), 400),
+                               period=6, error=False)
+    code = bifurc.schema.SPECIAL_KINDS.index("grazing")
+    g = [k for k in range(ds.sizes["special"]) if int(ds.special_kind[k]) == code]
+    assert len(g) == 1
+    g = g[0]
+    V_g, tol_g = float(ds.special_value.values[g]), float(ds.special_tolerance.values[g])
+    assert 0 < tol_g < 1e-7
+    assert np.all(np.isfinite(ds.special_multiplier_abs.values[g]))
+    i = int(ds.special_point.values[g])
+    V, c = ds.V.values, ds.min_flight_clearance.values
+    assert 0 < c[i] < c[i - 1] < c[i - 2] < 1e-9       # the last points' flights come ever closer
+    V_zero = V[i] - c[i] * (V[i] - V[i - 1]) / (c[i] - c[i - 1])
+    assert abs(V_zero - V_g) < 1e-8
