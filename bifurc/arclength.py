@@ -67,6 +67,10 @@ def continue_branch(problem: ContinuationProblem, orbit, p_start: float, p_end: 
             if h / 2 >= min_step:
                 h /= 2
                 continue
+            if pt is None:      # the corrector failed at the smallest step: does the map change there?
+                probe = _probe(problem, u_pred, prev)
+                if probe is not None and probe.transitions != prev.transitions:
+                    why, pt = "signature", probe
             branch.stop_reason = event_reason(prev, pt, why, problem)
             if locate and (pt is None or why == "signature"):
                 sp = discontinuity(problem, prev, pt)
@@ -97,6 +101,18 @@ def continue_branch(problem: ContinuationProblem, orbit, p_start: float, p_end: 
         branch.stop_reason = f"reached max_points = {max_points}"
     branch.seconds = _time.perf_counter() - clock
     return branch
+
+
+def _probe(problem, u, prev):
+    """The map at the predicted point ``u`` past ``prev`` (not corrected: the corrector failed
+    there), as a BranchPoint with ``corrected=False``, or None where it cannot be evaluated."""
+    try:
+        F, DF, lins = problem.evaluate(u, flags_of(prev))
+    except (IntegrationFailure, ZeroDivisionError, ParameterError):
+        return None
+    pt = problem.point(u, F, DF, lins, flags_of(prev), 0, prev.tangent)
+    pt.corrected = False
+    return pt
 
 
 def _resection(problem, pt):

@@ -56,6 +56,7 @@ class BranchPoint:
     advance: float = 0.0
     phase: float = 0.0          # the strobe section: node j at t = (k0 + j + phase) T
     k0: int = 0
+    corrected: bool = True      # False: the map at a predicted point, where the corrector failed
 
     @property
     def stable(self) -> bool:

@@ -186,9 +186,10 @@ def discontinuity(problem, prev: BranchPoint, pt: BranchPoint | None) -> Special
     if change in (None, "section"):
         return None
     kind = "signature_change" if change == "impact_born" else change
+    nxt = (f"the next corrected point, at {pt.p:.10g}," if pt.corrected else
+           f"the map at the predicted point {pt.p:.10g}, where the corrector failed,")
     return SpecialPoint(kind, prev.p, math.nan, "transition signature", math.nan, prev,
-                        note=f"the last point before the change ({_sig(prev)}; the next corrected point, at "
-                             f"{pt.p:.10g}, has {_sig(pt)}): not located")
+                        note=f"the last point before the change ({_sig(prev)}; {nxt} has {_sig(pt)}): not located")
 
 
 def _sig(pt) -> str:

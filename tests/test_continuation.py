@@ -367,3 +367,32 @@ def test_a_thesis_grazing_is_located_at_the_integrations_noise_floor():
     assert 0 < c[i] < c[i - 1] < c[i - 2] < 1e-9       # the last points' flights come ever closer
     V_zero = V[i] - c[i] * (V[i] - V[i - 1]) / (c[i] - c[i - 1])
     assert abs(V_zero - V_g) < 1e-8
+
+
+def test_a_branch_that_runs_into_sticking_says_so():
+    """thesis-1dof, `measured` law, 10 Hz: the stable period-1 orbit with 3 impacts through 110 V
+    (a state of the thesis-orbits study), followed up in V.  Its contact oscillation dies out ever
+    closer to the end of the period, until the stick guard acts inside it: the map's signature
+    gains a "stick" and its Jacobian loses rank, the corrector diverges there (it once stopped with
+    "parameter 'V' = -2145.62 V is outside its allowed range").  The branch now stops with the
+    reason, and a stick-onset special point.  Checked with plain map steps from the last point: no
+    stick at its own V, a stick 2e-5 V beyond."""
+    from maps.hybrid import HybridState
+    y = np.array([-1.4455816835552885e-05, 0.0008837720418095785, -0.11244184337532166, 13.466893868895696])
+    sc = maps.get_scene("thesis-1dof").with_options(dc_law="measured")
+    flags = dict(sc.system.initial_flags(0.0, sc.parameters(preset="matlab-listing", relay_hz=10.0)), contact=1.0)
+    ds = bifurc.continue_orbit("thesis-1dof", "V", (110.0, 300.0), preset="matlab-listing", dc_law="measured",
+                               params={"relay_hz": 10.0}, max_points=100, start=(HybridState(y, flags), 400),
+                               period=1, error=False)
+    assert "sticking sets in" in ds.attrs["branch_stop_reasons"]
+    code = bifurc.schema.SPECIAL_KINDS.index("stick_onset")
+    assert [int(k) for k in ds.special_kind.values] == [code]
+    last = ds.sizes["point"] - 1
+    V_last = float(ds.V.values[last])
+    node = HybridState(np.array([float(ds[v].values[last, 0]) for v in ("x", "v", "i", "z")]),
+                       {k[5:]: float(ds[k].values[last, 0]) for k in ds.data_vars if k.startswith("flag_")})
+    roles = []
+    for V in (V_last, V_last + 2e-5):
+        smap = maps.StroboscopicMap(sc, sc.parameters(preset="matlab-listing", relay_hz=10.0, V=V), tol=1e-12)
+        roles.append(smap.linearize(node, int(ds.section_k0.values[last])).signature)
+    assert "stick" not in roles[0] and "stick" in roles[1]
