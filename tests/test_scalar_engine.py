@@ -111,3 +111,18 @@ def test_a_dropped_run_is_freed_at_once():
     system, p, y0 = _thesis()
     ref = weakref.ref(HybridRun(system, p, y0, tol=1e-12).advance(0.2))
     assert ref() is None
+
+
+def test_a_deep_copy_of_a_run_integrates_on_its_own():
+    """copy.deepcopy of a run midway: the copy's views and callbacks are its own, so both end where
+    the original alone ends, and advancing one leaves the other where it was."""
+    import copy
+    system, p, y0 = _thesis()
+    alone = HybridRun(system, p, y0, tol=1e-12).advance(1.0)
+    run = HybridRun(system, p, y0, tol=1e-12).advance(0.5)
+    twin = copy.deepcopy(run)
+    twin.advance(1.0)
+    assert run.t == 0.5 and np.array_equal(twin.y, alone.y)
+    assert [e.name for e in twin.events] == [e.name for e in alone.events]
+    run.advance(1.0)
+    assert np.array_equal(run.y, alone.y)

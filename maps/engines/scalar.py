@@ -8,6 +8,7 @@ the other (transients without the stops at observation-only guards).
 """
 from __future__ import annotations
 
+import copy
 import math
 import time as _time
 import weakref
@@ -76,18 +77,31 @@ class HybridRun:
         self.max_events_per_period = max_events_per_period
         self._choices = [tr.GuardChoice(g) for g in tr.event_surfaces(system, self.observations)]
         self._may_settle = tr.settle_gate(system)     # after a switch: settle only where it can act
-        # live views of heyoka's own buffers (never reallocated): the hot loop writes through them
-        self._y_view, self._pars_view = self.ta.state[:self._n], self.ta.pars
+        self._bind()
         self._flag_slots = {k: i for k, i in system._flag_index.items() if i < len(self._pars_view)}
         self._roles = {g.role for grp in tr.event_surfaces(system, self.observations) for g in grp}
         self._stop_on: frozenset = frozenset()     # stop_roles of the advance under way
         self._stop_each = self.steps_by_mode      # end propagate_until after every transition
         self._pending = None        # an exception raised in an event callback, re-raised by advance()
         self.stopped_by = None
-        me = weakref.ref(self)      # this integrator copy's event callbacks act on this run
+        self.reset(t0, x0, flags)
+
+    def _bind(self):
+        """Live views of this run's integrator buffers (heyoka never reallocates them: the hot loop
+        writes through them) and its event callbacks bound to this run (a weak reference)."""
+        self._y_view, self._pars_view = self.ta.state[:self._n], self.ta.pars
+        me = weakref.ref(self)
         for ev in (self.ta.t_events if self.ta.with_events else ()):
             ev.callback.run = me
-        self.reset(t0, x0, flags)
+
+    def __deepcopy__(self, memo):
+        """A copy that integrates on its own: its integrator's views and callbacks are its own."""
+        new = self.__class__.__new__(self.__class__)
+        memo[id(self)] = new
+        for k, v in self.__dict__.items():
+            setattr(new, k, copy.deepcopy(v, memo))
+        new._bind()
+        return new
 
     def reset(self, t0: float, x0, flags: Mapping[str, float] | None = None) -> "HybridRun":
         """Restart this run at time ``t0`` [s] from state ``x0`` (no recompilation).
