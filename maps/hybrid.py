@@ -562,8 +562,7 @@ class EventCallback:
     def __call__(self, ta, d_sgn):
         run = self.run() if self.run is not None else None
         if run is None:
-            _CROSSING[0] = int(d_sgn)
-            return False
+            return _record_crossing(ta, d_sgn)
         return run._on_event(self.index, d_sgn)
 
 

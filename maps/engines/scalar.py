@@ -75,11 +75,12 @@ class HybridRun:
         if max_events_per_period is not None:
             max_events_per_period = int(validate_value("max_events_per_period", max_events_per_period, 1, math.inf))
         self.max_events_per_period = max_events_per_period
-        self._choices = [tr.GuardChoice(g) for g in tr.event_surfaces(system, self.observations)]
+        surfaces = tr.event_surfaces(system, self.observations)
+        self._choices = [tr.GuardChoice(g) for g in surfaces]
         self._may_settle = tr.settle_gate(system)     # after a switch: settle only where it can act
         self._bind()
         self._flag_slots = {k: i for k, i in system._flag_index.items() if i < len(self._pars_view)}
-        self._roles = {g.role for grp in tr.event_surfaces(system, self.observations) for g in grp}
+        self._roles = {g.role for grp in surfaces for g in grp}
         self._stop_on: frozenset = frozenset()     # stop_roles of the advance under way
         self._stop_each = self.steps_by_mode      # end propagate_until after every transition
         self._pending = None        # an exception raised in an event callback, re-raised by advance()
