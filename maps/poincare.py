@@ -9,6 +9,7 @@ integral).  A periodic orbit's period is then a multiple of q.
 """
 from __future__ import annotations
 
+import functools
 import math
 import time as _time
 from dataclasses import dataclass, field, replace
@@ -121,15 +122,22 @@ class MapOrbit:
 @dataclass
 class MapLinearization:
     """One map step and its derivatives: the next state, J = d(step)/dy, J_p = d(step)/dp
-    (columns in the order asked), rank of J, the step's event roles, compile time [s]."""
+    (columns in the order asked), the step's event roles, compile time [s]; ``rank``: the
+    numerical rank of J, computed when first asked (an SVD)."""
 
     state: HybridState
     J: np.ndarray
     J_p: np.ndarray
-    rank: int
     signature: tuple
     compile_seconds: float = 0.0
     events: tuple = ()          # the step's EventRecords (time, guard, state before and after)
+
+    @functools.cached_property
+    def rank(self) -> int:
+        """Singular values of J above 1e-10 of the largest (deficient where a settle projection,
+        e.g. a bar that sticks, collapses directions)."""
+        sv = np.linalg.svd(self.J, compute_uv=False)
+        return int(np.sum(sv > sv[0] * 1e-10)) if sv.size and sv[0] > 0 else 0
 
 
 @dataclass
@@ -317,11 +325,9 @@ class StroboscopicMap:
         Y = run.end_time_term(t1, moving)
         n = Y.shape[0]
         J = Y[:, :n]
-        sv = np.linalg.svd(J, compute_uv=False)
-        rank = int(np.sum(sv > sv[0] * 1e-10)) if sv.size and sv[0] > 0 else 0
         signature = tuple(self.system.role_of(ev.name) for ev in run.events)
         events, run.events = tuple(run.events), []
-        return MapLinearization(HybridState(run.y, dict(run.flags)), J, Y[:, n:], rank, signature,
+        return MapLinearization(HybridState(run.y, dict(run.flags)), J, Y[:, n:], signature,
                                 run.compile_seconds, events)
 
     def _variational(self, params: tuple, y):

@@ -184,34 +184,49 @@ class Derivatives:
             jump = self._jumps[key] = lambda state, pars, t: call_cfunc(f, state, pars, t)
         return jump
 
-    def matrix_jump(self, guard, changes):
+    def matrix_jump(self, guard, changes, columns: int | None = None):
         """The saltation rule of :meth:`tangent_jump` for every column of Y = dy/dy0 (n x n, no
-        parameter columns) in ONE batch call of one compiled function, with the event time's row:
-        ``jump(y, Y, pars, t) -> (Y+, dt_e/dy0)``, where dt_e/dy0 = -(grad g . Y) / (grad g . f- + dg/dt)
-        (:func:`maps.transitions.event_time_row` without parameters).  The scalar engine's path for
-        a state Jacobian (Floquet multipliers, a map's linearisation); a grazing crossing gives
-        non-finite values (the caller falls back to the general rule, which says so)."""
-        key = ("matrix", guard.name, *changes.items())
+        parameter columns; or n x ``columns`` tangent vectors) in ONE call of one compiled
+        function, with the event time's row: ``jump(state, pars, t) -> (Y+, dt_e/dy0, rate)``,
+        ``state`` the state y- and Y- stacked as the integrator holds them (Y row by row), where
+        dt_e/dy0 = -(grad g . Y) / rate (:func:`maps.transitions.event_time_row` without
+        parameters) and rate = grad g . f- + dg/dt, the surface's crossing rate: 0 at a grazing
+        crossing, where the other values are not finite and the caller falls back to the general
+        rule, which says so.  ``jump.nparams``: the runtime parameters it reads (the first ones of
+        ``pars``).  The scalar engine's path for a state Jacobian (Floquet multipliers, a map's
+        linearisation): one flat call costs about half a batch call over the columns."""
+        n = self.n
+        c = n if columns is None else int(columns)
+        key = ("matrix", c, guard.name, *changes.items())
         jump = self._jumps.get(key)
         if jump is None:
-            f = self._compile_jump(guard, changes, time_row=True)
-            n, k = self.n, f.nparams
+            Ys = [[hy.make_vars(f"sens_{i}_{j}") for j in range(c)] for i in range(n)]
+            f = self._compile_jump(guard, changes, [[Ys[k][j] for k in range(n)] for j in range(c)],
+                                   [y for row in Ys for y in row], time_row=True, rate_row=True)
+            k, nc, timed = f.nparams, n * c, f.is_time_dependent
 
-            def jump(y, Y, pars, t):
-                N = Y.shape[1]
-                inputs = np.empty((2 * n, N))
-                inputs[:n] = np.asarray(y, dtype=float)[:, None]
-                inputs[n:] = Y
-                kw = {"time": np.full(N, float(t))} if f.is_time_dependent else {}
-                out = f(inputs, pars=np.repeat(np.asarray(pars, dtype=float)[:k, None], N, axis=1), **kw)
-                return out[:n], out[n]
+            def jump(state, pars, t):
+                if type(pars) is not np.ndarray:
+                    pars = np.asarray(pars, dtype=float)
+                p = pars[:k] if len(pars) > k else pars
+                out = f(state, pars=p, time=float(t)) if timed else f(state, pars=p)
+                return out[:nc].reshape(n, c), out[nc:nc + c], float(out[-1])
+            jump.nparams = k
             self._jumps[key] = jump
         return jump
 
-    def _compile_jump(self, guard, changes, time_row: bool = False):
+    def _compile_jump(self, guard, changes, columns=None, inputs=None, time_row: bool = False,
+                      rate_row: bool = False):
+        """The compiled saltation rule of ``guard`` (flags changed by ``changes``) for the tangent
+        vectors ``columns`` (lists of n heyoka variables; default one, :func:`_tangent_vars`), a
+        function of the state then ``inputs`` (default: the one column); outputs row i of every
+        column in turn (i major), then with ``time_row`` the event time's derivative along each,
+        then with ``rate_row`` the crossing rate grad g . f- + dg/dt."""
         s, system = self.system.sym, self.system
         ys = list(s.state_vars)
-        us = _tangent_vars(self.n)
+        if columns is None:
+            columns = [_tangent_vars(self.n)]
+            inputs = columns[0]
         R = system.reset_expressions(guard)
         R_y = [[hy.diff(r, y) for y in ys] for r in R]
         after = {y: r for y, r in zip(ys, R) if guard.reset is not None}
@@ -220,15 +235,19 @@ class Derivatives:
         f_plus = [hy.subs(f, after) if after else f for f in f_minus]
         g = guard.expr
         grad = [hy.diff(g, y) for y in ys]
-        along = hy.sum([a * u for a, u in zip(grad, us)]) / system.lie_derivative(g)   # / (grad g . f- + dg/dt)
+        rate = system.lie_derivative(g)                      # grad g . f- + dg/dt
+        along = [hy.sum([a * u for a, u in zip(grad, us)]) / rate for us in columns]
         rows = []
         for i in range(self.n):
-            Ru = hy.sum([R_y[i][j] * us[j] for j in range(self.n)])
             Rf = hy.sum([R_y[i][j] * f_minus[j] for j in range(self.n)])
-            rows.append(Ru + (f_plus[i] - Rf) * along)
+            for us, a in zip(columns, along):
+                Ru = hy.sum([R_y[i][j] * us[j] for j in range(self.n)])
+                rows.append(Ru + (f_plus[i] - Rf) * a)
         if time_row:
-            rows.append(-along)
-        return hy.cfunc(rows, vars=ys + us, compact_mode=True)
+            rows.extend(-a for a in along)
+        if rate_row:
+            rows.append(rate)
+        return hy.cfunc(rows, vars=ys + list(inputs), compact_mode=True)
 
     def _jacobian(self, key, exprs, t, y, pars):
         f = self._maps.get(key)

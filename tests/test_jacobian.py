@@ -365,7 +365,7 @@ def test_compiled_tangent_jump_is_the_hand_derived_kelvin_voigt_saltation():
 
 def test_compiled_matrix_jump_is_the_hand_derived_saltation_with_the_event_time_row():
     """The scalar engine's state-Jacobian path (Derivatives.matrix_jump: every column of Y in one
-    batch call) against closed forms.  thesis-1dof's compliant stop as above: Y+ = Y + (f+ - f-)
+    flat call) against closed forms.  thesis-1dof's compliant stop as above: Y+ = Y + (f+ - f-)
     Y[0] / v and dt_e/dy0 = -Y[0] / v.  The restitution oscillator (reset v -> -r v at x = e):
     R = diag(1, -r), f- = (v, a-), f+ = (-r v, a+), so Y+ = R Y + (f+ - R f-) Y[0] / v =
     R Y + (-(1 + r) v, a+ + r a-) Y[0] / v, with a-+ = F cos(Omega t) - w0^2 e - 2 zeta w0 v-+
@@ -376,7 +376,9 @@ def test_compiled_matrix_jump_is_the_hand_derived_saltation_with_the_event_time_
     t = 0.013
     for name, before, v, flags, y, jump in _kelvin_voigt_crossings(system, p, rhs, t):
         Y = rng.standard_normal((4, 4))
-        got, dt = der.matrix_jump(guards[name], {"contact": 1.0 - before})(y, Y, system.par_vector(p, flags), t)
+        got, dt, rate = der.matrix_jump(guards[name], {"contact": 1.0 - before})(np.concatenate([y, Y.ravel()]),
+                                                                                 system.par_vector(p, flags), t)
+        assert rate == pytest.approx(v, rel=1e-14)          # the crossing rate d(gap)/dt = v
         np.testing.assert_allclose(got, Y + np.outer(jump, Y[0] / v), rtol=1e-13, atol=1e-13 * np.abs(jump).max())
         np.testing.assert_allclose(dt, -Y[0] / v, rtol=1e-14)
     osc = maps.forced_oscillator_with_stop()
@@ -387,8 +389,9 @@ def test_compiled_matrix_jump_is_the_hand_derived_saltation_with_the_event_time_
     a_plus = q["F"] * math.cos(q["Omega"] * t) - q["w0"] ** 2 * q["e"] + 2 * q["zeta"] * q["w0"] * q["r"] * v
     Y = rng.standard_normal((2, 2))
     R = np.diag([1.0, -q["r"]])
-    got, dt = Derivatives(osc).matrix_jump(contact, {})(np.array([q["e"], v]), Y,
+    got, dt, rate = Derivatives(osc).matrix_jump(contact, {})(np.concatenate([[q["e"], v], Y.ravel()]),
                                                          osc.par_vector(q, {"stuck": 0.0}), t)
     expect = R @ Y + np.outer([-q["r"] * v - v, a_plus + q["r"] * a], Y[0] / v)
     np.testing.assert_allclose(got, expect, rtol=1e-13, atol=1e-15)
     np.testing.assert_allclose(dt, -Y[0] / v, rtol=1e-14)
+    assert abs(rate) == pytest.approx(abs(v), rel=1e-14)     # |d(x - e)/dt| = |v|

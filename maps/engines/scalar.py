@@ -90,7 +90,8 @@ class HybridRun:
     def _bind(self):
         """Live views of this run's integrator buffers (heyoka never reallocates them: the hot loop
         writes through them) and its event callbacks bound to this run (a weak reference)."""
-        self._y_view, self._pars_view = self.ta.state[:self._n], self.ta.pars
+        self._state_view, self._pars_view = self.ta.state, self.ta.pars
+        self._y_view = self._state_view[:self._n]
         me = weakref.ref(self)
         for ev in (self.ta.t_events if self.ta.with_events else ()):
             ev.callback.run = me
@@ -433,12 +434,17 @@ class VariationalRun(HybridRun):
             super()._apply(out, t, guard, y_minus)
             return
         if guard is not None and out.projection is None and not self.wrt:   # dy/dy0 alone: one compiled call
-            d = self.derivatives
-            Y, dt = d.matrix_jump(guard, out.changes)(y_minus, self.sensitivities, d.pars(self.params, self.flags), t)
-            if np.isfinite(Y).all() and np.isfinite(dt).all():
+            d, n, state = self.derivatives, self._n, self._state_view
+            # state: (y-, Y-) at the crossing (nothing is written before this), Y n x n, a tangent n x 1
+            jump = d.matrix_jump(guard, out.changes, len(state) // n - 1)
+            pars = self._pars_view      # the flags before the transition (written below)
+            if len(pars) < jump.nparams:        # a reset reads parameters the integrator does not
+                pars = d.pars(self.params, self.flags)
+            Y, dt, rate = jump(state, pars, t)
+            if rate != 0.0 and math.isfinite(rate):
                 self.event_time_row = dt
                 super()._apply(out, t, guard, y_minus)
-                self.ta.state[self._n:] = Y.ravel()
+                state[n:] = Y.ravel()
                 return          # else a grazing crossing: the general rule below says so
         Y, dt = self.derivatives.transition(self.sensitivities, out, t, self.params, dict(self.flags),
                                             dict(self.flags, **out.changes), guard, y_minus, self.y)
