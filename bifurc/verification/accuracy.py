@@ -118,12 +118,16 @@ def _impact_error(t, t_ref):
 @recorded("bifurc.verification.accuracy.work_precision")
 def work_precision(scene="thesis-1dof", t_end=2.0, preset=None, params=None, x0=None,
                    ladders=None, methods=None, reference="longdouble", repeats=3,
-                   max_seconds=30.0, progress=None, circuit=None, ac_sign=None, dc_law=None) -> xr.Dataset:
+                   max_seconds=30.0, progress=None, circuit=None, ac_sign=None, dc_law=None,
+                   baseline_repeats: int = 1) -> xr.Dataset:
     """Errors against run time for every method over its tolerance ladder.
 
     ``ladders`` maps a method to its tolerances (default :data:`DEFAULT_LADDERS`);
     ``methods`` selects among them.  A method stops climbing its ladder once a run takes
-    longer than ``max_seconds``.  Returns a Dataset with dimension ``run``.
+    longer than ``max_seconds``.  Run time: the best of ``repeats`` runs for the toolkit and
+    of ``baseline_repeats`` for the baselines (the same number for a like-for-like ratio; a
+    baseline rung stops repeating once its runs have taken ``max_seconds``).  Returns a Dataset
+    with dimension ``run``.
     """
     ladders = dict(DEFAULT_LADDERS if ladders is None else ladders)
     if methods is not None:
@@ -144,13 +148,9 @@ def work_precision(scene="thesis-1dof", t_end=2.0, preset=None, params=None, x0=
             if method.startswith("heyoka"):
                 r = toolkit_solution(sc, values, y0, t_end, tol, repeats, observations=method == "heyoka")
                 y, t_imp, secs = r["y"], r["impact_times"], r["run_seconds"]
-            elif method == "rk4-bisection":
-                b = baselines.solve_rk4_bisection(values, y0, t_end, h=tol, dc_law=sc.options.dc_law)
-                y, t_imp, secs = b.y, b.impact_times, b.run_seconds
             else:
-                b = baselines.solve_scipy(values, y0, t_end, method=method.split("-", 1)[1], tol=tol,
-                                          dc_law=sc.options.dc_law)
-                y, t_imp, secs = b.y, b.impact_times, b.run_seconds
+                y, t_imp, secs = _baseline(method, values, y0, t_end, tol, sc.options.dc_law,
+                                           baseline_repeats, max_seconds)
             rows.append(dict(method=method, tol=tol, run_seconds=secs,
                              final_state_error=final_state_error(y, ref["y"]),
                              position_error=float(abs(np.longdouble(y[0]) - ref["y"][0])),
@@ -161,6 +161,21 @@ def work_precision(scene="thesis-1dof", t_end=2.0, preset=None, params=None, x0=
             if secs > max_seconds:
                 break
     return _to_dataset(rows, ref, t_end)
+
+
+def _baseline(method, values, y0, t_end, tol, dc_law, repeats, max_seconds):
+    """(final state, impact times, best run time [s]) of a baseline over ``repeats`` runs (fewer
+    once they have taken ``max_seconds``)."""
+    best, spent = math.inf, 0.0
+    for _ in range(max(1, int(repeats))):
+        if method == "rk4-bisection":
+            b = baselines.solve_rk4_bisection(values, y0, t_end, h=tol, dc_law=dc_law)
+        else:
+            b = baselines.solve_scipy(values, y0, t_end, method=method.split("-", 1)[1], tol=tol, dc_law=dc_law)
+        best, spent = min(best, b.run_seconds), spent + b.run_seconds
+        if spent > max_seconds:
+            break
+    return b.y, b.impact_times, best
 
 
 def _to_dataset(rows, ref, t_end) -> xr.Dataset:
