@@ -52,7 +52,7 @@ def continue_branch(problem: ContinuationProblem, orbit, p_start: float, p_end: 
         prev = branch.points[-1]
         u_pred = prev.u + h * prev.tangent
         try:
-            u, F, DF, lins, flags_new, its = problem.correct(u_pred, prev.tangent, flags_of(prev))
+            u, F, DF, lins, flags_new, its = problem.correct(u_pred, prev.tangent, flags_of(prev), max_move=h)
             pt = problem.point(u, F, DF, lins, flags_new, its, prev.tangent)
             turn = math.acos(max(-1.0, min(1.0, float(pt.tangent @ prev.tangent))))
             why = None

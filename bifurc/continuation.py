@@ -147,8 +147,9 @@ class ContinuationProblem:
         C = np.vstack([(co.R @ L.J_p) / s[:, None] * np.asarray(p_scales)[None, :] for L in lins])
         return F, M, C, lins
 
-    def correct(self, u_pred, normal, flags, *, max_iter: int = 10):
-        """Newton on [F(u); normal . (u - u_pred)] = 0 from u_pred (:func:`bordered_newton`).
+    def correct(self, u_pred, normal, flags, *, max_iter: int = 10, max_move: float | None = None):
+        """Newton on [F(u); normal . (u - u_pred)] = 0 from u_pred (:func:`bordered_newton`; a
+        predictor step passes ``max_move``, its length).
 
         Returns (u, F, DF, lins, flags, iterations) or raises NoConvergence."""
         def evaluate(u, flags):
@@ -157,7 +158,7 @@ class ContinuationProblem:
             except (IntegrationFailure, ZeroDivisionError, ParameterError) as exc:
                 raise NoConvergence(f"the integration failed: {exc}") from None
         return bordered_newton(evaluate, u_pred, normal, flags, self.tol, max_iter=max_iter, stall_after=3,
-                               tiny_update=True)
+                               tiny_update=True, max_move=max_move)
 
     def point(self, u, F, DF, lins, flags, iterations, reference, *, tangent=None) -> BranchPoint:
         co = self.co
@@ -198,7 +199,7 @@ def impact_count(lins) -> int:
 
 
 def bordered_newton(evaluate, u_pred, normal, flags, tol: float, *, max_iter: int, stall_after: int,
-                    tiny_update: bool, keep_impacts: bool = False):
+                    tiny_update: bool, keep_impacts: bool = False, max_move: float | None = None):
     """Newton on [G(u); normal . (u - u_pred)] = 0 from u_pred, the one corrector of branches
     (:class:`ContinuationProblem`) and two-parameter curves (:mod:`bifurc.curves`).
 
@@ -207,9 +208,19 @@ def bordered_newton(evaluate, u_pred, normal, flags, tol: float, *, max_iter: in
     residual no longer halves) or, with ``tiny_update``, when the Newton update falls below tol:
     the integration's noise floor, amplified by large multipliers near a grazing.  With
     ``keep_impacts`` a step that adds an impact (crossing a grazing, where the map is not
-    differentiable) is halved, down to 1e-3 of itself.  Returns (u, G, DG, linearizations,
-    flags, iterations); raises NoConvergence."""
+    differentiable) is halved, down to 1e-3 of itself.  ``max_move`` (a predictor step's length):
+    a solution farther than that (and than 1e3 tol) from u_pred is refused, Newton having
+    converged on another branch.  Returns (u, G, DG, linearizations, flags, iterations); raises
+    NoConvergence."""
     u, last, allowed = np.array(u_pred, dtype=float), math.inf, None
+
+    def done(u, G, DG, lins, flags, it):
+        moved = float(np.linalg.norm(u - u_pred))
+        if max_move is not None and moved > max(max_move, 1e3 * tol):
+            raise NoConvergence(f"the corrector moved {moved:.3g} from a step of {max_move:.3g} (scaled): "
+                                f"it converged on another branch")
+        return u, G, DG, lins, flags, it
+
     G, DG, lins = evaluate(u, flags)
     for it in range(max_iter + 1):
         flags = [dict(lins[j - 1].state.flags) for j in range(len(lins))]
@@ -220,7 +231,7 @@ def bordered_newton(evaluate, u_pred, normal, flags, tol: float, *, max_iter: in
             raise NoConvergence("non-finite residual")
         stalled = it >= 2 and norm > 0.5 * last
         if norm < tol or (stalled and norm < 100 * tol):
-            return u, G, DG, lins, flags, it
+            return done(u, G, DG, lins, flags, it)
         if it == max_iter or (it >= stall_after and stalled):
             raise NoConvergence(f"the corrector stalled at scaled residual {norm:.3g} after {it} iterations")
         last = norm
@@ -229,7 +240,7 @@ def bordered_newton(evaluate, u_pred, normal, flags, tol: float, *, max_iter: in
         except np.linalg.LinAlgError:
             raise NoConvergence("singular bordered Jacobian") from None
         if tiny_update and norm < 100 * tol and float(np.max(np.abs(du))) < tol:
-            return u, G, DG, lins, flags, it
+            return done(u, G, DG, lins, flags, it)
         lam = 1.0
         while True:                        # the trial's evaluation is the next iteration's
             trial = evaluate(u + lam * du, flags)

@@ -133,12 +133,14 @@ class CurveProblem:
         return np.append(F, sigma), np.vstack([top, grad]), lins
 
 
-def _correct(problem, w_pred, normal, flags, tol):
+def _correct(problem, w_pred, normal, flags, tol, max_move=None):
     """Newton on [G(w); normal . (w - w_pred)] = 0 (:func:`bifurc.continuation.bordered_newton`); on
-    a grazing curve an iterate that adds an impact is damped back toward the last one.
+    a grazing curve an iterate that adds an impact is damped back toward the last one; a step
+    passes its length ``max_move`` (a solution farther away is on another curve: refused).
     Returns (w, G, DG, flags, max |G|)."""
     w, G, DG, _, flags, _ = bordered_newton(problem.evaluate, w_pred, normal, flags, tol, max_iter=12, stall_after=4,
-                                            tiny_update=False, keep_impacts=problem.kind == "grazing")
+                                            tiny_update=False, keep_impacts=problem.kind == "grazing",
+                                            max_move=max_move)
     return w, G, DG, flags, float(np.max(np.abs(G)))
 
 
@@ -167,7 +169,7 @@ def follow_curve(problem: CurveProblem, w0, flags, p2_end: float, bounds1, *, st
     h = step
     while len(curve.p1) < max_points:
         try:
-            w_new, G, DG, flags_new, norm = _correct(problem, w + h * t, t, flags, tol)
+            w_new, G, DG, flags_new, norm = _correct(problem, w + h * t, t, flags, tol, max_move=h)
             t_new = unit_tangent(DG, t)
         except NoConvergence as exc:
             if h / 2 >= min_step:

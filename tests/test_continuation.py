@@ -396,3 +396,34 @@ def test_a_branch_that_runs_into_sticking_says_so():
         smap = maps.StroboscopicMap(sc, sc.parameters(preset="matlab-listing", relay_hz=10.0, V=V), tol=1e-12)
         roles.append(smap.linearize(node, int(ds.section_k0.values[last])).signature)
     assert "stick" not in roles[0] and "stick" in roles[1]
+
+
+def test_a_corrector_that_lands_on_another_branch_is_refused():
+    """thesis-1dof, `measured` law, 10 Hz: the one-impact period-1 orbit a simulation reaches at
+    96.63 V (benchmarks/continuation.py), followed up in V.  Near 101.61992 V the steps shrink to
+    the smallest, and there Newton once converged on an orbit at rest at 243.9 V: compared with it,
+    the branch was said to stop where "an impact is lost".  A correction that moves farther than its
+    step is now refused, so the stop reads what the map does just past the last point.  Checked
+    independently: the last point's impact is not slowing (8.5 mm/s: no impact is being lost), and
+    plain map steps from its node show no stick at its own V and a stick 1e-5 V beyond."""
+    from maps.hybrid import HybridState
+    ds = bifurc.continue_orbit("thesis-1dof", "V", (96.63, 300.0), preset="matlab-listing", dc_law="measured",
+                               params={"relay_hz": 10.0}, max_points=100, error=False)
+    reason = ds.attrs["branch_stop_reasons"]
+    assert "impact is lost" not in reason and "sticking sets in" in reason
+    code = bifurc.schema.SPECIAL_KINDS.index("stick_onset")
+    assert [int(k) for k in ds.special_kind.values] == [code]
+    last = ds.sizes["point"] - 1
+    V_last = float(ds.V.values[last])
+    assert abs(V_last - 101.61992) < 1e-4
+    assert "predicted point" in str(ds.special_note.values[0])
+    sc = maps.get_scene("thesis-1dof").with_options(dc_law="measured")
+    node = HybridState(np.array([float(ds[v].values[last, 0]) for v in ("x", "v", "i", "z")]),
+                       {k[5:]: float(ds[k].values[last, 0]) for k in ds.data_vars if k.startswith("flag_")})
+    out = []
+    for V in (V_last, V_last + 1e-5):
+        smap = maps.StroboscopicMap(sc, sc.parameters(preset="matlab-listing", relay_hz=10.0, V=V), tol=1e-12)
+        out.append(smap.linearize(node, int(ds.section_k0.values[last])))
+    assert "stick" not in out[0].signature and "stick" in out[1].signature
+    impacts = [ev.y_minus[1] for ev in out[0].events if ev.name == "contact"]
+    assert len(impacts) == 1 and impacts[0] < -5e-3
