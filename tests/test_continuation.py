@@ -232,13 +232,45 @@ def test_continue_command_writes_the_branch_and_its_figure(tmp_path, capsys):
 
 
 def test_stable_intervals_of_a_branch():
-    """The study's reading of a branch: runs of consecutive stable points with one (period, impacts)."""
+    """The study's reading of a branch: runs of consecutive stable points with one (period, impacts),
+    each end at the located bifurcation that bounds it where there is one."""
     import xarray as xr
 
     from bifurc.studies.thesis_orbits import stable_intervals
     ds = xr.Dataset({"V": ("point", [1.0, 2.0, 3.0, 4.0, 5.0, 6.0]), "stable": ("point", [1, 1, 0, 1, 1, 1]),
                      "period": ("point", [1, 1, 1, 1, 1, 2]), "impacts_per_period": ("point", [1, 1, 1, 2, 2, 4])})
     assert stable_intervals(ds) == [(1.0, 2.0, 1, 1), (4.0, 5.0, 1, 2), (6.0, 6.0, 2, 4)]
+    # located ends: the special point nearest to the run's end between it and the next point (a
+    # fold may lie beyond both: the branch turns there); a bracket-only one (NaN tolerance), one
+    # outside the bracket, one farther away: not ends
+    kinds = bifurc.schema.SPECIAL_KINDS
+    sp = [("period_doubling", 2.4, 1e-9, 1), ("period_doubling", 2.8, 1e-9, 1), ("period_doubling", 9.0, 1e-9, 1),
+          ("fold", 3.7, 1e-9, 2), ("impact_lost", 6.0, math.nan, 5)]
+    ds = ds.assign(special_kind=("special", [kinds.index(k) for k, *_ in sp]),
+                   special_value=("special", [v for _, v, _, _ in sp]),
+                   special_tolerance=("special", [t for *_, t, _ in sp]),
+                   special_point=("special", [i for *_, i in sp]))
+    assert stable_intervals(ds, located=True) == [(1.0, 2.4, 1, 1, None, "period_doubling"),
+                                                  (3.7, 5.0, 1, 2, "fold", None), (6.0, 6.0, 2, 4, None, None)]
+    # two branches in one dataset: a run never spans them, nor takes the other's special points;
+    # one recorded at a branch's last point lies beyond it (the located grazing that ended it)
+    two = ds.assign(branch_id=("point", [0, 0, 0, 1, 1, 1]), stable=("point", [1, 1, 1, 1, 1, 1]),
+                    impacts_per_period=("point", [1, 1, 1, 1, 1, 1]), period=("point", [1] * 6),
+                    special_kind=("special", [kinds.index("grazing")]), special_value=("special", [3.2]),
+                    special_tolerance=("special", [1e-9]), special_point=("special", [2]))
+    assert stable_intervals(two, located=True) == [(1.0, 3.2, 1, 1, None, "grazing"), (4.0, 6.0, 1, 1, None, None)]
+    # a branch through a period doubling, back at a fold and through it again: one stable run whose
+    # ends both lie at the period doubling and whose V reaches down to the fold inside it
+    turn = xr.Dataset({"V": ("point", [3.0, 2.0, 1.2, 1.5, 2.5, 3.5]), "stable": ("point", [0, 1, 1, 1, 1, 0]),
+                       "period": ("point", [1] * 6), "impacts_per_period": ("point", [1] * 6),
+                       "special_kind": ("special", [kinds.index(k) for k in ("period_doubling", "fold", "period_doubling")]),
+                       "special_value": ("special", [2.6, 1.1, 2.6]), "special_tolerance": ("special", [1e-9] * 3),
+                       "special_point": ("special", [0, 2, 4])})
+    assert stable_intervals(turn, located=True) == [(1.1, 2.6, 1, 1, "fold", "period_doubling")]
+    # a stable run that ends at a fold: the fold lies beyond its last point and the next one
+    edge = turn.assign(stable=("point", [0, 0, 1, 0, 0, 0]), special_point=("special", [0, 1, 4]))
+    assert stable_intervals(edge, located=True) == [(1.1, 1.2, 1, 1, "fold", None)]
+    assert stable_intervals(turn) == [(1.2, 2.5, 1, 1)]
 
 
 @pytest.mark.slow

@@ -108,6 +108,12 @@ def _seed_followed(branches, ds, V) -> bool:
     return int(ds.stable.values[0]) == 1 and _on_stable_branch(branches, V, key)
 
 
+def _end(value: float, kind: str | None) -> str:
+    """An interval end for the report: a located special point to 8 digits with its kind, else
+    the stable point sampled there to 6 (enough to tell it from a located end beside it)."""
+    return f"{value:.6g}" if kind is None else f"{value:.8g} ({kind.replace('_', ' ')})"
+
+
 def _periodic_values(diagram) -> list:
     """[(V, (HybridState, k, (period, impacts)))] of the sweep values classified periodic, in V."""
     from bifurc import sweep_point
@@ -124,20 +130,84 @@ def _on_stable_branch(branches, V, key) -> bool:
     return any(lo <= V <= hi and (n, m) == tuple(key) for ds in branches for lo, hi, n, m in stable_intervals(ds))
 
 
-def stable_intervals(ds) -> list:
-    """[(V_low, V_high, period, impacts)] of consecutive stable points with one period and impact count."""
-    out, run = [], None
-    for V, st, n, m in zip(ds.V.values, ds.stable.values, ds.period.values, ds.impacts_per_period.values):
+def stable_intervals(ds, located: bool = False) -> list:
+    """[(V_low, V_high, period, impacts)] of consecutive stable points with one period and impact count.
+
+    ``located=True``: each end of the run reaches the located special point (fold, period doubling,
+    Neimark-Sacker, grazing: finite tolerance) nearest to it between the run's end point and the
+    next point along the branch, and a located fold inside the run (the branch turns back) counts
+    too; the tuples gain what bounds each end: (V_low, V_high, period, impacts, low_kind,
+    high_kind), a kind or None where the end is a stable point sampled."""
+    runs, run = [], None
+    ids = ds.branch_id.values if "branch_id" in ds else np.zeros(ds.sizes["point"], int)
+    for i, (st, n, m) in enumerate(zip(ds.stable.values, ds.period.values, ds.impacts_per_period.values)):
         key = (int(n), int(m))
-        if st == 1 and run is not None and run[2:] == key:
-            run = (min(run[0], V), max(run[1], V)) + key
+        if st == 1 and run is not None and run[2] == key and ids[i] == ids[i - 1]:
+            run[1] = i
             continue
         if run is not None:
-            out.append(run)
-        run = (V, V) + key if st == 1 else None
+            runs.append(run)
+        run = [i, i, key] if st == 1 else None
     if run is not None:
-        out.append(run)
+        runs.append(run)
+    V = ds.V.values
+    out = []
+    for i0, i1, key in runs:
+        points = [(float(V[i]), None) for i in range(i0, i1 + 1)]
+        if not located:
+            out.append((min(points)[0], max(points)[0]) + key)
+            continue
+        # the run's V-extent: its points, the special points bounding its ends and the located folds
+        # inside it (a branch that turns back within a stable run reaches its extreme V there)
+        for i, k in ((i0, i0 - 1), (i1, i1)):
+            near = _bounding_special(ds, i, k)
+            if near is not None:
+                points.append(near)
+        points += _located_folds(ds, i0, i1)
+        lo, hi = min(points, key=lambda e: e[0]), max(points, key=lambda e: e[0])
+        out.append((lo[0], hi[0]) + key + (lo[1], hi[1]))
     return out
+
+
+def _located_folds(ds, i0: int, i1: int) -> list:
+    """[(value, "fold")] of the located folds recorded between points of the run i0..i1."""
+    from bifurc.schema import SPECIAL_KINDS
+    if "special" not in ds.dims:
+        return []
+    fold = SPECIAL_KINDS.index("fold")
+    return [(float(v), "fold") for kind, v, tol, k in zip(ds.special_kind.values, ds.special_value.values,
+                                                          ds.special_tolerance.values, ds.special_point.values)
+            if int(kind) == fold and math.isfinite(float(tol)) and i0 <= int(k) < i1]
+
+
+_BOUNDING = ("fold", "period_doubling", "neimark_sacker", "grazing")
+
+
+def _bounding_special(ds, i: int, k: int):
+    """(value, kind) of the located special point nearest to point ``i`` among those recorded between
+    points k and k + 1 (``special_point == k``), on the side of ``i`` away from the run; None if none."""
+    from bifurc.schema import SPECIAL_KINDS
+    if "special" not in ds.dims or k < 0:
+        return None
+    V = ds.V.values
+    ids = ds.branch_id.values if "branch_id" in ds else np.zeros(ds.sizes["point"], int)
+    other = k + 1 if k == i else k          # the neighbour of i away from the run (may not exist)
+    if other < ds.sizes["point"] and ids[other] != ids[i]:
+        other = ds.sizes["point"]           # the run's end is its branch's end
+    if k != i and ids[k] != ids[i]:
+        return None                         # the run starts its branch: nothing recorded before it
+    best = None
+    for j in range(ds.sizes["special"]):
+        kind = SPECIAL_KINDS[int(ds.special_kind.values[j])]
+        value, tol = float(ds.special_value.values[j]), float(ds.special_tolerance.values[j])
+        if int(ds.special_point.values[j]) != k or kind not in _BOUNDING or not math.isfinite(tol):
+            continue
+        if other < ds.sizes["point"] and kind != "fold":    # a fold lies beyond both points beside it
+            if not min(V[i], V[other]) - tol <= value <= max(V[i], V[other]) + tol:
+                continue
+        if best is None or abs(value - V[i]) < abs(best[0] - V[i]):
+            best = (value, kind)
+    return best
 
 
 def report(cases, quick, seconds) -> str:
@@ -161,11 +231,11 @@ def report(cases, quick, seconds) -> str:
             if "flag_stuck_bar" in ds and np.all(ds.flag_stuck_bar.values[:, 0] == 1):
                 lines.append("  - the bar rests on the stop (stuck) throughout: not a hammering orbit (its position and "
                              "velocity are held on the stop, multipliers 0; the circuit's multipliers decide stability)")
-            for lo, hi, n, m in stable_intervals(ds):
+            for lo, hi, n, m, klo, khi in stable_intervals(ds, located=True):
                 lines.append(f"  - stable period-{n} with {m} impact{'s' if m != 1 else ''} per period for V in "
-                             f"[{lo:.4g}, {hi:.4g}] V")
+                             f"[{_end(lo, klo)}, {_end(hi, khi)}] V")
                 if m >= 1:
-                    hammering.append((law, hz, lo, hi, n, m))
+                    hammering.append((law, hz, _end(lo, klo), _end(hi, khi), n, m))
             for i in range(ds.sizes["special"]):
                 kind = SPECIAL_KINDS[int(ds.special_kind[i])]
                 tol = float(ds.special_tolerance[i])
@@ -189,12 +259,12 @@ def report(cases, quick, seconds) -> str:
     if hammering:
         for law, hz, lo, hi, n, m in hammering:
             lines.append(f"- `{law}`, {hz:g} Hz: stable period-{n} with {m} impact{'s' if m != 1 else ''} per period "
-                         f"for V in [{lo:.4g}, {hi:.4g}] V")
+                         f"for V in [{lo}, {hi}] V")
     else:
         lines.append("Nowhere on the continued branches: no stable orbit with an impact was found.")
     ones = [h for h in hammering if h[4] == 1 and h[5] == 1]
     lines += ["", "Period-1 with one impact per relay period (the thesis' hammering regime): "
-              + ("; ".join(f"`{law}` at {hz:g} Hz for V in [{lo:.4g}, {hi:.4g}] V" for law, hz, lo, hi, _, _ in ones)
+              + ("; ".join(f"`{law}` at {hz:g} Hz for V in [{lo}, {hi}] V" for law, hz, lo, hi, _, _ in ones)
                  if ones else "not found on any continued branch.")]
     return "\n".join(lines) + "\n"
 
