@@ -23,7 +23,7 @@ import numpy as np
 from .continuation import SMOOTH_ROLES, BranchPoint, NoConvergence, SpecialPoint, flags_of, in_section
 from .grazing_orbit import closest_flight_minimum, locate_grazing
 
-__all__ = ["TESTS", "detect", "discontinuity", "event_reason", "event_at_section"]
+__all__ = ["TESTS", "detect", "discontinuity", "event_reason", "event_at_section", "half_period_mismatch"]
 
 
 def _fold(pt: BranchPoint) -> float:
@@ -90,11 +90,41 @@ def detect(problem, a: BranchPoint, b: BranchPoint, kind: str) -> SpecialPoint |
         return None
     pt, f, width = _locate(problem, a, b, fn, kind)
     if pt is None:
-        return SpecialPoint(kind, 0.5 * (a.p + b.p), abs(b.p - a.p), description, math.nan, None,
-                            note=f"{name} between {a.p:.10g} and {b.p:.10g}; location failed")
+        note = f"{name} between {a.p:.10g} and {b.p:.10g}; location failed"
+        value, width = 0.5 * (a.p + b.p), abs(b.p - a.p)
+        ra, rb = half_period_mismatch(a), half_period_mismatch(b)
+        if kind == "fold" and max(ra, rb) < BIRTH_MISMATCH:
+            m = len(a.nodes) // 2
+            note += (f"; the orbit nearly repeats after {m} of its {2 * m} periods at both points (mismatch "
+                     f"{ra:.2g} and {rb:.2g} of the state): where it is born at a period doubling of a "
+                     f"period-{m} orbit (a branch point, singular for Newton); that orbit's period doubling "
+                     f"locates it")
+            if ra != rb:     # p - p_birth ~ mismatch^2 near the birth: extrapolated to mismatch 0
+                birth = a.p - (a.p - b.p) / (ra * ra - rb * rb) * ra * ra
+                if not min(a.p, b.p) <= birth <= max(a.p, b.p):      # a fold lies beyond both points
+                    value, width = birth, min(abs(birth - a.p), abs(birth - b.p))
+                    note += (f"; the mismatch extrapolates to 0 at {birth:.10g} (p - p_birth ~ mismatch^2), "
+                             f"+- the distance to the nearer point")
+        return SpecialPoint(kind, value, width, description, math.nan, None, note=note)
     if kind == "neimark_sacker" and not _complex_pair_on_circle(pt):
         return None                    # a neutral saddle: real mu_i mu_j = 1
     return SpecialPoint(kind, pt.p, width, description, f, pt)
+
+
+#: half-period mismatch below which a failed fold is read as a period-doubling birth (see detect)
+BIRTH_MISMATCH = 0.3
+
+
+def half_period_mismatch(pt: BranchPoint) -> float:
+    """max_j,i |y_j,i - y_j+m,i| / max_j |y_j,i| over the nodes y_j of an orbit of even period 2m
+    (0: the orbit repeats after m periods, a period-m orbit taken twice); NaN for an odd period."""
+    n = len(pt.nodes)
+    if n < 2 or n % 2:
+        return math.nan
+    Y = np.array([np.asarray(s.y, dtype=float) for s in pt.nodes])
+    scale = np.max(np.abs(Y), axis=0)
+    scale[scale == 0] = 1.0
+    return float(np.max(np.abs(Y[:n // 2] - Y[n // 2:]) / scale))
 
 
 def _locate(problem, a: BranchPoint, b: BranchPoint, fn, kind, *, max_iter: int = 40):

@@ -459,3 +459,42 @@ def test_a_corrector_that_lands_on_another_branch_is_refused():
     assert "stick" not in out[0].signature and "stick" in out[1].signature
     impacts = [ev.y_minus[1] for ev in out[0].events if ev.name == "contact"]
     assert len(impacts) == 1 and impacts[0] < -5e-3
+
+
+def test_a_fold_that_newton_cannot_locate_at_a_period_doubling_birth_says_so():
+    """Where a period-2m branch is born at a period doubling of a period-m orbit, the branch turns in
+    the parameter (a fold: p - p_pd ~ a^2 in the amplitude a of the half-period difference) and meets
+    the doubled period-m orbit there (a branch point, singular for Newton).  In the thesis-orbits
+    study five such folds were bracketed with NaN multipliers and nothing else.  A bracket whose
+    ends nearly repeat after m periods now says what it is.  Half-period mismatch by hand: nodes
+    y_j and y_{j+m} differ by d in one component of size 1 (mismatch d), not at all elsewhere."""
+    from types import SimpleNamespace
+
+    from bifurc.continuation import BranchPoint, NoConvergence
+    from bifurc.special_points import detect, half_period_mismatch
+
+    def point(p, d, dp_ds, n=4):
+        nodes = [maps.HybridState(np.array([1.0 + (d if j >= n // 2 else 0.0), 0.5 * (j % max(1, n // 2)) - 3.0]), {})
+                 for j in range(n)]
+        return BranchPoint(p, nodes, np.full(2, np.nan), [()] * n, [], np.zeros(3), np.array([0.0, 0.6, dp_ds]),
+                           0, 0.0, [[]] * n)
+
+    a, b = point(2.1, 0.01, 0.8), point(2.0, 0.003, -0.8)
+    assert half_period_mismatch(a) == pytest.approx(0.01 / 1.01, rel=1e-12)
+    assert half_period_mismatch(b) == pytest.approx(0.003 / 1.003, rel=1e-12)
+    assert math.isnan(half_period_mismatch(point(2.0, 0.01, 0.8, n=3)))
+
+    def fail(*args, **kw):
+        raise NoConvergence("singular bordered Jacobian")
+    problem = SimpleNamespace(smap=SimpleNamespace(phase=0.0), k0=0, correct=fail)
+    sp = detect(problem, a, b, "fold")
+    assert sp.kind == "fold" and sp.point is None
+    assert "born at a period doubling of a period-2 orbit" in sp.note and "0.0099" in sp.note
+    # p = p* + c r^2 through both points (r the mismatch): p* = 2.1 - 0.1 r_a^2 / (r_a^2 - r_b^2)
+    ra, rb = 0.01 / 1.01, 0.003 / 1.003
+    birth = 2.1 - 0.1 * ra ** 2 / (ra ** 2 - rb ** 2)
+    assert 1.98 < birth < 2.0 and sp.p == pytest.approx(birth, rel=1e-14)
+    assert sp.tolerance == pytest.approx(2.0 - birth, rel=1e-12)
+    far = detect(problem, point(2.0, 0.5, 0.8), point(2.1, 0.4, -0.8), "fold")     # far from repeating
+    assert "location failed" in far.note and "period doubling" not in far.note
+    assert far.p == pytest.approx(2.05) and far.tolerance == pytest.approx(0.1)      # the bracket

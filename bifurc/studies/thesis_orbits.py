@@ -108,6 +108,24 @@ def _seed_followed(branches, ds, V) -> bool:
     return int(ds.stable.values[0]) == 1 and _on_stable_branch(branches, V, key)
 
 
+def _parent_doubling(ds, i: int, branches) -> str:
+    """For a fold bracketed where a period-2m branch is born (special ``i`` of ``ds``, its note says
+    so), the located period doubling of a period-m orbit within its tolerance, from ``branches``."""
+    from bifurc.schema import SPECIAL_KINDS
+    if "born at a period doubling" not in str(ds.special_note.values[i]):
+        return ""
+    value, width = float(ds.special_value.values[i]), float(ds.special_tolerance.values[i])
+    m = int(ds.period.values[int(ds.special_point.values[i])]) // 2
+    pd = SPECIAL_KINDS.index("period_doubling")
+    found = sorted({round(float(other.special_value.values[j]), 8) for other in branches
+                    for j in range(other.sizes.get("special", 0))
+                    if int(other.special_kind.values[j]) == pd and math.isfinite(float(other.special_tolerance.values[j]))
+                    and int(other.period.values[int(other.special_point.values[j])]) == m
+                    and abs(float(other.special_value.values[j]) - value) <= width})
+    return "" if not found else (f" (located: the period-{m} branch's period doubling at V = "
+                                 f"{', '.join(f'{v:.8g}' for v in found)} V)")
+
+
 def _end(value: float, kind: str | None) -> str:
     """An interval end for the report: a located special point to 8 digits with its kind, else
     the stable point sampled there to 6 (enough to tell it from a located end beside it)."""
@@ -239,9 +257,11 @@ def report(cases, quick, seconds) -> str:
             for i in range(ds.sizes["special"]):
                 kind = SPECIAL_KINDS[int(ds.special_kind[i])]
                 tol = float(ds.special_tolerance[i])
+                mu = ds.special_multiplier_abs.values[i]
                 lines.append(f"  - {kind} at V = {float(ds.special_value[i]):.8g} V"
                              + ("" if not math.isfinite(tol) else f" (+- {tol:.1g})")
-                             + f"; multipliers |mu| = {', '.join(f'{m:.4g}' for m in ds.special_multiplier_abs.values[i])}")
+                             + (f"; multipliers |mu| = {', '.join(f'{m:.4g}' for m in mu)}" if np.isfinite(mu).any()
+                                else f": {ds.special_note.values[i]}{_parent_doubling(ds, i, c['branches'])}"))
         for seed, n, m in c.get("again", []):
             lines.append(f"- the simulation at V = {seed:g} V lands on a stable period-{n} orbit with {m} impact"
                          f"{'s' if m != 1 else ''} per period already followed")
