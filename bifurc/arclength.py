@@ -73,7 +73,7 @@ def continue_branch(problem: ContinuationProblem, orbit, p_start: float, p_end: 
                     why, pt = "signature", probe
             branch.stop_reason = event_reason(prev, pt, why, problem)
             if locate and (pt is None or why == "signature"):
-                sp = discontinuity(problem, prev, pt)
+                sp = discontinuity(problem, prev, pt, branch.points[-2] if len(branch.points) > 1 else None)
                 if sp is not None:
                     sp.index = len(branch.points) - 1
                     branch.special.append(sp)

@@ -194,8 +194,9 @@ def _switch(smap, problem, sp, span, step, max_step, max_points, say):
 
 
 def _multiplier_error(system, values, param, sp, br, tol, newton_tol) -> float:
-    if sp.point is None or not math.isfinite(sp.tolerance):
-        return math.nan                 # not located: the point is only the last one before the event
+    if sp.point is None or not math.isfinite(sp.tolerance) or sp.kind not in ("fold", "period_doubling",
+                                                                                "neimark_sacker", "grazing"):
+        return math.nan                 # an event that stopped the branch: the point is the last one before it
     tight = StroboscopicMap(system, dict(values, **{param: sp.p}), tol=tol / 100, phase=sp.point.phase)
     try:
         again = find_periodic_orbit(tight, sp.point.nodes[0], br.period, k0=sp.point.k0, tol=newton_tol)

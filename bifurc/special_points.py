@@ -11,8 +11,10 @@ the Illinois variant of false position on the arclength (each evaluation a corre
 
 A change of the transition signature (an impact born or lost, a stick) stops the branch: where a
 free-flight minimum is about to touch the stop, the grazing is located by the augmented system
-(:func:`bifurc.grazing_orbit.locate_grazing`); otherwise the last point before the change is
-reported, not located.
+(:func:`bifurc.grazing_orbit.locate_grazing`); an impact lost (its speed slowing to zero) is
+extrapolated from the slowest impact's speed squared, linear in the parameter there, when that
+falls inside the bracket; otherwise the last point before the change is reported, not located,
+with the bracket up to the next point as its tolerance.
 """
 from __future__ import annotations
 
@@ -201,9 +203,12 @@ def _impact_slowing(problem, pt) -> bool:
     return _slowest_impact(problem, pt) < 1e-3 * scale
 
 
-def discontinuity(problem, prev: BranchPoint, pt: BranchPoint | None) -> SpecialPoint | None:
+def discontinuity(problem, prev: BranchPoint, pt: BranchPoint | None, earlier: BranchPoint | None = None
+                  ) -> SpecialPoint | None:
     """Locate the event that stopped the branch after ``prev``: a grazing where a free-flight
-    minimum touches the stop (augmented system), else the bracket [prev, pt]."""
+    minimum touches the stop (augmented system); an impact lost, where the slowest impact's speed
+    squared, linear in the parameter near a grazing from the impacting side, extrapolates to zero
+    from ``earlier`` and ``prev`` inside the bracket; else the bracket [prev, pt]."""
     if pt is None and _impact_slowing(problem, prev):
         return None    # an impact slowing to 0: a grazing from the impacting side, not a free-flight minimum's
     born = pt is not None and pt.impacts > prev.impacts
@@ -218,8 +223,19 @@ def discontinuity(problem, prev: BranchPoint, pt: BranchPoint | None) -> Special
     kind = "signature_change" if change == "impact_born" else change
     nxt = (f"the next corrected point, at {pt.p:.10g}," if pt.corrected else
            f"the map at the predicted point {pt.p:.10g}, where the corrector failed,")
-    return SpecialPoint(kind, prev.p, math.nan, "transition signature", math.nan, prev,
-                        note=f"the last point before the change ({_sig(prev)}; {nxt} has {_sig(pt)}): not located")
+    note = f"the last point before the change ({_sig(prev)}; {nxt} has {_sig(pt)})"
+    if kind == "impact_lost" and earlier is not None:
+        s1, s0 = _slowest_impact(problem, prev), _slowest_impact(problem, earlier)
+        if math.isfinite(s0) and s1 < s0:
+            p_lost = prev.p - s1 * s1 * (prev.p - earlier.p) / (s1 * s1 - s0 * s0)
+            if min(prev.p, pt.p) <= p_lost <= max(prev.p, pt.p):
+                return SpecialPoint(kind, p_lost, abs(p_lost - prev.p), "slowest impact speed squared",
+                                    s1 * s1, prev,
+                                    note=note + f": the slowest impact's speed squared ({s0:.3g}, then {s1:.3g} "
+                                                f"[gap rate]) extrapolates to zero at {p_lost:.10g}, inside the "
+                                                f"bracket; +- the distance to the last point")
+    return SpecialPoint(kind, prev.p, abs(pt.p - prev.p), "transition signature", math.nan, prev,
+                        note=note + f": not located; the change lies between {prev.p:.10g} and {pt.p:.10g}")
 
 
 def _sig(pt) -> str:

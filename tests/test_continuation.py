@@ -498,3 +498,39 @@ def test_a_fold_that_newton_cannot_locate_at_a_period_doubling_birth_says_so():
     far = detect(problem, point(2.0, 0.5, 0.8), point(2.1, 0.4, -0.8), "fold")     # far from repeating
     assert "location failed" in far.note and "period doubling" not in far.note
     assert far.p == pytest.approx(2.05) and far.tolerance == pytest.approx(0.1)      # the bracket
+
+
+def test_an_impact_lost_is_extrapolated_where_its_speed_vanishes():
+    """thesis-1dof (listing law, 5 Hz): the stable period-3 orbit with 3 impacts, followed down in V
+    from 100.2076 V (a point of the thesis-orbits study's branch), loses its slowest impact near
+    100.11027 V: its speed goes to zero like sqrt(V - V_lost) (a grazing from the impacting side).
+    The branch's stop extrapolates the speed squared from its last two points.  Independently,
+    Newton at fixed V 1, 2 and 4 uV above that value gives orbits whose slowest impact has v^2
+    proportional to the distance; their linear fit vanishes within 1e-8 V of the extrapolated value,
+    and 1 uV below it Newton's orbit has no slow impact left."""
+    from maps.hybrid import HybridState
+    y = np.array([0.1136715832167957, -1.9978129924308143, 0.033629308140196705, 3.358177157251365])
+    flags = {"P": 1.0, "contact": 0.0, "stuck_bar": 0.0, "escaped": 0.0}
+    ds = bifurc.continue_orbit("thesis-1dof", "V", (100.20762077889577, 25.0), preset="matlab-listing",
+                               dc_law="listing", params={"relay_hz": 5.0}, max_points=60,
+                               start=(HybridState(y, flags), 400), period=3, error=False)
+    assert "an impact is lost" in ds.attrs["branch_stop_reasons"]
+    assert [bifurc.schema.SPECIAL_KINDS[int(k)] for k in ds.special_kind.values] == ["impact_lost"]
+    V_lost, tol = float(ds.special_value[0]), float(ds.special_tolerance[0])
+    assert 0 < tol < 1e-5 and abs(V_lost - 100.11027) < 1e-4
+    sc = maps.get_scene("thesis-1dof").with_options(dc_law="listing")
+    last = ds.sizes["point"] - 1
+    k0 = int(ds.section_k0.values[last])
+    node = HybridState(np.array([float(ds[v].values[last, 0]) for v in ("x", "v", "i", "z")]), flags)
+
+    def slowest(dV):
+        smap = maps.StroboscopicMap(sc, sc.parameters(preset="matlab-listing", relay_hz=5.0, V=V_lost + dV), tol=1e-12)
+        orbit = bifurc.find_periodic_orbit(smap, node, 3, k0=k0)
+        return min(abs(ev.y_minus[1]) for k in range(3) for ev in smap.linearize(orbit.nodes[k], k0 + k).events
+                   if ev.name == "contact")
+    dV = np.array([1e-6, 2e-6, 4e-6])
+    v2 = np.array([slowest(d) ** 2 for d in dV])
+    slope, intercept = np.polyfit(dV, v2, 1)
+    assert np.max(np.abs(v2 - (slope * dV + intercept))) < 1e-3 * v2.max()      # linear in V
+    assert abs(-intercept / slope) < 1e-8
+    assert slowest(-1e-6) > 0.05

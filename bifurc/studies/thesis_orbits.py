@@ -126,6 +126,12 @@ def _parent_doubling(ds, i: int, branches) -> str:
                                  f"{', '.join(f'{v:.8g}' for v in found)} V)")
 
 
+def _kind_label(kind: str, value: float, tol: float) -> str:
+    """A bounding special point's kind, with its tolerance where it is coarser than 1e-6 relative
+    (a bracket or an extrapolation, not a converged location)."""
+    return kind if tol <= 1e-6 * max(1.0, abs(float(value))) else f"{kind} +- {float(tol):.1g}"
+
+
 def _end(value: float, kind: str | None) -> str:
     """An interval end for the report: a located special point to 8 digits with its kind, else
     the stable point sampled there to 6 (enough to tell it from a located end beside it)."""
@@ -155,7 +161,8 @@ def stable_intervals(ds, located: bool = False) -> list:
     Neimark-Sacker, grazing: finite tolerance) nearest to it between the run's end point and the
     next point along the branch, and a located fold inside the run (the branch turns back) counts
     too; the tuples gain what bounds each end: (V_low, V_high, period, impacts, low_kind,
-    high_kind), a kind or None where the end is a stable point sampled."""
+    high_kind), a kind (with "+- tol" where its location is coarser than 1e-6 relative) or None
+    where the end is a stable point sampled."""
     runs, run = [], None
     ids = ds.branch_id.values if "branch_id" in ds else np.zeros(ds.sizes["point"], int)
     for i, (st, n, m) in enumerate(zip(ds.stable.values, ds.period.values, ds.impacts_per_period.values)):
@@ -193,7 +200,7 @@ def _located_folds(ds, i0: int, i1: int) -> list:
     if "special" not in ds.dims:
         return []
     fold = SPECIAL_KINDS.index("fold")
-    return [(float(v), "fold") for kind, v, tol, k in zip(ds.special_kind.values, ds.special_value.values,
+    return [(float(v), _kind_label("fold", v, tol)) for kind, v, tol, k in zip(ds.special_kind.values, ds.special_value.values,
                                                           ds.special_tolerance.values, ds.special_point.values)
             if int(kind) == fold and math.isfinite(float(tol)) and i0 <= int(k) < i1]
 
@@ -224,7 +231,7 @@ def _bounding_special(ds, i: int, k: int):
             if not min(V[i], V[other]) - tol <= value <= max(V[i], V[other]) + tol:
                 continue
         if best is None or abs(value - V[i]) < abs(best[0] - V[i]):
-            best = (value, kind)
+            best = (value, _kind_label(kind, value, tol))
     return best
 
 
