@@ -191,11 +191,14 @@ class HybridState:
 _COMPILED: dict = {}
 
 
-def settle_may_act(system, flags) -> bool:
-    """False when ``system.settle_if`` rules out any change under ``flags``."""
+def settle_may_act(system, flags, y=None, params=None) -> bool:
+    """False when ``system.settle_if`` rules out any change under ``flags`` (a callable one also
+    reads the state ``y`` and ``params``)."""
     cond = system.settle_if
     if cond is None:
         return True
+    if callable(cond):
+        return bool(cond(flags, y, params))
     for k, v in cond:
         if flags[k] == v:
             return True
@@ -209,8 +212,9 @@ class HybridSystem:
     #: an event of that name (e.g. ``{"stuck_bar": {1.0: "stick", 0.0: "unstick"}}``)
     settle_events: Mapping[str, Mapping[float, str]] = {}
     #: ``((flag, value), ...)``: ``settle`` can act only while one of these flags has that
-    #: value, so elsewhere it is not called (it runs after every transition); None: always
-    settle_if: tuple | None = None
+    #: value, so elsewhere it is not called (it runs after every transition); or a cheap callable
+    #: ``(flags, y, params) -> bool``, never False where ``settle`` could act; None: always
+    settle_if: tuple | Callable | None = None
     #: ``{state: coefficient}``: a direction along which the flow is invariant (shifting the state
     #: by any multiple of it shifts the whole motion; the 2-DOF scenes: bar and rig together);
     #: periodic orbits are then solved in the reduced coordinates, with the advance per period

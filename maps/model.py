@@ -783,8 +783,11 @@ def build_system(options: ModelOptions | None = None, **kw) -> HybridSystem:
         system.settle_events = {"stuck_bar": {1.0: "stick", 0.0: "unstick"}}  # logged as events
         system.projections = {"stick": _stick_projection(o)}                    # their Jacobians
         system.mode_projections = {("stuck_bar", 1.0): "stick"}                  # the stuck bar's set
-        if system.settle is stick:   # sticking acts only in contact or stuck (Coulomb slip: always)
-            system.settle_if = (("contact", 1.0), ("stuck_bar", 1.0))
+        if system.settle is stick:   # sticking acts only stuck, or in contact below stick_speed
+            # (Coulomb slip: always); the gap rate as _settle_stick reads it
+            gap, speed = system.gap, o.stick_speed
+            system.settle_if = lambda flags, y, params: flags["stuck_bar"] == 1 or (
+                flags["contact"] == 1 and abs(gap(y, params)[1]) < speed)
     system.mode_rule = lambda y, params, flags, given=(): start_flags(system, o, y, params, flags, given)
     if o.dof == 2 and not o.compaction:   # bar and rig shifted together: the same motion (no force
         # depends on x1 + x2; compaction's resistance depends on the depth: no such symmetry)

@@ -98,7 +98,7 @@ def settle(system: HybridSystem, t: float, y: np.ndarray, flags: Mapping[str, fl
     Returns the projected state (if the rule projects), the flags it changes, and one record
     per change named in ``system.settle_events`` (e.g. "stick", "unstick"); :data:`NOTHING`
     when the rule cannot act or changes nothing."""
-    if system.settle is None or not settle_may_act(system, flags):
+    if system.settle is None or not settle_may_act(system, flags, y, params):
         return NOTHING
     new = system.settle(t, np.array(y, dtype=float), dict(flags), params)
     if not new:                     # the common case after an event: nothing to settle
@@ -125,21 +125,24 @@ def settle(system: HybridSystem, t: float, y: np.ndarray, flags: Mapping[str, fl
 
 
 def settle_gate(system: HybridSystem):
-    """A fast predicate ``may(flags) -> bool``: whether :func:`settle` can act under ``flags``
-    (``system.settle_if``), or None when the system has no settle rule.  For an engine's hot path
-    (a relay switch, twice per period): it calls :func:`settle` only where this is True."""
+    """A fast predicate ``may(flags, y, params) -> bool``: whether :func:`settle` can act under
+    ``flags`` in state ``y`` (``system.settle_if``), or None when the system has no settle rule.
+    For an engine's hot path (a relay switch, twice per period): it calls :func:`settle` only
+    where this is True."""
     if system.settle is None:
         return None
     cond = system.settle_if
     if cond is None:
-        return lambda flags: True
+        return lambda flags, y, params: True
+    if callable(cond):
+        return cond
     if len(cond) == 1:
         (k1, v1), = cond
-        return lambda flags: flags[k1] == v1
+        return lambda flags, y, params: flags[k1] == v1
     if len(cond) == 2:
         (k1, v1), (k2, v2) = cond
-        return lambda flags: flags[k1] == v1 or flags[k2] == v2
-    return lambda flags: settle_may_act(system, flags)
+        return lambda flags, y, params: flags[k1] == v1 or flags[k2] == v2
+    return lambda flags, y, params: settle_may_act(system, flags)
 
 
 def fire(system: HybridSystem, guard: Guard, t: float, y: np.ndarray, flags: Mapping[str, float],

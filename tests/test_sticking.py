@@ -253,3 +253,36 @@ def test_the_stick_guard_sticks_a_pressed_bar_and_declines_a_pulled_one():
             assert [r[0] for r in out.records] == ["stick"]
         else:
             assert N > 30 and out is tr.NOTHING
+
+
+@pytest.mark.parametrize("scene", ["thesis-1dof", "thesis-2dof"])
+def test_the_settle_gate_never_skips_a_settle_that_acts(scene):
+    """The model's ``settle_if`` (stuck, or in contact below stick_speed) lets the engines skip the
+    settle rule after a fast contact.  It must never be False where the rule itself acts: the rule,
+    called on states around every threshold (gap rates across stick_speed, pressed and pulled bars,
+    each mode), is the independent truth."""
+    import maps
+    from maps.hybrid import settle_may_act
+    sc = maps.get_scene(scene)
+    system = sc.system
+    assert callable(system.settle_if)
+    p = sc.parameters(preset="matlab-listing") if scene == "thesis-1dof" else sc.parameters()
+    speed = system.options.stick_speed
+    rng = np.random.default_rng(3)
+    acted = skipped = stuck_by_speed = 0
+    y0 = system.state_vector(sc.initial_state())
+    for _ in range(3000):
+        flags = dict(system.initial_flags(0.0, p), contact=float(rng.integers(2)), stuck_bar=float(rng.integers(2)))
+        y = y0.copy()
+        y[0] = p["e"] + (y[2] if system.options.dof == 2 else 0.0) + rng.choice([0.0, rng.normal(0, 2e-6)])
+        rate = rng.choice([-1, 1]) * speed * rng.choice([0.0, 0.6, 0.9, 0.999, 1.001, 2.0, 1e3])
+        y[1] = rate + (y[3] if system.options.dof == 2 else 0.0)
+        y[len(y0) // 2 if system.options.dof == 1 else 4] = rng.normal(0, 2.0)      # a current: the DC/AC force
+        acts = bool(system.settle(0.0, y.copy(), dict(flags), p))
+        gate = settle_may_act(system, flags, y, p)
+        assert gate or not acts, (flags, y)
+        acted += acts
+        skipped += not gate
+        stuck_by_speed += acts and flags["stuck_bar"] == 0 and abs(rate) > 0.5 * speed
+    assert acted > 20 and skipped > 50        # both sides of the gate were exercised
+    assert stuck_by_speed > 10                # sticks at gap rates within a factor 2 of stick_speed

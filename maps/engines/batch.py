@@ -356,7 +356,8 @@ class _ClockCallback(_Callback):
             lane.t_sw = (m // 2 + (sw.duty if m % 2 else 0.0)) / lane.W
             lane.res.n_switches += 1
             may = self.may_settle
-            if may is not None and may(lane.flags) and not self._settle(eng, lane, j, t_sw):
+            if may is not None and may(lane.flags, eng.state[:eng.n, j], lane.params) \
+                    and not self._settle(eng, lane, j, t_sw):
                 return False
         if t_k <= close:
             k = lane.k_next

@@ -334,7 +334,7 @@ class HybridRun:
                             pars[slot] = value
                         flag_log.append((t_sw, dict(flags)))
                         log_steps.append(0)
-                    if may_settle is not None and may_settle(flags):
+                    if may_settle is not None and may_settle(flags, y_view, params):
                         self._apply(tr.settle(sys, t_sw, y_view, flags, params), t_sw)
                     if len(counters) == 1:             # one switch: its next instant, inline
                         n += 1
