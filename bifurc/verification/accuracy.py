@@ -95,16 +95,19 @@ def final_state_error(y, y_ref) -> float:
     return float(np.max(np.abs(y - y_ref) / np.maximum(1, np.abs(y_ref))))
 
 
-def toolkit_solution(sc, values, y0, t_end, tol, repeats=3, observations=True) -> dict:
-    """The toolkit in double precision (no dense output); run time is the best of ``repeats``.
-    ``observations=False``: no stops at observation-only guards (a transient's run)."""
+def toolkit_solution(sc, values, y0, t_end, tol, repeats=3, observations=True, min_seconds: float = 0.0) -> dict:
+    """The toolkit in double precision (no dense output); run time is the best of ``repeats`` runs,
+    more until they have taken ``min_seconds`` (as timeit's autorange: a burst of load on a shared
+    machine then spoils a few of many runs, not all of five).  ``observations=False``: no stops at
+    observation-only guards (a transient's run)."""
     run = HybridRun(sc.system, values, y0, tol=tol, max_events=None, observations=observations)
-    best = math.inf
-    for _ in range(repeats):
+    best, spent, n = math.inf, 0.0, 0
+    while n < repeats or spent < min_seconds:
         run.reset(0.0, y0)
         t0 = _time.perf_counter()
         run.advance(t_end)
-        best = min(best, _time.perf_counter() - t0)
+        dt = _time.perf_counter() - t0
+        best, spent, n = min(best, dt), spent + dt, n + 1
     return {"y": np.array(run.ta.state, dtype=float), "impact_times": impact_table(run)["t"],
             "run_seconds": best, "n_steps": run.n_steps, "compile_seconds": run.compile_seconds}
 
@@ -119,15 +122,15 @@ def _impact_error(t, t_ref):
 def work_precision(scene="thesis-1dof", t_end=2.0, preset=None, params=None, x0=None,
                    ladders=None, methods=None, reference="longdouble", repeats=3,
                    max_seconds=30.0, progress=None, circuit=None, ac_sign=None, dc_law=None,
-                   baseline_repeats: int = 1) -> xr.Dataset:
+                   baseline_repeats: int = 1, min_seconds: float = 0.0) -> xr.Dataset:
     """Errors against run time for every method over its tolerance ladder.
 
     ``ladders`` maps a method to its tolerances (default :data:`DEFAULT_LADDERS`);
     ``methods`` selects among them.  A method stops climbing its ladder once a run takes
     longer than ``max_seconds``.  Run time: the best of ``repeats`` runs for the toolkit and
-    of ``baseline_repeats`` for the baselines (the same number for a like-for-like ratio; a
-    baseline rung stops repeating once its runs have taken ``max_seconds``).  Returns a Dataset
-    with dimension ``run``.
+    of ``baseline_repeats`` for the baselines, each method repeating until its runs have taken
+    ``min_seconds`` (a baseline rung stops once they have taken ``max_seconds``).  Returns a
+    Dataset with dimension ``run``.
     """
     ladders = dict(DEFAULT_LADDERS if ladders is None else ladders)
     if methods is not None:
@@ -146,11 +149,12 @@ def work_precision(scene="thesis-1dof", t_end=2.0, preset=None, params=None, x0=
     for method, ladder in ladders.items():
         for tol in ladder:
             if method.startswith("heyoka"):
-                r = toolkit_solution(sc, values, y0, t_end, tol, repeats, observations=method == "heyoka")
+                r = toolkit_solution(sc, values, y0, t_end, tol, repeats, observations=method == "heyoka",
+                                     min_seconds=min_seconds)
                 y, t_imp, secs = r["y"], r["impact_times"], r["run_seconds"]
             else:
                 y, t_imp, secs = _baseline(method, values, y0, t_end, tol, sc.options.dc_law,
-                                           baseline_repeats, max_seconds)
+                                           baseline_repeats, max_seconds, min_seconds)
             rows.append(dict(method=method, tol=tol, run_seconds=secs,
                              final_state_error=final_state_error(y, ref["y"]),
                              position_error=float(abs(np.longdouble(y[0]) - ref["y"][0])),
@@ -163,16 +167,16 @@ def work_precision(scene="thesis-1dof", t_end=2.0, preset=None, params=None, x0=
     return _to_dataset(rows, ref, t_end)
 
 
-def _baseline(method, values, y0, t_end, tol, dc_law, repeats, max_seconds):
-    """(final state, impact times, best run time [s]) of a baseline over ``repeats`` runs (fewer
-    once they have taken ``max_seconds``)."""
-    best, spent = math.inf, 0.0
-    for _ in range(max(1, int(repeats))):
+def _baseline(method, values, y0, t_end, tol, dc_law, repeats, max_seconds, min_seconds=0.0):
+    """(final state, impact times, best run time [s]) of a baseline over ``repeats`` runs, more
+    until they have taken ``min_seconds``, fewer once they have taken ``max_seconds``."""
+    best, spent, n = math.inf, 0.0, 0
+    while n < max(1, int(repeats)) or spent < min_seconds:
         if method == "rk4-bisection":
             b = baselines.solve_rk4_bisection(values, y0, t_end, h=tol, dc_law=dc_law)
         else:
             b = baselines.solve_scipy(values, y0, t_end, method=method.split("-", 1)[1], tol=tol, dc_law=dc_law)
-        best, spent = min(best, b.run_seconds), spent + b.run_seconds
+        best, spent, n = min(best, b.run_seconds), spent + b.run_seconds, n + 1
         if spent > max_seconds:
             break
     return b.y, b.impact_times, best

@@ -374,6 +374,8 @@ class VariationalRun(HybridRun):
         self.derivatives = Derivatives(system, self.wrt)
         self._freq_cols = {sw.flag: len(system.states) + self.wrt.index(sw.frequency)
                            for sw in system.switches if sw.frequency in self.wrt}
+        if not self._freq_cols:
+            self._on_switch = None      # no switch instant moves: advance's inline switch path
         super().__init__(system, params, x0, **kw)
 
     def _integrator(self, tol, fp_type):
@@ -400,7 +402,7 @@ class VariationalRun(HybridRun):
                 P_y, P_p = self.derivatives.projection(name, t0, self.y, self.params, self.flags)
                 Y = tr.projected(Y, P_y, P_p)
                 break
-        self.ta.state[n:] = Y.ravel()
+        self._state_view[n:] = Y.ravel()
 
     def _on_switch(self, sw, t, flags_before):
         col = self._freq_cols.get(sw.flag)
@@ -410,7 +412,7 @@ class VariationalRun(HybridRun):
         jump = d.rhs(t, y, d.pars(self.params, flags_before)) - d.rhs(t, y, d.pars(self.params, self.flags))
         Y = self.sensitivities
         Y[:, col] += jump * (-t / self.params[sw.frequency])
-        self.ta.state[self._n:] = Y.ravel()
+        self._state_view[self._n:] = Y.ravel()
 
     def end_time_term(self, t1: float, dt1: dict) -> np.ndarray:
         """Sensitivities of the state at an end time t1 that moves with parameters: Y + f(t1) dt1/dp
@@ -427,7 +429,7 @@ class VariationalRun(HybridRun):
     def sensitivities(self) -> np.ndarray:
         """dy/d(y0, p) now: n x (n + m), the state's columns first."""
         n = self._n
-        return np.array(self.ta.state[n:], dtype=float).reshape(n, n + len(self.wrt))
+        return np.array(self._state_view[n:], dtype=float).reshape(n, n + len(self.wrt))
 
     def _apply(self, out, t, guard=None, y_minus=None):
         if out is tr.NOTHING or (out.y is None and not out.changes):
@@ -451,7 +453,7 @@ class VariationalRun(HybridRun):
         if dt is not None:
             self.event_time_row = dt
         super()._apply(out, t, guard, y_minus)
-        self.ta.state[self._n:] = Y.ravel()
+        self._state_view[self._n:] = Y.ravel()
 
 
 class TangentRun(VariationalRun):
@@ -472,22 +474,22 @@ class TangentRun(VariationalRun):
 
     def _start_sensitivities(self, t0):
         self.event_time_row = None
-        self.ta.state[self._n:] = 0.0
+        self._state_view[self._n:] = 0.0
 
     @property
     def tangent(self) -> np.ndarray:
         """The tangent vector's live view (n,)."""
-        return self.ta.state[self._n:]
+        return self._state_view[self._n:]
 
     def _apply(self, out, t, guard=None, y_minus=None):
-        if self.ta.state[self._n:].any():       # a zero vector (not started) stays zero
+        if self._state_view[self._n:].any():       # a zero vector (not started) stays zero
             super()._apply(out, t, guard, y_minus)
         else:
             HybridRun._apply(self, out, t, guard, y_minus)
 
     @property
     def sensitivities(self) -> np.ndarray:
-        return np.array(self.ta.state[self._n:], dtype=float).reshape(self._n, 1)
+        return np.array(self._state_view[self._n:], dtype=float).reshape(self._n, 1)
 
 
 class ScalarEngine(Engine):
