@@ -27,6 +27,7 @@ from .continuation import ContinuationProblem, flags_of, in_section
 from .orbit import first_guess, multiplier_change
 from .periodic import OrbitNotFound, find_periodic_orbit, monodromy
 from .scene import resolve_scene
+from .special_points import LOCATED_KINDS
 
 __all__ = ["continue_orbit", "branch_dataset"]
 
@@ -194,8 +195,7 @@ def _switch(smap, problem, sp, span, step, max_step, max_points, say):
 
 
 def _multiplier_error(system, values, param, sp, br, tol, newton_tol) -> float:
-    if sp.point is None or not math.isfinite(sp.tolerance) or sp.kind not in ("fold", "period_doubling",
-                                                                                "neimark_sacker", "grazing"):
+    if sp.point is None or not math.isfinite(sp.tolerance) or sp.kind not in LOCATED_KINDS:
         return math.nan                 # an event that stopped the branch: the point is the last one before it
     tight = StroboscopicMap(system, dict(values, **{param: sp.p}), tol=tol / 100, phase=sp.point.phase)
     try:

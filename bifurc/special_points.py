@@ -25,7 +25,8 @@ import numpy as np
 from .continuation import SMOOTH_ROLES, BranchPoint, NoConvergence, SpecialPoint, flags_of, in_section
 from .grazing_orbit import closest_flight_minimum, locate_grazing
 
-__all__ = ["TESTS", "detect", "discontinuity", "event_reason", "event_at_section", "half_period_mismatch"]
+__all__ = ["TESTS", "LOCATED_KINDS", "detect", "discontinuity", "event_reason", "event_at_section",
+           "half_period_mismatch"]
 
 
 def _fold(pt: BranchPoint) -> float:
@@ -48,6 +49,20 @@ def _neimark_sacker(pt: BranchPoint) -> float:
 TESTS = {"fold": ("fold", "dp/ds: the parameter component of the unit tangent", _fold),
          "period_doubling": ("period-doubling", "Re prod(mu_i + 1)", _period_doubling),
          "neimark_sacker": ("Neimark-Sacker", "Re prod_{i<j}(mu_i mu_j - 1)", _neimark_sacker)}
+
+
+#: the special points located by a test function or an augmented system (the others bound a
+#: branch's end: the last point before an event, or an extrapolation)
+LOCATED_KINDS = (*TESTS, "grazing")
+
+#: the words of a failed fold's note where a period-2m branch is born at a period doubling
+BIRTH_NOTE = "born at a period doubling"
+
+
+def _zero_of_square(p0: float, r0: float, p1: float, r1: float) -> float:
+    """The parameter where r^2, linear in p through (p0, r0^2) and (p1, r1^2), vanishes (r ~
+    sqrt(p - p*) near a branch point or a grazing)."""
+    return p1 - r1 * r1 * (p1 - p0) / (r1 * r1 - r0 * r0)
 
 
 def _complex_pair_on_circle(pt: BranchPoint, tol: float = 1e-6) -> bool:
@@ -98,11 +113,11 @@ def detect(problem, a: BranchPoint, b: BranchPoint, kind: str) -> SpecialPoint |
         if kind == "fold" and max(ra, rb) < BIRTH_MISMATCH:
             m = len(a.nodes) // 2
             note += (f"; the orbit nearly repeats after {m} of its {2 * m} periods at both points (mismatch "
-                     f"{ra:.2g} and {rb:.2g} of the state): where it is born at a period doubling of a "
+                     f"{ra:.2g} and {rb:.2g} of the state): where it is {BIRTH_NOTE} of a "
                      f"period-{m} orbit (a branch point, singular for Newton); that orbit's period doubling "
                      f"locates it")
             if ra != rb:     # p - p_birth ~ mismatch^2 near the birth: extrapolated to mismatch 0
-                birth = a.p - (a.p - b.p) / (ra * ra - rb * rb) * ra * ra
+                birth = _zero_of_square(b.p, rb, a.p, ra)
                 if not min(a.p, b.p) <= birth <= max(a.p, b.p):      # a fold lies beyond both points
                     value, width = birth, min(abs(birth - a.p), abs(birth - b.p))
                     note += (f"; the mismatch extrapolates to 0 at {birth:.10g} (p - p_birth ~ mismatch^2), "
@@ -227,7 +242,7 @@ def discontinuity(problem, prev: BranchPoint, pt: BranchPoint | None, earlier: B
     if kind == "impact_lost" and earlier is not None:
         s1, s0 = _slowest_impact(problem, prev), _slowest_impact(problem, earlier)
         if math.isfinite(s0) and s1 < s0:
-            p_lost = prev.p - s1 * s1 * (prev.p - earlier.p) / (s1 * s1 - s0 * s0)
+            p_lost = _zero_of_square(earlier.p, s0, prev.p, s1)
             if min(prev.p, pt.p) <= p_lost <= max(prev.p, pt.p):
                 return SpecialPoint(kind, p_lost, abs(p_lost - prev.p), "slowest impact speed squared",
                                     s1 * s1, prev,

@@ -112,7 +112,8 @@ def _parent_doubling(ds, i: int, branches) -> str:
     """For a fold bracketed where a period-2m branch is born (special ``i`` of ``ds``, its note says
     so), the located period doubling of a period-m orbit within its tolerance, from ``branches``."""
     from bifurc.schema import SPECIAL_KINDS
-    if "born at a period doubling" not in str(ds.special_note.values[i]):
+    from bifurc.special_points import BIRTH_NOTE
+    if BIRTH_NOTE not in str(ds.special_note.values[i]):
         return ""
     value, width = float(ds.special_value.values[i]), float(ds.special_tolerance.values[i])
     m = int(ds.period.values[int(ds.special_point.values[i])]) // 2
@@ -164,7 +165,7 @@ def stable_intervals(ds, located: bool = False) -> list:
     high_kind), a kind (with "+- tol" where its location is coarser than 1e-6 relative) or None
     where the end is a stable point sampled."""
     runs, run = [], None
-    ids = ds.branch_id.values if "branch_id" in ds else np.zeros(ds.sizes["point"], int)
+    ids = _branch_ids(ds)
     for i, (st, n, m) in enumerate(zip(ds.stable.values, ds.period.values, ds.impacts_per_period.values)):
         key = (int(n), int(m))
         if st == 1 and run is not None and run[2] == key and ids[i] == ids[i - 1]:
@@ -205,17 +206,19 @@ def _located_folds(ds, i0: int, i1: int) -> list:
             if int(kind) == fold and math.isfinite(float(tol)) and i0 <= int(k) < i1]
 
 
-_BOUNDING = ("fold", "period_doubling", "neimark_sacker", "grazing")
+def _branch_ids(ds) -> np.ndarray:
+    """The branch of each point (one branch where the dataset does not say)."""
+    return ds.branch_id.values if "branch_id" in ds else np.zeros(ds.sizes["point"], int)
 
 
 def _bounding_special(ds, i: int, k: int):
     """(value, kind) of the located special point nearest to point ``i`` among those recorded between
     points k and k + 1 (``special_point == k``), on the side of ``i`` away from the run; None if none."""
     from bifurc.schema import SPECIAL_KINDS
+    from bifurc.special_points import LOCATED_KINDS
     if "special" not in ds.dims or k < 0:
         return None
-    V = ds.V.values
-    ids = ds.branch_id.values if "branch_id" in ds else np.zeros(ds.sizes["point"], int)
+    V, ids = ds.V.values, _branch_ids(ds)
     other = k + 1 if k == i else k          # the neighbour of i away from the run (may not exist)
     if other < ds.sizes["point"] and ids[other] != ids[i]:
         other = ds.sizes["point"]           # the run's end is its branch's end
@@ -225,7 +228,7 @@ def _bounding_special(ds, i: int, k: int):
     for j in range(ds.sizes["special"]):
         kind = SPECIAL_KINDS[int(ds.special_kind.values[j])]
         value, tol = float(ds.special_value.values[j]), float(ds.special_tolerance.values[j])
-        if int(ds.special_point.values[j]) != k or kind not in _BOUNDING or not math.isfinite(tol):
+        if int(ds.special_point.values[j]) != k or kind not in LOCATED_KINDS or not math.isfinite(tol):
             continue
         if other < ds.sizes["point"] and kind != "fold":    # a fold lies beyond both points beside it
             if not min(V[i], V[other]) - tol <= value <= max(V[i], V[other]) + tol:
