@@ -142,7 +142,7 @@ def settle_gate(system: HybridSystem):
     if len(cond) == 2:
         (k1, v1), (k2, v2) = cond
         return lambda flags, y, params: flags[k1] == v1 or flags[k2] == v2
-    return lambda flags, y, params: settle_may_act(system, flags)
+    return lambda flags, y, params: settle_may_act(system, flags, y, params)
 
 
 def fire(system: HybridSystem, guard: Guard, t: float, y: np.ndarray, flags: Mapping[str, float],

@@ -202,7 +202,7 @@ class Derivatives:
         if jump is None:
             Ys = [[hy.make_vars(f"sens_{i}_{j}") for j in range(c)] for i in range(n)]
             f = self._compile_jump(guard, changes, [[Ys[k][j] for k in range(n)] for j in range(c)],
-                                   [y for row in Ys for y in row], time_row=True, rate_row=True)
+                                   [y for row in Ys for y in row], time_rows=True)
             k, nc, timed = f.nparams, n * c, f.is_time_dependent
 
             def jump(state, pars, t):
@@ -215,13 +215,12 @@ class Derivatives:
             self._jumps[key] = jump
         return jump
 
-    def _compile_jump(self, guard, changes, columns=None, inputs=None, time_row: bool = False,
-                      rate_row: bool = False):
+    def _compile_jump(self, guard, changes, columns=None, inputs=None, time_rows: bool = False):
         """The compiled saltation rule of ``guard`` (flags changed by ``changes``) for the tangent
         vectors ``columns`` (lists of n heyoka variables; default one, :func:`_tangent_vars`), a
         function of the state then ``inputs`` (default: the one column); outputs row i of every
-        column in turn (i major), then with ``time_row`` the event time's derivative along each,
-        then with ``rate_row`` the crossing rate grad g . f- + dg/dt."""
+        column in turn (i major), then with ``time_rows`` the event time's derivative along each
+        and the crossing rate grad g . f- + dg/dt."""
         s, system = self.system.sym, self.system
         ys = list(s.state_vars)
         if columns is None:
@@ -243,9 +242,8 @@ class Derivatives:
             for us, a in zip(columns, along):
                 Ru = hy.sum([R_y[i][j] * us[j] for j in range(self.n)])
                 rows.append(Ru + (f_plus[i] - Rf) * a)
-        if time_row:
+        if time_rows:
             rows.extend(-a for a in along)
-        if rate_row:
             rows.append(rate)
         return hy.cfunc(rows, vars=ys + list(inputs), compact_mode=True)
 

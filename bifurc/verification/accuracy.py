@@ -101,13 +101,13 @@ def toolkit_solution(sc, values, y0, t_end, tol, repeats=3, observations=True, m
     machine then spoils a few of many runs, not all of five).  ``observations=False``: no stops at
     observation-only guards (a transient's run)."""
     run = HybridRun(sc.system, values, y0, tol=tol, max_events=None, observations=observations)
-    best, spent, n = math.inf, 0.0, 0
-    while n < repeats or spent < min_seconds:
+
+    def once():
         run.reset(0.0, y0)
         t0 = _time.perf_counter()
         run.advance(t_end)
-        dt = _time.perf_counter() - t0
-        best, spent, n = min(best, dt), spent + dt, n + 1
+        return _time.perf_counter() - t0, run
+    best, _ = _best_time(once, repeats, min_seconds)
     return {"y": np.array(run.ta.state, dtype=float), "impact_times": impact_table(run)["t"],
             "run_seconds": best, "n_steps": run.n_steps, "compile_seconds": run.compile_seconds}
 
@@ -167,18 +167,28 @@ def work_precision(scene="thesis-1dof", t_end=2.0, preset=None, params=None, x0=
     return _to_dataset(rows, ref, t_end)
 
 
-def _baseline(method, values, y0, t_end, tol, dc_law, repeats, max_seconds, min_seconds=0.0):
-    """(final state, impact times, best run time [s]) of a baseline over ``repeats`` runs, more
-    until they have taken ``min_seconds``, fewer once they have taken ``max_seconds``."""
+def _best_time(once, repeats, min_seconds=0.0, max_seconds=math.inf):
+    """(best time [s], last result) of ``once() -> (seconds, result)`` called ``repeats`` times
+    (at least once), more until the calls have taken ``min_seconds``, fewer once they have taken
+    ``max_seconds``."""
     best, spent, n = math.inf, 0.0, 0
     while n < max(1, int(repeats)) or spent < min_seconds:
+        dt, result = once()
+        best, spent, n = min(best, dt), spent + dt, n + 1
+        if spent > max_seconds:
+            break
+    return best, result
+
+
+def _baseline(method, values, y0, t_end, tol, dc_law, repeats, max_seconds, min_seconds=0.0):
+    """(final state, impact times, best run time [s]) of a baseline (:func:`_best_time`)."""
+    def once():
         if method == "rk4-bisection":
             b = baselines.solve_rk4_bisection(values, y0, t_end, h=tol, dc_law=dc_law)
         else:
             b = baselines.solve_scipy(values, y0, t_end, method=method.split("-", 1)[1], tol=tol, dc_law=dc_law)
-        best, spent, n = min(best, b.run_seconds), spent + b.run_seconds, n + 1
-        if spent > max_seconds:
-            break
+        return b.run_seconds, b
+    best, b = _best_time(once, repeats, min_seconds, max_seconds)
     return b.y, b.impact_times, best
 
 

@@ -302,9 +302,9 @@ class HybridRun:
             if t_stop > t:
                 t_start, y_start = t, y_view.copy()   # heyoka leaves a non-finite state after a failed step
                 mode = len(log_steps) - 1             # the mode the segment starts in
+                target = t_stop if fp is float else _fp(t_stop, fp)
                 # c_output only when asked: a keyword argument costs heyoka's binding 0.75 us a call
-                res = (propagate(t_stop if fp is float else _fp(t_stop, fp), c_output=True) if c_out
-                       else propagate(t_stop if fp is float else _fp(t_stop, fp)))
+                res = propagate(target, c_output=True) if c_out else propagate(target)
                 code = int(res[0])
                 log_steps[mode] += res[3]   # exact per mode where each transition ends propagate_until
                 if c_out and res[4] is not None:
