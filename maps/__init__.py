@@ -1,6 +1,7 @@
 """maps: hybrid electro-vibro-impact dynamics on heyoka.
 
-Public API: scenes (:func:`get_scene`, :func:`scene_names`), time histories
+Public API: what is integrated (:class:`Problem`, built by :func:`problem`), scenes
+(:func:`get_scene`, :func:`scene_names`, :func:`register_scene`), time histories
 (:func:`simulate`), hybrid systems (:class:`HybridSystem`, :class:`Guard` with its
 role, :class:`PeriodicSwitch`, :class:`State`, :class:`HybridState`), the engines that
 integrate them (:class:`HybridRun`, :class:`ScalarEngine`, :class:`BatchEngine`, with
@@ -20,7 +21,9 @@ from .parameters import Parameter, ParameterError
 from .poincare import ImpactLinearization, ImpactMap, MapLinearization, MapOrbit, StroboscopicMap
 from .presets import PRESETS
 from .progression import progression_measures
-from .scenes import SCENES, Scene, get_scene, scene_names
+from .problem import Problem, problem
+from .registry import get_scene, register_scene, scene_names
+from .scenes import SCENES, ParameterValues, Scene
 from .simulate import resolve, run_scene, simulate
 from .translation import reduce_jacobian, reduce_points, translation_basis
 
@@ -30,4 +33,5 @@ __all__ = ["__version__", "Escaped", "EventRecord", "Guard", "HybridRun", "Hybri
            "run_scene", "simulate", "forced_oscillator_with_stop", "StroboscopicMap", "ImpactMap",
            "MapOrbit", "HybridState", "EventCap", "ROLES", "ScalarEngine", "BatchEngine", "OrbitJob",
            "OrbitResult", "engine_for", "MapLinearization", "ImpactLinearization", "SOIL_LAWS",
-           "progression_measures", "translation_basis", "reduce_points", "reduce_jacobian"]
+           "progression_measures", "translation_basis", "reduce_points", "reduce_jacobian", "Problem", "problem",
+           "register_scene", "ParameterValues"]

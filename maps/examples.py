@@ -81,9 +81,23 @@ def forced_oscillator_with_stop(stick_speed: float = STICK_SPEED) -> HybridSyste
         "forced-oscillator-with-stop",
         states=[State("x", "m", "position"), State("v", "m s-1", "velocity")],
         parameters=OSCILLATOR_PARAMETERS, rhs=rhs, flags={"stuck": 0.0}, guards=guards,
-        settle=settle, structure=("stick", stick_speed))
-    system.strobe_period = lambda p: 2 * math.pi / p["Omega"]
-    # the stick projection (x = e, v = 0) as expressions, for exact Jacobians through a stick
-    system.projections = {"settle": lambda s, flags: [s.e, hy.expression(0.0)]}
-    system.mode_projections = {("stuck", 1.0): "settle"}
+        settle=settle, structure=("stick", stick_speed),
+        strobe_period=_forcing_period, forcing=_forcing_frequency,
+        # the stick projection (x = e, v = 0) as expressions, for exact Jacobians through a stick
+        projections={"settle": _stick_projection}, mode_projections={("stuck", 1.0): "settle"})
     return system
+
+
+def _forcing_period(p) -> float:
+    """The forcing period 2 pi / Omega [s]: the oscillator's stroboscopic period."""
+    return 2 * math.pi / p["Omega"]
+
+
+def _forcing_frequency(p) -> tuple:
+    """The forcing frequency Omega / (2 pi) [Hz]."""
+    return (p["Omega"] / (2 * math.pi),)
+
+
+def _stick_projection(s, flags) -> list:
+    """The stuck mass's state (x = e, v = 0) as heyoka expressions."""
+    return [s.e, hy.expression(0.0)]

@@ -208,30 +208,16 @@ def settle_may_act(system, flags, y=None, params=None) -> bool:
 class HybridSystem:
     """A piecewise-smooth system: states, parameters, flags, rhs, guards, switches."""
 
-    #: flag -> {value: event name}: a ``settle`` that sets the flag to the value is logged as
-    #: an event of that name (e.g. ``{"stuck_bar": {1.0: "stick", 0.0: "unstick"}}``)
-    settle_events: Mapping[str, Mapping[float, str]] = {}
-    #: ``((flag, value), ...)``: ``settle`` can act only while one of these flags has that
-    #: value, so elsewhere it is not called (it runs after every transition); or a cheap callable
-    #: ``(flags, y, params) -> bool``, never False where ``settle`` could act; None: always
-    settle_if: tuple | Callable | None = None
-    #: ``{state: coefficient}``: a direction along which the flow is invariant (shifting the state
-    #: by any multiple of it shifts the whole motion; the 2-DOF scenes: bar and rig together);
-    #: periodic orbits are then solved in the reduced coordinates, with the advance per period
-    translation: Mapping[str, float] | None = None
-    #: ``{(flag, value): name}``: a mode whose states lie on a set, reached by the projection
-    #: ``projections[name]`` (a bar stuck on its stop: x = e, v = 0).  An exact Jacobian started in
-    #: that mode first projects its perturbations onto the set: a perturbation off it is not a
-    #: state of the mode (the physical bar falls back and sticks again), so it is not carried
-    #: along as a frozen offset with multiplier 1.
-    mode_projections: Mapping[tuple, str] = {}
-
     def __init__(self, name: str, states: Sequence[State], parameters: Sequence[Parameter],
                  rhs: Callable, flags: Mapping[str, float] | None = None,
                  guards: Callable | Sequence[Guard] = (), switches: Sequence[PeriodicSwitch] = (),
                  settle: Callable | None = None, outputs: Callable | None = None,
                  structure: tuple = (), halt_flags: Sequence[str] = (), gap: Callable | None = None,
-                 mode_rule: Callable | None = None):
+                 mode_rule: Callable | None = None, *, settle_events: Mapping | None = None,
+                 settle_if: tuple | Callable | None = None, projections: Mapping | None = None,
+                 mode_projections: Mapping | None = None, translation: Mapping[str, float] | None = None,
+                 strobe_period: Callable | None = None, forcing: Sequence[str] | Callable | None = None,
+                 options=None):
         """``rhs(sym) -> list of expressions`` and ``guards(sym) -> list of Guard`` receive a
         :class:`Symbols` giving ``sym.x``/``sym['x']`` for states, parameters and flags,
         and ``sym.t`` for time.  ``settle(t, y, flags, params) -> flags`` makes the flags
@@ -260,6 +246,14 @@ class HybridSystem:
         self.halt_flags = tuple(halt_flags)
         self._gap_given = gap
         self.mode_rule = mode_rule
+        self.settle_events = dict(settle_events or {})
+        self.settle_if = settle_if
+        self.projections = dict(projections or {})
+        self.mode_projections = dict(mode_projections or {})
+        self.translation = dict(translation) if translation else None
+        self.strobe_period = strobe_period
+        self.forcing = forcing
+        self.options = options
         self.structure = (name,) + tuple(structure)
         names = [s.name for s in self.states] + [p.name for p in self.parameters] + list(self.flag_defaults)
         if len(set(names)) != len(names):
@@ -282,6 +276,11 @@ class HybridSystem:
         for sw in self.switches:
             if sw.flag not in self.flag_defaults or sw.frequency not in self._param_index:
                 raise ValueError(f"switch {sw} names an unknown flag or parameter")
+        if forcing is not None and not callable(forcing):
+            self.forcing = tuple(forcing)
+            unknown = [f for f in self.forcing if f not in self._param_index]
+            if unknown:
+                raise ValueError(f"forcing frequency {unknown[0]!r} of {name!r} is not a parameter")
         self._groups = self.event_groups()
         self._cfuncs: dict = {}
 
@@ -330,6 +329,45 @@ class HybridSystem:
             if not math.isfinite(v):
                 raise ParameterError(f"initial state {n!r} must be finite, got {v}")
         return y
+
+    # ----- clock -------------------------------------------------------
+    def strobe_period_of(self, params: Mapping[str, float]) -> float | None:
+        """The declared stroboscopic period T [s] under ``params``: ``strobe_period(params)``, else
+        1 / the first periodic switch's frequency, else 1 / the first forcing frequency; None when
+        the system declares no clock."""
+        if self.strobe_period is not None:
+            return float(self.strobe_period(params))
+        if self.switches:
+            return 1.0 / params[self.switches[0].frequency]
+        freqs = self.forcing_frequencies(params)
+        return 1.0 / freqs[0] if freqs else None
+
+    def strobe_rate(self, params: Mapping[str, float]) -> float | None:
+        """Samples per second [Hz] when the strobe period is the first switch's period (its sample
+        instants k / W are then exactly its switch instants), else None."""
+        if self.strobe_period is None and self.switches:
+            return params[self.switches[0].frequency]
+        return None
+
+    @property
+    def strobe_parameter(self) -> str | None:
+        """The parameter that sets the strobe period when it is a switch's frequency, else None."""
+        return self.switches[0].frequency if self.strobe_period is None and self.switches else None
+
+    def forcing_frequencies(self, params: Mapping[str, float]) -> tuple:
+        """The declared forcing frequencies [Hz] (not the switches')."""
+        if self.forcing is None:
+            return ()
+        if callable(self.forcing):
+            return tuple(float(f) for f in self.forcing(params))
+        return tuple(float(params[f]) for f in self.forcing)
+
+    def forcing_q(self, params: Mapping[str, float], period: float, max_steps: int = 1000) -> int:
+        """q: the forcing (declared frequencies and switches) repeats every q samples of period
+        ``period`` [s]; 0 when incommensurate within ``max_steps``; 1 for a system that declares
+        neither a forcing nor a switch (taken to be forced with the sampling period)."""
+        freqs = self.forcing_frequencies(params) + tuple(params[sw.frequency] for sw in self.switches)
+        return commensurate_steps(freqs, period, max_steps) if freqs else 1
 
     # ----- compilation ---------------------------------------------------
     def heyoka_system(self):
@@ -568,6 +606,18 @@ class EventCallback:
         if run is None:
             return _record_crossing(ta, d_sgn)
         return run._on_event(self.index, d_sgn)
+
+
+def commensurate_steps(frequencies, period: float, max_steps: int = 1000) -> int:
+    """Smallest q <= max_steps with q * period * f an integer (to 1e-9) for every frequency f [Hz],
+    else 0 (incommensurate within ``max_steps``)."""
+    q = np.arange(1, int(max_steps) + 1)          # every candidate at once (a loop cost ~1 ms a value)
+    whole = np.ones(q.size, dtype=bool)
+    for f in frequencies:
+        x = q * (float(period) * f)
+        whole &= np.abs(x - np.round(x)) <= 1e-9 * np.maximum(1.0, x)
+    hit = np.flatnonzero(whole)
+    return int(hit[0]) + 1 if hit.size else 0
 
 
 def call_cfunc(f, y, pars, t: float = 0.0) -> np.ndarray:

@@ -576,11 +576,12 @@ def _outputs(o: ModelOptions, s):
     return out
 
 
-def _settle_coulomb(system: HybridSystem, o: ModelOptions):
-    """Stick/slip consistency after any transition (relay switch, contact, rig stop)."""
+def _settle_coulomb(owner: dict, o: ModelOptions):
+    """Stick/slip consistency after any transition (relay switch, contact, rig stop);
+    ``owner["system"]``: the system (set once it is built)."""
 
     def settle(t, y, flags, params):
-        N = float(system.evaluate(["N_rig"], y, params, flags, t)[0])
+        N = float(owner["system"].evaluate(["N_rig"], y, params, flags, t)[0])
         Ff = soil_resistance(o, y, params)
         v2 = y[3]
         if flags["stuck"] == 1:
@@ -669,7 +670,7 @@ def _stick_if_pressed(owner: dict, o: ModelOptions):
     return then
 
 
-def _settle_stick(system: HybridSystem, o: ModelOptions):
+def _settle_stick(owner: dict, o: ModelOptions):
     """End chattering: the bar sticks on the stop (x = e, v = 0) while pressed on it, when
     a contact begins slower than ``stick_speed`` (the Zeno cascade of ever shorter bounces), or
     when, in contact at a relay switch, the oscillation about the static point x_s = e + N/k has
@@ -679,11 +680,14 @@ def _settle_stick(system: HybridSystem, o: ModelOptions):
 
     The projection moves the bar by its static penetration |N|/k (micrometres here).
     2-DOF: x is r = x1 - x2, m and N as :func:`_reduced`; the state as :func:`_on_the_stop`.
+    ``owner["system"]``: the system (set once it is built).
     """
+    gap = _gap(o)
 
     def settle(t, y, flags, params):
+        system = owner["system"]
         if flags.get("contact") == 1 and flags.get("stuck_bar") == 0:
-            x, v = system.gap(y, params)
+            x, v = gap(y, params)
             e = params["e"]
             x = x + e
             if abs(v) < o.stick_speed:
@@ -768,30 +772,31 @@ def build_system(options: ModelOptions | None = None, **kw) -> HybridSystem:
         flags.update(_region_flags(0))       # start takes them from its state (dc_region_flags)
     switches = [PeriodicSwitch("P", "relay_hz")] if o.relay != "none" else []
     params = [PARAMETERS[n] for n in o.parameter_names()]
-    owner: dict = {}
+    owner: dict = {}     # the system, for the rules below that evaluate its forces
+    settle = _settle_coulomb(owner, o) if o.dof == 2 and o.soil == "coulomb" else None
+    stick_decl = {}
+    if o.stop:
+        stick = _settle_stick(owner, o)
+        settle = stick if settle is None else _chain(stick, settle)
+        stick_decl = dict(settle_events={"stuck_bar": {1.0: "stick", 0.0: "unstick"}},  # logged as events
+                          projections={"stick": _stick_projection(o)},                    # their Jacobians
+                          mode_projections={("stuck_bar", 1.0): "stick"})                  # the stuck bar's set
+        if settle is stick:   # sticking acts only stuck, or in contact below stick_speed
+            # (Coulomb slip: always); the gap rate as _settle_stick reads it
+            gap, speed = _gap(o), o.stick_speed
+            stick_decl["settle_if"] = lambda flags, y, params: flags["stuck_bar"] == 1 or (
+                flags["contact"] == 1 and abs(gap(y, params)[1]) < speed)
+    # bar and rig shifted together: the same motion (no force depends on x1 + x2; compaction's
+    # resistance depends on the depth: no such symmetry)
+    translation = {"x1": 1.0, "x2": 1.0, **({"d": 1.0} if o.drift else {})} \
+        if o.dof == 2 and not o.compaction else None
     system = HybridSystem(
         name="electro-vibro-impact", states=o.state_list(), parameters=params,
         flags=flags, rhs=lambda s: _rhs(o, s), guards=lambda s: _guards(o, s, owner),
         switches=switches, outputs=lambda s: _outputs(o, s), structure=o.key(),
-        halt_flags=("escaped",), gap=_gap(o))
+        halt_flags=("escaped",), gap=_gap(o), settle=settle,
+        mode_rule=lambda y, params, flags, given=(): start_flags(owner["system"], o, y, params, flags, given),
+        translation=translation, forcing=("f_mains",) if o.ac else None, options=o, **stick_decl)
     owner["system"] = system
-    if o.dof == 2 and o.soil == "coulomb":
-        system.settle = _settle_coulomb(system, o)
-    if o.stop:
-        stick = _settle_stick(system, o)
-        system.settle = stick if system.settle is None else _chain(stick, system.settle)
-        system.settle_events = {"stuck_bar": {1.0: "stick", 0.0: "unstick"}}  # logged as events
-        system.projections = {"stick": _stick_projection(o)}                    # their Jacobians
-        system.mode_projections = {("stuck_bar", 1.0): "stick"}                  # the stuck bar's set
-        if system.settle is stick:   # sticking acts only stuck, or in contact below stick_speed
-            # (Coulomb slip: always); the gap rate as _settle_stick reads it
-            gap, speed = system.gap, o.stick_speed
-            system.settle_if = lambda flags, y, params: flags["stuck_bar"] == 1 or (
-                flags["contact"] == 1 and abs(gap(y, params)[1]) < speed)
-    system.mode_rule = lambda y, params, flags, given=(): start_flags(system, o, y, params, flags, given)
-    if o.dof == 2 and not o.compaction:   # bar and rig shifted together: the same motion (no force
-        # depends on x1 + x2; compaction's resistance depends on the depth: no such symmetry)
-        system.translation = {"x1": 1.0, "x2": 1.0, **({"d": 1.0} if o.drift else {})}
-    system.options = o
     _SYSTEMS[o.key()] = system
     return system

@@ -19,8 +19,9 @@ import numpy as np
 from .engines import engine_for, unsupported
 from .engines.base import OrbitJob
 from .engines.scalar import ScalarEngine
-from .hybrid import HybridState, HybridSystem, IntegrationFailure, validate_tol
+from .hybrid import HybridState, HybridSystem, IntegrationFailure, commensurate_steps, validate_tol
 from .parameters import ParameterError, validate_value
+from .problem import problem
 from .progression import held_mode
 from .translation import translation_basis
 
@@ -31,23 +32,16 @@ __all__ = ["StroboscopicMap", "MapOrbit", "MapLinearization", "ImpactMap", "Impa
 
 def forcing_period_steps(f_mains: float, relay_hz: float | None, max_steps: int = 1000,
                          period: float | None = None) -> int:
-    """Smallest q <= max_steps after which the relay-switched mains forcing repeats, else 0.
+    """Smallest q <= max_steps after which a relay-switched mains forcing repeats, else 0
+    (the thesis model's case of :meth:`~maps.hybrid.HybridSystem.forcing_q`).
 
     The forcing P(t) V sin(2 pi f_mains t) has period 1/relay_hz in P and 1/f_mains in
     the sine; sampled every ``period`` [s] (default 1/relay_hz) it repeats after q
     samples when q*period*f_mains and q*period*relay_hz are both integers (to 1e-9).
-    0 means incommensurate within ``max_steps``: the map is not autonomous at all.
     Without a relay (``relay_hz`` None) only the mains period counts.
     """
     T = 1.0 / relay_hz if period is None else float(period)
-    ratios = (T * f_mains,) if relay_hz is None else (T * f_mains, T * relay_hz)
-    q = np.arange(1, int(max_steps) + 1)          # every candidate at once (a loop cost ~1 ms a value)
-    whole = np.ones(q.size, dtype=bool)
-    for r in ratios:
-        x = q * r
-        whole &= np.abs(x - np.round(x)) <= 1e-9 * np.maximum(1.0, x)
-    hit = np.flatnonzero(whole)
-    return int(hit[0]) + 1 if hit.size else 0
+    return commensurate_steps((f_mains,) if relay_hz is None else (f_mains, relay_hz), T, max_steps)
 
 
 @dataclass
@@ -187,22 +181,25 @@ class StroboscopicMap:
     >>> s1 = smap.step(orbit.state(-1), k=400)                 # hybrid state in, hybrid state out
     >>> many = smap.orbits([{"relay_hz": f} for f in (5, 6)], x0, n=100, transient=300)
 
-    The period T is ``period`` if given, else 1/relay_hz, else the system's
-    ``strobe_period(params)`` (e.g. 2 pi / Omega for a harmonically forced system).
+    The period T is ``period`` if given, else the system's declared clock: its ``strobe_period``
+    (e.g. 2 pi / Omega for a harmonically forced system), else the period of its first
+    :class:`~maps.hybrid.PeriodicSwitch` (1/relay_hz for the thesis model), else of its first
+    forcing frequency.
     The map's state is the continuous state and the flags (:class:`~maps.hybrid.HybridState`);
     a bare continuous state starts in the mode the system's rule gives it.  Orbits are
     integrated by an engine of :mod:`maps.engines` (the scalar one here; :meth:`orbits` and
     :meth:`stretch` use the batch engine for many parameter sets).
     """
 
-    def __init__(self, system_or_scene, params: dict, *, period: float | None = None, phase: float = 0.0,
-                 tol: float = 1e-12, fp_type=float, max_events_per_period: int = 10_000):
+    def __init__(self, system_or_scene, params: dict | None = None, *, period: float | None = None,
+                 phase: float = 0.0, tol: float = 1e-12, fp_type=float, max_events_per_period: int = 10_000):
         if isinstance(system_or_scene, HybridSystem):
-            self.system, self.scene = system_or_scene, None
-        else:
-            from .scenes import get_scene
-            self.scene = get_scene(system_or_scene)
-            self.system = self.scene.system
+            self.system, self.scene, self.problem = system_or_scene, None, None
+            if params is None:
+                raise ParameterError(f"give the parameter values of system {system_or_scene.name!r} (params=...)")
+        else:   # a Problem, or a scene with values (which may carry their model: Scene.parameters)
+            self.problem = problem(system_or_scene, params=params)
+            self.scene, self.system, params = self.problem.scene, self.problem.system, dict(self.problem.values)
         self.phase = validate_value("phase", phase, 0.0, 1.0, high_open=True, long_name="sampling phase")
         self.max_events_per_period = max_events_per_period
         self.fp_type = fp_type
@@ -234,32 +231,31 @@ class StroboscopicMap:
         return self._engine.hybrid_run(self._params)
 
     def set_params(self, **values) -> "StroboscopicMap":
-        """Change parameter values (no recompilation); the period follows relay_hz."""
+        """Change parameter values (no recompilation); the period follows the declared clock."""
         self._params = self.system.validate(dict(self._params, **values))
         self.period = self.period_for(self._params)
         self.forcing_period_steps = self.forcing_period_for(self._params)
         return self
 
     def period_for(self, p: dict) -> float:
-        """The sampling period T [s] under parameter values ``p``."""
+        """The sampling period T [s] under parameter values ``p``: ``period`` if given, else the
+        system's declared clock (:meth:`~maps.hybrid.HybridSystem.strobe_period_of`)."""
         if self._period_given is not None:
             return validate_value("period", self._period_given, 0.0, math.inf, low_open=True, unit="s")
-        if "relay_hz" in p:
-            return 1.0 / p["relay_hz"]
-        if getattr(self.system, "strobe_period", None) is not None:
-            return float(self.system.strobe_period(p))
-        raise ParameterError("this system has no 'relay_hz' nor a strobe_period(params): "
-                             "give the stroboscopic 'period' [s]")
+        T = self.system.strobe_period_of(p)
+        if T is None:
+            raise ParameterError(f"system {self.system.name!r} declares no clock (no periodic switch, forcing or "
+                                 f"strobe_period): give the stroboscopic 'period' [s]")
+        return T
 
     def forcing_period_for(self, p: dict) -> int:
-        """q: the forcing repeats every q samples (0: never).  A system without a mains
-        parameter is taken to be forced with the sampling period (q = 1)."""
-        return forcing_period_steps(p["f_mains"], p.get("relay_hz"), period=self.period_for(p)) \
-            if "f_mains" in p else 1
+        """q: the declared forcing repeats every q samples (0: never; 1 for a system that declares
+        neither a forcing nor a switch)."""
+        return self.system.forcing_q(p, self.period_for(p))
 
     def _rate(self, p: dict) -> float | None:
-        """Samples per second when the period is the relay's (exact switch instants), else None."""
-        return p["relay_hz"] if self._period_given is None and "relay_hz" in p else None
+        """Samples per second when the period is the first switch's (exact switch instants), else None."""
+        return self.system.strobe_rate(p) if self._period_given is None else None
 
     def sample_time(self, k: int, t0: float = 0.0) -> float:
         """t0 + (k + phase) T [s]; k / relay_hz exactly as the relay's switch instants when T = 1/relay_hz."""
@@ -311,17 +307,18 @@ class StroboscopicMap:
         run = self._variational(params, y)
         run.reset(self.sample_time(k, t0), y, flags)
         n = int(validate_value("n", n, 1, 1e6))
+        clock = self.system.strobe_parameter
         if until is not None:
-            if "relay_hz" in params:
-                raise ParameterError("linearize(until=...) takes no derivative with respect to relay_hz")
+            if clock is not None and clock in params:
+                raise ParameterError(f"linearize(until=...) takes no derivative with respect to {clock}")
             n, t1 = 1, validate_value("until", until, self.sample_time(k, t0), self.sample_time(k + 1, t0), unit="s")
             run.advance(t1)
         for j in range(1, n + 1 if until is None else 1):
             run.advance(self.sample_time(k + j, t0))
             run.budget.new_period()
         t1 = self.sample_time(k + n, t0) if until is None else t1
-        moving = {} if self._rate(self.params) is None or "relay_hz" not in params else \
-            {"relay_hz": -(t1 - t0) / self.params["relay_hz"]}      # t_k = t0 + k / W
+        moving = {} if self._rate(self.params) is None or clock not in params else \
+            {clock: -(t1 - t0) / self.params[clock]}      # t_k = t0 + k / W
         Y = run.end_time_term(t1, moving)
         n = Y.shape[0]
         J = Y[:, :n]
@@ -501,7 +498,7 @@ class StroboscopicMap:
             flags = [r.final_flags or {}]
         names = self.system.flag_names
         point_flags = np.array([[fl.get(f, np.nan) for f in names] for fl in flags], dtype=float)
-        W = job.params.get("relay_hz", 1.0 / job.period)
+        W = self.system.strobe_rate(job.params) or 1.0 / job.period
         extra = {} if job.tangent is None else dict(tangent_start=np.asarray(job.tangent, dtype=float),
                                                       tangent=np.array(r.tangent).reshape(-1, len(job.y0)),
                                                       tangent_shift=job.shift)

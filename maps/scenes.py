@@ -1,11 +1,13 @@
 """Named scenes: a model variant, its states and its default parameters.
 
-A scene's DC-force law (option ``dc_law``) is that of its default preset (``maps.presets.PRESET_DC_LAW``):
-thesis-text scenes use "fit", matlab-listing and dynamics-listing scenes "listing".
+A scene's DC-force law (option ``dc_law``) follows the preset its values come from
+(``maps.presets.PRESET_DC_LAW``): thesis-text uses "fit", matlab-listing and dynamics-listing
+"listing", unless the law was chosen (``with_options(dc_law=...)``).  The values a scene returns
+carry the model they belong to (:class:`ParameterValues`), so a map given them runs that model.
 
 >>> from maps import get_scene
 >>> scene = get_scene("thesis-1dof")
->>> params = scene.parameters(preset="matlab-listing", V=90, relay_hz=9)
+>>> params = scene.parameters(preset="matlab-listing", V=90, relay_hz=9)   # params.options.dc_law: listing
 """
 from __future__ import annotations
 
@@ -14,12 +16,40 @@ from dataclasses import dataclass, field, fields, replace
 from .examples import forced_oscillator_with_stop
 from .model import ModelOptions, build_system
 from .parameters import ParameterError
-from .presets import preset_values
+from .presets import preset_dc_law, preset_values
 
-__all__ = ["Scene", "SCENES", "get_scene", "scene_names"]
+__all__ = ["Scene", "SCENES", "ParameterValues", "SystemBuilder"]
 
 
 _BUILT: dict = {}
+
+
+class ParameterValues(dict):
+    """Validated parameter values {name: value} that remember the model they belong to: the
+    ``scene`` (a :class:`Scene` with its options applied), the ``preset`` they came from and
+    their ``provenance`` {name: source}.  A plain dict in every other respect."""
+
+    def __init__(self, values, scene=None, preset=None, provenance=None):
+        super().__init__(values)
+        self.scene, self.preset, self.provenance = scene, preset, dict(provenance or {})
+
+    @property
+    def options(self):
+        """The structural options of the model these values belong to (None: not a model scene)."""
+        return self.scene.options if self.scene is not None else None
+
+    def __reduce__(self):
+        return (ParameterValues, (dict(self), self.scene, self.preset, self.provenance))
+
+
+class SystemBuilder:
+    """A builder that returns one given :class:`~maps.hybrid.HybridSystem` (a user's system as a scene)."""
+
+    def __init__(self, system):
+        self.system = system
+
+    def __call__(self):
+        return self.system
 
 
 @dataclass(frozen=True)
@@ -37,14 +67,28 @@ class Scene:
     overrides: dict = field(default_factory=dict)   # name -> (value, provenance)
     x0: dict = field(default_factory=dict)          # default initial state by name [SI]
     builder: object = None
+    chosen: frozenset = frozenset()                 # options set by with_options (a preset leaves them)
+    address: str | None = None                      # "package.module:NAME" it was loaded from (maps.registry)
 
     @property
     def system(self):
         if self.builder is not None:
-            if self.name not in _BUILT:
-                _BUILT[self.name] = self.builder()
-            return _BUILT[self.name]
+            if self.builder not in _BUILT:
+                _BUILT[self.builder] = self.builder()
+            return _BUILT[self.builder]
         return build_system(self.options)
+
+    @property
+    def key(self) -> tuple:
+        """What identifies the compiled model: the scene's name and options (or its builder)."""
+        return (self.name, self.options.key() if self.options is not None else self.builder)
+
+    def for_preset(self, preset: str | None) -> "Scene":
+        """This scene with the DC-force law of ``preset`` unless the law was chosen."""
+        if preset is None or self.options is None or not self.options.dc or "dc_law" in self.chosen:
+            return self
+        law = preset_dc_law(preset)
+        return self if law == self.options.dc_law else replace(self, options=replace(self.options, dc_law=law))
 
     def with_options(self, **kw) -> "Scene":
         """The same scene with other structural options (e.g. circuit='kvl')."""
@@ -55,14 +99,19 @@ class Scene:
         if unknown:
             raise ParameterError(f"unknown option {unknown[0]!r}; options: "
                                  f"{', '.join(f.name for f in fields(self.options))}")
-        return replace(self, options=replace(self.options, **kw))
+        return replace(self, options=replace(self.options, **kw), chosen=self.chosen | frozenset(kw))
 
-    def parameters(self, preset: str | None = None, **overrides) -> dict:
-        """Validated values of this scene's parameters: preset, scene defaults, then overrides."""
-        return {k: v for k, (v, _) in self.parameters_with_provenance(preset, **overrides).items()}
+    def parameters(self, preset: str | None = None, **overrides) -> ParameterValues:
+        """Validated values of this scene's parameters: preset, scene defaults, then overrides;
+        they carry the scene under that preset (its DC-force law, :meth:`for_preset`)."""
+        sc = self.for_preset(preset)
+        table = sc.parameters_with_provenance(preset, **overrides)
+        return ParameterValues({k: v for k, (v, _) in table.items()}, sc, preset,
+                               {k: src for k, (_, src) in table.items()})
 
     def parameters_with_provenance(self, preset: str | None = None, **overrides) -> dict:
-        """name -> (value, provenance) for this scene's parameters."""
+        """name -> (value, provenance) for this scene's parameters, under this scene's options as
+        they are (see :meth:`for_preset`)."""
         system = self.system
         if self.options is None:
             if preset is not None:
@@ -123,17 +172,3 @@ SCENES = {s.name: s for s in [
                      "e": (0.2, _OSC), "r": (0.7, _OSC)},
           x0={"x": 0.5}),
 ]}
-
-
-def scene_names() -> list[str]:
-    return list(SCENES)
-
-
-def get_scene(scene: str | Scene) -> Scene:
-    """The scene named ``scene`` (a :class:`Scene` passes through)."""
-    if isinstance(scene, Scene):
-        return scene
-    if scene not in SCENES:
-        raise ParameterError(f"unknown scene {scene!r}; scenes: {', '.join(SCENES)}")
-    return SCENES[scene]
-

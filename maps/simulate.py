@@ -2,7 +2,6 @@
 from __future__ import annotations
 
 import time as _time
-from collections.abc import Mapping
 from typing import TYPE_CHECKING
 
 import heyoka as hy
@@ -13,8 +12,7 @@ from .hybrid import Escaped, IntegrationFailure
 from .impacts import impact_table
 from .parameters import ParameterError, validate_value
 from .provenance import cf_attrs, recorded
-from .presets import preset_dc_law
-from .scenes import get_scene
+from .problem import model_attrs, problem
 
 if TYPE_CHECKING:  # xarray is imported where used: worker processes start faster
     import xarray as xr
@@ -24,67 +22,45 @@ __all__ = ["simulate", "run_scene", "resolve", "dc_law_attrs", "soil_law_attrs"]
 
 def dc_law_attrs(options) -> dict:
     """Dataset attributes naming the DC-force law and its provenance (MODEL.md section 1)."""
-    from .model import DC_LAWS
-    if not options.dc:
-        return {"dc_law": "none", "dc_law_source": "no DC solenoid in this scene"}
-    return {"dc_law": options.dc_law, "dc_law_source": DC_LAWS[options.dc_law]}
+    a = model_attrs(options)
+    return {"dc_law": a["dc_law"], "dc_law_source": a["dc_law_source"]}
 
 
 def soil_law_attrs(options) -> dict:
     """Dataset attributes naming the soil law of a 2-DOF scene, its provenance (MODEL.md section 2)
     and its compaction (the resistance's growth with depth, or "none")."""
-    from .model import COMPACTION, SOIL_LAWS
-    if options is None or options.dof != 2:
-        return {"soil": "none", "soil_source": "no rig and no soil in this scene", "soil_compaction": "none"}
-    return {"soil": options.soil, "soil_source": SOIL_LAWS[options.soil],
-            "soil_compaction": COMPACTION if options.compaction else "none"}
+    a = model_attrs(options)
+    return {k: a[k] for k in ("soil", "soil_source", "soil_compaction")}
 
 
 def resolve(scene, params=None, preset=None, circuit=None, ac_sign=None, energy=None, dc_law=None, soil=None,
             compaction=None):
-    """The scene with structural options applied, and its validated parameter values
-    with provenance: ``(scene, {name: (value, provenance)})``.
-
-    ``dc_law`` ("listing", "fit", "measured"; MODEL.md section 1) defaults to the law of
-    ``preset`` when one is given (matlab-listing: "listing", thesis-text: "fit"), else to the scene's.  ``soil`` ("viscous", "coulomb", "drift"; 2-DOF
-    scenes, MODEL.md section 2) defaults to the scene's; ``compaction`` (True: the coulomb or drift
-    resistance grows with depth, ``maps.model.COMPACTION``) to False."""
-    sc = get_scene(scene)
-    if dc_law is None and preset is not None and sc.options is not None and sc.options.dc:
-        dc_law = preset_dc_law(preset)
-    if soil is not None and (sc.options is None or sc.options.dof != 2):
-        from .model import SOIL_LAWS
-        raise ParameterError(f"option 'soil' = {soil!r} needs a 2-DOF scene (bar and rig); scene {sc.name!r} has no "
-                             f"soil (soil laws: {', '.join(SOIL_LAWS)})")
-    opts = {k: v for k, v in dict(circuit=circuit, ac_sign=ac_sign, energy=energy, dc_law=dc_law,
-                                  soil=soil, compaction=compaction).items() if v is not None}
-    if opts:
-        sc = sc.with_options(**opts)
-    if params is not None and not isinstance(params, Mapping):  # else a TypeError from the ** below
-        raise ParameterError(f"params must map parameter names to values, e.g. {{'V': 90}}; got {params!r}")
-    table = sc.parameters_with_provenance(preset, **(params or {}))
-    return sc, table
+    """``(scene, {name: (value, provenance)})`` of :func:`maps.problem` (kept for callers of the
+    keyword form; the problem object holds both)."""
+    p = problem(scene, preset, params, circuit=circuit, ac_sign=ac_sign, energy=energy, dc_law=dc_law, soil=soil,
+                compaction=compaction)
+    return p.scene, p.table
 
 
 def run_scene(scene, t_end, params=None, preset=None, x0=None, tol=1e-12, circuit=None,
               ac_sign=None, energy=None, fp_type=float, on_segment=None, max_events=100_000,
               max_events_per_period=None, dc_law=None, soil=None, compaction=None):
-    """Integrate a scene to ``t_end`` [s] and return the :class:`~maps.engines.scalar.HybridRun`.
+    """Integrate a problem (or a scene with the keywords of :func:`maps.problem`) to ``t_end`` [s]
+    and return the :class:`~maps.engines.scalar.HybridRun`.
 
     Failures (non-finite state, escape, event cap: ``max_events`` per run,
     ``max_events_per_period`` per relay period) are recorded on the run as
     ``run.status`` / ``run.failure`` instead of raised.
     """
-    sc, table = resolve(scene, params, preset, circuit, ac_sign, energy, dc_law, soil, compaction)
-    values = {k: v for k, (v, _) in table.items()}
+    pb = problem(scene, preset, params, x0, circuit=circuit, ac_sign=ac_sign, energy=energy, dc_law=dc_law,
+                 soil=soil, compaction=compaction)
     t_end = validate_value("t_end", t_end, 0.0, 1e7, low_open=True, unit="s")
-    if x0 is not None and not isinstance(x0, Mapping):
-        raise ParameterError(f"x0 must map state names to values, e.g. {{'x': 0.001}}; "
-                             f"{sc.name!r} has the states {', '.join(sc.system.state_names)}")
-    y0 = sc.initial_state(**(x0 or {}))
-    run = HybridRun(sc.system, values, y0, tol=tol, fp_type=fp_type, max_events=max_events,
+    y0 = dict(pb.x0)
+    run = HybridRun(pb.system, dict(pb.values), y0, tol=tol, fp_type=fp_type, max_events=max_events,
                     max_events_per_period=max_events_per_period)
-    run.scene, run.provenance, run.y0 = sc, {k: src for k, (_, src) in table.items()}, y0
+    if pb.flags0 is not None:
+        run.reset(0.0, pb.state_vector(), pb.system.initial_flags(0.0, pb.values, pb.flags0))
+    run.problem, run.scene, run.provenance, run.y0 = pb, pb.scene, dict(pb.provenance), y0
     run.status, run.failure = "ok", None
     t0 = _time.perf_counter()
     try:
@@ -106,10 +82,11 @@ def simulate(scene, *, periods=None, t_end=None, params=None, preset=None, x0=No
 
     Parameters
     ----------
-    scene : str or Scene
-        A scene name (``maps.scene_names()``).
+    scene : str, Scene, HybridSystem or Problem
+        A scene name (``maps.scene_names()``) or a :class:`~maps.problem.Problem` (then the
+        keywords that define the model are not given).
     periods, t_end : float
-        Duration in relay periods or in seconds (exactly one of them).
+        Duration in strobe periods (relay periods for the thesis model) or in seconds (exactly one of them).
     params : dict
         Parameter overrides by name (``bifurc params --scene S`` lists them; docs/model.md), e.g. ``{"V": 90}``.
     preset : str
@@ -138,9 +115,9 @@ def simulate(scene, *, periods=None, t_end=None, params=None, preset=None, x0=No
     -------
     xarray.Dataset with ``time`` and ``impact`` dimensions.
     """
-    sc, table = resolve(scene, params, preset, circuit, ac_sign, energy, dc_law, soil, compaction)
-    values = {k: v for k, (v, _) in table.items()}
-    t_end = _duration(values, periods, t_end)
+    pb = problem(scene, preset, params, x0, circuit=circuit, ac_sign=ac_sign, energy=energy, dc_law=dc_law,
+                 soil=soil, compaction=compaction)
+    t_end = _duration(pb, periods, t_end)
     if t_eval is None:
         dt = validate_value("dt", 2e-4 if dt is None else dt, 0.0, t_end, low_open=True, unit="s")
         t_eval = np.arange(0.0, t_end + 0.5 * dt, dt)
@@ -150,7 +127,7 @@ def simulate(scene, *, periods=None, t_end=None, params=None, preset=None, x0=No
         raise ParameterError("t_eval must be a finite, non-decreasing 1-D array of times [s]")
     if t_eval.size and (t_eval[0] < 0 or t_eval[-1] > t_end):
         raise ParameterError(f"t_eval must lie in [0, t_end = {t_end:g}] s, got [{t_eval[0]:g}, {t_eval[-1]:g}]")
-    n_states = len(sc.system.states)
+    n_states = len(pb.system.states)
     samples = np.full((t_eval.size, n_states), np.nan)
 
     def on_segment(c_out, ta, tb):
@@ -161,9 +138,8 @@ def simulate(scene, *, periods=None, t_end=None, params=None, preset=None, x0=No
 
     if transient is not None:
         transient = validate_value("transient", transient, 0.0, t_end, high_open=True, unit="s")
-    run = run_scene(sc, t_end, params=values, x0=x0, tol=tol, on_segment=on_segment,
-                    max_events_per_period=max_events_per_period)
-    return to_dataset(run, t_eval, samples, table, transient)
+    run = run_scene(pb, t_end, tol=tol, on_segment=on_segment, max_events_per_period=max_events_per_period)
+    return to_dataset(run, t_eval, samples, transient)
 
 
 def _add_progression(ds, run, imp, transient):
@@ -186,18 +162,19 @@ def _add_progression(ds, run, imp, transient):
     ds.attrs["progression_window"] = np.array([t_a, t_b])
 
 
-def _duration(values, periods, t_end):
+def _duration(pb, periods, t_end):
     if (periods is None) == (t_end is None):
-        raise ParameterError("give exactly one of 'periods' (relay periods) and 't_end' (seconds)")
+        raise ParameterError("give exactly one of 'periods' (strobe periods) and 't_end' (seconds)")
     if periods is not None:
-        if "relay_hz" not in values:
-            raise ParameterError("'periods' counts relay periods; this scene has no relay: give 't_end' [s]")
+        if pb.system.strobe_period_of(pb.values) is None:
+            raise ParameterError("'periods' counts strobe periods; this scene declares no clock: give 't_end' [s]")
         periods = validate_value("periods", periods, 0.0, 1e7, low_open=True)
-        return periods / values["relay_hz"]
+        rate = pb.system.strobe_rate(pb.values)      # k / W exactly, as the relay's switch instants
+        return periods / rate if rate is not None else periods * pb.strobe_period()
     return validate_value("t_end", t_end, 0.0, 1e7, low_open=True, unit="s")
 
 
-def to_dataset(run, t_eval, samples, table, transient=None) -> xr.Dataset:
+def to_dataset(run, t_eval, samples, transient=None) -> xr.Dataset:
     """Package a run and its samples: states, flags, impacts, parameters and provenance."""
     import xarray as xr
     system, sc = run.system, run.scene
@@ -240,12 +217,8 @@ def to_dataset(run, t_eval, samples, table, transient=None) -> xr.Dataset:
         ds["progression"] = ds["x2"].isel(time=0) - ds["x2"]
         ds["progression"].attrs = {"units": "m", "long_name": "forward progression into the soil x2(0) - x2(t)"}
         _add_progression(ds, run, imp, transient)
-    o = sc.options
-    model = {"circuit": o.circuit if o.ac else "none", "ac_sign": o.ac_sign if o.ac else "none",
-             "relay": o.relay, **dc_law_attrs(o), **soil_law_attrs(o)} if o is not None else \
-        {"circuit": "none", "ac_sign": "none", "relay": "none", "dc_law": "none", **soil_law_attrs(None)}
     attrs = {
-        "scene": sc.name, "scene_summary": sc.summary, **model, "tol": run.tol, "heyoka_version": hy.__version__,
+        **run.problem.attrs(), "scene_summary": sc.summary, "tol": run.tol, "heyoka_version": hy.__version__,
         "run_seconds": run.run_seconds, "compile_seconds": run.compile_seconds,
         "n_steps": run.n_steps, "n_events": run.n_events, "n_relay_switches": run.n_switches,
         "status": run.status, "t_end_reached": run.t,
@@ -255,11 +228,5 @@ def to_dataset(run, t_eval, samples, table, transient=None) -> xr.Dataset:
         attrs["failure"] = str(run.failure)
         attrs["failure_time"] = float(run.failure.t)
         attrs["failure_state"] = np.asarray(run.failure.state, dtype=float)
-    for k, (v, src) in table.items():
-        attrs[f"param_{k}"] = v
-        attrs[f"param_{k}_units"] = system.parameter(k).unit
-        attrs[f"param_{k}_source"] = src
-    from .presets import preset_attrs
-    attrs.update(preset_attrs(table))
     ds.attrs.update(attrs)
     return ds

@@ -18,7 +18,7 @@ __all__ = ["translation_basis", "reduce_points", "reduce_jacobian", "advance_per
 def translation_basis(system) -> tuple[np.ndarray, int] | None:
     """``(e, a)``: the translation as a state-space vector with ``e[a] = 1`` at its anchor ``a``
     (the last state it moves); None for a system without a translation."""
-    tr = getattr(system, "translation", None)
+    tr = system.translation
     if not tr:
         return None
     e = np.array([float(tr.get(n, 0.0)) for n in system.state_names])

@@ -129,7 +129,7 @@ class Derivatives:
 
     def projection(self, name, t, y, params, flags):
         """(P_y, P_p) of the settle projection named ``name`` (declared in ``system.projections``)."""
-        decl = getattr(self.system, "projections", {}).get(name)
+        decl = self.system.projections.get(name)
         if decl is None:
             raise ParameterError(f"an exact Jacobian through the settle transition {name!r} needs its projection "
                                  f"declared as expressions (system.projections[{name!r}])")

@@ -38,7 +38,7 @@ def test_duration_must_be_given_once_and_positive():
         maps.simulate("thesis-1dof")
     with pytest.raises(ParameterError, match="'periods'"):
         maps.simulate("thesis-1dof", periods=-3)
-    with pytest.raises(ParameterError, match="no relay"):
+    with pytest.raises(ParameterError, match="declares no clock"):
         maps.simulate("dc-only", periods=3)
 
 

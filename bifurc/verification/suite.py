@@ -30,7 +30,7 @@ from maps.engines.scalar import HybridRun
 from maps.hybrid import Escaped, EventCap, IntegrationFailure
 from maps.impacts import free_flight_minima, impact_table
 from maps.provenance import cf_attrs, recorded
-from maps.scenes import get_scene
+from maps.registry import get_scene
 
 __all__ = ["Case", "CASES", "QUICK", "VERDICTS", "COMPARED_EVENTS", "case_scene", "run_case", "run_suite",
            "compare_runs", "event_log", "sentence", "write_report"]
