@@ -18,7 +18,7 @@ from matplotlib.colors import to_rgb
 import bifurc
 import maps
 from bifurc.cli import build_parser, main
-from bifurc.plot_diagram import CLASS_COLOURS, GRAZE
+from bifurc.plots.diagram import CLASS_COLOURS, GRAZE
 
 ROOT = Path(__file__).resolve().parents[1]
 PACKAGES = ("maps", "bifurc")
@@ -36,8 +36,11 @@ def test_public_names_resolve_and_sweep_is_the_function():
     for name in maps.__all__:
         assert getattr(maps, name) is not None, name
     assert callable(bifurc.sweep) and callable(bifurc.plot_diagram)
-    from bifurc.sweep import sweep
-    assert sweep is bifurc.sweep is importlib.import_module("bifurc.sweep").sweep
+    from bifurc.sweeps.sweep import sweep
+    assert sweep is bifurc.sweep is importlib.import_module("bifurc.sweeps.sweep").sweep
+    for old in ("bifurc.sweep", "bifurc.storage_io", "bifurc.plot_diagram"):  # moved, no shims left
+        with pytest.raises(ModuleNotFoundError):
+            importlib.import_module(old)
     assert bifurc.class_at is importlib.import_module("bifurc.report").class_at
 
 
@@ -170,7 +173,8 @@ def _import_graph():
 
 def test_no_import_cycle_counting_imports_inside_functions_and_maps_never_imports_bifurc():
     graph = _import_graph()
-    assert "bifurc.sweep" in graph["bifurc"]  # the graph sees the package's exports
+    assert "bifurc.sweeps.sweep" in graph["bifurc"]  # the graph sees the package's exports
+    assert "bifurc.storage.sweep_dataset" in graph["bifurc.sweeps.sweep"]  # ... and subpackages' modules
 
     def reach(start):
         seen, todo = set(), [start]

@@ -17,7 +17,7 @@ import xarray as xr
 from bifurc import regime_map, sweep
 from bifurc.cli import main
 from bifurc.codes import ClassCode, Status
-from bifurc.regime import CELL_VARIABLES, CellJob
+from bifurc.sweeps.regime import CELL_VARIABLES, CellJob
 from conftest import kill_when_parts
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -174,7 +174,7 @@ def test_an_existing_output_is_refused_before_any_work(tmp_path, capsys):
 def test_the_figure_names_every_regime_and_draws_given_curves(local, tmp_path):
     import matplotlib
     matplotlib.use("Agg")
-    from bifurc.plot_map import plot_regime_map, regime_categories
+    from bifurc.plots.map import plot_regime_map, regime_categories
     index, cats = regime_categories(local)
     texts = [t for t, _ in cats]
     code = local.class_code.values
@@ -192,7 +192,7 @@ def test_the_figure_names_every_regime_and_draws_given_curves(local, tmp_path):
 
 
 def test_periodic_categories_read_period_and_impacts(local):
-    from bifurc.plot_map import regime_categories
+    from bifurc.plots.map import regime_categories
     ds = local.copy(deep=True)
     ds["class_code"][:] = ClassCode.PERIODIC
     ds["period"][:] = [[1, 1, 2], [1, 2, 2], [1, 1, 1]]
@@ -207,8 +207,8 @@ def test_map_colours_stay_distinct_under_colour_blindness():
     """CIE76 difference >= 10 between every two colours a map can show (protan, deutan, tritan)."""
     from test_api import CVD, _lab
 
-    from bifurc.plot_diagram import CLASS_COLOURS
-    from bifurc.plot_map import MISSING, OTHER_PERIODIC, PERIODIC_COLOURS
+    from bifurc.plots.diagram import CLASS_COLOURS
+    from bifurc.plots.map import MISSING, OTHER_PERIODIC, PERIODIC_COLOURS
     colours = list(PERIODIC_COLOURS) + [OTHER_PERIODIC[1], MISSING[1]] + [
         c for k, c in CLASS_COLOURS.items() if not ClassCode.of(k).periodic]
     for kind, matrix in CVD.items():
@@ -251,7 +251,7 @@ def test_regime_maps_quick_study_takes_under_two_minutes(tmp_path):
 def test_periodic_hammering_keeps_its_own_colour_when_rare(local):
     """Ten periodic n:m on the map, "period-1, 1 impact" on one cell only: it still gets the first
     colour (the study's question), the rarest of the others share "periodic, other n:m"."""
-    from bifurc.plot_map import OTHER_PERIODIC, PERIODIC_COLOURS, regime_categories
+    from bifurc.plots.map import OTHER_PERIODIC, PERIODIC_COLOURS, regime_categories
     ds = local.isel(relay_hz=[0, 1, 2, 0], V=[0, 1, 2, 0]).copy(deep=True)   # 16 cells
     ds["class_code"][:] = ClassCode.PERIODIC
     ds["period"][:] = 2

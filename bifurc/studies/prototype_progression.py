@@ -46,7 +46,7 @@ QUICK = dict(freqs=(5.2, 6.0, 8.0), volts=(50, 90), actuator=(6, 20), ac_levels=
 
 def _sweep(param, values, law, size, dc_law=None, **params):
     """Progression rate [mm/s], impact energy per period [J], class and status over ``values``."""
-    from bifurc.sweep import sweep
+    from bifurc.sweeps.sweep import sweep
     base = {"V": RMS_TO_AMPLITUDE * REF["ac_rms"], "F_static": ACTUATOR_N_PER_V * REF["actuator"]}
     base.update(params)
     ds = sweep(SCENE, param, np.asarray(values, float), soil=law, dc_law=dc_law, params=base, transient=size["transient"],
@@ -233,7 +233,7 @@ def figures(m, size, out):
     """rates.png (against frequency, voltage, static force) and maps.png (what it would take)."""
     import matplotlib.pyplot as plt
 
-    from ..files import save_figure
+    from ..storage.files import save_figure
     floor = 1e-4                       # [mm/s] zero rates drawn here on the log axes
     clip = lambda r: np.maximum(np.asarray(r, float), floor)  # noqa: E731
     colours = {"viscous": "C0", "coulomb": "C3", "drift": "C2"}
@@ -377,7 +377,7 @@ def report(m, size, quick, seconds) -> str:
 
 def run(out, quick=False, progress=True, overwrite=False) -> dict:
     """The study into folder ``out``: ``report.md``, ``rates.png``, ``maps.png``."""
-    from ..files import refuse_existing, write_text
+    from ..storage.files import refuse_existing, write_text
     out = Path(out)
     for name in ("report.md", "rates.png", "maps.png"):
         refuse_existing(out / name, overwrite, hint="use --force")

@@ -33,9 +33,9 @@ QUICK = dict(n=7, n2=7, transient=100, record=40)     # for the tests and `--qui
 def run(out, quick=False, progress=True, overwrite=False) -> dict:
     """Every map into folder ``out`` (refused before if occupied, see studies.run):
     ``<case>.nc``, ``<case>.png`` and ``report.md``; returns {case: dataset}."""
-    from bifurc.files import write_text
-    from bifurc.plot_map import plot_regime_map
-    from bifurc.regime import regime_map
+    from bifurc.storage.files import write_text
+    from bifurc.plots.map import plot_regime_map
+    from bifurc.sweeps.regime import regime_map
     out = Path(out)
     size = QUICK if quick else FULL
     clock = _time.perf_counter()
@@ -99,7 +99,7 @@ RARE = 3
 def _counts(ds):
     """(regime, cells) rows: every n:m on at least RARE cells (and period-1, 1 impact always), the
     rarer ones in one row, then the other classes."""
-    from bifurc.plot_map import regime_categories
+    from bifurc.plots.map import regime_categories
     index, cats = regime_categories(ds, colours=None)   # every n:m its own category
     rows = [(text, int((index == i).sum())) for i, (text, _) in enumerate(cats)]
     keep = lambda t, n: not t.startswith("period-") or n >= RARE or t == "period-1, 1 impact"  # noqa: E731

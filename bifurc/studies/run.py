@@ -30,10 +30,10 @@ def run_study(name, out, quick=False, progress=True, cases=None, overwrite=False
     A folder holding anything but interrupted sweeps (``*.parts``, which resume) is refused
     unless ``overwrite`` (then its files are replaced); ``hint`` completes the refusal.
     """
-    from bifurc.files import write_text
-    from bifurc.plot_diagram import plot_diagram
+    from bifurc.storage.files import write_text
+    from bifurc.plots.diagram import plot_diagram
     from bifurc.report import classification_report
-    from bifurc.sweep import sweep
+    from bifurc.sweeps.sweep import sweep
     study = load_study(name)
     out = Path(out)
     if out.exists() and not out.is_dir():

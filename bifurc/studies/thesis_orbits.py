@@ -35,7 +35,7 @@ QUICK = dict(relays=(10.0,), laws=("listing", "measured"), seeds=(90.0, 200.0), 
 
 def run(out, quick=False, progress=True, overwrite=False) -> dict:
     """Every case into folder ``out``: ``report.md``, ``orbits_<law>_<hz>Hz.png``, ``branches_*.nc``."""
-    from bifurc.files import write_netcdf, write_text
+    from bifurc.storage.files import write_netcdf, write_text
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     size = QUICK if quick else FULL
@@ -55,7 +55,7 @@ def run(out, quick=False, progress=True, overwrite=False) -> dict:
 
 def _case(law, hz, size, progress) -> dict:
     from bifurc import continue_orbit, sweep
-    from bifurc.periodic import OrbitNotFound
+    from bifurc.orbits.periodic import OrbitNotFound
     from maps.parameters import ParameterError
     params = {"relay_hz": hz}
     diagram = sweep(SCENE, "V", np.linspace(*V_RANGE, size["sweep_n"]), preset=PRESET, dc_law=law, params=params,
@@ -111,8 +111,8 @@ def _seed_followed(branches, ds, V) -> bool:
 def _parent_doubling(ds, i: int, branches) -> str:
     """For a fold bracketed where a period-2m branch is born (special ``i`` of ``ds``, its note says
     so), the located period doubling of a period-m orbit within its tolerance, from ``branches``."""
-    from bifurc.schema import SPECIAL_KINDS
-    from bifurc.special_points import BIRTH_NOTE
+    from bifurc.storage.schema import SPECIAL_KINDS
+    from bifurc.orbits.special_points import BIRTH_NOTE
     if BIRTH_NOTE not in str(ds.special_note.values[i]):
         return ""
     value, width = float(ds.special_value.values[i]), float(ds.special_tolerance.values[i])
@@ -197,7 +197,7 @@ def stable_intervals(ds, located: bool = False) -> list:
 
 def _located_folds(ds, i0: int, i1: int) -> list:
     """[(value, "fold")] of the located folds recorded between points of the run i0..i1."""
-    from bifurc.schema import SPECIAL_KINDS
+    from bifurc.storage.schema import SPECIAL_KINDS
     if "special" not in ds.dims:
         return []
     fold = SPECIAL_KINDS.index("fold")
@@ -214,8 +214,8 @@ def _branch_ids(ds) -> np.ndarray:
 def _bounding_special(ds, i: int, k: int):
     """(value, kind) of the located special point nearest to point ``i`` among those recorded between
     points k and k + 1 (``special_point == k``), on the side of ``i`` away from the run; None if none."""
-    from bifurc.schema import SPECIAL_KINDS
-    from bifurc.special_points import LOCATED_KINDS
+    from bifurc.storage.schema import SPECIAL_KINDS
+    from bifurc.orbits.special_points import LOCATED_KINDS
     if "special" not in ds.dims or k < 0:
         return None
     V, ids = ds.V.values, _branch_ids(ds)
@@ -240,7 +240,7 @@ def _bounding_special(ds, i: int, k: int):
 
 def report(cases, quick, seconds) -> str:
     from bifurc.report import class_at
-    from bifurc.schema import SPECIAL_KINDS
+    from bifurc.storage.schema import SPECIAL_KINDS
     lines = [f"# {NAME}: periodic orbits of thesis-1dof continued in V ({'quick' if quick else 'full'} run)", "",
              f"Scene {SCENE}, preset {PRESET} (Table C.1), V over {V_RANGE[0]:g}-{V_RANGE[1]:g} V; relay frequency and "
              f"DC-force law per section.  Orbits are solved by Newton's method by multiple shooting with exact "
@@ -302,8 +302,8 @@ def report(cases, quick, seconds) -> str:
 def _figure(case, path, overwrite):
     import matplotlib.pyplot as plt
 
-    from bifurc.files import save_figure
-    from bifurc.plot_branch import plot_branch
+    from bifurc.storage.files import save_figure
+    from bifurc.plots.branch import plot_branch
     fig, ax = plt.subplots(figsize=(9, 5.5))
     first = True
     for k, ds in enumerate(case["branches"]):
@@ -313,7 +313,7 @@ def _figure(case, path, overwrite):
                     label=f"from {V[0]:g} V toward {way} V")
         first = False
     if first:
-        from bifurc.plot_diagram import plot_diagram
+        from bifurc.plots.diagram import plot_diagram
         plt.close(fig)
         plot_diagram(case["diagram"], path, overwrite=overwrite)
         return

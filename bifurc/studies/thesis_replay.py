@@ -15,7 +15,7 @@ period, which the thesis reads off its plots):
   period n to 1 % of their range (a plot's resolution);
 - "300 periods": the last 100 of 300 relay periods recur to 1e-6 (the toolkit's tolerance).
   A record without a period up to 16 gets the largest Lyapunov exponent of the relay-period map
-  along it (Benettin, `bifurc.lyapunov`, per relay period): "chaotic" above the window's
+  along it (Benettin, `bifurc.sweeps.lyapunov`, per relay period): "chaotic" above the window's
   threshold 2 ln(100)/100 = 0.092, "quasi-periodic" within it, "aperiodic" where the exponent is
   undetermined (a companion step failed).
 - "at rest on the stop": x never exceeded 0 over the whole run.
@@ -53,7 +53,7 @@ THESIS_NUMERICAL = {2: 1, 3: 1, 4: 1, 5: 1, 6: 2, 7: 2, 8: 2, 9: 1, 10: 1}  # Fi
 def _label(points, imps, rtol, atol, max_period=16, lyapunov=math.nan):
     """(text, period) of stroboscopic (x, v) samples: 'period-n (m impacts)', 'period-n, no impact',
     'chaotic', 'quasi-periodic' (given a Lyapunov exponent) or 'aperiodic'."""
-    from bifurc.classify import classify_orbit, lyapunov_threshold
+    from bifurc.sweeps.classify import classify_orbit, lyapunov_threshold
     p = np.asarray(points, float)[:, :2]
     if p.shape[0] < 3:
         return "too short", 0
@@ -151,7 +151,7 @@ def measure(W: float, V: float, law: str, *, preset=PRESET, ac_sign=AC_SIGN, cir
         label3, per3 = _label(strobe[1:n3 + 1], imps[1:n3], rtol=1e-2, atol=1e-6, max_period=8)
         labelL, perL = _label(strobe[long_from:], imps[long_from:], rtol=1e-6, atol=1e-9)
         if not perL and int(long_window) >= 3:     # not periodic: the Lyapunov exponent tells chaos apart
-            from bifurc.lyapunov import lyapunov_along
+            from bifurc.sweeps.lyapunov import lyapunov_along
             from maps.poincare import StroboscopicMap
             smap = StroboscopicMap(sc, p, tol=tol)
             lyap = lyapunov_along(smap.step, strobe[long_from:], k0=long_from,
@@ -241,7 +241,7 @@ def figure(rows, V, path):
     Sets no matplotlib backend (the command line picks one; a notebook keeps its own)."""
     import matplotlib.pyplot as plt
 
-    from ..files import save_figure
+    from ..storage.files import save_figure
     freqs = sorted({r["relay_hz"] for r in rows if r["V"] == V})
     n = len(freqs)
     cols = min(3, n)
@@ -319,7 +319,7 @@ def report(rows, wells, quick, seconds, physical=()) -> str:
 def run(out, quick=False, progress=True, overwrite=False) -> dict:
     """Every replay into folder ``out``: ``report.md``, ``replay_<V>V.png``, ``replay.csv`` (an
     existing report refused unless ``overwrite``)."""
-    from ..files import refuse_existing
+    from ..storage.files import refuse_existing
     out = Path(out)
     refuse_existing(out / "report.md", overwrite, hint="use --force")
     out.mkdir(parents=True, exist_ok=True)

@@ -6,7 +6,7 @@ from collections import Counter
 
 import numpy as np
 
-from .files import check_figure_output, save_figure
+from ..storage.files import check_figure_output, save_figure
 
 __all__ = ["plot_time_history", "history_panels"]
 

@@ -16,7 +16,7 @@ import numpy as np
 
 from maps.parameters import ParameterError
 
-from .codes import ClassCode, Status
+from ..codes import ClassCode, Status
 
 __all__ = ["GRAZING_GAP", "GRAZING_SPEED", "GRAZE_SHRINK", "grazing_flag", "locate_grazing",
            "locate_grazing_values", "grazing_brackets", "locate_bracket", "bracket_cost", "GrazingBracket",

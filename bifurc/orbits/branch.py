@@ -4,8 +4,8 @@
 >>> ds.bifurc_special()                     # doctest: +SKIP
 >>> bifurc.plot_branch(ds)
 
-The orbit is found by Newton's method (:mod:`bifurc.periodic`) at the span's first value and
-followed by pseudo-arclength continuation (:mod:`bifurc.continuation`) through folds, stable and
+The orbit is found by Newton's method (:mod:`bifurc.orbits.periodic`) at the span's first value and
+followed by pseudo-arclength continuation (:mod:`bifurc.orbits.continuation`) through folds, stable and
 unstable parts alike; folds, period doublings, Neimark-Sacker points and grazings are located and
 stored with their tolerance and test function.  With ``branch_switch=True`` the doubled branch
 is followed from each period doubling.
@@ -26,7 +26,7 @@ from .arclength import continue_branch
 from .continuation import ContinuationProblem, flags_of, in_section
 from .orbit import first_guess, multiplier_change
 from .periodic import OrbitNotFound, find_periodic_orbit, monodromy
-from .scene import resolve_scene
+from ..scene import resolve_scene
 from .special_points import LOCATED_KINDS
 
 __all__ = ["continue_orbit", "branch_dataset"]
@@ -83,7 +83,7 @@ def continue_orbit(scene, param: str, span, *, params=None, preset=None, period:
     param2, span2 : str, (float, float)
         A second parameter: the branch is computed at ``param2 = span2[0]`` and each located fold,
         period doubling and grazing is continued in (param, param2) toward ``span2[1]``
-        (:mod:`bifurc.curves`), staying within ``span`` for ``param``; the curves are stored along
+        (:mod:`bifurc.orbits.curves`), staying within ``span`` for ``param``; the curves are stored along
         ``curve_point``.
     """
     clock = _time.perf_counter()
@@ -220,8 +220,8 @@ def branch_dataset(branches, problem, scene, table, *, curves=(), seconds=math.n
     """The dataset of continued branches: points in arclength order, branch after branch."""
     import xarray as xr
 
-    from ._version import __version__
-    from .schema import BRANCH, SPECIAL, SPECIAL_KINDS, flag_variable, param_attrs, state_variable
+    from .._version import __version__
+    from ..storage.schema import BRANCH, SPECIAL, SPECIAL_KINDS, flag_variable, param_attrs, state_variable
     system, param = problem.smap.system, problem.param
     unit = system.parameter(param).unit
     points = [(i, pt) for i, br in enumerate(branches) for pt in br.points]

@@ -3,8 +3,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .classify import CLASS_LABELS
-from .files import check_figure_output, save_figure
+from ..sweeps.classify import CLASS_LABELS
+from ..storage.files import check_figure_output, save_figure
 
 __all__ = ["plot_diagram", "CLASS_COLOURS"]
 

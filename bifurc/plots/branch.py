@@ -3,8 +3,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .files import check_figure_output, save_figure
-from .schema import SPECIAL_KINDS
+from ..storage.files import check_figure_output, save_figure
+from ..storage.schema import SPECIAL_KINDS
 
 __all__ = ["plot_branch", "plot_curves", "branch_curves", "SPECIAL_LABELS"]
 
@@ -82,7 +82,7 @@ def _draw_diagram(ax, diagram, par, state):
 def branch_curves(ds) -> list:
     """[(p1 values, p2 values, label)] of the two-parameter curves of a branch dataset, ready to draw
     over a regime map of the same two parameters."""
-    from .curves import CURVE_KINDS
+    from ..orbits.curves import CURVE_KINDS
     if "curve_id" not in ds:
         return []
     p1, p2 = ds.attrs["curve_parameters"].split()

@@ -5,7 +5,7 @@ swept parameter (named after it, e.g. ``relay_hz``), ``sample`` (recorded
 stroboscopic points 0..record), ``step`` (recorded periods), ``impact``
 (contacts in the recorded window, NaN-padded; ``n_impacts`` counts them) and
 ``grazing`` (located grazing values).  Every variable is a row of
-:mod:`bifurc.schema`.
+:mod:`bifurc.storage.schema`.
 """
 from __future__ import annotations
 
@@ -18,15 +18,15 @@ import xarray as xr
 
 from maps.provenance import cf_attrs
 
-from ._version import __version__
-from .classify import lyapunov_threshold
-from .lyapunov import INTERVAL_METHOD, METHODS
-from .codes import Status
-from .grazing import GRAZING_GAP, GRAZING_SPEED, grazing_flag
+from .._version import __version__
+from ..sweeps.classify import lyapunov_threshold
+from ..sweeps.lyapunov import INTERVAL_METHOD, METHODS
+from ..codes import Status
+from ..sweeps.grazing import GRAZING_GAP, GRAZING_SPEED, grazing_flag
 from .schema import (GRAZING, GRAZING_FLAG, PARAM, PROGRESSION, SWEEP, SWEEP_COORDS, flag_variable, param_attrs,
                      state_variable)
 from .files import write_netcdf
-from .job import FORCING_PERIODS
+from ..sweeps.job import FORCING_PERIODS
 from maps.presets import preset_attrs
 from maps.progression import held_mode, progression_measures
 from maps.simulate import dc_law_attrs, soil_law_attrs

@@ -1,5 +1,5 @@
 """Pseudo-arclength continuation of a branch: predictor along the unit tangent, corrector on the
-bordered system (:class:`bifurc.continuation.ContinuationProblem`), step control, the strobe
+bordered system (:class:`bifurc.orbits.continuation.ContinuationProblem`), step control, the strobe
 section moved away from events, and the stops (interval left, point cap, non-smooth events).
 """
 from __future__ import annotations

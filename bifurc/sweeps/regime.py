@@ -2,14 +2,14 @@
 
 The grid is flattened into value jobs that carry both parameter values (:class:`CellJob`: its
 values are the flat cell indices, row-major with ``param2`` fastest), so a map runs on the
-sweep's own machinery: :func:`bifurc.sweep.run_values` hands chunks of cells to
-:mod:`bifurc.executor` (local processes, or Dask with ``scheduler``), heyoka's batch lanes span
+sweep's own machinery: :func:`bifurc.sweeps.sweep.run_values` hands chunks of cells to
+:mod:`bifurc.sweeps.executor` (local processes, or Dask with ``scheduler``), heyoka's batch lanes span
 both parameters, and with ``path`` completed chunks go to one resume folder ``<path>.parts/``
-(:mod:`bifurc.resume`).  Each cell is classified exactly as a one-parameter diagram value
-(:mod:`bifurc.job`, :mod:`bifurc.classify`).
+(:mod:`bifurc.sweeps.resume`).  Each cell is classified exactly as a one-parameter diagram value
+(:mod:`bifurc.sweeps.job`, :mod:`bifurc.sweeps.classify`).
 
 The Dataset has the dimensions ``param`` and ``param2`` (named after them) and one variable
-per per-value row of :mod:`bifurc.schema` (class, period, impacts per period, Lyapunov
+per per-value row of :mod:`bifurc.storage.schema` (class, period, impacts per period, Lyapunov
 exponent and its interval, clearance, status, ...), with CF attributes and provenance.
 """
 from __future__ import annotations
@@ -22,10 +22,10 @@ from maps.parameters import ParameterError
 from maps.provenance import recorded
 
 from .errors import error_estimate
-from .files import guarded_output
+from ..storage.files import guarded_output
 from .job import ValueJob
 from .resume import Parts, manifest
-from .schema import GRAZING_FLAG, PARAM, SWEEP
+from ..storage.schema import GRAZING_FLAG, PARAM, SWEEP
 from .sweep import _job, run_stats, run_values
 
 __all__ = ["regime_map", "CellJob", "CELL_VARIABLES"]
@@ -36,7 +36,7 @@ CELL_VARIABLES = [v for v in SWEEP if v.dims == ("branch", PARAM)]
 
 @dataclass(frozen=True)
 class CellJob(ValueJob):
-    """A :class:`~bifurc.job.ValueJob` whose value is a flat cell index ``k`` of the grid
+    """A :class:`~bifurc.sweeps.job.ValueJob` whose value is a flat cell index ``k`` of the grid
     ``values`` x ``values2``: ``param = values[k // len(values2)]``, ``param2 = values2[k % len(values2)]``."""
 
     param2: str = ""
@@ -64,9 +64,9 @@ def regime_map(scene="thesis-1dof", param="relay_hz", values=None, param2="V", v
     returns an xarray Dataset with dimensions (param, param2).
 
     Every cell starts from the same initial state and gets the evidence of a diagram value
-    (:func:`bifurc.sweep.sweep`, ``mode="independent"``): class, period n and impacts per
+    (:func:`bifurc.sweeps.sweep.sweep`, ``mode="independent"``): class, period n and impacts per
     period m, Lyapunov exponent [1/relay period] with its 95 % interval where not periodic,
-    minimum clearance [m], status.  Arguments as in :func:`bifurc.sweep.sweep`; ``path``:
+    minimum clearance [m], status.  Arguments as in :func:`bifurc.sweeps.sweep.sweep`; ``path``:
     netCDF output, streamed to ``<path>.parts/`` chunk by chunk (a rerun with the same
     arguments resumes); ``workers``: local processes (default every available core);
     ``scheduler``: a Dask scheduler address or Client; ``error_sample``: cells re-run at tol/100.
@@ -89,7 +89,7 @@ def regime_map(scene="thesis-1dof", param="relay_hz", values=None, param2="V", v
     parts = Parts(path, manifest(job, cells, "map")) if path else None
     results, resumed, seconds, workers = run_values(job, cells, "independent", parts, workers, scheduler, chunk_size,
                                                     progress, f"{sc.name} {param} x {param2}")
-    from . import storage      # xarray: imported where the Dataset is built
+    from ..storage import sweep_dataset as storage  # xarray: imported where the Dataset is built
     ds = to_dataset(results["independent"], job, sc, table)
     run_stats(ds, job, seconds, resumed, workers)
     if error_sample:
@@ -108,7 +108,7 @@ def to_dataset(results, job, scene, table):
     import xarray as xr
 
     from .grazing import grazing_flag
-    from .storage import run_attrs
+    from ..storage.sweep_dataset import run_attrs
     system = scene.system
     par, par2 = job.param, job.param2
     shape = (len(job.values), len(job.values2))

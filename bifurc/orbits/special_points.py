@@ -11,7 +11,7 @@ the Illinois variant of false position on the arclength (each evaluation a corre
 
 A change of the transition signature (an impact born or lost, a stick) stops the branch: where a
 free-flight minimum is about to touch the stop, the grazing is located by the augmented system
-(:func:`bifurc.grazing_orbit.locate_grazing`); an impact lost (its speed slowing to zero) is
+(:func:`bifurc.orbits.grazing_orbit.locate_grazing`); an impact lost (its speed slowing to zero) is
 extrapolated from the slowest impact's speed squared, linear in the parameter there, when that
 falls inside the bracket; otherwise the last point before the change is reported, not located,
 with the bracket up to the next point as its tolerance.

@@ -17,9 +17,9 @@ import numpy as np
 
 from maps.parameters import ParameterError
 
-from .codes import ClassCode, Status
+from ..codes import ClassCode, Status
 from .job import ValueResult
-from .storage_io import write_netcdf_atomic
+from ..storage.files import write_netcdf
 
 __all__ = ["Parts", "PARTS_FORMAT", "manifest"]
 
@@ -107,7 +107,7 @@ class Parts:
 
     def save(self, branch, indices, results) -> None:
         """Write the results of ``indices`` (one chunk) as one part, atomically."""
-        write_netcdf_atomic(_to_dataset(branch, indices, results), self.dir / f"{branch}-{indices[0]:06d}.nc")
+        write_netcdf(_to_dataset(branch, indices, results), self.dir / f"{branch}-{indices[0]:06d}.nc", overwrite=True)
 
     def remove(self) -> None:
         shutil.rmtree(self.dir, ignore_errors=True)

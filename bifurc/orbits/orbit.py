@@ -4,7 +4,7 @@
 ...                            transient=300)
 >>> ds.multiplier_abs, ds.stable, ds.impact_velocity
 
-The orbit may be stable or unstable: Newton by multiple shooting (:mod:`bifurc.periodic`)
+The orbit may be stable or unstable: Newton by multiple shooting (:mod:`bifurc.orbits.periodic`)
 needs only a start near it (a state, the end of a simulation, or a stored sweep point with its
 flags, :func:`sweep_point`).
 """
@@ -21,7 +21,7 @@ from maps.poincare import StroboscopicMap
 from maps.provenance import cf_attrs, recorded
 
 from .periodic import OrbitNotFound, PeriodicOrbit, find_periodic_orbit
-from .scene import SystemScene, resolve_scene
+from ..scene import SystemScene, resolve_scene
 
 __all__ = ["periodic_orbit", "sweep_point", "orbit_dataset", "first_guess", "multiplier_change", "OrbitNotFound"]
 
@@ -126,7 +126,7 @@ def orbit_dataset(orbit: PeriodicOrbit, smap, scene, table, *, multiplier_error=
     """The dataset of a converged orbit: nodes (states, flags, signatures), multipliers, impacts."""
     import xarray as xr
 
-    from .schema import ORBIT, ORBIT_SCALARS, flag_variable, param_attrs, state_variable
+    from ..storage.schema import ORBIT, ORBIT_SCALARS, flag_variable, param_attrs, state_variable
     system = smap.system
     n, k0 = orbit.period, orbit.k0
     T = smap.period
@@ -173,7 +173,7 @@ def orbit_dataset(orbit: PeriodicOrbit, smap, scene, table, *, multiplier_error=
         ds.attrs["reduced_coordinates"] = ", ".join(orbit.reduced)
         ds.attrs["reduced_coordinates_note"] = (f"solved with {anchor} = 0 at every node: the multipliers are those "
                                                 f"of the reduced map (the translation's multiplier 1 removed)")
-    from ._version import __version__
+    from .._version import __version__
     ds.attrs.update({
         "title": f"{scene.name}: periodic orbit, period {n}", "scene": scene.name, "k0": k0,
         "strobe_period_s": T, "forcing_period": smap.forcing_period_steps, "tol": smap.tol,

@@ -33,10 +33,10 @@ def kind_of(ds) -> str | None:
 def load(path, kind: str | None = None):
     """Open a bifurc netCDF file fully into memory (``kind``: require that kind, see :data:`KINDS`).
 
-    Raises FileNotFoundError, IsADirectoryError, or :class:`~bifurc.files.BadFileError` for a file
+    Raises FileNotFoundError, IsADirectoryError, or :class:`~bifurc.storage.files.BadFileError` for a file
     that is not readable netCDF (truncated, corrupt) or holds another kind of dataset.
     """
-    from .storage import load as read
+    from .sweep_dataset import load as read
     path = Path(path)
     if not path.exists():
         raise FileNotFoundError(f"no dataset at {path}")

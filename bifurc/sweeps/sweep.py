@@ -7,15 +7,15 @@ state, swept up then down (dimension ``branch``), to reveal coexisting attractor
 hysteresis ("continuation" is a deprecated alias).
 
 With ``path`` every completed chunk of values is saved at once under ``<path>.parts/``
-(:mod:`bifurc.resume`); an interrupted sweep loses nothing and a rerun with the same
+(:mod:`bifurc.sweeps.resume`); an interrupted sweep loses nothing and a rerun with the same
 arguments resumes.  The final Dataset is written atomically and the parts are removed.
 
 The tail after the grid (grazing bisections, error estimate) runs on the sweep's worker
 processes, still open and warm, while this process builds the Dataset (independent mode on a
 process pool; here otherwise).
 
-The pieces: :mod:`bifurc.job` (one value), :mod:`bifurc.executor` (many values),
-:mod:`bifurc.grazing`, :mod:`bifurc.errors`, :mod:`bifurc.storage`.
+The pieces: :mod:`bifurc.sweeps.job` (one value), :mod:`bifurc.sweeps.executor` (many values),
+:mod:`bifurc.sweeps.grazing`, :mod:`bifurc.sweeps.errors`, :mod:`bifurc.storage.sweep_dataset`.
 """
 from __future__ import annotations
 
@@ -31,15 +31,15 @@ from maps.hybrid import validate_tol
 from maps.parameters import ParameterError, validate_value
 from maps.provenance import recorded
 
-from .codes import Status
+from ..codes import Status
 from .errors import ErrorEstimate
 from .executor import WorkerPool, default_workers, map_values, submit_all
-from .files import guarded_output
+from ..storage.files import guarded_output
 from .grazing import GRAZING_GAP, GRAZING_SPEED, bracket_cost, grazing_brackets, locate_bracket
 from .job import ValueJob
 from .lyapunov import METHODS
 from .resume import Parts, manifest
-from .scene import SystemScene, resolve_scene
+from ..scene import SystemScene, resolve_scene
 
 __all__ = ["sweep", "MODES", "GRAZING_GAP", "GRAZING_SPEED"]
 
@@ -55,7 +55,7 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
           ac_sign=None, dc_law=None, soil=None, compaction=None, path=None,
           progress=True, workers=None, scheduler=None, error_sample=3, max_transient=None, batch_size=4,
           chunk_size=None, overwrite=False):
-    """Sweep ``param`` over ``values``; returns an xarray Dataset (see bifurc.storage).
+    """Sweep ``param`` over ``values``; returns an xarray Dataset (see bifurc.storage.sweep_dataset).
 
     Parameters
     ----------
@@ -76,20 +76,20 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
         (doubling the transient) up to this many relay periods; the transient used is stored.
     tol : float
         heyoka tolerance; ``error_sample`` values are re-run at tol/100 for the error estimate.
-    max_period, rtol, atol : classification (bifurc.classify); periods are searched among the
+    max_period, rtol, atol : classification (bifurc.sweeps.classify); periods are searched among the
         multiples of the forcing period q up to ``max_period`` relay periods (default 100), each
         needing two whole periods in the record (q = 0: the forcing never repeats, no period).
     lyapunov : bool
         Compute the largest Lyapunov exponent where the orbit is not periodic.
     lyapunov_method : "tangent" (default) or "companion"
-        How the exponent is integrated (:data:`bifurc.lyapunov.METHODS`, stored as an attribute).
+        How the exponent is integrated (:data:`bifurc.sweeps.lyapunov.METHODS`, stored as an attribute).
     grazing : bool
         Locate grazing values between neighbours where the orbit changes between
         impacting and not impacting, by bisection to ``grazing_xtol``.
     path : str
         netCDF output; completed values are kept in ``<path>.parts/`` for resuming.  An existing
         file is refused unless ``overwrite``; a second sweep into the same path at once is refused
-        (``<path>.lock``, POSIX only; see :mod:`bifurc.files`).
+        (``<path>.lock``, POSIX only; see :mod:`bifurc.storage.files`).
     workers : int
         Worker processes of an independent sweep (default: every available core, with at
         least 16 values per worker; a bare HybridSystem runs in this process).
@@ -120,7 +120,7 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
                                                         progress, f"{sc.name} {param}", pool=pool)
         warm = pool if resumed < values.size else None   # every value resumed: no worker started, the tail runs here
         tail = _start_tail(results, values, job, MODES[mode][0], grazing, grazing_xtol, error_sample, warm)
-        from . import storage  # xarray: imported where the Dataset is built (worker processes start faster)
+        from ..storage import sweep_dataset as storage  # xarray: imported where the Dataset is built (worker processes start faster)
         ds = storage.to_dataset(results, values, job, sc, table, mode)
         run_stats(ds, job, seconds, resumed, workers)
         found, estimate = tail()
@@ -138,8 +138,8 @@ def _start_tail(results, values, job, branch, grazing, xtol, error_sample, pool)
     """Start the grazing bisections (if ``grazing``, to ``xtol``) and the error estimate's
     integrations (``error_sample`` values, 0: none) together, the longest first, on
     ``pool``'s workers (None: here, now).  Returns a function that waits for them and gives
-    (located grazes for :func:`bifurc.storage.add_grazing`, keywords of
-    :func:`bifurc.storage.add_error_estimate` or None)."""
+    (located grazes for :func:`bifurc.storage.sweep_dataset.add_grazing`, keywords of
+    :func:`bifurc.storage.sweep_dataset.add_error_estimate` or None)."""
     brackets = grazing_brackets(results, values, xtol) if grazing else []
     est = ErrorEstimate(results, values, job, branch, error_sample) if error_sample else None
     tasks = [(bracket_cost(job, br), locate_bracket, (job, br)) for br in brackets] + (est.tasks if est else [])
@@ -154,12 +154,12 @@ def _start_tail(results, values, job, branch, grazing, xtol, error_sample, pool)
 
 def run_values(job, values, mode, parts, workers, scheduler, chunk_size, progress, desc, pool=None):
     """Every value of the grid through ``job``, resumed from and streamed to ``parts``
-    (:class:`bifurc.resume.Parts`, or None); independent values on ``pool`` (an open
-    :class:`bifurc.executor.WorkerPool` warmed with ``job``, ``workers`` processes) if given.
+    (:class:`bifurc.sweeps.resume.Parts`, or None); independent values on ``pool`` (an open
+    :class:`bifurc.sweeps.executor.WorkerPool` warmed with ``job``, ``workers`` processes) if given.
 
     Returns ({branch: [ValueResult per value]}, values resumed, wall seconds of this call,
     worker processes used (0: a Dask cluster's)).  The grid driver of :func:`sweep` and
-    :func:`bifurc.regime.regime_map` (whose values are the flat indices of its cells)."""
+    :func:`bifurc.sweeps.regime.regime_map` (whose values are the flat indices of its cells)."""
     workers, chunk_size = _execution(job, values.size, workers, scheduler, chunk_size)
     branches = MODES[mode]
     results = {b: [None] * values.size for b in branches}
@@ -227,7 +227,7 @@ def _job(scene, param, values, transient, record, preset, params, x0, tol, max_p
 
 def _execution(job, n_values, workers, scheduler, chunk_size):
     """(worker processes, values per task): 0 workers with a Dask ``scheduler`` (the cluster's);
-    by default every available core (:func:`bifurc.executor.default_workers`), 1 for a bare
+    by default every available core (:func:`bifurc.sweeps.executor.default_workers`), 1 for a bare
     HybridSystem (not picklable).  In this process a task holds 8 batches of values."""
     if scheduler is not None:
         workers = 0

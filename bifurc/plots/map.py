@@ -3,17 +3,17 @@
 The categories read "period-1, 1 impact", "period-2, 2 impacts", ..., "period-1, no impact",
 quasi-periodic, chaotic, not converged, escaped, failed.  Colours: Okabe & Ito's and Paul Tol's
 colour-blind-safe palettes (the non-periodic classes keep the diagram's colours,
-:data:`bifurc.plot_diagram.CLASS_COLOURS`); tests/test_regime.py checks every pair under
+:data:`bifurc.plots.diagram.CLASS_COLOURS`); tests/test_regime.py checks every pair under
 simulated colour blindness.
 """
 from __future__ import annotations
 
 import numpy as np
 
-from .classify import CLASS_LABELS, describe
-from .codes import ClassCode
-from .files import check_figure_output, save_figure
-from .plot_diagram import CLASS_COLOURS
+from ..sweeps.classify import CLASS_LABELS, describe
+from ..codes import ClassCode
+from ..storage.files import check_figure_output, save_figure
+from .diagram import CLASS_COLOURS
 
 __all__ = ["plot_regime_map", "regime_categories", "PERIODIC_COLOURS", "OTHER_PERIODIC", "MISSING"]
 
@@ -27,7 +27,7 @@ _TEXT = {"not-converged": "not converged"}
 
 
 def _periodic_text(code, n, m) -> str:
-    """'period-2, 2 impacts' / 'period-1, no impact' (bifurc.classify.describe without the n:m)."""
+    """'period-2, 2 impacts' / 'period-1, no impact' (bifurc.sweeps.classify.describe without the n:m)."""
     return describe(code, n, m).split(" (")[0]
 
 

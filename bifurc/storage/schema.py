@@ -2,7 +2,7 @@
 
 Dimension names in a row are literal except ``PARAM``, which stands for the swept
 parameter's dimension (named after the parameter, e.g. ``relay_hz``).  The sweep
-dataset (:mod:`bifurc.storage`) is assembled from :data:`SWEEP`, :data:`SWEEP_COORDS` and
+dataset (:mod:`bifurc.storage.sweep_dataset`) is assembled from :data:`SWEEP`, :data:`SWEEP_COORDS` and
 :data:`GRAZING`; :data:`HISTORY` describes the time-history dataset of
 :func:`maps.simulate.simulate` (which still writes its own attributes: ``maps`` never
 imports ``bifurc``; the test suite checks the two agree).  :func:`param_attrs` is the one
@@ -14,8 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .codes import ClassCode, Status, flag_attrs
-from .grazing import GRAZING_GAP, GRAZING_SPEED
+from ..codes import ClassCode, Status, flag_attrs
+from ..sweeps.grazing import GRAZING_GAP, GRAZING_SPEED
 
 __all__ = ["Variable", "PARAM", "SWEEP", "SWEEP_COORDS", "GRAZING", "HISTORY", "PROGRESSION", "param_attrs",
            "state_variable", "flag_variable", "ORBIT", "ORBIT_SCALARS", "BRANCH", "SPECIAL", "SPECIAL_KINDS"]
@@ -63,7 +63,7 @@ def _yes_no(meanings: str) -> tuple:
 
 
 V = ("branch", PARAM)
-#: per-value variables of a sweep; each is also a field of :class:`bifurc.job.ValueResult`
+#: per-value variables of a sweep; each is also a field of :class:`bifurc.sweeps.job.ValueResult`
 SWEEP = [
     Variable("class_code", V, np.int8, -1, "1", "orbit class (-1: not computed)", _flags(ClassCode)),
     Variable("period", V, np.int16, -1, "1", "period n of the orbit in relay periods (0: not periodic)"),
@@ -113,7 +113,7 @@ SWEEP = [
     Variable("run_seconds", V, float, np.nan, "s",
              "time spent computing the value (a resumed value keeps the time of the run that computed it)"),
 ]
-#: derived from the per-value minima (bifurc.grazing.grazing_flag), not a ValueResult field
+#: derived from the per-value minima (bifurc.sweeps.grazing.grazing_flag), not a ValueResult field
 GRAZING_FLAG = Variable("grazing_flag", V, np.int8, 0, "1",
                         f"orbit grazes: slowest impact < {GRAZING_SPEED} m/s or clearance < {GRAZING_GAP} m",
                         _yes_no("clear grazing"))
@@ -143,7 +143,7 @@ GRAZING = [
 ]
 
 N, MU, IMP = ("node",), ("multiplier",), ("impact",)
-#: a periodic orbit (bifurc.orbit): its strobe nodes, multipliers and impacts; states and flags per node
+#: a periodic orbit (bifurc.orbits.orbit): its strobe nodes, multipliers and impacts; states and flags per node
 #: come from state_variable / flag_variable with dims ("node",)
 ORBIT = [
     Variable("multiplier_abs", MU, float, np.nan, "1", "modulus of the Floquet multiplier"),
@@ -172,7 +172,7 @@ PT, PM, SP, SPM = ("point",), ("point", "multiplier"), ("special",), ("special",
 #: special points of a branch, in the order of their codes
 SPECIAL_KINDS = ("fold", "period_doubling", "neimark_sacker", "grazing", "impact_lost", "stick_onset",
                  "signature_change")
-#: a continued branch (bifurc.branch): one row per corrected point (states and flags per node from
+#: a continued branch (bifurc.orbits.branch): one row per corrected point (states and flags per node from
 #: state_variable / flag_variable with dims ("point", "node"); the parameter itself is a variable
 #: named after it, dims ("point",))
 BRANCH = [
@@ -241,7 +241,7 @@ HISTORY = [
     Variable("stuck_fraction", (), float, np.nan, "1", "fraction of the window in which the soil holds the rig"),
 ]
 
-#: 2-DOF sweeps: the progression measures of each value over its recorded window (bifurc.storage
+#: 2-DOF sweeps: the progression measures of each value over its recorded window (bifurc.storage.sweep_dataset
 #: computes them from the stored samples and contacts with maps.progression)
 PROGRESSION = [
     Variable("progression_rate", V, float, np.nan, "m s-1",

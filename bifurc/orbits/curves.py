@@ -12,7 +12,7 @@ magnitude, each parameter by its span, t_g by the strobe period); equations:
 - period doubling: the same with A the shooting matrix whose wrap-around block is +I instead of -I
   (singular exactly when a multiplier is -1);
 - grazing: F = 0 and, at t_g in the period of one node, the gap h = 0 and its rate dh/dt = 0
-  (:func:`bifurc.grazing_orbit.grazing_rows`, exact derivatives).
+  (:func:`bifurc.orbits.grazing_orbit.grazing_rows`, exact derivatives).
 
 The rows of F and of the grazing conditions are exact (variational equations with saltation);
 sigma's gradient is a forward difference of sigma itself (each sigma from exact Jacobians): second
@@ -134,7 +134,7 @@ class CurveProblem:
 
 
 def _correct(problem, w_pred, normal, flags, tol, max_move=None):
-    """Newton on [G(w); normal . (w - w_pred)] = 0 (:func:`bifurc.continuation.bordered_newton`); on
+    """Newton on [G(w); normal . (w - w_pred)] = 0 (:func:`bifurc.orbits.continuation.bordered_newton`); on
     a grazing curve an iterate that adds an impact is damped back toward the last one; a step
     passes its length ``max_move`` (a solution farther away is on another curve: refused).
     Returns (w, G, DG, flags, max |G|)."""

@@ -1,6 +1,6 @@
 """Pseudo-arclength continuation of periodic orbits of a stroboscopic map in one parameter.
 
-The unknowns are the orbit's nodes (multiple shooting, :mod:`bifurc.periodic`) and the
+The unknowns are the orbit's nodes (multiple shooting, :mod:`bifurc.orbits.periodic`) and the
 parameter p, scaled: u = (z_0 / s, ..., z_{n-1} / s, (p - p_0) / p_s), with s the orbit's
 magnitude per state component and p_s the span asked for.  A branch point solves F(u) = 0,
 F_j = (P_{k0+j}(z_j; p) - z_{j+1 mod n}) / s, and the arclength condition
@@ -10,8 +10,8 @@ The corrector is Newton's method on the bordered system [DF; t^T]; the step h gr
 corrections and halves after a failure, a tangent turning by more than ``max_turn`` radians
 or a change of the transition signature.
 
-The step control, the section moves and the stops are in :mod:`bifurc.arclength`; test
-functions, their location and the discontinuity-induced events in :mod:`bifurc.special_points`.
+The step control, the section moves and the stops are in :mod:`bifurc.orbits.arclength`; test
+functions, their location and the discontinuity-induced events in :mod:`bifurc.orbits.special_points`.
 """
 from __future__ import annotations
 
@@ -201,7 +201,7 @@ def impact_count(lins) -> int:
 def bordered_newton(evaluate, u_pred, normal, flags, tol: float, *, max_iter: int, stall_after: int,
                     tiny_update: bool, keep_impacts: bool = False, max_move: float | None = None):
     """Newton on [G(u); normal . (u - u_pred)] = 0 from u_pred, the one corrector of branches
-    (:class:`ContinuationProblem`) and two-parameter curves (:mod:`bifurc.curves`).
+    (:class:`ContinuationProblem`) and two-parameter curves (:mod:`bifurc.orbits.curves`).
 
     ``evaluate(u, flags) -> (G, DG, linearizations)`` raises :class:`NoConvergence` when it
     cannot.  Converged when max |G| < ``tol``, or below 100 tol when the iteration stalls (the

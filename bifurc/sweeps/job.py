@@ -1,8 +1,8 @@
 """The work for one parameter value: orbit, classification, Lyapunov exponent, as a ValueResult.
 
-:class:`ValueJob` is picklable, so it runs in any worker process (:mod:`bifurc.executor`);
+:class:`ValueJob` is picklable, so it runs in any worker process (:mod:`bifurc.sweeps.executor`);
 calling it with a value returns a :class:`ValueResult`, whose fields are named as the
-sweep dataset's variables (:mod:`bifurc.schema`).
+sweep dataset's variables (:mod:`bifurc.storage.schema`).
 """
 from __future__ import annotations
 
@@ -16,9 +16,9 @@ from maps.poincare import StroboscopicMap
 from maps.translation import reduce_points, translation_basis
 
 from .classify import DECAY_RATE, candidate_periods, classify_orbit, lyapunov_threshold, state_scale
-from .codes import ClassCode, Status
+from ..codes import ClassCode, Status
 from .lyapunov import exponent_interval, largest_lyapunov
-from .scene import SystemScene, resolve_scene
+from ..scene import SystemScene, resolve_scene
 
 __all__ = ["ValueJob", "ValueResult", "RECORD_FACTOR", "FORCING_PERIODS"]
 

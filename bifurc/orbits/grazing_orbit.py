@@ -100,7 +100,7 @@ def locate_grazing(problem, prev, *, max_iter: int = 30, radius: float = 0.1):
     Iterates stay within ``radius`` (scaled units, as the arclength step) of ``prev``: farther, it is
     another grazing, and this one is reported as not located.  Converged when the residual is below
     the problem's tol, or at the integration's noise floor (residual and Newton update both below
-    100 tol, as :func:`~bifurc.periodic.find_periodic_orbit`), the tolerance then the update left."""
+    100 tol, as :func:`~bifurc.orbits.periodic.find_periodic_orbit`), the tolerance then the update left."""
     near = closest_flight_minimum(problem, prev)
     if near is None:
         return math.nan, math.nan, math.nan, None, "no free-flight minimum to graze", {}
