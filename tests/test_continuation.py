@@ -236,7 +236,7 @@ def test_stable_intervals_of_a_branch():
     each end at the located bifurcation that bounds it where there is one."""
     import xarray as xr
 
-    from bifurc.studies.thesis_orbits import stable_intervals
+    from studies.thesis_orbits import stable_intervals
     ds = xr.Dataset({"V": ("point", [1.0, 2.0, 3.0, 4.0, 5.0, 6.0]), "stable": ("point", [1, 1, 0, 1, 1, 1]),
                      "period": ("point", [1, 1, 1, 1, 1, 2]), "impacts_per_period": ("point", [1, 1, 1, 2, 2, 4])})
     assert stable_intervals(ds) == [(1.0, 2.0, 1, 1), (4.0, 5.0, 1, 2), (6.0, 6.0, 2, 4)]

@@ -217,7 +217,7 @@ def test_map_colours_stay_distinct_under_colour_blindness():
 
 
 def _check_study(out, size):
-    import bifurc.studies.regime_maps as study
+    import studies.regime_maps as study
     text = (out / "report.md").read_text()
     for case, (p1, _), (p2, _), law, _ in study.CASES:
         assert f"## {case}: {p1} x {p2}, dc_law {law}" in text and f"![{case}]({case}.png)" in text
@@ -231,7 +231,7 @@ def _check_study(out, size):
 
 def test_regime_maps_study_writes_one_report_with_its_figures(tmp_path, monkeypatch):
     """The study on 2 x 3 cells per map (the full and --quick sizes run the same code)."""
-    import bifurc.studies.regime_maps as study
+    import studies.regime_maps as study
     small = dict(n=2, n2=3, transient=10, record=8)
     monkeypatch.setattr(study, "QUICK", small)
     assert main(["study", "regime-maps", "--quick", "-o", str(tmp_path)]) == 0
@@ -241,7 +241,7 @@ def test_regime_maps_study_writes_one_report_with_its_figures(tmp_path, monkeypa
 
 @pytest.mark.slow
 def test_regime_maps_quick_study_takes_under_two_minutes(tmp_path):
-    import bifurc.studies.regime_maps as study
+    import studies.regime_maps as study
     clock = time.perf_counter()
     assert main(["study", "regime-maps", "--quick", "-o", str(tmp_path)]) == 0
     assert time.perf_counter() - clock < 120

@@ -29,7 +29,7 @@ def test_diagram_and_report_commands(tmp_path, capsys):
 
 
 def test_quick_study_compares_every_frequency(tmp_path):
-    from bifurc.studies.run import run_study
+    from bifurc.commands.study import run_study
     results = run_study("thesis-1dof-relay", tmp_path, quick=True, progress=False, cases=["thesis-text"])
     ds = results["thesis-text"]
     np.testing.assert_allclose(ds.relay_hz.values, np.arange(2, 11))
@@ -81,7 +81,7 @@ def test_notebook_executes_and_shows_its_figures(tmp_path):
 
 
 def _replay():
-    import bifurc.studies.thesis_replay as replay
+    import studies.thesis_replay as replay
     return replay
 
 

@@ -233,7 +233,7 @@ def figures(m, size, out):
     """rates.png (against frequency, voltage, static force) and maps.png (what it would take)."""
     import matplotlib.pyplot as plt
 
-    from ..storage.files import save_figure
+    from bifurc.storage.files import save_figure
     floor = 1e-4                       # [mm/s] zero rates drawn here on the log axes
     clip = lambda r: np.maximum(np.asarray(r, float), floor)  # noqa: E731
     colours = {"viscous": "C0", "coulomb": "C3", "drift": "C2"}
@@ -377,7 +377,7 @@ def report(m, size, quick, seconds) -> str:
 
 def run(out, quick=False, progress=True, overwrite=False) -> dict:
     """The study into folder ``out``: ``report.md``, ``rates.png``, ``maps.png``."""
-    from ..storage.files import refuse_existing, write_text
+    from bifurc.storage.files import refuse_existing, write_text
     out = Path(out)
     for name in ("report.md", "rates.png", "maps.png"):
         refuse_existing(out / name, overwrite, hint="use --force")

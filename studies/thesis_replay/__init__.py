@@ -178,7 +178,8 @@ def measure(W: float, V: float, law: str, *, preset=PRESET, ac_sign=AC_SIGN, cir
     }
 
 
-def _budget(r) -> str:
+def budget(r) -> str:
+    """The force budget at the stop of a replay row ``r`` (:func:`measure`), in words."""
     where = "within 1 mm of the stop" if r["ac_near_stop"] else "at the stop (never reached: at the peak current)"
     weight = (f", weight {-r['weight_N']:.2f} N" if r["dc_law"] == "measured"
               else " (the weight cancels the cubic's + m g)")
@@ -194,7 +195,7 @@ def _motion_cause(r, f_well, short=False) -> str:
             return (f"the DC force at the stop ({r['F_dc_stop_N']:+.2f} N) outweighs the peak AC force near it "
                     f"({r['F_ac_peak_stop_N']:+.2f} N) and throws the bar across the DC well")
         return (f"x oscillates at the DC well's own frequency ({f_well:.2f} Hz for the dc-only bar released on the "
-                f"stop; FFT peak of the long run {fx:.2f} Hz), not locked to the relay: {_budget(r)}")
+                f"stop; FFT peak of the long run {fx:.2f} Hz), not locked to the relay: {budget(r)}")
     if r["dc_law"] == "measured" and r["F_ac_peak_stop_N"] > r["weight_N"]:
         reach = (f"flies up to {r['x_max_long_mm']:.0f} mm, into the table's range (x >= 33.5 mm), and back"
                  if r["x_max_long_mm"] >= 33.5 else f"bounces within {r['x_max_long_mm']:.1f} mm of it, below the "
@@ -202,8 +203,8 @@ def _motion_cause(r, f_well, short=False) -> str:
         if short:
             return (f"the listing's reversed AC force near the stop ({r['F_ac_peak_stop_N']:+.2f} N, away from it) "
                     f"exceeds the weight ({r['weight_N']:.2f} N)")
-        return f"the listing's reversed AC force lifts the bar off the stop ({_budget(r)}), and it {reach}"
-    return _budget(r)
+        return f"the listing's reversed AC force lifts the bar off the stop ({budget(r)}), and it {reach}"
+    return budget(r)
 
 
 def disagreements(r: dict, f_well: float) -> list[str]:
@@ -211,10 +212,10 @@ def disagreements(r: dict, f_well: float) -> list[str]:
     W, out = r["relay_hz"], []
     n_th = THESIS_NUMERICAL.get(int(W))
     if r["status"] != "ok":
-        return [f"The run ended {r['status']} at t = {r['t_end']:.3g} s: {_budget(r)}."]
+        return [f"The run ended {r['status']} at t = {r['t_end']:.3g} s: {budget(r)}."]
     never_left = r["x_max_long_mm"] <= 0.0
     if never_left:
-        out.append(f"The bar never leaves the stop in {r['long_periods']} relay periods (x <= 0): {_budget(r)}.")
+        out.append(f"The bar never leaves the stop in {r['long_periods']} relay periods (x <= 0): {budget(r)}.")
     elif r["period_long"] != n_th:
         lam = r["lyapunov_long"]
         chaos = (f"; largest Lyapunov exponent over the last {r['long_window']} periods {lam:+.2f} per relay period"
@@ -241,7 +242,7 @@ def figure(rows, V, path):
     Sets no matplotlib backend (the command line picks one; a notebook keeps its own)."""
     import matplotlib.pyplot as plt
 
-    from ..storage.files import save_figure
+    from bifurc.storage.files import save_figure
     freqs = sorted({r["relay_hz"] for r in rows if r["V"] == V})
     n = len(freqs)
     cols = min(3, n)
@@ -319,7 +320,7 @@ def report(rows, wells, quick, seconds, physical=()) -> str:
 def run(out, quick=False, progress=True, overwrite=False) -> dict:
     """Every replay into folder ``out``: ``report.md``, ``replay_<V>V.png``, ``replay.csv`` (an
     existing report refused unless ``overwrite``)."""
-    from ..storage.files import refuse_existing
+    from bifurc.storage.files import refuse_existing
     out = Path(out)
     refuse_existing(out / "report.md", overwrite, hint="use --force")
     out.mkdir(parents=True, exist_ok=True)

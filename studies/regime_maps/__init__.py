@@ -31,7 +31,7 @@ QUICK = dict(n=7, n2=7, transient=100, record=40)     # for the tests and `--qui
 
 
 def run(out, quick=False, progress=True, overwrite=False) -> dict:
-    """Every map into folder ``out`` (refused before if occupied, see studies.run):
+    """Every map into folder ``out`` (refused before if occupied, see bifurc.commands.study.run_study):
     ``<case>.nc``, ``<case>.png`` and ``report.md``; returns {case: dataset}."""
     from bifurc.storage.files import write_text
     from bifurc.plots.map import plot_regime_map
