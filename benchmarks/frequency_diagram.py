@@ -3,7 +3,7 @@
 thesis-1dof, preset matlab-listing, V = 90 V, N relay frequencies in [2, 10] Hz,
 300 transient + 100 recorded relay periods, tol 1e-10.  Measured side by side in one run:
 
-1. the product path, ``bifurc.sweep.sweep`` (= ``bifurc diagram``), on ``--workers`` processes,
+1. the product path, ``bifurc.sweeps.sweep.sweep`` (= ``bifurc diagram``), on ``--workers`` processes,
    wall time including the process pool start and one compilation per worker:
    a. in full: orbits, classification, Lyapunov exponents where not periodic, grazing
       bisection, error estimate (heyoka batch mode, 4 SIMD lanes);
@@ -26,7 +26,7 @@ thesis-1dof, preset matlab-listing, V = 90 V, N relay frequencies in [2, 10] Hz,
 
 ``--default-diagram`` times instead the default diagram (`bifurc diagram --scene thesis-1dof
 --param relay_hz --from 2 --to 10 --n 1000 --transient 300 --record 100`: the CLI's defaults,
-through ``bifurc.sweep.sweep``) with the Lyapunov exponent from the tangent vector (the default)
+through ``bifurc.sweeps.sweep.sweep``) with the Lyapunov exponent from the tangent vector (the default)
 and from Benettin's companions, with and without the record extension, interleaved over
 ``--rounds`` rounds so that the machine's load falls on every variant alike.
 """
@@ -42,9 +42,9 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 import maps
-from bifurc.executor import map_values
+from bifurc.sweeps.executor import map_values
 from maps.tangent import TANGENT_SIZE
-from bifurc.sweep import sweep
+from bifurc.sweeps.sweep import sweep
 
 
 @dataclass(frozen=True)

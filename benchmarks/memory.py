@@ -1,7 +1,7 @@
 """Peak memory of a large sweep streamed to disk, on the path `bifurc diagram` runs.
 
 thesis-1dof, matlab-listing, V = 90 V, ``--n`` relay frequencies in [2, 10] Hz by
-``bifurc.sweep.sweep(..., path=...)``: every completed chunk is saved under ``<path>.parts/``
+``bifurc.sweeps.sweep.sweep(..., path=...)``: every completed chunk is saved under ``<path>.parts/``
 and the Dataset is assembled at the end.  Prints the peak resident set size of this process
 and of the largest worker process (``getrusage``).  The default transient is shortened (30
 periods) to keep the run to minutes on 2 cores: memory depends on the recorded window (100
@@ -20,7 +20,7 @@ import time
 
 import numpy as np
 
-from bifurc.sweep import sweep
+from bifurc.sweeps.sweep import sweep
 
 
 def main(argv=None):

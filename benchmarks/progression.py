@@ -6,7 +6,7 @@ frequencies in [4, 8.8] Hz, 200 transient + 100 recorded relay periods (300 in a
 for each soil law.  Measured side by side in one run, ``--rounds`` times interleaved (best of them; wall time and
 CPU time of this process and its finished workers):
 
-1. the product path, ``bifurc.sweep.sweep`` on ``--workers`` processes (batch engine, 4 SIMD lanes),
+1. the product path, ``bifurc.sweeps.sweep.sweep`` on ``--workers`` processes (batch engine, 4 SIMD lanes),
    with the progression measures (always stored for 2-DOF scenes), classification in reduced
    coordinates, no Lyapunov exponent, grazing or error estimate (``lyapunov=False, grazing=False,
    error_sample=0``), wall time including the pool start and each worker's compilation; and once
@@ -46,9 +46,9 @@ import numpy as np
 import maps
 from maps.hybrid import settle_may_act
 from maps.poincare import forcing_period_steps
-from bifurc.job import ValueJob
-from bifurc.executor import map_values
-from bifurc.sweep import sweep
+from bifurc.sweeps.job import ValueJob
+from bifurc.sweeps.executor import map_values
+from bifurc.sweeps.sweep import sweep
 from frequency_diagram import BareBatch, _Same
 
 LAWS = ("viscous", "coulomb", "drift")

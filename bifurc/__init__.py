@@ -11,17 +11,17 @@ Importing bifurc never selects a matplotlib backend; it registers the ``ds.bifur
 """
 from ._version import __version__
 from ._xarray_hook import register_accessor_with_xarray
-from .branch import continue_orbit
-from .datasets import load
-from .orbit import periodic_orbit, sweep_point
-from .periodic import OrbitNotFound, find_periodic_orbit
-from .plot_branch import plot_branch, plot_curves
-from .plot_diagram import plot_diagram
-from .plot_history import plot_time_history
-from .plot_map import plot_regime_map
-from .regime import regime_map
+from .orbits.branch import continue_orbit
+from .storage.load import load
+from .orbits.orbit import periodic_orbit, sweep_point
+from .orbits.periodic import OrbitNotFound, find_periodic_orbit
+from .plots.branch import plot_branch, plot_curves
+from .plots.diagram import plot_diagram
+from .plots.history import plot_time_history
+from .plots.map import plot_regime_map
+from .sweeps.regime import regime_map
 from .report import class_at, classification_report
-from .sweep import sweep
+from .sweeps.sweep import sweep
 
 register_accessor_with_xarray()  # ds.bifurc, without importing xarray in worker processes
 

@@ -9,7 +9,7 @@ import xarray as xr
 
 from maps.parameters import ParameterError, validate_value
 
-from .datasets import KINDS, kind_of
+from .storage.load import KINDS, kind_of
 
 __all__ = ["BifurcAccessor", "Markdown"]
 
@@ -30,7 +30,7 @@ class BifurcAccessor:
 
     @property
     def kind(self) -> str | None:
-        """"diagram", "map", "simulate", "stability", "accuracy" or None (see :data:`bifurc.datasets.KINDS`)."""
+        """"diagram", "map", "simulate", "stability", "accuracy" or None (see :data:`bifurc.storage.load.KINDS`)."""
         return kind_of(self._ds)
 
     def _need(self, kind: str) -> None:
@@ -46,13 +46,13 @@ class BifurcAccessor:
         """
         kind = self.kind
         if kind == "diagram":
-            from .plot_diagram import plot_diagram
+            from .plots.diagram import plot_diagram
             return plot_diagram(self._ds, **kw)
         if kind == "map":
-            from .plot_map import plot_regime_map
+            from .plots.map import plot_regime_map
             return plot_regime_map(self._ds, **kw)
         if kind == "simulate":
-            from .plot_history import plot_time_history
+            from .plots.history import plot_time_history
             return plot_time_history(self._ds, **kw)
         if kind == "accuracy":
             from .verification.accuracy import plot_work_precision
@@ -83,7 +83,7 @@ class BifurcAccessor:
         A tidy pandas DataFrame (``ds.to_dataframe()`` has no rows when a dimension such as
         ``grazing`` is empty). ``df.attrs["units"]`` maps each column to its units.
         """
-        from .classify import CLASS_LABELS, describe
+        from .sweeps.classify import CLASS_LABELS, describe
         self._need("diagram")
         ds = self._ds
         par = ds.attrs["swept_parameter"]

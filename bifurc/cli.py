@@ -18,7 +18,7 @@ from maps.parameters import ParameterError
 from maps.provenance import command
 
 from ._version import __version__
-from .files import BadFileError
+from .storage.files import BadFileError
 
 __all__ = ["COMMANDS", "UsageError", "build_parser", "main"]
 

@@ -5,7 +5,7 @@ import math
 
 import numpy as np
 
-from .classify import CLASS_LABELS, describe
+from .sweeps.classify import CLASS_LABELS, describe
 
 __all__ = ["classification_report", "class_at"]
 

@@ -2,7 +2,7 @@
 
 One function, :func:`progression_measures`, turns a record of the rig's position at known times,
 the contact onsets and the time the rig is held into the measures every 2-DOF time history
-(:func:`maps.simulate`) and sweep (:mod:`bifurc.storage`) stores:
+(:func:`maps.simulate`) and sweep (:mod:`bifurc.storage.sweep_dataset`) stores:
 
 - ``progression_rate`` [m s-1]: mean forward speed over the window, (x2(t_a) - x2(t_b)) / (t_b - t_a);
 - ``progression_per_period`` [m]: the same per relay period (rate / relay_hz);
@@ -24,7 +24,7 @@ __all__ = ["TARGET_DEPTH", "MEASURES", "held_mode", "progression_measures", "hel
 #: the thesis' progression distance [m]: time to progress 0.2 m (Chapter 5)
 TARGET_DEPTH = 0.2
 
-#: name -> (units, long_name) of the measures (bifurc.schema repeats them as rows; a test checks)
+#: name -> (units, long_name) of the measures (bifurc.storage.schema repeats them as rows; a test checks)
 MEASURES = {
     "progression_rate": ("m s-1", "mean rate of forward progression into the soil over the window"),
     "progression_per_period": ("m", "forward progression per relay period over the window"),

@@ -18,10 +18,10 @@ from matplotlib.colors import to_rgb
 import bifurc
 import maps
 from bifurc.cli import build_parser, main
-from bifurc.plot_diagram import CLASS_COLOURS, GRAZE
+from bifurc.plots.diagram import CLASS_COLOURS, GRAZE
 
 ROOT = Path(__file__).resolve().parents[1]
-PACKAGES = ("maps", "bifurc")
+PACKAGES = ("maps", "bifurc", "studies")  # floors, ground first: each imports only those before it
 
 
 @pytest.fixture(scope="module")
@@ -36,8 +36,11 @@ def test_public_names_resolve_and_sweep_is_the_function():
     for name in maps.__all__:
         assert getattr(maps, name) is not None, name
     assert callable(bifurc.sweep) and callable(bifurc.plot_diagram)
-    from bifurc.sweep import sweep
-    assert sweep is bifurc.sweep is importlib.import_module("bifurc.sweep").sweep
+    from bifurc.sweeps.sweep import sweep
+    assert sweep is bifurc.sweep is importlib.import_module("bifurc.sweeps.sweep").sweep
+    for old in ("bifurc.sweep", "bifurc.storage_io", "bifurc.plot_diagram"):  # moved, no shims left
+        with pytest.raises(ModuleNotFoundError):
+            importlib.import_module(old)
     assert bifurc.class_at is importlib.import_module("bifurc.report").class_at
 
 
@@ -168,9 +171,10 @@ def _import_graph():
     return graph
 
 
-def test_no_import_cycle_counting_imports_inside_functions_and_maps_never_imports_bifurc():
+def test_no_import_cycle_counting_imports_inside_functions_and_no_import_up_a_floor():
     graph = _import_graph()
-    assert "bifurc.sweep" in graph["bifurc"]  # the graph sees the package's exports
+    assert "bifurc.sweeps.sweep" in graph["bifurc"]  # the graph sees the package's exports
+    assert "bifurc.storage.sweep_dataset" in graph["bifurc.sweeps.sweep"]  # ... and subpackages' modules
 
     def reach(start):
         seen, todo = set(), [start]
@@ -181,9 +185,11 @@ def test_no_import_cycle_counting_imports_inside_functions_and_maps_never_import
         return seen
     cycles = [m for m in graph if m in reach(m)]
     assert not cycles, cycles
-    for m, targets in graph.items():
-        if m.startswith("maps"):
-            assert not [t for t in targets if t.startswith("bifurc")], m
+    floor = {pkg: i for i, pkg in enumerate(PACKAGES)}
+    for m, targets in graph.items():   # maps never imports bifurc, bifurc never imports studies
+        up = [t for t in targets if floor[t.partition(".")[0]] > floor[m.partition(".")[0]]]
+        assert not up, (m, up)
+    assert any(t.startswith("bifurc") for t in graph["studies.thesis_orbits"])  # the graph sees studies
 
 
 def test_python_m_bifurc_and_version():
@@ -225,7 +231,7 @@ def test_help_texts_state_the_real_defaults():
 def test_readme_points_to_files_that_exist_and_its_accuracy_example_impacts():
     readme = (ROOT / "README.md").read_text()
     assert "MODEL.md" not in readme and (ROOT / "docs" / "model.md").exists()
-    for path in re.findall(r"`((?:docs|notebooks|benchmarks)/[\w./-]+)`", readme):
+    for path in re.findall(r"`((?:docs|notebooks|benchmarks|studies)/[\w./-]+)`", readme):
         assert (ROOT / path).exists(), path
     example = re.search(r"`(bifurc accuracy [^`]+)`", readme).group(1).split()
     args = build_parser().parse_args(example[1:])
@@ -238,6 +244,6 @@ def test_readme_points_to_files_that_exist_and_its_accuracy_example_impacts():
 def test_only_the_command_line_chooses_a_matplotlib_backend():
     """No library function sets a backend (a notebook would stop showing figures after calling it):
     the one matplotlib.use is in the CLI's main, for the files it writes."""
-    callers = [str(p.relative_to(ROOT)) for pkg in ("maps", "bifurc") for p in (ROOT / pkg).rglob("*.py")
+    callers = [str(p.relative_to(ROOT)) for pkg in PACKAGES for p in (ROOT / pkg).rglob("*.py")
                if "matplotlib.use(" in p.read_text()]
     assert callers == ["bifurc/cli.py"], callers

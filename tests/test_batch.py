@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 
 import maps
-from bifurc.job import ValueJob
-from bifurc.lyapunov import exponent_interval, lyapunov_along
-from bifurc.sweep import sweep
+from bifurc.sweeps.job import ValueJob
+from bifurc.sweeps.lyapunov import exponent_interval, lyapunov_along
+from bifurc.sweeps.sweep import sweep
 from maps.engines import BatchEngine, OrbitJob, engine_for
 from maps.hybrid import HybridSystem, PeriodicSwitch, State
 from maps.parameters import Parameter

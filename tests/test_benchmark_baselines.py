@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 
 import maps
-from bifurc.sweep import sweep
+from bifurc.sweeps.sweep import sweep
 
 SCRIPT = Path(__file__).resolve().parents[1] / "benchmarks" / "frequency_diagram.py"
 

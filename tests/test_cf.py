@@ -65,7 +65,7 @@ def test_the_checker_would_catch_a_bad_unit():
 
 
 def test_parameter_state_and_schema_units_are_udunits_valid():
-    from bifurc.schema import GRAZING, HISTORY, ORBIT, ORBIT_SCALARS, SWEEP, SWEEP_COORDS
+    from bifurc.storage.schema import GRAZING, HISTORY, ORBIT, ORBIT_SCALARS, SWEEP, SWEEP_COORDS
     assert_udunits([(p.name, p.unit) for p in maps.PARAMETERS.values()])
     for name in maps.scene_names():
         assert_udunits([(s.name, s.unit) for s in maps.get_scene(name).system.states])

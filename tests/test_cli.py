@@ -11,8 +11,8 @@ import xarray as xr  # noqa: E402
 import maps  # noqa: E402
 from bifurc import __version__, cli  # noqa: E402
 from bifurc.cli import main  # noqa: E402
-from bifurc.plot_history import plot_time_history  # noqa: E402
-from bifurc.storage_io import write_netcdf_atomic  # noqa: E402
+from bifurc.plots.history import plot_time_history  # noqa: E402
+from bifurc.storage.files import write_netcdf  # noqa: E402
 
 OPTS = dict(preset="matlab-listing", params={"V": 90.0, "k": 1e6, "relay_hz": 9.0}, dt=1e-3)
 ARGV = ["--scene", "thesis-1dof", "--relay-hz", "9", "--preset", "matlab-listing",
@@ -90,12 +90,12 @@ def test_time_history_figure_draws_the_dataset(reference):
 
 def test_atomic_write_keeps_the_old_file_when_writing_fails(tmp_path, reference):
     path = tmp_path / "keep.nc"
-    write_netcdf_atomic(reference, path)
+    write_netcdf(reference, path, overwrite=True)
     before = path.read_bytes()
     bad = reference.copy()
     bad.attrs["not_storable"] = {"a": 1}  # netCDF refuses a dict attribute mid-write
     with pytest.raises(TypeError):
-        write_netcdf_atomic(bad, path)
+        write_netcdf(bad, path, overwrite=True)
     assert path.read_bytes() == before
     assert sorted(p.name for p in tmp_path.iterdir()) == ["keep.nc"]
 

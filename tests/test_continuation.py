@@ -79,7 +79,7 @@ def period_doublings_of(value, multipliers, th_grid):
 
 
 def specials(ds, kind):
-    code = bifurc.schema.SPECIAL_KINDS.index(kind)
+    code = bifurc.storage.schema.SPECIAL_KINDS.index(kind)
     return [float(ds.special_value[i]) for i in range(ds.sizes["special"]) if int(ds.special_kind[i]) == code]
 
 
@@ -200,7 +200,7 @@ def test_the_branch_dataset_round_trips_through_netcdf(tmp_path):
     import xarray as xr
     ds = bifurc.continue_orbit("impact-oscillator", "e", (0.2, -0.06), max_points=30)
     path = tmp_path / "branch.nc"
-    bifurc.files.write_netcdf(ds, path)
+    bifurc.storage.files.write_netcdf(ds, path)
     back = xr.open_dataset(path).load()
     for name in ds.data_vars:
         assert name in back
@@ -236,14 +236,14 @@ def test_stable_intervals_of_a_branch():
     each end at the located bifurcation that bounds it where there is one."""
     import xarray as xr
 
-    from bifurc.studies.thesis_orbits import stable_intervals
+    from studies.thesis_orbits import stable_intervals
     ds = xr.Dataset({"V": ("point", [1.0, 2.0, 3.0, 4.0, 5.0, 6.0]), "stable": ("point", [1, 1, 0, 1, 1, 1]),
                      "period": ("point", [1, 1, 1, 1, 1, 2]), "impacts_per_period": ("point", [1, 1, 1, 2, 2, 4])})
     assert stable_intervals(ds) == [(1.0, 2.0, 1, 1), (4.0, 5.0, 1, 2), (6.0, 6.0, 2, 4)]
     # located ends: the special point nearest to the run's end between it and the next point (a
     # fold may lie beyond both: the branch turns there); a bracket-only one (NaN tolerance), one
     # outside the bracket, one farther away: not ends
-    kinds = bifurc.schema.SPECIAL_KINDS
+    kinds = bifurc.storage.schema.SPECIAL_KINDS
     sp = [("period_doubling", 2.4, 1e-9, 1), ("period_doubling", 2.8, 1e-9, 1), ("period_doubling", 9.0, 1e-9, 1),
           ("fold", 3.7, 1e-9, 2), ("impact_lost", 6.0, math.nan, 5)]
     ds = ds.assign(special_kind=("special", [kinds.index(k) for k, *_ in sp]),
@@ -291,7 +291,7 @@ def test_two_parameter_fold_period_doubling_and_grazing_curves_equal_the_closed_
     closed form; its period doubling in (e, r): the zero of det(P S + I) along the family; the
     grazing of the non-impacting orbit in (F, zeta): F = -e sqrt(D(zeta))."""
     ds = bifurc.continue_orbit("impact-oscillator", "e", (0.2, 0.6), param2="r", span2=(0.7, 0.9), error=False)
-    kinds = [bifurc.curves.CURVE_KINDS[int(k)] for k in ds.curve_kind.values]
+    kinds = [bifurc.orbits.curves.CURVE_KINDS[int(k)] for k in ds.curve_kind.values]
     assert kinds == ["fold"]
     e, r = ds.curve_e.values, ds.curve_r.values
     assert e.size >= 10 and r.max() > 0.85
@@ -301,7 +301,7 @@ def test_two_parameter_fold_period_doubling_and_grazing_curves_equal_the_closed_
         value, _ = one_to_one_family(**{k: p[k] for k in ("w0", "zeta", "F", "Omega", "r", "e")}, free="e")
         assert abs(e[i] - fold_of(value, th, +1)) < 1e-7
     pd = bifurc.continue_orbit("impact-oscillator", "e", (0.2, -0.2), param2="r", span2=(0.7, 0.8), error=False)
-    assert [bifurc.curves.CURVE_KINDS[int(k)] for k in pd.curve_kind.values] == ["period_doubling"]
+    assert [bifurc.orbits.curves.CURVE_KINDS[int(k)] for k in pd.curve_kind.values] == ["period_doubling"]
     e, r = pd.curve_e.values, pd.curve_r.values
     assert e.size >= 8 and r.max() > 0.79
     for i in (1, e.size // 2, e.size - 2):
@@ -312,7 +312,7 @@ def test_two_parameter_fold_period_doubling_and_grazing_curves_equal_the_closed_
     p = dict(BASE, Omega=1.5, e=-0.05)
     g = bifurc.continue_orbit("impact-oscillator", "F", (0.02, 0.3), params=p, x0={"x": 0.0}, error=False,
                               param2="zeta", span2=(0.05, 0.3))
-    assert [bifurc.curves.CURVE_KINDS[int(k)] for k in g.curve_kind.values] == ["grazing"]
+    assert [bifurc.orbits.curves.CURVE_KINDS[int(k)] for k in g.curve_kind.values] == ["grazing"]
     F, zeta = g.curve_F.values, g.curve_zeta.values
     assert F.size >= 10 and zeta.max() > 0.25
     for i in (1, F.size // 2, F.size - 2):
@@ -387,7 +387,7 @@ def test_a_thesis_grazing_is_located_at_the_integrations_noise_floor():
     ds = bifurc.continue_orbit("thesis-1dof", "V", (165.0, 300.0), preset="matlab-listing", dc_law="listing",
                                params={"relay_hz": 5.0}, max_points=100, start=(HybridState(y, flags), 400),
                                period=6, error=False)
-    code = bifurc.schema.SPECIAL_KINDS.index("grazing")
+    code = bifurc.storage.schema.SPECIAL_KINDS.index("grazing")
     g = [k for k in range(ds.sizes["special"]) if int(ds.special_kind[k]) == code]
     assert len(g) == 1
     g = g[0]
@@ -417,7 +417,7 @@ def test_a_branch_that_runs_into_sticking_says_so():
                                params={"relay_hz": 10.0}, max_points=100, start=(HybridState(y, flags), 400),
                                period=1, error=False)
     assert "sticking sets in" in ds.attrs["branch_stop_reasons"]
-    code = bifurc.schema.SPECIAL_KINDS.index("stick_onset")
+    code = bifurc.storage.schema.SPECIAL_KINDS.index("stick_onset")
     assert [int(k) for k in ds.special_kind.values] == [code]
     last = ds.sizes["point"] - 1
     V_last = float(ds.V.values[last])
@@ -443,7 +443,7 @@ def test_a_corrector_that_lands_on_another_branch_is_refused():
                                params={"relay_hz": 10.0}, max_points=100, error=False)
     reason = ds.attrs["branch_stop_reasons"]
     assert "impact is lost" not in reason and "sticking sets in" in reason
-    code = bifurc.schema.SPECIAL_KINDS.index("stick_onset")
+    code = bifurc.storage.schema.SPECIAL_KINDS.index("stick_onset")
     assert [int(k) for k in ds.special_kind.values] == [code]
     last = ds.sizes["point"] - 1
     V_last = float(ds.V.values[last])
@@ -470,8 +470,8 @@ def test_a_fold_that_newton_cannot_locate_at_a_period_doubling_birth_says_so():
     y_j and y_{j+m} differ by d in one component of size 1 (mismatch d), not at all elsewhere."""
     from types import SimpleNamespace
 
-    from bifurc.continuation import BranchPoint, NoConvergence
-    from bifurc.special_points import detect, half_period_mismatch
+    from bifurc.orbits.continuation import BranchPoint, NoConvergence
+    from bifurc.orbits.special_points import detect, half_period_mismatch
 
     def point(p, d, dp_ds, n=4):
         nodes = [maps.HybridState(np.array([1.0 + (d if j >= n // 2 else 0.0), 0.5 * (j % max(1, n // 2)) - 3.0]), {})
@@ -515,7 +515,7 @@ def test_an_impact_lost_is_extrapolated_where_its_speed_vanishes():
                                dc_law="listing", params={"relay_hz": 5.0}, max_points=60,
                                start=(HybridState(y, flags), 400), period=3, error=False)
     assert "an impact is lost" in ds.attrs["branch_stop_reasons"]
-    assert [bifurc.schema.SPECIAL_KINDS[int(k)] for k in ds.special_kind.values] == ["impact_lost"]
+    assert [bifurc.storage.schema.SPECIAL_KINDS[int(k)] for k in ds.special_kind.values] == ["impact_lost"]
     V_lost, tol = float(ds.special_value[0]), float(ds.special_tolerance[0])
     assert 0 < tol < 1e-5 and abs(V_lost - 100.11027) < 1e-4
     sc = maps.get_scene("thesis-1dof").with_options(dc_law="listing")

@@ -175,7 +175,7 @@ def test_cli_and_sweep_record_the_law(tmp_path, capsys):
     """--dc-law reaches the compiled model through the CLI, and a sweep (whose workers get no preset)
     runs and records the law it was given; the batch engine hands the measured law to the scalar path."""
     from bifurc.cli import main
-    from bifurc.sweep import sweep
+    from bifurc.sweeps.sweep import sweep
     nc = tmp_path / "s.nc"
     assert main(["simulate", "--preset", "matlab-listing", "--dc-law", "measured", "--set", "V=90",
                  "--relay-hz", "5", "--periods", "2", "--x0", "x=0,v=0,i=0.1", "-o", str(nc)]) == 0

@@ -9,7 +9,7 @@ import pytest
 import xarray as xr
 
 from bifurc.cli import main
-from bifurc.files import write_netcdf
+from bifurc.storage.files import write_netcdf
 
 DIAGRAM = ["diagram", "--preset", "matlab-listing", "--set", "V=90", "--from", "5", "--to", "9", "--n", "2",
            "--transient", "5", "--record", "4", "--no-lyapunov", "--quiet"]

@@ -13,7 +13,7 @@ import xarray as xr
 import bifurc
 import maps
 from bifurc.cli import main
-from bifurc.files import OutputBusy, guarded_output, output_lock, write_netcdf
+from bifurc.storage.files import OutputBusy, guarded_output, output_lock, write_netcdf
 
 ARGS = dict(preset="matlab-listing", params={"V": 90}, transient=10, record=6, lyapunov=False, grazing=False,
             error_sample=0, progress=False, batch_size=1)
@@ -91,7 +91,7 @@ def test_a_second_writer_of_the_same_output_is_refused_at_once(tmp_path, capsys)
 def test_another_process_holding_the_lock_is_refused_in_one_line(tmp_path, capsys):
     """Across processes (fcntl.flock): the holder runs in a child process until its stdin closes."""
     out = tmp_path / "d.nc"
-    code = ("import sys; from bifurc.files import output_lock\n"
+    code = ("import sys; from bifurc.storage.files import output_lock\n"
             f"with output_lock({str(out)!r}):\n    print('held', flush=True); sys.stdin.read()\n")
     env = dict(os.environ, PYTHONPATH=str(Path(__file__).resolve().parents[1]))
     holder = subprocess.Popen([sys.executable, "-c", code], stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True,
@@ -113,7 +113,7 @@ def test_files_get_the_mode_of_the_users_umask(tmp_path, umask, mode):
     old = os.umask(umask)
     try:
         write_netcdf(ds, tmp_path / "a.nc")
-        bifurc.files.write_text(tmp_path / "a.md", "text")
+        bifurc.storage.files.write_text(tmp_path / "a.md", "text")
     finally:
         os.umask(old)
     assert stat.S_IMODE((tmp_path / "a.nc").stat().st_mode) == mode

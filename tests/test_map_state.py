@@ -85,7 +85,7 @@ def test_resets_are_traced_or_refused_by_name():
 def test_a_sweep_stores_the_mode_at_every_sample_and_a_step_restarts_from_it():
     """chatter-relay as a one-value sweep: the stored states and flags at sample k restart the map
     and reproduce sample k + 1, including samples where the bar is stuck."""
-    from bifurc.sweep import sweep
+    from bifurc.sweeps.sweep import sweep
     case = next(c for c in CASES if c.name == "chatter-relay")
     sc, p = case_scene(case)
     ds = sweep(sc.system, "V", [p["V"]], params=p, x0=case.x0, transient=0, record=4, progress=False,

@@ -8,8 +8,8 @@ from scipy.linalg import expm
 from scipy.optimize import brentq
 
 import maps
-from bifurc.orbit import periodic_orbit
-from bifurc.periodic import OrbitNotFound, find_periodic_orbit
+from bifurc.orbits.orbit import periodic_orbit
+from bifurc.orbits.periodic import OrbitNotFound, find_periodic_orbit
 
 BASE = dict(w0=1.0, zeta=0.05, F=0.5, Omega=2.5, e=0.2, r=0.7)
 

@@ -4,7 +4,7 @@ import re
 import pytest
 
 from bifurc.cli import main
-from bifurc.studies import prototype_progression as study
+from studies import prototype_progression as study
 
 TINY = dict(freqs=(6.0,), volts=(50, 90), actuator=(6, 20), ac_levels=(90,), transient=4, record=4,
             map_force=(31.1, 300.0), map_threshold={"coulomb": (100.0, 1000.0), "drift": (30.0, 100.0)},

@@ -17,7 +17,7 @@ import xarray as xr
 from bifurc import regime_map, sweep
 from bifurc.cli import main
 from bifurc.codes import ClassCode, Status
-from bifurc.regime import CELL_VARIABLES, CellJob
+from bifurc.sweeps.regime import CELL_VARIABLES, CellJob
 from conftest import kill_when_parts
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -174,7 +174,7 @@ def test_an_existing_output_is_refused_before_any_work(tmp_path, capsys):
 def test_the_figure_names_every_regime_and_draws_given_curves(local, tmp_path):
     import matplotlib
     matplotlib.use("Agg")
-    from bifurc.plot_map import plot_regime_map, regime_categories
+    from bifurc.plots.map import plot_regime_map, regime_categories
     index, cats = regime_categories(local)
     texts = [t for t, _ in cats]
     code = local.class_code.values
@@ -192,7 +192,7 @@ def test_the_figure_names_every_regime_and_draws_given_curves(local, tmp_path):
 
 
 def test_periodic_categories_read_period_and_impacts(local):
-    from bifurc.plot_map import regime_categories
+    from bifurc.plots.map import regime_categories
     ds = local.copy(deep=True)
     ds["class_code"][:] = ClassCode.PERIODIC
     ds["period"][:] = [[1, 1, 2], [1, 2, 2], [1, 1, 1]]
@@ -207,8 +207,8 @@ def test_map_colours_stay_distinct_under_colour_blindness():
     """CIE76 difference >= 10 between every two colours a map can show (protan, deutan, tritan)."""
     from test_api import CVD, _lab
 
-    from bifurc.plot_diagram import CLASS_COLOURS
-    from bifurc.plot_map import MISSING, OTHER_PERIODIC, PERIODIC_COLOURS
+    from bifurc.plots.diagram import CLASS_COLOURS
+    from bifurc.plots.map import MISSING, OTHER_PERIODIC, PERIODIC_COLOURS
     colours = list(PERIODIC_COLOURS) + [OTHER_PERIODIC[1], MISSING[1]] + [
         c for k, c in CLASS_COLOURS.items() if not ClassCode.of(k).periodic]
     for kind, matrix in CVD.items():
@@ -217,7 +217,7 @@ def test_map_colours_stay_distinct_under_colour_blindness():
 
 
 def _check_study(out, size):
-    import bifurc.studies.regime_maps as study
+    import studies.regime_maps as study
     text = (out / "report.md").read_text()
     for case, (p1, _), (p2, _), law, _ in study.CASES:
         assert f"## {case}: {p1} x {p2}, dc_law {law}" in text and f"![{case}]({case}.png)" in text
@@ -231,7 +231,7 @@ def _check_study(out, size):
 
 def test_regime_maps_study_writes_one_report_with_its_figures(tmp_path, monkeypatch):
     """The study on 2 x 3 cells per map (the full and --quick sizes run the same code)."""
-    import bifurc.studies.regime_maps as study
+    import studies.regime_maps as study
     small = dict(n=2, n2=3, transient=10, record=8)
     monkeypatch.setattr(study, "QUICK", small)
     assert main(["study", "regime-maps", "--quick", "-o", str(tmp_path)]) == 0
@@ -241,7 +241,7 @@ def test_regime_maps_study_writes_one_report_with_its_figures(tmp_path, monkeypa
 
 @pytest.mark.slow
 def test_regime_maps_quick_study_takes_under_two_minutes(tmp_path):
-    import bifurc.studies.regime_maps as study
+    import studies.regime_maps as study
     clock = time.perf_counter()
     assert main(["study", "regime-maps", "--quick", "-o", str(tmp_path)]) == 0
     assert time.perf_counter() - clock < 120
@@ -251,7 +251,7 @@ def test_regime_maps_quick_study_takes_under_two_minutes(tmp_path):
 def test_periodic_hammering_keeps_its_own_colour_when_rare(local):
     """Ten periodic n:m on the map, "period-1, 1 impact" on one cell only: it still gets the first
     colour (the study's question), the rarest of the others share "periodic, other n:m"."""
-    from bifurc.plot_map import OTHER_PERIODIC, PERIODIC_COLOURS, regime_categories
+    from bifurc.plots.map import OTHER_PERIODIC, PERIODIC_COLOURS, regime_categories
     ds = local.isel(relay_hz=[0, 1, 2, 0], V=[0, 1, 2, 0]).copy(deep=True)   # 16 cells
     ds["class_code"][:] = ClassCode.PERIODIC
     ds["period"][:] = 2

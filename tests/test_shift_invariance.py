@@ -13,7 +13,7 @@ import pytest
 
 import bifurc
 import maps
-from bifurc.classify import ClassCode, classify_orbit, state_scale
+from bifurc.sweeps.classify import ClassCode, classify_orbit, state_scale
 from maps.poincare import StroboscopicMap
 from maps.translation import advance_per_step, reduce_jacobian, reduce_points, translation_basis
 
@@ -73,7 +73,7 @@ def test_sweep_labels_the_progressing_orbit_periodic_with_its_progression():
 
 
 def test_reduced_exponent_and_jacobian_agree_with_newtons_multipliers():
-    """Newton in reduced coordinates (bifurc.periodic) gives the multipliers; the companion's
+    """Newton in reduced coordinates (bifurc.orbits.periodic) gives the multipliers; the companion's
     exponent is ln of the largest, and the reduced one-period Jacobian has the same spectrum
     while the full one adds the shift's multiplier 1."""
     orb = bifurc.periodic_orbit("prototype", soil="drift", params={"relay_hz": 5.0}, transient=100, error=False)
@@ -90,7 +90,7 @@ def test_reduced_exponent_and_jacobian_agree_with_newtons_multipliers():
 
 
 def test_description_names_the_progression_per_period():
-    from bifurc.classify import describe
+    from bifurc.sweeps.classify import describe
     assert describe(ClassCode.PERIODIC, 2, 3, progression=0.001) == "period-2, 3 impacts (2:3), progression 2 mm per period"
     assert describe(ClassCode.PERIODIC, 1, 1) == "period-1, 1 impact (1:1)"
 

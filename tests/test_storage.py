@@ -7,9 +7,9 @@ import pytest
 import xarray as xr
 
 import maps
-from bifurc import storage
-from bifurc.classify import CLASS_LABELS
-from bifurc.sweep import sweep
+from bifurc.storage import sweep_dataset as storage
+from bifurc.sweeps.classify import CLASS_LABELS
+from bifurc.sweeps.sweep import sweep
 
 OSC = dict(w0=1.0, zeta=0.02, F=0.1, Omega=0.7, e=-1.0, r=0.8)
 
@@ -94,8 +94,8 @@ def test_missing_values_are_flagged_never_silent(escaping_sweep):
 
 def test_time_history_attributes_follow_the_schema_table():
     """maps.simulate writes its own attributes (maps never imports bifurc); they must agree with
-    the history rows of bifurc.schema, which its to_dataset will later draw from."""
-    from bifurc.schema import HISTORY
+    the history rows of bifurc.storage.schema, which its to_dataset will later draw from."""
+    from bifurc.storage.schema import HISTORY
     rows = {v.name: v for v in HISTORY}
     for scene in ("thesis-1dof", "thesis-2dof"):
         ds = maps.simulate(scene, periods=2, preset="matlab-listing", params={"V": 90, "relay_hz": 9})
@@ -114,7 +114,7 @@ def test_time_history_attributes_follow_the_schema_table():
 
 def test_param_attributes_have_one_writer():
     """The sweep's param_* attributes are schema.param_attrs of its parameter table, swept one excluded."""
-    from bifurc.schema import param_attrs
+    from bifurc.storage.schema import param_attrs
     table = {"V": (90.0, "set by user"), "k": (1e5, "preset matlab-listing")}
     system = maps.get_scene("thesis-1dof").system
     assert param_attrs(table, system, skip=("k",)) == {"param_V": 90.0, "param_V_units": "V",
@@ -124,7 +124,7 @@ def test_param_attributes_have_one_writer():
 def test_text_variables_keep_their_whole_text():
     """class_reason is stored whole (a fixed-width array sized by its first entry cut it to one letter)."""
     import numpy as np
-    from bifurc.sweep import sweep
+    from bifurc.sweeps.sweep import sweep
     ds = sweep("thesis-1dof", "relay_hz", np.array([5.0, 9.0]), preset="matlab-listing", params={"V": 90},
                transient=20, record=30, grazing=False, error_sample=0, progress=False)
     reasons = [str(r) for r in ds.class_reason.values.ravel()]

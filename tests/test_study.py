@@ -15,7 +15,7 @@ def test_diagram_and_report_commands(tmp_path, capsys):
     assert main(["diagram", "--scene", "thesis-1dof", "--preset", "matlab-listing", "--set", "V=90",
                  "--from", "5", "--to", "9", "--n", "3", "--transient", "10", "--record", "8", "--quiet",
                  "-o", str(nc), "--plot", str(png)]) == 0
-    from bifurc import storage
+    from bifurc.storage import sweep_dataset as storage
     ds = storage.load(nc)
     np.testing.assert_allclose(ds.relay_hz.values, [5, 7, 9])
     assert ds.class_code.dims == ("branch", "relay_hz") and (ds.class_code.values >= 0).all()
@@ -29,7 +29,7 @@ def test_diagram_and_report_commands(tmp_path, capsys):
 
 
 def test_quick_study_compares_every_frequency(tmp_path):
-    from bifurc.studies.run import run_study
+    from bifurc.commands.study import run_study
     results = run_study("thesis-1dof-relay", tmp_path, quick=True, progress=False, cases=["thesis-text"])
     ds = results["thesis-text"]
     np.testing.assert_allclose(ds.relay_hz.values, np.arange(2, 11))
@@ -81,7 +81,7 @@ def test_notebook_executes_and_shows_its_figures(tmp_path):
 
 
 def _replay():
-    import bifurc.studies.thesis_replay as replay
+    import studies.thesis_replay as replay
     return replay
 
 

@@ -6,10 +6,10 @@ import pytest
 import xarray as xr
 
 import maps
-from bifurc import storage
-from bifurc.classify import CLASS_LABELS
-from bifurc.job import ValueJob
-from bifurc.sweep import sweep
+from bifurc.storage import sweep_dataset as storage
+from bifurc.sweeps.classify import CLASS_LABELS
+from bifurc.sweeps.job import ValueJob
+from bifurc.sweeps.sweep import sweep
 from conftest import completed_values, kill_when_parts
 from maps.impacts import impact_table
 
@@ -79,7 +79,7 @@ def test_no_grazing_search_between_two_unconverged_values():
     every non-periodic value is not-converged) there is no branch to follow: nothing is integrated."""
     from types import SimpleNamespace
 
-    from bifurc.grazing import locate_grazing_values
+    from bifurc.sweeps.grazing import locate_grazing_values
 
     class Forbidden:
         def __getattr__(self, name):
@@ -179,7 +179,7 @@ def test_interrupted_sweep_resumes_to_the_same_dataset(tmp_path, monkeypatch):
 
 
 def test_an_unreadable_resume_part_is_recomputed_with_a_warning(tmp_path, monkeypatch):
-    from bifurc.resume import Parts
+    from bifurc.sweeps.resume import Parts
     args = dict(preset="matlab-listing", params={"V": 90}, transient=20, record=10, lyapunov=False, grazing=False,
                 error_sample=0, progress=False, batch_size=1, workers=1, chunk_size=1)
     values = np.linspace(4, 9, 4)
@@ -203,7 +203,7 @@ def test_a_resumed_value_keeps_the_time_spent_computing_it(tmp_path, monkeypatch
     """Every value done before the interruption: the resumed dataset stores (and the command prints)
     the time spent on the values when they were computed, not the moment it took to load them."""
     from bifurc.cli import main
-    from bifurc.resume import Parts
+    from bifurc.sweeps.resume import Parts
     argv = ["diagram", "--preset", "matlab-listing", "--set", "V=90", "--from", "4", "--to", "9", "--n", "4",
             "--transient", "1500", "--record", "20", "--no-lyapunov", "--quiet", "--workers", "1"]
     path = tmp_path / "d.nc"
@@ -296,7 +296,7 @@ def test_a_still_converging_transient_is_extended_until_it_decides(osc):
 
 KILL_SCRIPT = """
 import sys, numpy as np
-from bifurc.sweep import sweep
+from bifurc.sweeps.sweep import sweep
 sweep("thesis-1dof", "relay_hz", np.linspace(4, 9, 8), path=sys.argv[1], **{args})
 """
 
@@ -406,7 +406,7 @@ def test_periods_are_searched_among_multiples_of_the_forcing_period():
     impacts (before, periods stopped at 16 and the value read quasi-periodic).  At 8.537 Hz the
     forcing never repeats (q = 0): no period is searched, and without an exponent the value is
     not-converged with that reason stored."""
-    from bifurc.classify import candidate_periods
+    from bifurc.sweeps.classify import candidate_periods
     from bifurc.codes import ClassCode
     assert candidate_periods(17, 100) == [17, 34, 51, 68, 85] and candidate_periods(0, 100) == []
     assert candidate_periods(1, 5) == [1, 2, 3, 4, 5]

@@ -99,7 +99,7 @@ def add_force_option(parser: argparse.ArgumentParser) -> None:
 
 def check_outputs(args, *paths) -> None:
     """Before any long work: refuse existing outputs unless --force (one line naming --force)."""
-    from ..files import refuse_existing
+    from ..storage.files import refuse_existing
     for path in paths:
         refuse_existing(path, args.force, hint="use --force")
 
@@ -107,7 +107,7 @@ def check_outputs(args, *paths) -> None:
 def check_plot(args) -> None:
     """``--plot``: a format matplotlib writes, not in the way of an existing file (unless --force)."""
     if args.plot:
-        from ..files import check_figure_output
+        from ..storage.files import check_figure_output
         check_figure_output(args.plot, args.force, what="--plot")
 
 

@@ -80,7 +80,7 @@ def run(args) -> int:
     ds = work_precision(args.scene, args.t_end, preset=args.preset, params=params, x0=x0, ladders=ladders,
                         reference=args.reference, max_seconds=args.max_seconds, progress=progress,
                         circuit=args.circuit, ac_sign=args.ac_sign, dc_law=args.dc_law)
-    from ..files import write_netcdf, write_text
+    from ..storage.files import write_netcdf, write_text
     write_text(out / "accuracy.csv", ds.to_dataframe().to_csv(), overwrite=args.force)
     write_netcdf(ds, out / "accuracy.nc", overwrite=args.force)
     plot_work_precision(ds, out / "accuracy.png", overwrite=args.force)

@@ -39,10 +39,10 @@ def register(subparsers):
 def run(args) -> int:
     import sys
 
-    from ..branch import continue_orbit
-    from ..files import write_netcdf
-    from ..periodic import OrbitNotFound
-    from ..schema import SPECIAL_KINDS
+    from ..orbits.branch import continue_orbit
+    from ..storage.files import write_netcdf
+    from ..orbits.periodic import OrbitNotFound
+    from ..storage.schema import SPECIAL_KINDS
     if args.output:
         check_outputs(args, args.output)
     check_plot(args)
@@ -50,11 +50,11 @@ def run(args) -> int:
         from maps.parameters import ParameterError
         raise ParameterError("--param2 needs --from2 and --to2")
     if args.plot2:
-        from ..files import check_figure_output
+        from ..storage.files import check_figure_output
         check_figure_output(args.plot2, args.force, what="--plot2")
     diagram = None
     if args.diagram:
-        from ..datasets import load
+        from ..storage.load import load
         diagram = load(args.diagram)
     kw = scene_kwargs(args)
     params = kw.pop("params")
@@ -91,11 +91,11 @@ def run(args) -> int:
         write_netcdf(ds, args.output, overwrite=args.force)
         print(f"  wrote {args.output}")
     if args.plot:
-        from ..plot_branch import plot_branch
+        from ..plots.branch import plot_branch
         plot_branch(ds, args.plot, diagram=diagram, overwrite=args.force)
         print(f"  wrote {args.plot}")
     if args.plot2:
-        from ..plot_branch import plot_curves
+        from ..plots.branch import plot_curves
         plot_curves(ds, args.plot2, overwrite=args.force)
         print(f"  wrote {args.plot2}")
     return 0

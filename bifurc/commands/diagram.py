@@ -28,8 +28,8 @@ def register(subparsers):
 def run(args) -> int:
     from maps.parameters import ParameterError
 
-    from ..classify import CLASS_LABELS
-    from ..sweep import sweep
+    from ..sweeps.classify import CLASS_LABELS
+    from ..sweeps.sweep import sweep
     if args.n < 1:
         raise ParameterError(f"--n {args.n}: need at least 1 value")
     kw = scene_kwargs(args)
@@ -43,7 +43,7 @@ def run(args) -> int:
                progress=not args.quiet, workers=args.workers, scheduler=args.scheduler, overwrite=args.force,
                **kw)
     if args.plot:
-        from ..plot_diagram import plot_diagram
+        from ..plots.diagram import plot_diagram
         plot_diagram(ds, args.plot, overwrite=args.force)
     codes = ds.class_code.values.ravel()
     counts = ", ".join(f"{CLASS_LABELS[c]} {int((codes == c).sum())}" for c in range(len(CLASS_LABELS))

@@ -26,8 +26,8 @@ def register(subparsers):
 def run(args) -> int:
     from maps.parameters import ParameterError
 
-    from ..plot_map import regime_categories
-    from ..regime import regime_map
+    from ..plots.map import regime_categories
+    from ..sweeps.regime import regime_map
     for opt, n in (("--n", args.n), ("--n2", args.n2)):
         if n < 1:
             raise ParameterError(f"{opt} {n}: need at least 1 value")
@@ -41,7 +41,7 @@ def run(args) -> int:
                     batch_size=args.batch_size, progress=not args.quiet, workers=args.workers,
                     scheduler=args.scheduler, overwrite=args.force, **kw)
     if args.plot:
-        from ..plot_map import plot_regime_map
+        from ..plots.map import plot_regime_map
         plot_regime_map(ds, args.plot, overwrite=args.force)
     index, cats = regime_categories(ds)
     counts = ", ".join(f"{text} {int((index == i).sum())}" for i, (text, _) in enumerate(cats))

@@ -19,9 +19,9 @@ def register(subparsers):
 
 
 def run(args) -> int:
-    from ..files import write_netcdf
-    from ..orbit import periodic_orbit
-    from ..periodic import OrbitNotFound
+    from ..storage.files import write_netcdf
+    from ..orbits.orbit import periodic_orbit
+    from ..orbits.periodic import OrbitNotFound
     if args.output:
         check_outputs(args, args.output)
     kw = scene_kwargs(args)

@@ -12,8 +12,8 @@ def register(subparsers):
 
 
 def run(args) -> int:
-    from ..datasets import load
-    from ..files import write_text
+    from ..storage.load import load
+    from ..storage.files import write_text
     from ..report import classification_report
     at = parse_floats(args.at, "--at") if args.at else None
     check_outputs(args, args.output)

@@ -30,10 +30,10 @@ def run(args) -> int:
         t_end = None if periods else 2.0
     ds = maps.simulate(args.scene, periods=periods, t_end=t_end, dt=args.dt, transient=args.transient, **kw)
     if args.output:
-        from ..files import write_netcdf
+        from ..storage.files import write_netcdf
         write_netcdf(ds, args.output, overwrite=args.force)
     if args.plot:
-        from ..plot_history import plot_time_history
+        from ..plots.history import plot_time_history
         plot_time_history(ds, args.plot, overwrite=args.force)
     a = ds.attrs
     print(f"{a['scene']}: status {a['status']}, t = {a['t_end_reached']:.6g} s, {ds.sizes['impact']} impacts, "

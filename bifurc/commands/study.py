@@ -1,21 +1,80 @@
-"""`bifurc study`: run a named study of bifurc.studies (diagram, report, comparison with the thesis)."""
+"""`bifurc study`: run a named study (diagram, report, comparison with the thesis).
+
+Studies are not part of bifurc: they live in the top-level ``studies`` package, one folder each,
+and are found through the entry-point group ``bifurc.studies`` (name -> module, declared in
+pyproject.toml), so bifurc never imports them by name.  One calling convention: a study module
+exposes ``run(out, quick=False, progress=True, overwrite=False, **options)``, writes its report,
+figures and datasets into folder ``out`` and returns what it measured; ``WRITES`` (optional)
+says what it writes, for the command's last line.  The refusal of an occupied output folder is
+here, the same for every study.
+"""
+from pathlib import Path
+
 from ._common import add_force_option
+
+#: the entry-point group that names the studies
+GROUP = "bifurc.studies"
+
+
+def studies() -> dict:
+    """Study name -> entry point (its module), from the installed distributions' ``bifurc.studies`` group."""
+    from importlib.metadata import entry_points
+    return {ep.name: ep for ep in sorted(entry_points(group=GROUP), key=lambda ep: ep.name)}
+
+
+def load_study(name):
+    """The module of study ``name`` (a :class:`~maps.parameters.ParameterError` naming the studies if unknown)."""
+    found = studies()
+    if name not in found:
+        from maps.parameters import ParameterError
+        raise ParameterError(f"unknown study {name!r}; studies: {', '.join(found) or 'none installed'}")
+    return found[name].load()
+
+
+def run_study(name, out, quick=False, progress=True, overwrite=False, hint="pass overwrite=True", **options):
+    """Run study ``name`` into folder ``out``; returns what the study's ``run`` returns.
+
+    A folder holding anything but interrupted sweeps (``*.parts``, which resume) is refused
+    unless ``overwrite`` (then its files are replaced); ``hint`` completes the refusal.
+    ``options`` (e.g. ``cases=[...]``) go to the study's ``run``.
+    """
+    import inspect
+    study = load_study(name)
+    out = Path(out)
+    if out.exists() and not out.is_dir():
+        raise NotADirectoryError(f"{out} is a file, not a folder")
+    held = sorted(p.name for p in out.iterdir() if not p.name.endswith(".parts")) if out.is_dir() else []
+    if held and not overwrite:
+        raise FileExistsError(f"{out} is not empty ({len(held)} entries, e.g. {held[0]}); {hint} to write into it")
+    unknown = sorted(set(options) - set(inspect.signature(study.run).parameters))
+    if unknown:
+        from maps.parameters import ParameterError
+        raise ParameterError(f"study {name} takes no {', '.join(unknown)}")
+    return study.run(out, quick=quick, progress=progress, overwrite=overwrite, **options)
+
+
+def written(name, out) -> str:
+    """The command's last line: what study ``name`` wrote into ``out``."""
+    return f"wrote {out}/{getattr(load_study(name), 'WRITES', 'report.md and its figures')}"
 
 
 def register(subparsers):
-    p = subparsers.add_parser("study", help="run a named, reproducible study (bifurc/studies/)")
-    p.add_argument("name", help="study name: thesis-1dof-relay, thesis-replay, thesis-orbits, regime-maps or "
-                                "prototype-progression")
+    p = subparsers.add_parser("study", help="run a named, reproducible study (studies/)")
+    p.add_argument("name", help="study name (listed below)")
     p.add_argument("--quick", action="store_true", help="reduced size")
     p.add_argument("-o", "--output", default="out/study", help="output folder")
     p.add_argument("--case", action="append", default=None, help="run only this case (repeatable)")
     add_force_option(p)
     p.set_defaults(func=run)
+    plain = p.format_help
+
+    def format_help():   # the installed studies, read only when help is shown
+        return plain() + "\nstudies: " + (", ".join(studies()) or "none installed") + "\n"
+    p.format_help = format_help
 
 
 def run(args) -> int:
-    from ..studies.run import _written, run_study
-    run_study(args.name, args.output, quick=args.quick, cases=args.case, overwrite=args.force,
-              hint="use --force")
-    print(_written(args.name, args.output))
+    options = {"cases": args.case} if args.case else {}
+    run_study(args.name, args.output, quick=args.quick, overwrite=args.force, hint="use --force", **options)
+    print(written(args.name, args.output))
     return 0

@@ -224,7 +224,7 @@ def plot_work_precision(ds: xr.Dataset, path=None, error="final_state_error", ax
     """Log-log error against run time, one line per method, into ``ax`` (default: a new figure);
     ``path``: also save it there (an existing file is refused unless ``overwrite``).
     Returns the Axes it drew on (``ax`` as given, or the new one)."""
-    from ..files import check_figure_output, save_figure
+    from ..storage.files import check_figure_output, save_figure
     if path is not None:
         check_figure_output(path, overwrite)
     own = ax is None

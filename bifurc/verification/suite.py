@@ -403,7 +403,7 @@ def _stick_sentence(r) -> str:
 
 def write_report(ds: xr.Dataset, folder, overwrite: bool = False) -> Path:
     """Write ``stability.md`` and ``stability.nc`` into ``folder`` (existing ones refused unless ``overwrite``)."""
-    from ..files import refuse_existing, write_netcdf
+    from ..storage.files import refuse_existing, write_netcdf
     folder = Path(folder)
     for name in ("stability.nc", "stability.md"):
         refuse_existing(folder / name, overwrite)

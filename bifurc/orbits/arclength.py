@@ -1,0 +1,150 @@
+"""Pseudo-arclength continuation of a branch: predictor along the unit tangent, corrector on the
+bordered system (:class:`bifurc.orbits.continuation.ContinuationProblem`), step control, the strobe
+section moved away from events, and the stops (interval left, point cap, non-smooth events).
+"""
+from __future__ import annotations
+
+import math
+import time as _time
+
+import numpy as np
+
+from maps.hybrid import IntegrationFailure
+from maps.parameters import ParameterError
+
+from .continuation import SMOOTH_ROLES, Branch, ContinuationProblem, NoConvergence, flags_of
+from .special_points import TESTS, detect, discontinuity, event_at_section, event_reason
+
+__all__ = ["continue_branch"]
+
+
+def continue_branch(problem: ContinuationProblem, orbit, p_start: float, p_end: float, *,
+                    step: float = 0.02, max_step: float = 0.1, min_step: float = 1e-7, max_points: int = 200,
+                    max_turn: float = 0.3, tangent=None, label: str = "main", progress=None,
+                    locate: bool = True, bounds=None, section_margin: float = 0.02,
+                    max_resections: int = 50) -> Branch:
+    """Follow ``orbit`` (at p_start) toward p_end until it leaves [p_start, p_end] (or the interval
+    of the two), ``max_points`` points are taken, or a non-smooth event or a corrector failure at
+    ``min_step`` stops it (``Branch.stop_reason`` says which).  When a state-changing event comes
+    within ``section_margin`` strobe periods of a sample time, the section moves (the map's phase)
+    to the middle of the widest event-free interval of the period, at most ``max_resections``
+    times: an event crossing the section would move between periods and break the map's
+    smoothness.  ``tangent``: a start direction (scaled unknowns; branch switching), else the null
+    vector pointing toward p_end; ``bounds``: the interval to stay in, if not [p_start, p_end]."""
+    clock = _time.perf_counter()
+    lo, hi = sorted(bounds) if bounds is not None else (min(p_start, p_end), max(p_start, p_end))
+    branch = Branch(problem.param, problem.n, problem.k0, label=label)
+    flags = flags_of(orbit)
+    u0 = problem.pack(orbit.nodes, p_start)
+    direction = math.copysign(1.0, p_end - p_start) if p_end != p_start else 1.0
+    e_p = np.zeros(u0.size)
+    e_p[-1] = direction
+    reference = e_p if tangent is None else np.asarray(tangent, float)
+    try:
+        u, F, DF, lins, flags, its = problem.correct(u0, e_p, flags)    # the start, at p_start
+    except NoConvergence as exc:
+        branch.stop_reason = f"the start orbit does not converge at {problem.param} = {p_start:.10g}: {exc}"
+        return branch
+    branch.points.append(problem.point(u, F, DF, lins, flags, its, reference, tangent=tangent))
+    h = float(step)
+    resections = 0
+    while len(branch.points) < max_points:
+        prev = branch.points[-1]
+        u_pred = prev.u + h * prev.tangent
+        try:
+            u, F, DF, lins, flags_new, its = problem.correct(u_pred, prev.tangent, flags_of(prev), max_move=h)
+            pt = problem.point(u, F, DF, lins, flags_new, its, prev.tangent)
+            turn = math.acos(max(-1.0, min(1.0, float(pt.tangent @ prev.tangent))))
+            why = None
+            if pt.transitions != prev.transitions:
+                why = "signature"
+            elif turn > max_turn:
+                why = f"the tangent turned {turn:.2f} rad"
+        except NoConvergence as exc:
+            why, pt = str(exc), None
+        branch.newton_iterations += 0 if pt is None else pt.iterations
+        if why is not None:
+            if h / 2 >= min_step:
+                h /= 2
+                continue
+            if pt is None:      # the corrector failed at the smallest step: does the map change there?
+                probe = _probe(problem, u_pred, prev)
+                if probe is not None and probe.transitions != prev.transitions:
+                    why, pt = "signature", probe
+            branch.stop_reason = event_reason(prev, pt, why, problem)
+            if locate and (pt is None or why == "signature"):
+                sp = discontinuity(problem, prev, pt, branch.points[-2] if len(branch.points) > 1 else None)
+                if sp is not None:
+                    sp.index = len(branch.points) - 1
+                    branch.special.append(sp)
+            break
+        branch.points.append(pt)
+        if progress is not None:
+            progress(pt)
+        if locate:
+            for kind in TESTS:
+                sp = detect(problem, prev, pt, kind)
+                if sp is not None:
+                    sp.index = len(branch.points) - 2
+                    branch.special.append(sp)
+        if resections < max_resections and event_at_section(problem, pt, within=section_margin):
+            moved = _resection(problem, pt)
+            if moved is not None:            # the same orbit, sampled where no event happens
+                resections += 1
+                branch.points.append(moved)
+                pt = moved
+        if not lo - 1e-12 * max(1.0, abs(lo)) <= pt.p <= hi + 1e-12 * max(1.0, abs(hi)):
+            branch.stop_reason = f"left the interval [{lo:.6g}, {hi:.6g}] at {problem.param} = {pt.p:.10g}"
+            break
+        h = min(max_step, h * (1.5 if its <= 3 else 1.0 if its <= 5 else 0.7))
+    else:
+        branch.stop_reason = f"reached max_points = {max_points}"
+    branch.seconds = _time.perf_counter() - clock
+    return branch
+
+
+def _probe(problem, u, prev):
+    """The map at the predicted point ``u`` past ``prev`` (not corrected: the corrector failed
+    there), as a BranchPoint with ``corrected=False``, or None where it cannot be evaluated."""
+    try:
+        F, DF, lins = problem.evaluate(u, flags_of(prev))
+    except (IntegrationFailure, ZeroDivisionError, ParameterError):
+        return None
+    pt = problem.point(u, F, DF, lins, flags_of(prev), 0, prev.tangent)
+    pt.corrected = False
+    return pt
+
+
+def _resection(problem, pt):
+    """The branch point ``pt`` sampled in a new section: the phase moves to the middle of the widest
+    interval of the period free of state-changing events; the nodes are integrated there and
+    corrected at the same parameter.  None when that fails."""
+    smap, T = problem.smap, problem.smap.period
+    phases = [0.0]
+    for j, evs in enumerate(pt.events):
+        t0 = smap.sample_time(problem.k0 + j)
+        phases += [((ev.t - t0) / T) % 1.0 for ev in evs if smap.system.role_of(ev.name) not in SMOOTH_ROLES]
+    ph = np.sort(np.array(phases))
+    gaps = np.diff(np.append(ph, ph[0] + 1.0))
+    i = int(np.argmax(gaps))
+    shift = (ph[i] + 0.5 * gaps[i]) % 1.0
+    if shift == 0.0:
+        return None
+    old = (smap.phase, problem.k0)
+    try:
+        smap.set_params(**{problem.param: pt.p})
+        nodes = []
+        for j, node in enumerate(pt.nodes):
+            t = smap.sample_time(problem.k0 + j) + shift * T
+            L = smap.linearize(node, problem.k0 + j, until=min(t, smap.sample_time(problem.k0 + j + 1)))
+            nodes.append(L.state)
+        phase = smap.phase + shift
+        smap.phase, problem.k0 = (phase - 1.0, problem.k0 + 1) if phase >= 1.0 else (phase, problem.k0)
+        e_p = np.zeros(pt.u.size)
+        e_p[-1] = 1.0
+        u, F, DF, lins, flags, its = problem.correct(problem.pack(nodes, pt.p), e_p, [dict(s.flags) for s in nodes])
+        reference = pt.tangent[-1] * e_p if abs(pt.tangent[-1]) > 1e-3 else e_p
+        return problem.point(u, F, DF, lins, flags, its, reference)
+    except (NoConvergence, IntegrationFailure, ParameterError):
+        smap.phase, problem.k0 = old
+        return None

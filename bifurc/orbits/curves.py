@@ -1,0 +1,196 @@
+"""Two-parameter curves of folds, period doublings and grazings, by pseudo-arclength continuation of
+their defining systems.
+
+Unknowns w = (z, p1, p2[, t_g]) in the scaled coordinates of the branch (nodes by the orbit's
+magnitude, each parameter by its span, t_g by the strobe period); equations:
+
+- fold: the shooting residuals F(z; p1, p2) = 0 and sigma = 0, where sigma is the last component
+  of the solution of the bordered system [[A, b], [c^T, 0]] (v, sigma) = (0, 1) with A = dF/dz
+  (singular exactly when a multiplier is +1) and b, c the left and right singular vectors of A's
+  smallest singular value, refreshed after every accepted point (a minimally augmented system, as
+  in BifurcationKit.jl);
+- period doubling: the same with A the shooting matrix whose wrap-around block is +I instead of -I
+  (singular exactly when a multiplier is -1);
+- grazing: F = 0 and, at t_g in the period of one node, the gap h = 0 and its rate dh/dt = 0
+  (:func:`bifurc.orbits.grazing_orbit.grazing_rows`, exact derivatives).
+
+The rows of F and of the grazing conditions are exact (variational equations with saltation);
+sigma's gradient is a forward difference of sigma itself (each sigma from exact Jacobians): second
+derivatives of the map are not integrated.  It only steers Newton; a converged point satisfies
+sigma = 0 to the tolerance.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from maps.hybrid import IntegrationFailure
+from maps.parameters import ParameterError
+
+from .continuation import NoConvergence, bordered_newton, unit_tangent
+from .grazing_orbit import grazing_rows
+
+__all__ = ["Curve", "CurveProblem", "follow_curve", "CURVE_KINDS"]
+
+CURVE_KINDS = ("fold", "period_doubling", "grazing")
+
+
+@dataclass
+class Curve:
+    """Points (p1, p2) of a codimension-one curve and why it stopped."""
+
+    kind: str
+    params: tuple
+    p1: list = field(default_factory=list)
+    p2: list = field(default_factory=list)
+    residual: list = field(default_factory=list)
+    stop_reason: str = ""
+    start: int = -1            # index of the special point of the branch it starts from
+
+
+class CurveProblem:
+    """The defining system of ``kind`` for the branch problem ``base`` in (base.param, param2)."""
+
+    def __init__(self, base, kind: str, param2: str, p2_ref: float, p2_scale: float, *, node: int = 0):
+        if kind not in CURVE_KINDS:
+            raise ParameterError(f"curve kind {kind!r}; allowed: {', '.join(CURVE_KINDS)}")
+        self.base, self.kind, self.param2 = base, kind, param2
+        self.names = (base.param, param2)
+        self.p_refs = np.array([base.p_ref, p2_ref])
+        self.p_scales = np.array([base.p_scale, p2_scale])
+        self.node = int(node)
+        self.N = base.n * base.d
+        self.b = self.c = None
+
+    def values(self, w) -> np.ndarray:
+        return self.p_refs + w[self.N:self.N + 2] * self.p_scales
+
+    def pack(self, nodes, p1, p2, t_g=None) -> np.ndarray:
+        u = self.base.pack(nodes, p1)[:-1]
+        w = np.concatenate([u, (np.array([p1, p2]) - self.p_refs) / self.p_scales])
+        return np.append(w, t_g / self.base.smap.period) if self.kind == "grazing" else w
+
+    def _matrix(self, M):
+        A = M.copy()
+        if self.kind == "period_doubling":       # the wrap-around block: +I (a multiplier -1)
+            d = self.base.d
+            A[self.N - d:, :d] += 2 * np.eye(d)
+        return A
+
+    def _shoot(self, w, flags):
+        p = self.values(w)
+        if not np.all(np.isfinite(p)):
+            raise NoConvergence("non-finite parameters")
+        try:
+            self.base.smap.set_params(**dict(zip(self.names, p)))
+            nodes = self.base.states(w, flags)
+            F, M, C, lins = self.base.shooting(nodes, self.names, self.p_scales)
+        except (IntegrationFailure, ZeroDivisionError, ParameterError) as exc:
+            raise NoConvergence(str(exc)) from None
+        return nodes, F, M, C, lins
+
+    def refresh_bordering(self, w, flags):
+        """b, c: the left and right singular vectors of A's smallest singular value at w."""
+        _, _, M, _, _ = self._shoot(w, flags)
+        U, _, Vt = np.linalg.svd(self._matrix(M))
+        self.b, self.c = U[:, -1], Vt[-1]
+
+    def _sigma(self, M) -> float:
+        A = self._matrix(M)
+        K = np.block([[A, self.b[:, None]], [self.c[None, :], np.zeros((1, 1))]])
+        rhs = np.zeros(K.shape[0])
+        rhs[-1] = 1.0
+        try:
+            return float(np.linalg.solve(K, rhs)[-1])
+        except np.linalg.LinAlgError:
+            raise NoConvergence("singular bordered matrix of the test function") from None
+
+    def evaluate(self, w, flags):
+        """(G, DG, linearizations): the defining system and its Jacobian (len(w) - 1 rows)."""
+        nodes, F, M, C, lins = self._shoot(w, flags)
+        top = np.column_stack([M, C])
+        if self.kind == "grazing":
+            j, d = self.node, self.base.d
+            t_g = w[-1] * self.base.smap.period
+            try:
+                G2, rows, _, _ = grazing_rows(self.base, nodes, j, t_g, self.names, self.p_scales,
+                                           float(np.max(self.base.scale)))
+            except (IntegrationFailure, ZeroDivisionError, ParameterError) as exc:
+                raise NoConvergence(str(exc)) from None
+            B = np.zeros((2, w.size))
+            B[:, j * d:(j + 1) * d] = rows[:, :d]
+            B[:, self.N:] = rows[:, d:]
+            return np.concatenate([F, G2]), np.vstack([np.column_stack([top, np.zeros(top.shape[0])]), B]), lins
+        sigma = self._sigma(M)
+        grad = np.zeros(w.size)
+        eps = 1e-7
+        for i in range(w.size):           # sigma's gradient: forward differences of sigma (steers Newton only)
+            dw = np.zeros(w.size)
+            dw[i] = eps
+            grad[i] = (self._sigma(self._shoot(w + dw, flags)[2]) - sigma) / eps
+        return np.append(F, sigma), np.vstack([top, grad]), lins
+
+
+def _correct(problem, w_pred, normal, flags, tol, max_move=None):
+    """Newton on [G(w); normal . (w - w_pred)] = 0 (:func:`bifurc.orbits.continuation.bordered_newton`); on
+    a grazing curve an iterate that adds an impact is damped back toward the last one; a step
+    passes its length ``max_move`` (a solution farther away is on another curve: refused).
+    Returns (w, G, DG, flags, max |G|)."""
+    w, G, DG, _, flags, _ = bordered_newton(problem.evaluate, w_pred, normal, flags, tol, max_iter=12, stall_after=4,
+                                            tiny_update=False, keep_impacts=problem.kind == "grazing",
+                                            max_move=max_move)
+    return w, G, DG, flags, float(np.max(np.abs(G)))
+
+
+def follow_curve(problem: CurveProblem, w0, flags, p2_end: float, bounds1, *, step: float = 0.02,
+                 max_step: float = 0.1, min_step: float = 1e-6, max_points: int = 100) -> Curve:
+    """Continue the defining system from w0 (a located special point, parameter 2 at its start)
+    toward ``p2_end``, staying inside ``bounds1`` for parameter 1."""
+    tol = problem.base.tol
+    curve = Curve(problem.kind, problem.names)
+    p2_start = float(problem.values(w0)[1])
+    lo2, hi2 = sorted((p2_start, p2_end))
+    lo1, hi1 = sorted(bounds1)
+    try:
+        if problem.kind != "grazing":
+            problem.refresh_bordering(w0, flags)
+        e = np.zeros(w0.size)
+        e[problem.N + 1] = 1.0                       # fix p2 for the start
+        w, G, DG, flags, norm = _correct(problem, w0, e, flags, tol)
+    except NoConvergence as exc:
+        curve.stop_reason = f"the start does not converge: {exc}"
+        return curve
+    t = unit_tangent(DG, e * math.copysign(1.0, p2_end - p2_start))
+    curve.p1.append(float(problem.values(w)[0]))
+    curve.p2.append(float(problem.values(w)[1]))
+    curve.residual.append(norm)
+    h = step
+    while len(curve.p1) < max_points:
+        try:
+            w_new, G, DG, flags_new, norm = _correct(problem, w + h * t, t, flags, tol, max_move=h)
+            t_new = unit_tangent(DG, t)
+        except NoConvergence as exc:
+            if h / 2 >= min_step:
+                h /= 2
+                continue
+            curve.stop_reason = f"stopped after ({curve.p1[-1]:.10g}, {curve.p2[-1]:.10g}): {exc} at the smallest step"
+            break
+        w, t, flags = w_new, t_new, flags_new
+        p1, p2 = problem.values(w)
+        curve.p1.append(float(p1))
+        curve.p2.append(float(p2))
+        curve.residual.append(norm)
+        if problem.kind != "grazing":
+            try:
+                problem.refresh_bordering(w, flags)
+            except NoConvergence:
+                pass
+        if not (lo2 - 1e-12 <= p2 <= hi2 + 1e-12 and lo1 - 1e-12 <= p1 <= hi1 + 1e-12):
+            curve.stop_reason = f"left the parameter box at ({p1:.10g}, {p2:.10g})"
+            break
+        h = min(max_step, 1.3 * h)
+    else:
+        curve.stop_reason = f"reached max_points = {max_points}"
+    return curve

@@ -1,0 +1,125 @@
+"""Figure of a continued branch: stable parts solid, unstable dashed, special points labelled."""
+from __future__ import annotations
+
+import numpy as np
+
+from ..storage.files import check_figure_output, save_figure
+from ..storage.schema import SPECIAL_KINDS
+
+__all__ = ["plot_branch", "plot_curves", "branch_curves", "SPECIAL_LABELS"]
+
+#: short labels of the special points on the figure
+SPECIAL_LABELS = {"fold": "LP", "period_doubling": "PD", "neimark_sacker": "NS", "grazing": "G",
+                  "impact_lost": "IL", "stick_onset": "ST", "signature_change": "SC"}
+_MARKERS = {"fold": "s", "period_doubling": "D", "neimark_sacker": "h", "grazing": "v", "impact_lost": "^",
+            "stick_onset": "X", "signature_change": "P"}
+
+
+def plot_branch(ds, path=None, state=None, node: int = 0, ax=None, diagram=None, overwrite=False, label=None,
+                colour: int = 0):
+    """The continuation parameter against ``state`` (default the first state) at strobe node
+    ``node`` of each branch point: stable parts solid, unstable dashed, one colour per branch;
+    special points marked and labelled (LP fold, PD period doubling, NS Neimark-Sacker, G grazing,
+    IL impact lost, ST stick onset) with their located values.
+
+    ``diagram``: a sweep dataset (bifurc.sweep / ``bifurc diagram``) of the same parameter, drawn
+    behind as grey dots (every recorded sample).  ``ax``: draw into this Axes.  ``path``: also save
+    there (an existing file is refused unless ``overwrite``) and close the figure.  ``label``,
+    ``colour``: the legend text and first palette index, to tell several datasets apart on one Axes.
+    Returns the Axes (shown once in Jupyter).
+    """
+    if path is not None:
+        check_figure_output(path, overwrite)
+    par = ds.attrs["continuation_parameter"]
+    state = state or [v for v in ds.data_vars if ds[v].dims == ("point", "node") and not v.startswith("flag_")][0]
+    own = ax is None
+    if own:
+        import matplotlib.pyplot as plt
+        _, ax = plt.subplots(figsize=(9, 5.5))
+    if diagram is not None:
+        _draw_diagram(ax, diagram, par, state)
+    colours = ["#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9"]
+    labels = ds.attrs.get("branch_labels", "").split(" | ")
+    for b in np.unique(ds.branch_id.values):
+        sel = ds.branch_id.values == b
+        p, y, stable = ds[par].values[sel], ds[state].values[sel, node], ds.stable.values[sel] == 1
+        tint = colours[(int(b) + colour) % len(colours)]
+        name = labels[int(b)] if int(b) < len(labels) else f"branch {b}"
+        name = name if label is None else f"{label}, {name}"
+        for k in range(len(p) - 1):       # segment by segment: solid where both ends are stable
+            ax.plot(p[k:k + 2], y[k:k + 2], color=tint, lw=1.8, ls="-" if stable[k] and stable[k + 1] else "--")
+        ax.plot([], [], color=tint, lw=1.8, label=f"{name} (solid: stable, dashed: unstable)")
+    for i in range(ds.sizes.get("special", 0)):
+        kind = SPECIAL_KINDS[int(ds.special_kind.values[i])]
+        j = int(ds.special_point.values[i])
+        value = float(ds.special_value.values[i])
+        y = float(ds[state].values[j, node])
+        ax.plot([value], [y], marker=_MARKERS[kind], color="k", ms=7, ls="none")
+        ax.annotate(f"{SPECIAL_LABELS[kind]} {value:.6g}", (value, y), textcoords="offset points", xytext=(6, 6),
+                    fontsize=8)
+    unit = ds[par].attrs.get("units", "")
+    ax.set_xlabel(f"{par} [{unit}]")
+    ax.set_ylabel(f"{state} at strobe node {node} [{ds[state].attrs.get('units', '')}]")
+    ax.set_title(ds.attrs.get("title", ""), fontsize=10)
+    ax.legend(fontsize=8, loc="best")
+    if path is not None:
+        save_figure(ax.figure, path, overwrite=overwrite, close=own)
+    return ax
+
+
+def _draw_diagram(ax, diagram, par, state):
+    if diagram.attrs.get("swept_parameter") != par:
+        from maps.parameters import ParameterError
+        raise ParameterError(f"the diagram sweeps {diagram.attrs.get('swept_parameter')!r}, the branch {par!r}: "
+                             f"give a diagram of the same parameter")
+    d = diagram[state].transpose(..., par, "sample")
+    for vals in (d.values.reshape(-1, *d.shape[-2:])):            # each sweep branch
+        pp = np.broadcast_to(diagram[par].values[:, None], vals.shape)
+        ax.plot(pp.ravel(), vals.ravel(), ",", color="0.6", alpha=0.6)
+    ax.plot([], [], ".", color="0.6", label="brute-force diagram (every recorded sample)")
+
+
+def branch_curves(ds) -> list:
+    """[(p1 values, p2 values, label)] of the two-parameter curves of a branch dataset, ready to draw
+    over a regime map of the same two parameters."""
+    from ..orbits.curves import CURVE_KINDS
+    if "curve_id" not in ds:
+        return []
+    p1, p2 = ds.attrs["curve_parameters"].split()
+    out = []
+    for c in range(ds.sizes["curve"]):
+        sel = ds.curve_id.values == c
+        kind = CURVE_KINDS[int(ds.curve_kind.values[c])]
+        out.append((ds[f"curve_{p1}"].values[sel], ds[f"curve_{p2}"].values[sel], f"{SPECIAL_LABELS[kind]} curve"))
+    return out
+
+
+def plot_curves(ds, path=None, ax=None, overwrite=False):
+    """The two-parameter curves of a branch dataset (folds LP, period doublings PD, grazings G) in the
+    (param, param2) plane, each from its special point (a dot).  ``ax``: draw into it (e.g. over a
+    regime map of the same parameters); ``path``: also save there.  Returns the Axes."""
+    if path is not None:
+        check_figure_output(path, overwrite)
+    curves = branch_curves(ds)
+    if not curves:
+        from maps.parameters import ParameterError
+        raise ParameterError("the dataset holds no two-parameter curve: continue with param2= / --param2")
+    own = ax is None
+    if own:
+        import matplotlib.pyplot as plt
+        _, ax = plt.subplots(figsize=(7, 5.5))
+    styles = {"LP curve": ("#0072B2", "-"), "PD curve": ("#D55E00", "--"), "G curve": ("#009E73", "-.")}
+    for x, y, label in curves:
+        colour, ls = styles.get(label, ("k", ":"))
+        ax.plot(x, y, color=colour, ls=ls, lw=1.8, label=label)
+        ax.plot(x[:1], y[:1], "o", color=colour, ms=5)
+    p1, p2 = ds.attrs["curve_parameters"].split()
+    ax.set_xlabel(f"{p1} [{ds[f'curve_{p1}'].attrs.get('units', '')}]")
+    ax.set_ylabel(f"{p2} [{ds[f'curve_{p2}'].attrs.get('units', '')}]")
+    ax.set_title(f"{ds.attrs.get('scene', '')}: two-parameter curves", fontsize=10)
+    handles, labels = ax.get_legend_handles_labels()
+    unique = dict(zip(labels, handles))
+    ax.legend(unique.values(), unique.keys(), fontsize=8)
+    if path is not None:
+        save_figure(ax.figure, path, overwrite=overwrite, close=own)
+    return ax

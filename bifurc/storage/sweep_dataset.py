@@ -1,0 +1,197 @@
+"""The sweep Dataset: assembly from the schema table, CF attributes, netCDF save and load.
+
+Dimensions: ``branch`` ("independent", or "up"/"down" in follow mode), the
+swept parameter (named after it, e.g. ``relay_hz``), ``sample`` (recorded
+stroboscopic points 0..record), ``step`` (recorded periods), ``impact``
+(contacts in the recorded window, NaN-padded; ``n_impacts`` counts them) and
+``grazing`` (located grazing values).  Every variable is a row of
+:mod:`bifurc.storage.schema`.
+"""
+from __future__ import annotations
+
+import math
+import platform
+
+import heyoka as hy
+import numpy as np
+import xarray as xr
+
+from maps.provenance import cf_attrs
+
+from .._version import __version__
+from ..sweeps.classify import lyapunov_threshold
+from ..sweeps.lyapunov import INTERVAL_METHOD, METHODS
+from ..codes import Status
+from ..sweeps.grazing import GRAZING_GAP, GRAZING_SPEED, grazing_flag
+from .schema import (GRAZING, GRAZING_FLAG, PARAM, PROGRESSION, SWEEP, SWEEP_COORDS, flag_variable, param_attrs,
+                     state_variable)
+from .files import write_netcdf
+from ..sweeps.job import FORCING_PERIODS
+from maps.presets import preset_attrs
+from maps.progression import held_mode, progression_measures
+from maps.simulate import dc_law_attrs, soil_law_attrs
+
+__all__ = ["to_dataset", "run_attrs", "add_grazing", "add_error_estimate", "save", "load", "STATUS_MEANINGS"]
+
+STATUS_MEANINGS = " ".join(s.label for s in Status)
+
+
+def _stack(results, branches, var, sizes, par, get=None):
+    """The variable ``var`` over (branch, value, ...) from ValueResults (None: not computed -> fill)."""
+    out = var.empty(sizes, par)
+    for bi, b in enumerate(branches):
+        for i, r in enumerate(results[b]):
+            if r is not None:
+                out[bi, i] = getattr(r, var.name) if get is None else get(r)
+    return var.finish(out)
+
+
+def _progression(results, branches, job, scene, sizes, par, values, mode) -> dict:
+    """The 2-DOF progression measures (schema.PROGRESSION) of every value over its recorded window,
+    from its relay-period samples and contacts (maps.progression).  A follow sweep starts each
+    value where the previous one ended: no time to depth from the start."""
+    system = scene.system
+    ix2 = system.state_names.index("x2")
+    x2_start = scene.initial_state(**job.x0)["x2"]
+    held_by = held_mode(system)
+    out = {var: var.empty(sizes, par) for var in PROGRESSION}
+    for bi, b in enumerate(branches):
+        for i, r in enumerate(results[b]):
+            if r is None:
+                continue
+            p = job.at(values[i])
+            W, n = p["relay_hz"], min(r.record_used, job.record)     # the stored samples: the first record
+            t = (r.transient_used + np.arange(n + 1)) / W
+            held = 0.0 if held_by is None else r.held_time      # the time in the mode, from its flag changes
+            m = progression_measures(t, r.points[:n + 1, ix2], x2_start=x2_start, relay_hz=W,
+                                     impact_t=r.impact_t, impact_velocity=r.impact_velocity, m1=p["m1"], held=held)
+            if mode != "independent":
+                m["time_to_depth"] = np.nan
+            if r.n_impacts > job.max_impacts:
+                m["impact_energy_per_period"] = np.nan
+            for var in PROGRESSION:
+                out[var][bi, i] = m[var.name]
+    return {var: var.finish(data) for var, data in out.items()}
+
+
+def to_dataset(results, values, job, scene, table, mode) -> xr.Dataset:
+    """Assemble ``results`` {branch: [ValueResult or None per value]} into the sweep Dataset."""
+    branches = list(results)
+    system = scene.system
+    par = job.param
+    p = system.parameter(par)
+    sizes = {"branch": len(branches), par: len(values), "sample": job.record + 1, "step": job.record,
+             "impact": job.max_impacts}
+    index = {"branch": np.array(branches, dtype=str)}
+    coords = {c.name: (c.dims, index.get(c.name, np.arange(sizes[c.name])), c.attrs()) for c in SWEEP_COORDS}
+    coords = {"branch": coords.pop("branch"), par: (par, np.asarray(values, float),
+                                                  {"units": p.unit, "long_name": p.long_name}), **coords}
+    ds = xr.Dataset(coords=coords)
+    for j, st in enumerate(system.states):
+        var = state_variable(st, ("branch", PARAM, "sample"), ", stroboscopic")
+        ds[st.name] = (var.dims_for(par), _stack(results, branches, var, sizes, par, lambda r: r.points[:, j]),
+                       var.attrs())
+    for j, name in enumerate(system.flag_names):     # the mode at each sample: a step restarts exactly there
+        var = flag_variable(name, ("branch", PARAM, "sample"))
+        ds[var.name] = (var.dims_for(par), _stack(results, branches, var, sizes, par,
+                                                  lambda r: r.point_flags[:, j]), var.attrs())
+    for var in SWEEP:
+        ds[var.name] = (var.dims_for(par), _stack(results, branches, var, sizes, par), var.attrs())
+    if "x2" in system.state_names and "relay_hz" in system.param_names:
+        for var, data in _progression(results, branches, job, scene, sizes, par, values, mode).items():
+            ds[var.name] = (var.dims_for(par), data, var.attrs())
+    ds[GRAZING_FLAG.name] = grazing_flag(ds.min_gap, ds.min_impact_speed).astype(np.int8).assign_attrs(
+        GRAZING_FLAG.attrs())
+    ds.attrs.update({"title": f"{scene.name}: {par} sweep ({mode})", "scene": scene.name, "swept_parameter": par,
+                     "swept_parameter_units": p.unit, "mode": mode,
+                     **run_attrs(job, scene, table, f"scene {scene.name}, {par} sweep ({mode})", skip=(par,))})
+    return ds
+
+
+def run_attrs(job, scene, table, history, skip=()) -> dict:
+    """The attributes every grid dataset carries: the job's settings, the model's options and
+    parameters (except the gridded ones, ``skip``), thresholds, versions and the CF history."""
+    o = scene.options
+    circuit = (o.circuit if o.ac else "none") if o is not None else "none"
+    ac_sign = (o.ac_sign if o.ac else "none") if o is not None else "none"
+    return {
+        "transient_periods": job.transient,
+        "recorded_periods": job.record, "max_record_periods": job.record_cap,
+        "record_extension": f"a record holding fewer than {FORCING_PERIODS} forcing periods q (q <= max_period) is "
+                            f"extended to {FORCING_PERIODS} q relay periods, at most max_record_periods (record_used); "
+                            "the exponent and its threshold use each value's whole record unless lyapunov_steps is set",
+        "tol": job.tol, "max_period": job.max_period,
+        "max_transient_periods": job.max_transient if job.max_transient is not None else job.transient,
+        "classification_rtol": job.rtol, "classification_atol": job.atol,
+        "lyapunov_steps": job.exponent_steps, "lyapunov_threshold": lyapunov_threshold(job.exponent_steps),
+        "lyapunov_interval_method": INTERVAL_METHOD, "lyapunov_method": METHODS[job.lyapunov_method],
+        "circuit": circuit, "ac_sign": ac_sign, **(dc_law_attrs(o) if o is not None else {"dc_law": "none"}),
+        **soil_law_attrs(o),
+        **preset_attrs(table),
+        "initial_state": ", ".join(f"{k}={v:g}" for k, v in scene.initial_state(**job.x0).items()),
+        "grazing_gap_threshold_m": GRAZING_GAP, "grazing_speed_threshold_m_s": GRAZING_SPEED,
+        "bifurc_version": __version__, "heyoka_version": hy.__version__, "numpy_version": np.__version__,
+        "xarray_version": xr.__version__, "python_version": platform.python_version(),
+        **cf_attrs(history), **param_attrs(table, scene.system, skip=skip),
+    }
+
+
+def add_grazing(ds: xr.Dataset, found) -> xr.Dataset:
+    """Located grazing values [(branch, locate_grazing result), ...] on the ``grazing`` dimension."""
+    par = ds.attrs["swept_parameter"]
+    units = ds[par].attrs.get("units", "")
+    columns = {"grazing": np.arange(len(found)), "grazing_branch": [b for b, _ in found]}
+    for var in GRAZING:
+        key = var.name.removeprefix("grazing_")
+        data = columns.get(var.name)
+        if data is None:
+            data = [g.get(key, var.fill) for _, g in found]
+        attrs = var.attrs(long_name=var.long_name.format(param=par), **({"units": units} if var.units == PARAM else {}))
+        if var.name == "grazing":
+            ds = ds.assign_coords(grazing=("grazing", data, attrs))
+        else:
+            ds[var.name] = (var.dims, np.array(data, dtype=var.dtype), attrs)
+    return ds
+
+
+def add_error_estimate(ds, sample_values, point_err, time_err, counts_differ, seconds, tight_tol,
+                       sensitive_err=math.nan, n_sensitive=0, step_err=math.nan) -> xr.Dataset:
+    """Record the numerical error estimate next to the run time (NaN: nothing of that kind sampled)."""
+    ds.attrs.update({
+        "error_estimate_values": np.asarray(sample_values, float) if len(sample_values) else np.array([math.nan]),
+        "error_estimate_tol": tight_tol,
+        "error_map_step_rel": step_err,
+        "error_map_points_rel": point_err,
+        "error_impact_time_s": time_err,
+        "error_impact_count_mismatches": int(counts_differ),
+        "error_map_points_rel_sensitive": sensitive_err,
+        "error_sensitive_values": int(n_sensitive),
+        "error_estimate_seconds": seconds,
+        "error_estimate_method": "error_map_step_rel: one relay period from the same recorded states of the "
+                                 "sampled values at tol and at tol/100, largest |difference| scaled by each "
+                                 "state's largest magnitude (the error of every map point, any class); "
+                                 "error_map_points_rel, error_impact_time_s: whole values re-run at tol/100 from "
+                                 "the same start, over periodic values (global error; NaN: none re-run); at "
+                                 "chaotic, quasi-periodic or unconverged values that difference "
+                                 "(error_map_points_rel_sensitive) reflects sensitivity, not accuracy",
+    })
+    return ds
+
+
+def save(ds: xr.Dataset, path, overwrite: bool = False) -> None:
+    """Write atomically to netCDF (a reader never sees a partial file)."""
+    write_netcdf(ds, path, overwrite=overwrite)
+
+
+#: attributes that are arrays: netCDF gives a one-element array back as a scalar
+ARRAY_ATTRS = ("error_estimate_values",)
+
+
+def load(path) -> xr.Dataset:
+    """Open a sweep dataset fully into memory (the file is not kept open)."""
+    with xr.open_dataset(path) as ds:
+        ds = ds.load()
+    for key in ARRAY_ATTRS:
+        if key in ds.attrs:
+            ds.attrs[key] = np.atleast_1d(ds.attrs[key])
+    return ds

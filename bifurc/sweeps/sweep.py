@@ -1,0 +1,293 @@
+"""One-parameter sweeps: stroboscopic orbits, classification and grazing per value.
+
+``mode="independent"``: every value starts from the same initial state (values
+run in parallel: ``workers`` processes, by default every available core, or a Dask
+``scheduler``).  ``mode="follow"``: each value starts from the previous value's final
+state, swept up then down (dimension ``branch``), to reveal coexisting attractors and
+hysteresis ("continuation" is a deprecated alias).
+
+With ``path`` every completed chunk of values is saved at once under ``<path>.parts/``
+(:mod:`bifurc.sweeps.resume`); an interrupted sweep loses nothing and a rerun with the same
+arguments resumes.  The final Dataset is written atomically and the parts are removed.
+
+The tail after the grid (grazing bisections, error estimate) runs on the sweep's worker
+processes, still open and warm, while this process builds the Dataset (independent mode on a
+process pool; here otherwise).
+
+The pieces: :mod:`bifurc.sweeps.job` (one value), :mod:`bifurc.sweeps.executor` (many values),
+:mod:`bifurc.sweeps.grazing`, :mod:`bifurc.sweeps.errors`, :mod:`bifurc.storage.sweep_dataset`.
+"""
+from __future__ import annotations
+
+import sys
+import time as _time
+import warnings
+from contextlib import nullcontext
+from dataclasses import replace
+
+import numpy as np
+
+from maps.hybrid import validate_tol
+from maps.parameters import ParameterError, validate_value
+from maps.provenance import recorded
+
+from ..codes import Status
+from .errors import ErrorEstimate
+from .executor import WorkerPool, default_workers, map_values, submit_all
+from ..storage.files import guarded_output
+from .grazing import GRAZING_GAP, GRAZING_SPEED, bracket_cost, grazing_brackets, locate_bracket
+from .job import ValueJob
+from .lyapunov import METHODS
+from .resume import Parts, manifest
+from ..scene import SystemScene, resolve_scene
+
+__all__ = ["sweep", "MODES", "GRAZING_GAP", "GRAZING_SPEED"]
+
+#: sweep modes and their branches
+MODES = {"independent": ("independent",), "follow": ("up", "down")}
+
+
+@recorded("bifurc.sweep")
+@guarded_output("path")
+def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independent", transient=300,
+          record=100, max_record=None, preset=None, params=None, x0=None, tol=1e-10, max_period=100, rtol=1e-6,
+          atol=1e-9, lyapunov=True, lyapunov_method="tangent", grazing=True, grazing_xtol=None, circuit=None,
+          ac_sign=None, dc_law=None, soil=None, compaction=None, path=None,
+          progress=True, workers=None, scheduler=None, error_sample=3, max_transient=None, batch_size=4,
+          chunk_size=None, overwrite=False):
+    """Sweep ``param`` over ``values``; returns an xarray Dataset (see bifurc.storage.sweep_dataset).
+
+    Parameters
+    ----------
+    scene, preset, params, x0, circuit, ac_sign, dc_law, soil, compaction : as in maps.simulate.
+    param : str
+        Parameter name to sweep (MODEL.md section 6), e.g. "relay_hz", "V", "k".
+    values : array
+        The grid (ascending for follow mode).
+    mode : "independent" or "follow" ("continuation": deprecated alias of "follow").
+    transient, record : int
+        Relay periods discarded, then recorded, per value.
+    max_record : int
+        Where the record holds fewer than three forcing periods q (q <= max_period), it is
+        extended to 3 q relay periods, never beyond ``max_record`` (default 3 x record); the
+        length used is stored per value (``record_used``), the stored samples are its first ``record``.
+    max_transient : int
+        Where a value is not-converged with a geometrically decaying recurrence, integrate on
+        (doubling the transient) up to this many relay periods; the transient used is stored.
+    tol : float
+        heyoka tolerance; ``error_sample`` values are re-run at tol/100 for the error estimate.
+    max_period, rtol, atol : classification (bifurc.sweeps.classify); periods are searched among the
+        multiples of the forcing period q up to ``max_period`` relay periods (default 100), each
+        needing two whole periods in the record (q = 0: the forcing never repeats, no period).
+    lyapunov : bool
+        Compute the largest Lyapunov exponent where the orbit is not periodic.
+    lyapunov_method : "tangent" (default) or "companion"
+        How the exponent is integrated (:data:`bifurc.sweeps.lyapunov.METHODS`, stored as an attribute).
+    grazing : bool
+        Locate grazing values between neighbours where the orbit changes between
+        impacting and not impacting, by bisection to ``grazing_xtol``.
+    path : str
+        netCDF output; completed values are kept in ``<path>.parts/`` for resuming.  An existing
+        file is refused unless ``overwrite``; a second sweep into the same path at once is refused
+        (``<path>.lock``, POSIX only; see :mod:`bifurc.storage.files`).
+    workers : int
+        Worker processes of an independent sweep (default: every available core, with at
+        least 16 values per worker; a bare HybridSystem runs in this process).
+    scheduler : Dask scheduler address or Client (then ``workers`` is ignored).
+    batch_size : int
+        Values integrated together in heyoka's batch mode (SIMD lanes); 1: one value at a
+        time.  Results agree to round-off, amplified by chaotic dynamics.
+    chunk_size : int
+        Values per task (default: 8 x batch_size, or 1 without batch mode, in this process;
+        automatic on workers); with ``path``, an interruption loses at most the chunks in flight.
+    """
+    if mode == "continuation":
+        warnings.warn('sweep mode "continuation" is now called "follow"', DeprecationWarning, stacklevel=2)
+        mode = "follow"
+    if mode not in MODES:
+        raise ParameterError(f"mode {mode!r}; allowed: {', '.join(MODES)}")
+    values = np.asarray(values, dtype=float).ravel()
+    job, sc, table = _job(scene, param, values, transient, record, preset, params, x0, tol, max_period, rtol, atol,
+                          lyapunov, circuit, ac_sign, dc_law, max_transient, batch_size, max_record, soil, compaction)
+    if lyapunov_method not in METHODS:
+        raise ParameterError(f"lyapunov_method {lyapunov_method!r}; allowed: {', '.join(METHODS)}")
+    job = replace(job, lyapunov_method=lyapunov_method)
+    parts = Parts(path, manifest(job, values, mode)) if path else None
+    workers, chunk_size = _execution(job, values.size, workers, scheduler, chunk_size)
+    pool = WorkerPool(job, workers) if mode == "independent" and workers > 1 else None
+    with pool or nullcontext():     # open through the tail: its workers are warm
+        results, resumed, seconds, workers = run_values(job, values, mode, parts, workers, scheduler, chunk_size,
+                                                        progress, f"{sc.name} {param}", pool=pool)
+        warm = pool if resumed < values.size else None   # every value resumed: no worker started, the tail runs here
+        tail = _start_tail(results, values, job, MODES[mode][0], grazing, grazing_xtol, error_sample, warm)
+        from ..storage import sweep_dataset as storage  # xarray: imported where the Dataset is built (worker processes start faster)
+        ds = storage.to_dataset(results, values, job, sc, table, mode)
+        run_stats(ds, job, seconds, resumed, workers)
+        found, estimate = tail()
+    if grazing:
+        ds = storage.add_grazing(ds, found)
+    if error_sample:
+        ds = storage.add_error_estimate(ds, **estimate)
+    if path:
+        storage.save(ds, path, overwrite=True)  # refused earlier unless overwrite (guarded_output)
+        parts.remove()
+    return ds
+
+
+def _start_tail(results, values, job, branch, grazing, xtol, error_sample, pool):
+    """Start the grazing bisections (if ``grazing``, to ``xtol``) and the error estimate's
+    integrations (``error_sample`` values, 0: none) together, the longest first, on
+    ``pool``'s workers (None: here, now).  Returns a function that waits for them and gives
+    (located grazes for :func:`bifurc.storage.sweep_dataset.add_grazing`, keywords of
+    :func:`bifurc.storage.sweep_dataset.add_error_estimate` or None)."""
+    brackets = grazing_brackets(results, values, xtol) if grazing else []
+    est = ErrorEstimate(results, values, job, branch, error_sample) if error_sample else None
+    tasks = [(bracket_cost(job, br), locate_bracket, (job, br)) for br in brackets] + (est.tasks if est else [])
+    futures = submit_all(tasks, pool)
+
+    def finish():
+        located = [(br.branch, f.result()) for br, f in zip(brackets, futures)]
+        return ([(b, g) for b, g in located if g is not None],
+                est.result(futures[len(brackets):]) if est else None)
+    return finish
+
+
+def run_values(job, values, mode, parts, workers, scheduler, chunk_size, progress, desc, pool=None):
+    """Every value of the grid through ``job``, resumed from and streamed to ``parts``
+    (:class:`bifurc.sweeps.resume.Parts`, or None); independent values on ``pool`` (an open
+    :class:`bifurc.sweeps.executor.WorkerPool` warmed with ``job``, ``workers`` processes) if given.
+
+    Returns ({branch: [ValueResult per value]}, values resumed, wall seconds of this call,
+    worker processes used (0: a Dask cluster's)).  The grid driver of :func:`sweep` and
+    :func:`bifurc.sweeps.regime.regime_map` (whose values are the flat indices of its cells)."""
+    workers, chunk_size = _execution(job, values.size, workers, scheduler, chunk_size)
+    branches = MODES[mode]
+    results = {b: [None] * values.size for b in branches}
+    for (b, i), r in (parts.load() if parts else {}).items():
+        results[b][i] = r
+    resumed = sum(r is not None for b in branches for r in results[b])
+    bar = _progress(values.size * len(branches) - resumed, progress, desc)
+
+    def keep(b, indices, chunk):
+        for i, r in zip(indices, chunk):
+            results[b][i] = r
+        if parts:
+            parts.save(b, indices, chunk)
+        bar.update(len(chunk))
+
+    clock = _time.perf_counter()
+    try:
+        if mode == "independent":
+            _run_independent(job, values, results["independent"], keep, workers, scheduler, chunk_size, pool)
+        else:
+            _run_follow(job, values, results, keep)
+    finally:
+        bar.close()
+    return results, resumed, _time.perf_counter() - clock, workers
+
+
+def run_stats(ds, job, seconds, resumed, workers) -> None:
+    """Record how a grid ran in ``ds.attrs``: wall time of this call, computation time of every
+    value (resumed ones included), values resumed, workers, SIMD lanes, this process's compile time."""
+    ds.attrs["sweep_seconds"] = seconds     # wall time of this call's integrations
+    ds.attrs["values_seconds"] = float(np.nansum(ds.run_seconds.values))  # resumed values included
+    ds.attrs["resumed_values"] = resumed
+    ds.attrs["workers"] = workers           # worker processes (0: a Dask cluster's)
+    ds.attrs["batch_size"] = job.batch_size  # SIMD lanes (1: one value at a time); results agree to round-off
+    ds.attrs["compile_seconds"] = job.warm().compile_seconds  # this process's scalar compile (workers compile their own)
+
+
+def _job(scene, param, values, transient, record, preset, params, x0, tol, max_period, rtol, atol, lyapunov,
+         circuit, ac_sign, dc_law, max_transient, batch_size, max_record=None, soil=None, compaction=None):
+    """The ValueJob of a sweep, its scene and parameter table, every argument checked before anything runs."""
+    tol = validate_tol(tol)
+    if values.size == 0 or not np.all(np.isfinite(values)):
+        raise ParameterError("values must be a non-empty array of finite numbers")
+    sc, table = resolve_scene(scene, params, preset, circuit, ac_sign, dc_law, soil, compaction)
+    base = {k: v for k, (v, _) in table.items()}
+    sc.system.parameter(param)  # raises for an unknown name
+    for v in values:  # every value must be valid before anything runs
+        sc.parameters(preset, **dict(params or {}, **{param: v}))
+    sc.initial_state(**(x0 or {}))
+    transient = int(validate_value("transient", transient, 0, 1e7))
+    record = int(validate_value("record", record, 3, 1e7))
+    if max_record is not None:
+        max_record = int(validate_value("max_record", max_record, record, 1e7))
+    if max_transient is not None:
+        max_transient = int(validate_value("max_transient", max_transient, transient, 1e8))
+    batch_size = int(validate_value("batch_size", batch_size, 1, 64))
+    options = {k: v for k, v in dict(circuit=circuit, ac_sign=ac_sign, soil=soil, compaction=compaction).items() if v is not None}
+    if sc.options is not None and sc.options.dc:   # the resolved law (it may follow the preset): workers get no preset
+        options["dc_law"] = sc.options.dc_law
+    name = sc.system if isinstance(sc, SystemScene) else sc.name  # a bare system runs in this process
+    job = ValueJob(name, param, base, options, dict(x0 or {}), transient, record, float(tol), max_period,
+                   rtol, atol, lyapunov, max_transient=max_transient, batch_size=batch_size, max_record=max_record)
+    return job, sc, table
+
+
+def _execution(job, n_values, workers, scheduler, chunk_size):
+    """(worker processes, values per task): 0 workers with a Dask ``scheduler`` (the cluster's);
+    by default every available core (:func:`bifurc.sweeps.executor.default_workers`), 1 for a bare
+    HybridSystem (not picklable).  In this process a task holds 8 batches of values."""
+    if scheduler is not None:
+        workers = 0
+    elif workers is None:
+        workers = default_workers(n_values) if isinstance(job.scene, str) else 1
+    else:
+        workers = int(validate_value("workers", workers, 1, 1024))
+    if chunk_size is None and workers == 1:
+        chunk_size = 8 * job.batch_size if job.batch_size > 1 else 1
+    if chunk_size is not None:
+        chunk_size = int(validate_value("chunk_size", chunk_size, 1, 1e9))
+    return workers, chunk_size
+
+
+def _run_independent(job, values, results, keep, workers, scheduler, chunk_size, pool=None):
+    """Every value not yet in ``results`` from the same start, on ``workers`` processes (``pool``: an
+    open one) or a Dask cluster."""
+    missing = [i for i in range(values.size) if results[i] is None]
+    if not missing:
+        return
+    warm = None
+    if workers > 1 or scheduler is not None:   # while the workers integrate
+        import threading
+        warm = threading.Thread(target=_warm_xarray, daemon=True)
+        warm.start()
+    map_values(job, values[missing], workers=max(1, workers), scheduler=scheduler, collect=False, chunk_size=chunk_size,
+               on_chunk=lambda start, chunk: keep("independent", missing[start:start + len(chunk)], chunk), pool=pool)
+    if warm is not None:
+        warm.join()
+
+
+def _run_follow(job, values, results, keep):
+    """Up then down the grid, each value from the previous one's final state (after a failure: from x0)."""
+    start = None
+    for b, order in (("up", range(values.size)), ("down", range(values.size - 1, -1, -1))):
+        for i in order:
+            r = results[b][i]
+            if r is None:
+                r = job(values[i], start)
+                keep(b, [i], [r])
+            start = r.end_state if r.status == Status.OK else None
+
+
+def _warm_xarray():
+    """Import what building the Dataset needs (xarray probes its duck-array modules, dask among
+    them: ~1.4 s) while the worker processes integrate, instead of after them."""
+    import xarray as xr
+    xr.Dataset({"a": ("d", np.zeros(1))})
+
+
+class _NoBar:
+    def update(self, n=1):
+        pass
+
+    def close(self):
+        pass
+
+
+def _progress(total, progress, desc):
+    if not progress or total == 0:
+        return _NoBar()
+    from tqdm import tqdm
+    return tqdm(total=total, desc=desc, unit="value", file=sys.stderr, smoothing=0.1)
