@@ -148,7 +148,7 @@ def problem(scene, preset: str | None = None, params: Mapping | None = None, x0:
     :class:`~maps.scenes.Scene`, :class:`~maps.hybrid.HybridSystem` or a Problem), a ``preset``,
     parameter ``params`` {name: value}, a start ``x0`` {state: value} and mode ``flags0``, and
     structural ``options`` (``circuit``, ``ac_sign``, ``energy``, ``dc_law``, ``soil``,
-    ``compaction``; None: not set).
+    ``compaction``, or any other field of ``ModelOptions``; None: not set).
 
     The DC-force law follows the preset unless ``dc_law`` is given.  ``params`` that a scene
     returned (:meth:`Scene.parameters`) carry their model: with no scene options and no preset
@@ -156,9 +156,6 @@ def problem(scene, preset: str | None = None, params: Mapping | None = None, x0:
     through with ``params``, ``x0`` and ``flags0`` applied (options and presets are refused: build
     a new one).
     """
-    unknown = sorted(set(options) - set(OPTION_NAMES))
-    if unknown:
-        raise ParameterError(f"unknown option {unknown[0]!r}; options: {', '.join(OPTION_NAMES)}")
     opts = {k: v for k, v in options.items() if v is not None}
     if params is not None and not isinstance(params, Mapping):
         raise ParameterError(f"params must map parameter names to values, e.g. {{'V': 90}}; got {params!r}")

@@ -45,7 +45,7 @@ def test_sweep_point_batch_equals_scalar(base, x0):
     """11 values in 4 lanes (refilled 2-3 times each), 2 passes (transient, recorded window with
     every observation guard and the tangent vector); x0 = 0 starts on the stop.  A short horizon:
     the record is not extended (max_record)."""
-    point = ValueJob("thesis-1dof", "relay_hz", base, x0=x0, transient=4, record=6, lyapunov_steps=6, max_record=6)
+    point = ValueJob(maps.problem("thesis-1dof", params=base, x0=x0), "relay_hz", transient=4, record=6, lyapunov_steps=6, max_record=6)
     values = np.linspace(2.0, 10.0, 11)
     scalar = [point(v) for v in values]
     batch = point.run_many(values)
@@ -59,7 +59,7 @@ def test_sweep_point_batch_equals_scalar(base, x0):
 def test_escaping_lanes_end_and_are_refilled(base):
     """Sweeping V to 1000 V throws the bar out: a lane that ends early is refilled, and the escape
     time is the scalar one (a non-relay parameter swept: the relay frequency is fixed per lane)."""
-    point = ValueJob("thesis-1dof", "V", dict(base, relay_hz=5.0), transient=2, record=4, lyapunov_steps=4,
+    point = ValueJob(maps.problem("thesis-1dof", params=dict(base, relay_hz=5.0)), "V", transient=2, record=4, lyapunov_steps=4,
                      max_record=4)
     values = np.linspace(600.0, 1000.0, 9)
     scalar = [point(v) for v in values]
@@ -77,7 +77,7 @@ def test_escaping_lanes_end_and_are_refilled(base):
 
 def test_companion_lane_equals_lyapunov_along(base):
     """The engine's Benettin companion and the scalar lyapunov_along give the same exponent."""
-    point = ValueJob("thesis-1dof", "relay_hz", base, transient=5, record=8)
+    point = ValueJob(maps.problem("thesis-1dof", params=base), "relay_hz", transient=5, record=8)
     smap = point.warm()
     system = smap.system
     exps = []
@@ -121,7 +121,7 @@ def test_sweep_batch_and_scalar_datasets_agree():
 def test_values_still_converging_integrate_on_from_the_batch_orbit(base):
     """4 Hz is not-converged after 300 periods with a decaying recurrence: run_many hands it to the
     scalar extension (max_transient), which finds the period-2 orbit without impact as the scalar path."""
-    point = ValueJob("thesis-1dof", "relay_hz", base, options={"dc_law": "listing"}, transient=300, record=100,
+    point = ValueJob(maps.problem("thesis-1dof", params=base, dc_law="listing"), "relay_hz", transient=300, record=100,
                      max_transient=1000)
     a, b = point(4.0), point.run_many([4.0])[0]
     assert a.label == b.label == "periodic-no-impact"

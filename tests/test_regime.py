@@ -11,6 +11,8 @@ import time
 from pathlib import Path
 
 import numpy as np
+
+import maps
 import pytest
 import xarray as xr
 
@@ -63,10 +65,9 @@ def test_the_dataset_has_both_parameters_as_dimensions_and_the_schema_rows(local
 
 
 def test_a_cell_job_carries_both_values_row_major():
-    job = CellJob("thesis-1dof", "relay_hz", {"relay_hz": 0.0, "V": 0.0, "k": 1.0}, param2="V",
-                  values=(3.0, 5.0), values2=(60.0, 90.0, 200.0))
+    job = CellJob(maps.problem("thesis-1dof"), "relay_hz", param2="V", values=(3.0, 5.0), values2=(60.0, 90.0, 200.0))
     assert [job.cell(k) for k in range(6)] == [(a, b) for a in (3.0, 5.0) for b in (60.0, 90.0, 200.0)]
-    assert job.at(4) == {"relay_hz": 5.0, "V": 90.0, "k": 1.0}
+    assert job.at(4) == dict(job.params, relay_hz=5.0, V=90.0)
 
 
 def test_netcdf_round_trip_keeps_values_and_cf_attributes(local, tmp_path):

@@ -426,10 +426,10 @@ def test_record_extended_to_three_forcing_periods_up_to_max_record():
     periods (under the default cap 3 x 100) and the period-89 orbit is found; with --max-record 150
     the extension stops at 150 (on the one-value path too) and the period is missed, as it is at 100."""
     from bifurc.codes import ClassCode
-    job = ValueJob("thesis-1dof", "relay_hz", {}, record=100, max_period=100)
+    job = ValueJob(maps.problem("thesis-1dof"), "relay_hz", record=100, max_period=100)
     assert job.record_cap == 300 and job.record_for(89) == 267 and job.record_for(17) == 100
     assert job.record_for(0) == 100 and job.record_for(101) == 100     # nothing to search: no extension
-    assert ValueJob("thesis-1dof", "relay_hz", {}, record=100, max_record=120).record_for(89) == 120
+    assert ValueJob(maps.problem("thesis-1dof"), "relay_hz", record=100, max_record=120).record_for(89) == 120
     kw = dict(preset="matlab-listing", params={"V": 90}, grazing=False, error_sample=0, progress=False)
     ds = sweep("thesis-1dof", "relay_hz", np.array([8.9]), **kw)
     v = ds.isel(branch=0, relay_hz=0)

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import argparse
 
+from maps.model import DC_LAWS, SOIL_LAWS
 from maps.parameters import ParameterError
 
 __all__ = ["add_parameter_options", "add_scene_options", "add_force_option", "parse_sets", "parse_x0", "parse_floats", "scene_kwargs",
@@ -12,7 +13,8 @@ __all__ = ["add_parameter_options", "add_scene_options", "add_force_option", "pa
 def add_parameter_options(parser, default_scene: str = "thesis-1dof"):
     """--scene, --preset, --set in a group "scene and parameters"; returns the group."""
     g = parser.add_argument_group("scene and parameters")
-    g.add_argument("--scene", default=default_scene, help="scene name (see `bifurc scenes`)")
+    g.add_argument("--scene", default=default_scene, help="scene name (see `bifurc scenes`), or package.module:NAME for a user's "
+                        "system (a maps.Scene, a HybridSystem or a function returning one)")
     g.add_argument("--preset", default=None,
                    help="parameter preset: thesis-text, matlab-listing or dynamics-listing "
                         "(default: the scene's own)")
@@ -32,11 +34,11 @@ def add_scene_options(parser: argparse.ArgumentParser, default_scene: str = "the
                    help="circuit form: thesis (eq 4.16, i and di/dt) or kvl (charge form)")
     g.add_argument("--ac-sign", choices=("physical", "listing"), default=None,
                    help="AC force sign: physical (default) or as in listing C.2")
-    g.add_argument("--dc-law", choices=("listing", "fit", "measured"), default=None,
+    g.add_argument("--dc-law", choices=tuple(DC_LAWS), default=None,
                    help="DC-force law: listing (listing C.9), fit (eqs 4.6-4.7) or measured (Table 4.1 "
                         "only, zero beyond 29 mm); default: the preset's (matlab-listing: listing, "
                         "thesis-text: fit)")
-    g.add_argument("--soil", choices=("viscous", "coulomb", "drift"), default=None,
+    g.add_argument("--soil", choices=tuple(SOIL_LAWS), default=None,
                    help="2-DOF soil law: viscous (listings C.4-C.6), coulomb (dry friction with sticking) or "
                         "drift (visco-elastic element and plastic slider, Pavlovskaia et al. 2001); "
                         "default: the scene's")

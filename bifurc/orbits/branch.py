@@ -20,13 +20,13 @@ import numpy as np
 
 from maps.parameters import ParameterError, validate_value
 from maps.poincare import StroboscopicMap
+from maps.problem import problem
 from maps.provenance import cf_attrs, recorded
 
 from .arclength import continue_branch
 from .continuation import ContinuationProblem, flags_of, in_section
 from .orbit import first_guess, multiplier_change
 from .periodic import OrbitNotFound, find_periodic_orbit, monodromy
-from ..scene import resolve_scene
 from .special_points import LOCATED_KINDS
 
 __all__ = ["continue_orbit", "branch_dataset"]
@@ -36,10 +36,11 @@ def _check_param(smap, system, param, values):
     if param not in system.param_names:
         raise ParameterError(f"param {param!r} is not a parameter of {system.name!r}; its parameters: "
                              f"{', '.join(system.param_names)}")
-    if param == "relay_hz" and "f_mains" in values:
-        raise ParameterError("relay_hz cannot be continued: the mains forcing repeats in relay periods only at "
-                             "isolated frequencies (q = 17 at 8.5 Hz, over 1000 for most values near it), so no "
-                             "continuous branch exists; continue in V, dc_scale, R, C, k, c or e at a fixed relay_hz")
+    if param == system.strobe_parameter and system.forcing_frequencies(values):
+        raise ParameterError(f"{param} cannot be continued: the system's other forcing repeats in strobe periods "
+                             f"only at isolated values of {param} (the thesis model: q = 17 at 8.5 Hz, over 1000 "
+                             f"for most values near it), so no continuous branch exists; continue in another "
+                             f"parameter at a fixed {param}")
     moved = dict(values, **{param: values[param] * (1 + 1e-6) + 1e-9})
     if smap.period_for(moved) != smap.period_for(values):
         raise ParameterError(f"param {param!r} sets the strobe period: the map's derivative at a fixed sample "
@@ -94,10 +95,10 @@ def continue_orbit(scene, param: str, span, *, params=None, preset=None, period:
             raise ParameterError(f"param2 must differ from param ({param!r})")
         a2, b2 = _span("span2", span2, "from2, to2")
         values_in[param2] = a2
-    sc, table = resolve_scene(scene, values_in, preset, circuit, ac_sign, dc_law, soil, compaction)
-    system = sc.system
-    values = {k: v for k, (v, _) in table.items()}
-    smap = StroboscopicMap(system, values, tol=tol)
+    pb = problem(scene, preset, values_in, x0, circuit=circuit, ac_sign=ac_sign, dc_law=dc_law, soil=soil,
+                 compaction=compaction)
+    system, values = pb.system, dict(pb.values)
+    smap = StroboscopicMap(pb, tol=tol)
     _check_param(smap, system, param, values)
     system.validate(dict(values, **{param: b}))             # the end value must be allowed too
     if param2 is not None:
@@ -108,24 +109,24 @@ def continue_orbit(scene, param: str, span, *, params=None, preset=None, period:
     max_step = validate_value("max_step", max_step, step, 10.0)
     newton_tol = 10 * tol if newton_tol is None else validate_value("newton_tol", newton_tol, 0.0, 1.0, low_open=True)
     transient = int(validate_value("transient", transient, 0, 1e7))
-    start, k0, period = first_guess(smap, sc, x0=x0, transient=transient, start=start, k0=k0, period=period)
+    start, k0, period = first_guess(smap, pb, transient=transient, start=start, k0=k0, period=period)
     orbit = find_periodic_orbit(smap, start, period, k0=k0, tol=newton_tol)
     say = (lambda pt, label: progress(_describe(pt, label, param))) if progress else None
-    problem = ContinuationProblem(smap, param, period, k0, scale=orbit.scale, p_scale=abs(b - a), p_ref=a,
+    cont = ContinuationProblem(smap, param, period, k0, scale=orbit.scale, p_scale=abs(b - a), p_ref=a,
                                   tol=newton_tol)
-    branches = [continue_branch(problem, orbit, a, b, step=step, max_step=max_step, max_points=max_points,
+    branches = [continue_branch(cont, orbit, a, b, step=step, max_step=max_step, max_points=max_points,
                                 progress=(lambda pt: say(pt, "main")) if say else None)]
     if branch_switch:
         for sp in [s for s in branches[0].special if s.kind == "period_doubling" and s.point is not None]:
-            branches.append(_switch(smap, problem, sp, (a, b), step, max_step, max_points, say))
+            branches.append(_switch(smap, cont, sp, (a, b), step, max_step, max_points, say))
     curves = []
     if param2 is not None:
-        curves = _curves(problem, branches, param2, (a2, b2), (a, b), max_points, progress)
+        curves = _curves(cont, branches, param2, (a2, b2), (a, b), max_points, progress)
     if error:
         for br in branches:
             for sp in br.special:
                 sp.multiplier_error = _multiplier_error(system, values, param, sp, br, tol, newton_tol)
-    return branch_dataset(branches, problem, sc, table, curves=curves, seconds=_time.perf_counter() - clock)
+    return branch_dataset(branches, cont, pb, curves=curves, seconds=_time.perf_counter() - clock)
 
 
 def _curves(problem, branches, param2, span2, span, max_points, progress):
@@ -216,12 +217,12 @@ def _clearances(system, params, pt):
     return min(at_nodes + flight + ([0.0] if pt.impacts else [])), low
 
 
-def branch_dataset(branches, problem, scene, table, *, curves=(), seconds=math.nan):
+def branch_dataset(branches, problem, pb, *, curves=(), seconds=math.nan):
     """The dataset of continued branches: points in arclength order, branch after branch."""
     import xarray as xr
 
     from .._version import __version__
-    from ..storage.schema import BRANCH, SPECIAL, SPECIAL_KINDS, flag_variable, param_attrs, state_variable
+    from ..storage.schema import BRANCH, SPECIAL, SPECIAL_KINDS, flag_variable, state_variable
     system, param = problem.smap.system, problem.param
     unit = system.parameter(param).unit
     points = [(i, pt) for i, br in enumerate(branches) for pt in br.points]
@@ -229,7 +230,7 @@ def branch_dataset(branches, problem, scene, table, *, curves=(), seconds=math.n
     offsets = np.cumsum([0] + [len(br.points) for br in branches])
     n_node = max([br.period for br in branches] + [1])
     n_mu = problem.d
-    base = {k: v for k, (v, _) in table.items()}
+    base = dict(pb.values)
     ds = xr.Dataset(coords={
         "point": ("point", np.arange(len(points)), {"units": "1", "long_name": "branch point, in arclength order"}),
         "node": ("node", np.arange(n_node), {"units": "1", "long_name": "strobe sample of the orbit, k = k0 + node"}),
@@ -296,7 +297,7 @@ def branch_dataset(branches, problem, scene, table, *, curves=(), seconds=math.n
     put("special_note", [sp.note for _, _, sp in specials])
     if curves:
         _put_curves(ds, curves, system)
-    name = getattr(scene, "name", system.name)
+    name = pb.name
     ds.attrs.update({
         "title": f"{name}: branch of periodic orbits in {param}", "scene": name, "continuation_parameter": param,
         "continuation_parameter_units": unit, "k0": problem.k0, "strobe_period_s": problem.smap.period,
@@ -311,7 +312,7 @@ def branch_dataset(branches, problem, scene, table, *, curves=(), seconds=math.n
                   "system orbit + (gap, gap rate) = 0 at the grazing time",
         "bifurc_version": __version__,
         **cf_attrs(f"scene {name}, continuation in {param}"),
-        **param_attrs(table, system, skip=(param,))})
+        **pb.attrs(skip=(param,))})
     if problem.co.a is not None:
         ds.attrs["reduced_coordinates"] = ", ".join(problem.co.names)
     return ds

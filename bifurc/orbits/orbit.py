@@ -18,10 +18,10 @@ import numpy as np
 from maps.hybrid import HybridState
 from maps.parameters import ParameterError, validate_value
 from maps.poincare import StroboscopicMap
+from maps.problem import problem
 from maps.provenance import cf_attrs, recorded
 
 from .periodic import OrbitNotFound, PeriodicOrbit, find_periodic_orbit
-from ..scene import SystemScene, resolve_scene
 
 __all__ = ["periodic_orbit", "sweep_point", "orbit_dataset", "first_guess", "multiplier_change", "OrbitNotFound"]
 
@@ -47,7 +47,7 @@ def periodic_orbit(scene, *, params=None, preset=None, period: int | None = None
                    k0: int | None = None, transient: int = 0, tol: float = 1e-12, newton_tol: float | None = None,
                    max_iter: int = 40, error: bool = True, circuit=None, ac_sign=None, dc_law=None,
                    soil=None, compaction=None):
-    """A periodic orbit of ``scene`` (name, Scene or HybridSystem) as an xarray Dataset.
+    """A periodic orbit of ``scene`` (name, Scene, HybridSystem or :class:`maps.Problem`) as an xarray Dataset.
 
     Parameters
     ----------
@@ -63,40 +63,40 @@ def periodic_orbit(scene, *, params=None, preset=None, period: int | None = None
         integration's own noise bounds how far the residual can fall).
     error : bool
         Solve again at tol/100 and store the multipliers' change (``multiplier_error``).
-    preset, circuit, ac_sign, dc_law, soil, compaction : as in :func:`maps.simulate` (the DC law follows the preset).
+    preset, circuit, ac_sign, dc_law, soil, compaction : as in :func:`maps.problem` (the DC law follows the preset).
 
     Raises :class:`OrbitNotFound` (with the reason) when Newton does not converge, and
     :class:`~maps.parameters.ParameterError` for bad input (one line, naming the argument).
     """
     clock = _time.perf_counter()
-    sc, table = resolve_scene(scene, params, preset, circuit, ac_sign, dc_law, soil, compaction)
-    values = {k: v for k, (v, _) in table.items()}
-    smap = StroboscopicMap(sc.system if isinstance(sc, SystemScene) else sc, values, tol=tol)
+    pb = problem(scene, preset, params, x0, circuit=circuit, ac_sign=ac_sign, dc_law=dc_law, soil=soil,
+                 compaction=compaction)
+    smap = StroboscopicMap(pb, tol=tol)
     transient = int(validate_value("transient", transient, 0, 1e7))
     newton_tol = 10 * tol if newton_tol is None else validate_value("newton_tol", newton_tol, 0.0, 1.0, low_open=True)
-    start, k0, period = first_guess(smap, sc, x0=x0, transient=transient, start=start, k0=k0, period=period)
+    start, k0, period = first_guess(smap, pb, transient=transient, start=start, k0=k0, period=period)
     orbit = find_periodic_orbit(smap, start, period, k0=k0, tol=newton_tol, max_iter=max_iter)
     err = math.nan
     if error:
-        tight = StroboscopicMap(sc.system if isinstance(sc, SystemScene) else sc, values, tol=tol / 100)
+        tight = StroboscopicMap(pb, tol=tol / 100)
         again = find_periodic_orbit(tight, orbit.nodes[0], period, k0=k0, tol=newton_tol, max_iter=max_iter)
         err = multiplier_change(orbit.multipliers, again.multipliers)
-    return orbit_dataset(orbit, smap, sc, table, multiplier_error=err, seconds=_time.perf_counter() - clock)
+    return orbit_dataset(orbit, smap, pb, multiplier_error=err, seconds=_time.perf_counter() - clock)
 
 
-def first_guess(smap, sc, *, x0=None, transient=0, start=None, k0=None, period=None):
+def first_guess(smap, pb, *, transient=0, start=None, k0=None, period=None):
     """(HybridState, sample k0, period) to start Newton from: ``start`` (a state, a HybridState or
-    :func:`sweep_point`'s pair) at k0, else the end of ``transient`` strobe periods from ``x0``;
-    the period defaults to the forcing period q."""
+    :func:`sweep_point`'s pair) at k0, else the end of ``transient`` strobe periods from the
+    problem ``pb``'s start; the period defaults to the forcing period q."""
     if start is not None:
         if isinstance(start, tuple):
             start, k_start = start
             k0 = k_start if k0 is None else k0
         if not isinstance(start, HybridState):
-            start = HybridState(np.asarray(sc.system.state_vector(start), dtype=float), None)
+            start = HybridState(np.asarray(pb.system.state_vector(start), dtype=float), None)
         k0 = 0 if k0 is None else int(k0)
     else:
-        o = smap.orbit(sc.initial_state(**(x0 or {})), 1, transient=transient)
+        o = smap.orbit(dict(pb.x0), 1, transient=transient, flags=pb.flags0)
         if o.status != "ok":
             raise OrbitNotFound(f"the transient from x0 ends {o.status}: {o.failure}")
         start, k0 = o.state(0), transient
@@ -122,11 +122,11 @@ def multiplier_change(a, b) -> float:
     return worst
 
 
-def orbit_dataset(orbit: PeriodicOrbit, smap, scene, table, *, multiplier_error=math.nan, seconds=math.nan):
+def orbit_dataset(orbit: PeriodicOrbit, smap, pb, *, multiplier_error=math.nan, seconds=math.nan):
     """The dataset of a converged orbit: nodes (states, flags, signatures), multipliers, impacts."""
     import xarray as xr
 
-    from ..storage.schema import ORBIT, ORBIT_SCALARS, flag_variable, param_attrs, state_variable
+    from ..storage.schema import ORBIT, ORBIT_SCALARS, flag_variable, state_variable
     system = smap.system
     n, k0 = orbit.period, orbit.k0
     T = smap.period
@@ -175,7 +175,7 @@ def orbit_dataset(orbit: PeriodicOrbit, smap, scene, table, *, multiplier_error=
                                                 f"of the reduced map (the translation's multiplier 1 removed)")
     from .._version import __version__
     ds.attrs.update({
-        "title": f"{scene.name}: periodic orbit, period {n}", "scene": scene.name, "k0": k0,
+        "title": f"{pb.name}: periodic orbit, period {n}", "k0": k0,
         "strobe_period_s": T, "forcing_period": smap.forcing_period_steps, "tol": smap.tol,
         "newton_iterations": orbit.iterations,
         "conditioning_multiple_shooting": orbit.conditioning.get("multiple_shooting", math.nan),
@@ -183,6 +183,6 @@ def orbit_dataset(orbit: PeriodicOrbit, smap, scene, table, *, multiplier_error=
         "method": "Newton by multiple shooting over the strobe periods; exact Jacobians (variational "
                   "equations with saltation); multipliers: eigenvalues of the monodromy matrix",
         "bifurc_version": __version__,
-        **cf_attrs(f"scene {scene.name}, periodic orbit of period {n}"),
-        **param_attrs(table, system)})
+        **cf_attrs(f"scene {pb.name}, periodic orbit of period {n}"),
+        **pb.attrs()})
     return ds

@@ -23,13 +23,11 @@ from ..sweeps.classify import lyapunov_threshold
 from ..sweeps.lyapunov import INTERVAL_METHOD, METHODS
 from ..codes import Status
 from ..sweeps.grazing import GRAZING_GAP, GRAZING_SPEED, grazing_flag
-from .schema import (GRAZING, GRAZING_FLAG, PARAM, PROGRESSION, SWEEP, SWEEP_COORDS, flag_variable, param_attrs,
+from .schema import (GRAZING, GRAZING_FLAG, PARAM, PROGRESSION, SWEEP, SWEEP_COORDS, flag_variable,
                      state_variable)
 from .files import write_netcdf
 from ..sweeps.job import FORCING_PERIODS
-from maps.presets import preset_attrs
 from maps.progression import held_mode, progression_measures
-from maps.simulate import dc_law_attrs, soil_law_attrs
 
 __all__ = ["to_dataset", "run_attrs", "add_grazing", "add_error_estimate", "save", "load", "STATUS_MEANINGS"]
 
@@ -46,13 +44,13 @@ def _stack(results, branches, var, sizes, par, get=None):
     return var.finish(out)
 
 
-def _progression(results, branches, job, scene, sizes, par, values, mode) -> dict:
+def _progression(results, branches, job, sizes, par, values, mode) -> dict:
     """The 2-DOF progression measures (schema.PROGRESSION) of every value over its recorded window,
     from its relay-period samples and contacts (maps.progression).  A follow sweep starts each
     value where the previous one ended: no time to depth from the start."""
-    system = scene.system
+    system = job.problem.system
     ix2 = system.state_names.index("x2")
-    x2_start = scene.initial_state(**job.x0)["x2"]
+    x2_start = job.x0["x2"]
     held_by = held_mode(system)
     out = {var: var.empty(sizes, par) for var in PROGRESSION}
     for bi, b in enumerate(branches):
@@ -74,10 +72,10 @@ def _progression(results, branches, job, scene, sizes, par, values, mode) -> dic
     return {var: var.finish(data) for var, data in out.items()}
 
 
-def to_dataset(results, values, job, scene, table, mode) -> xr.Dataset:
+def to_dataset(results, values, job, mode) -> xr.Dataset:
     """Assemble ``results`` {branch: [ValueResult or None per value]} into the sweep Dataset."""
     branches = list(results)
-    system = scene.system
+    system, name = job.problem.system, job.problem.name
     par = job.param
     p = system.parameter(par)
     sizes = {"branch": len(branches), par: len(values), "sample": job.record + 1, "step": job.record,
@@ -98,22 +96,20 @@ def to_dataset(results, values, job, scene, table, mode) -> xr.Dataset:
     for var in SWEEP:
         ds[var.name] = (var.dims_for(par), _stack(results, branches, var, sizes, par), var.attrs())
     if "x2" in system.state_names and "relay_hz" in system.param_names:
-        for var, data in _progression(results, branches, job, scene, sizes, par, values, mode).items():
+        for var, data in _progression(results, branches, job, sizes, par, values, mode).items():
             ds[var.name] = (var.dims_for(par), data, var.attrs())
     ds[GRAZING_FLAG.name] = grazing_flag(ds.min_gap, ds.min_impact_speed).astype(np.int8).assign_attrs(
         GRAZING_FLAG.attrs())
-    ds.attrs.update({"title": f"{scene.name}: {par} sweep ({mode})", "scene": scene.name, "swept_parameter": par,
+    ds.attrs.update({"title": f"{name}: {par} sweep ({mode})", "scene": name, "swept_parameter": par,
                      "swept_parameter_units": p.unit, "mode": mode,
-                     **run_attrs(job, scene, table, f"scene {scene.name}, {par} sweep ({mode})", skip=(par,))})
+                     **run_attrs(job, f"scene {name}, {par} sweep ({mode})", skip=(par,))})
     return ds
 
 
-def run_attrs(job, scene, table, history, skip=()) -> dict:
-    """The attributes every grid dataset carries: the job's settings, the model's options and
-    parameters (except the gridded ones, ``skip``), thresholds, versions and the CF history."""
-    o = scene.options
-    circuit = (o.circuit if o.ac else "none") if o is not None else "none"
-    ac_sign = (o.ac_sign if o.ac else "none") if o is not None else "none"
+def run_attrs(job, history, skip=()) -> dict:
+    """The attributes every grid dataset carries: the job's settings, the problem's model options
+    and parameters (except the gridded ones, ``skip``: :meth:`maps.Problem.attrs`), thresholds,
+    versions and the CF history."""
     return {
         "transient_periods": job.transient,
         "recorded_periods": job.record, "max_record_periods": job.record_cap,
@@ -125,14 +121,11 @@ def run_attrs(job, scene, table, history, skip=()) -> dict:
         "classification_rtol": job.rtol, "classification_atol": job.atol,
         "lyapunov_steps": job.exponent_steps, "lyapunov_threshold": lyapunov_threshold(job.exponent_steps),
         "lyapunov_interval_method": INTERVAL_METHOD, "lyapunov_method": METHODS[job.lyapunov_method],
-        "circuit": circuit, "ac_sign": ac_sign, **(dc_law_attrs(o) if o is not None else {"dc_law": "none"}),
-        **soil_law_attrs(o),
-        **preset_attrs(table),
-        "initial_state": ", ".join(f"{k}={v:g}" for k, v in scene.initial_state(**job.x0).items()),
+        "initial_state": ", ".join(f"{k}={v:g}" for k, v in job.x0.items()),
         "grazing_gap_threshold_m": GRAZING_GAP, "grazing_speed_threshold_m_s": GRAZING_SPEED,
         "bifurc_version": __version__, "heyoka_version": hy.__version__, "numpy_version": np.__version__,
         "xarray_version": xr.__version__, "python_version": platform.python_version(),
-        **cf_attrs(history), **param_attrs(table, scene.system, skip=skip),
+        **cf_attrs(history), **job.problem.attrs(skip=skip),
     }
 
 

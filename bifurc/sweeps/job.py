@@ -8,22 +8,21 @@ from __future__ import annotations
 
 import math
 import time as _time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
 from maps.poincare import StroboscopicMap
+from maps.problem import Problem
 from maps.translation import reduce_points, translation_basis
 
 from .classify import DECAY_RATE, candidate_periods, classify_orbit, lyapunov_threshold, state_scale
 from ..codes import ClassCode, Status
 from .lyapunov import exponent_interval, largest_lyapunov
-from ..scene import SystemScene, resolve_scene
 
 __all__ = ["ValueJob", "ValueResult", "RECORD_FACTOR", "FORCING_PERIODS"]
 
-_MAPS: dict = {}
-_NAMED: dict = {}     # (scene name, options, tol) -> the map of _MAPS it resolves to
+_MAPS: dict = {}      # (problem key, tol) -> the process-wide map
 #: default cap of the record extension, in multiples of ``record`` (3 x 100 periods holds three forcing
 #: periods of every q up to the default max_period of 100)
 RECORD_FACTOR = 3
@@ -96,11 +95,8 @@ class ValueJob:
     impacts, clearance, classification and run time.
     """
 
-    scene: object  # scene name, or a HybridSystem (runs in this process only)
+    problem: Problem  # what is integrated (scene, options, values, start): maps.problem
     param: str
-    params: dict
-    options: dict = field(default_factory=dict)   # circuit, ac_sign, dc_law, soil, compaction
-    x0: dict = field(default_factory=dict)
     transient: int = 300
     record: int = 100
     tol: float = 1e-10
@@ -115,21 +111,26 @@ class ValueJob:
     max_record: int | None = None   # cap of the record extension [relay periods] (None: RECORD_FACTOR x record)
     lyapunov_method: str = "tangent"  # "tangent": a tangent vector with the batch engine's record; "companion"
 
+    @property
+    def params(self) -> dict:
+        """The problem's parameter values (the swept one is set per value: :meth:`at`)."""
+        return self.problem.values
+
+    @property
+    def x0(self) -> dict:
+        """The start state {name: value} [SI]."""
+        return self.problem.x0
+
+    @property
+    def scene(self):
+        """The problem's scene."""
+        return self.problem.scene
+
     def warm(self) -> StroboscopicMap:
-        """The process-wide map for this scene structure and tolerance (compiled once).  A scene
-        named by a string is resolved once per (name, options, tol): every value asks again."""
-        named = None
-        if isinstance(self.scene, str):
-            named = (self.scene, tuple(sorted((k, repr(v)) for k, v in self.options.items())), self.tol)
-            smap = _NAMED.get(named)
-            if smap is not None:
-                return smap
-        sc, _ = resolve_scene(self.scene, self.params, **self.options)
-        key = (sc.options if sc.options is not None else id(sc.system), self.tol)
+        """The process-wide map for this problem's model and tolerance (compiled once)."""
+        key = (self.problem.key, self.tol)
         if key not in _MAPS:
-            _MAPS[key] = StroboscopicMap(sc.system if isinstance(sc, SystemScene) else sc, self.params, tol=self.tol)
-        if named is not None:
-            _NAMED[named] = _MAPS[key]
+            _MAPS[key] = StroboscopicMap(self.problem, tol=self.tol)
         return _MAPS[key]
 
     @property
@@ -146,8 +147,7 @@ class ValueJob:
         return self.record
 
     def x0_state(self):
-        sc, _ = resolve_scene(self.scene, self.params, **self.options)
-        return sc.system.state_vector(sc.initial_state(**self.x0))
+        return self.problem.state_vector()
 
     def at(self, value) -> dict:
         """The parameter values of the grid point ``value`` (here ``param = value``)."""
@@ -157,7 +157,7 @@ class ValueJob:
         """Orbit and class at ``param = value``; ``start = (state, flags)`` overrides x0."""
         smap = self.warm()
         smap.set_params(**self.at(value))
-        y0, flags = (self.x0_state(), None) if start is None else start
+        y0, flags = (self.x0_state(), self.problem.flags0) if start is None else start
         clock = _time.perf_counter()
         o = smap.orbit(y0, self.record_for(smap.forcing_period_steps), transient=self.transient, flags=flags,
                        tangent=self._tangent)

@@ -78,19 +78,20 @@ def regime_map(scene="thesis-1dof", param="relay_hz", values=None, param2="V", v
     if values2.size == 0 or not np.all(np.isfinite(values2)):
         raise ParameterError("values2 must be a non-empty array of finite numbers")
     first = dict(params or {}, **{param2: float(values2[0])})
-    job, sc, table = _job(scene, param, values, transient, record, preset, first, x0, tol, max_period, rtol, atol,
-                          lyapunov, circuit, ac_sign, dc_law, max_transient, batch_size, max_record, soil, compaction)
-    sc.system.parameter(param2)  # raises for an unknown name
+    job = _job(scene, param, values, transient, record, preset, first, x0, tol, max_period, rtol, atol,
+               lyapunov, circuit, ac_sign, dc_law, max_transient, batch_size, max_record, soil, compaction)
+    pb = job.problem
+    pb.system.parameter(param2)  # raises for an unknown name
     for v in values2:            # every value of param2 valid before anything runs
-        sc.parameters(preset, **dict(params or {}, **{param: float(values[0]), param2: float(v)}))
+        pb.with_values(**{param: float(values[0]), param2: float(v)})
     job = CellJob(**{f.name: getattr(job, f.name) for f in fields(ValueJob)}, param2=param2,
                   values=tuple(float(v) for v in values), values2=tuple(float(v) for v in values2))
     cells = np.arange(values.size * values2.size, dtype=float)
     parts = Parts(path, manifest(job, cells, "map")) if path else None
     results, resumed, seconds, workers = run_values(job, cells, "independent", parts, workers, scheduler, chunk_size,
-                                                    progress, f"{sc.name} {param} x {param2}")
+                                                    progress, f"{pb.name} {param} x {param2}")
     from ..storage import sweep_dataset as storage  # xarray: imported where the Dataset is built
-    ds = to_dataset(results["independent"], job, sc, table)
+    ds = to_dataset(results["independent"], job)
     run_stats(ds, job, seconds, resumed, workers)
     if error_sample:
         est = error_estimate(results, cells, job, "independent", error_sample)
@@ -103,13 +104,13 @@ def regime_map(scene="thesis-1dof", param="relay_hz", values=None, param2="V", v
     return ds
 
 
-def to_dataset(results, job, scene, table):
+def to_dataset(results, job):
     """The map Dataset from the cells' ValueResults (None: not computed -> the row's fill)."""
     import xarray as xr
 
     from .grazing import grazing_flag
     from ..storage.sweep_dataset import run_attrs
-    system = scene.system
+    system, name = job.problem.system, job.problem.name
     par, par2 = job.param, job.param2
     shape = (len(job.values), len(job.values2))
     coords = {}
@@ -126,9 +127,8 @@ def to_dataset(results, job, scene, table):
     ds[GRAZING_FLAG.name] = grazing_flag(ds.min_gap, ds.min_impact_speed).astype(np.int8).assign_attrs(
         GRAZING_FLAG.attrs())
     p1, p2 = system.parameter(par), system.parameter(par2)
-    ds.attrs.update({"title": f"{scene.name}: regime map over {par} and {par2}", "scene": scene.name,
+    ds.attrs.update({"title": f"{name}: regime map over {par} and {par2}", "scene": name,
                      "swept_parameter": par, "swept_parameter_units": p1.unit,
                      "swept_parameter2": par2, "swept_parameter2_units": p2.unit, "mode": "independent",
-                     **run_attrs(job, scene, table, f"scene {scene.name}, regime map over {par} and {par2}",
-                                 skip=(par, par2))})
+                     **run_attrs(job, f"scene {name}, regime map over {par} and {par2}", skip=(par, par2))})
     return ds

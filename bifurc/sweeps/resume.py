@@ -32,9 +32,13 @@ _CODES = {"class_code": ClassCode, "status": Status}
 def manifest(job, values, mode) -> dict:
     """What identifies a sweep's results: the job's fields (not ``batch_size``: no effect on results),
     the grid, the mode and the parts' format version."""
-    args = {f.name: getattr(job, f.name) for f in fields(job) if f.name != "batch_size"}
-    if not isinstance(args["scene"], str):
-        args["scene"] = repr(args["scene"])
+    args = {f.name: getattr(job, f.name) for f in fields(job) if f.name not in ("batch_size", "problem")}
+    pb = job.problem
+    b = pb.scene.builder
+    builder = None if b is None else (f"{b.__module__}.{b.__qualname__}" if hasattr(b, "__qualname__")
+                                      else repr(getattr(b, "system", b)))
+    args.update(scene=pb.name, builder=builder, options=repr(pb.options), preset=pb.preset, params=dict(pb.values),
+                x0=dict(pb.x0), flags0=pb.flags0)
     return {"format": "bifurc sweep parts", "version": PARTS_FORMAT,
             "arguments": dict(args, values=[float(v) for v in values], mode=mode)}
 

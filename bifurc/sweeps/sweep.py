@@ -29,6 +29,7 @@ import numpy as np
 
 from maps.hybrid import validate_tol
 from maps.parameters import ParameterError, validate_value
+from maps.problem import problem
 from maps.provenance import recorded
 
 from ..codes import Status
@@ -39,7 +40,6 @@ from .grazing import GRAZING_GAP, GRAZING_SPEED, bracket_cost, grazing_brackets,
 from .job import ValueJob
 from .lyapunov import METHODS
 from .resume import Parts, manifest
-from ..scene import SystemScene, resolve_scene
 
 __all__ = ["sweep", "MODES", "GRAZING_GAP", "GRAZING_SPEED"]
 
@@ -59,7 +59,9 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
 
     Parameters
     ----------
-    scene, preset, params, x0, circuit, ac_sign, dc_law, soil, compaction : as in maps.simulate.
+    scene : a scene name, Scene, HybridSystem or :class:`maps.Problem` (what is integrated).
+    preset, params, x0, circuit, ac_sign, dc_law, soil, compaction : as in :func:`maps.problem`
+        (not with a Problem, except ``params`` and ``x0``).
     param : str
         Parameter name to sweep (MODEL.md section 6), e.g. "relay_hz", "V", "k".
     values : array
@@ -107,8 +109,8 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
     if mode not in MODES:
         raise ParameterError(f"mode {mode!r}; allowed: {', '.join(MODES)}")
     values = np.asarray(values, dtype=float).ravel()
-    job, sc, table = _job(scene, param, values, transient, record, preset, params, x0, tol, max_period, rtol, atol,
-                          lyapunov, circuit, ac_sign, dc_law, max_transient, batch_size, max_record, soil, compaction)
+    job = _job(scene, param, values, transient, record, preset, params, x0, tol, max_period, rtol, atol,
+               lyapunov, circuit, ac_sign, dc_law, max_transient, batch_size, max_record, soil, compaction)
     if lyapunov_method not in METHODS:
         raise ParameterError(f"lyapunov_method {lyapunov_method!r}; allowed: {', '.join(METHODS)}")
     job = replace(job, lyapunov_method=lyapunov_method)
@@ -117,11 +119,11 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
     pool = WorkerPool(job, workers) if mode == "independent" and workers > 1 else None
     with pool or nullcontext():     # open through the tail: its workers are warm
         results, resumed, seconds, workers = run_values(job, values, mode, parts, workers, scheduler, chunk_size,
-                                                        progress, f"{sc.name} {param}", pool=pool)
+                                                        progress, f"{job.problem.name} {param}", pool=pool)
         warm = pool if resumed < values.size else None   # every value resumed: no worker started, the tail runs here
         tail = _start_tail(results, values, job, MODES[mode][0], grazing, grazing_xtol, error_sample, warm)
         from ..storage import sweep_dataset as storage  # xarray: imported where the Dataset is built (worker processes start faster)
-        ds = storage.to_dataset(results, values, job, sc, table, mode)
+        ds = storage.to_dataset(results, values, job, mode)
         run_stats(ds, job, seconds, resumed, workers)
         found, estimate = tail()
     if grazing:
@@ -199,16 +201,16 @@ def run_stats(ds, job, seconds, resumed, workers) -> None:
 
 def _job(scene, param, values, transient, record, preset, params, x0, tol, max_period, rtol, atol, lyapunov,
          circuit, ac_sign, dc_law, max_transient, batch_size, max_record=None, soil=None, compaction=None):
-    """The ValueJob of a sweep, its scene and parameter table, every argument checked before anything runs."""
+    """The ValueJob of a sweep, every argument checked before anything runs (``scene``: a scene or a
+    :class:`maps.Problem`; the other model keywords as :func:`maps.problem`)."""
     tol = validate_tol(tol)
     if values.size == 0 or not np.all(np.isfinite(values)):
         raise ParameterError("values must be a non-empty array of finite numbers")
-    sc, table = resolve_scene(scene, params, preset, circuit, ac_sign, dc_law, soil, compaction)
-    base = {k: v for k, (v, _) in table.items()}
-    sc.system.parameter(param)  # raises for an unknown name
+    pb = problem(scene, preset, params, x0, circuit=circuit, ac_sign=ac_sign, dc_law=dc_law, soil=soil,
+                 compaction=compaction)
+    pb.system.parameter(param)  # raises for an unknown name
     for v in values:  # every value must be valid before anything runs
-        sc.parameters(preset, **dict(params or {}, **{param: v}))
-    sc.initial_state(**(x0 or {}))
+        pb.with_values(**{param: v})
     transient = int(validate_value("transient", transient, 0, 1e7))
     record = int(validate_value("record", record, 3, 1e7))
     if max_record is not None:
@@ -216,23 +218,29 @@ def _job(scene, param, values, transient, record, preset, params, x0, tol, max_p
     if max_transient is not None:
         max_transient = int(validate_value("max_transient", max_transient, transient, 1e8))
     batch_size = int(validate_value("batch_size", batch_size, 1, 64))
-    options = {k: v for k, v in dict(circuit=circuit, ac_sign=ac_sign, soil=soil, compaction=compaction).items() if v is not None}
-    if sc.options is not None and sc.options.dc:   # the resolved law (it may follow the preset): workers get no preset
-        options["dc_law"] = sc.options.dc_law
-    name = sc.system if isinstance(sc, SystemScene) else sc.name  # a bare system runs in this process
-    job = ValueJob(name, param, base, options, dict(x0 or {}), transient, record, float(tol), max_period,
-                   rtol, atol, lyapunov, max_transient=max_transient, batch_size=batch_size, max_record=max_record)
-    return job, sc, table
+    return ValueJob(pb, param, transient, record, float(tol), max_period, rtol, atol, lyapunov,
+                    max_transient=max_transient, batch_size=batch_size, max_record=max_record)
+
+
+def travels(pb) -> bool:
+    """True when the problem pickles, so worker processes can rebuild it (a scene by name, address
+    or module-level builder; not a bare HybridSystem whose declaration holds closures)."""
+    import pickle
+    try:
+        pickle.dumps(pb)
+    except Exception:   # noqa: BLE001 - whatever pickle raises: it cannot travel
+        return False
+    return True
 
 
 def _execution(job, n_values, workers, scheduler, chunk_size):
     """(worker processes, values per task): 0 workers with a Dask ``scheduler`` (the cluster's);
-    by default every available core (:func:`bifurc.sweeps.executor.default_workers`), 1 for a bare
-    HybridSystem (not picklable).  In this process a task holds 8 batches of values."""
+    by default every available core (:func:`bifurc.sweeps.executor.default_workers`), 1 for a problem
+    that cannot travel to another process (a bare HybridSystem with closures: :func:`travels`).  In this process a task holds 8 batches of values."""
     if scheduler is not None:
         workers = 0
     elif workers is None:
-        workers = default_workers(n_values) if isinstance(job.scene, str) else 1
+        workers = default_workers(n_values) if travels(job.problem) else 1
     else:
         workers = int(validate_value("workers", workers, 1, 1024))
     if chunk_size is None and workers == 1:

@@ -30,7 +30,8 @@ from maps.engines.scalar import HybridRun
 from maps.impacts import impact_table
 from maps.parameters import ParameterError
 from maps.provenance import cf_attrs, recorded
-from maps.simulate import dc_law_attrs, resolve
+from maps.problem import problem
+from maps.simulate import dc_law_attrs
 
 from . import baselines
 
@@ -53,10 +54,8 @@ DEFAULT_LADDERS = {
 
 
 def _problem(scene, preset=None, params=None, x0=None, circuit=None, ac_sign=None, dc_law=None):
-    sc, table = resolve(scene, params, preset, circuit, ac_sign, dc_law=dc_law)
-    values = {k: v for k, (v, _) in table.items()}
-    y0 = sc.system.state_vector(sc.initial_state(**(x0 or {})))
-    return sc, values, y0
+    pb = problem(scene, preset, params, x0, circuit=circuit, ac_sign=ac_sign, dc_law=dc_law)
+    return pb.scene, dict(pb.values), pb.state_vector()
 
 
 def reference_solution(scene, t_end, preset=None, params=None, x0=None, precision="longdouble",

@@ -30,7 +30,7 @@ from maps.engines.scalar import HybridRun
 from maps.hybrid import Escaped, EventCap, IntegrationFailure
 from maps.impacts import free_flight_minima, impact_table
 from maps.provenance import cf_attrs, recorded
-from maps.registry import get_scene
+from maps.problem import problem
 
 __all__ = ["Case", "CASES", "QUICK", "VERDICTS", "COMPARED_EVENTS", "case_scene", "run_case", "run_suite",
            "compare_runs", "event_log", "sentence", "write_report"]
@@ -122,14 +122,8 @@ QUICK = ["stiff-k1e+05-c0", "stiff-k1e+08-c0", "stiff-k1e+10-c10", "chatter-stic
 
 def case_scene(case: Case):
     """The case's scene (with its structural options) and validated parameter values."""
-    from maps.presets import preset_dc_law
-    sc = get_scene(case.scene)
-    opts = dict(case.options or {})
-    if case.preset and sc.options.dc and opts.get("dc", True):
-        opts.setdefault("dc_law", preset_dc_law(case.preset))      # the preset's DC law, as maps.simulate
-    if opts:
-        sc = sc.with_options(**opts)
-    return sc, sc.parameters(case.preset, **case.params)
+    pb = problem(case.scene, case.preset, case.params, **dict(case.options or {}))
+    return pb.scene, pb.parameter_values()
 
 
 def _typed_state(y0, fp_type):
