@@ -350,6 +350,11 @@ class HybridSystem:
         return None
 
     @property
+    def declares_clock(self) -> bool:
+        """True when the system declares a strobe period (a switch, a forcing or ``strobe_period``)."""
+        return self.strobe_period is not None or bool(self.switches) or bool(self.forcing)
+
+    @property
     def strobe_parameter(self) -> str | None:
         """The parameter that sets the strobe period when it is a switch's frequency, else None."""
         return self.switches[0].frequency if self.strobe_period is None and self.switches else None

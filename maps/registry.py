@@ -25,7 +25,7 @@ from .hybrid import HybridSystem
 from .parameters import ParameterError
 from .scenes import SCENES, Scene, SystemBuilder
 
-__all__ = ["register_scene", "get_scene", "scene_names", "ENTRY_POINT_GROUP"]
+__all__ = ["register_scene", "unregister_scene", "get_scene", "scene_names", "ENTRY_POINT_GROUP"]
 
 #: the entry-point group that installed distributions declare their scenes in
 ENTRY_POINT_GROUP = "maps.scenes"
@@ -50,6 +50,13 @@ def register_scene(scene, name: str | None = None, *, summary: str = "", default
         raise ParameterError(f"scene {sc.name!r} is already registered; pass replace=True to replace it")
     _REGISTERED[sc.name] = sc
     return sc
+
+
+def unregister_scene(name: str) -> None:
+    """Forget the scene registered as ``name`` in this process (a built-in one cannot be)."""
+    if name not in _REGISTERED:
+        raise ParameterError(f"no scene {name!r} is registered in this process")
+    del _REGISTERED[name]
 
 
 def as_scene(obj, name: str | None = None, *, summary: str = "", defaults: dict | None = None,
@@ -118,7 +125,7 @@ def _from_address(address: str, name: str) -> Scene:
             obj = getattr(obj, part)
     except (ImportError, AttributeError) as exc:
         raise ParameterError(f"scene {name!r}: cannot load {address!r} ({type(exc).__name__}: {exc})") from None
-    return replace(as_scene(obj, name=name), address=address)
+    return replace(as_scene(obj, name=name), name=name, address=address)
 
 
 def _scene_at(address: str, name: str, options, chosen) -> Scene:

@@ -9,7 +9,12 @@ def register(subparsers):
 
 
 def run(args) -> int:
-    scenes = [maps.get_scene(name) for name in maps.scene_names()]
+    scenes, broken = [], []
+    for name in maps.scene_names():
+        try:
+            scenes.append(maps.get_scene(name))
+        except maps.ParameterError as exc:      # an installed entry point that does not load
+            broken.append(str(exc))
     states = {sc.name: "[" + ",".join(sc.system.state_names) + "]" for sc in scenes}
     w_name = max(len(sc.name) for sc in scenes)
     w_states = max(map(len, states.values()))
@@ -19,4 +24,6 @@ def run(args) -> int:
             law += f", soil {sc.options.soil} (--soil viscous|coulomb|drift)"
         preset = f"preset {sc.preset}" if sc.preset else "no preset: parameters by name"
         print(f"{sc.name:<{w_name}}  {states[sc.name]:<{w_states}}  {sc.summary}; {preset}{law}")
+    for line in broken:
+        print(line)
     return 0

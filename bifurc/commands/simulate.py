@@ -9,7 +9,7 @@ def register(subparsers):
                               description="Integrate a scene; write the time history (netCDF) and a figure.")
     add_scene_options(p)
     span = p.add_mutually_exclusive_group()
-    span.add_argument("--periods", type=float, default=None, help="duration in relay periods")
+    span.add_argument("--periods", type=float, default=None, help="duration in strobe periods (relay periods for the thesis scenes)")
     span.add_argument("--t-end", type=float, default=None, help="duration [s]")
     p.add_argument("--transient", type=float, default=None,
                    help="2-DOF: progression measures after this time [s] (default: the second half)")
@@ -26,7 +26,7 @@ def run(args) -> int:
     check_plot(args)
     periods, t_end = args.periods, args.t_end
     if periods is None and t_end is None:
-        periods = 20.0 if "relay_hz" in maps.get_scene(args.scene).system.param_names else None
+        periods = 20.0 if maps.get_scene(args.scene).system.declares_clock else None
         t_end = None if periods else 2.0
     ds = maps.simulate(args.scene, periods=periods, t_end=t_end, dt=args.dt, transient=args.transient, **kw)
     if args.output:
