@@ -359,5 +359,5 @@ def _csv(rows, path):
     keys = [k for k in rows[0] if k not in ("t", "x")]
     head = ",".join(f"{k} [{_UNITS[k]}]" if k in _UNITS else k for k in keys)
     body = [",".join(f'"{r[k]}"' if isinstance(r[k], str) else f"{r[k]:.10g}" for k in keys) for r in rows]
-    Path(path).write_text("# thesis replay (studies/thesis_replay.py): one row per run\n" + head + "\n"
+    Path(path).write_text("# thesis replay (studies/thesis_replay/): one row per run\n" + head + "\n"
                           + "\n".join(body) + "\n")
