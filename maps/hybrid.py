@@ -26,6 +26,7 @@ system structure, tolerance and floating-point type.
 """
 from __future__ import annotations
 
+import inspect
 import math
 import time as _time
 from dataclasses import dataclass, field
@@ -74,8 +75,10 @@ class Guard:
     ``system.projections[name]`` for exact Jacobians).  ``reset`` maps the state
     at the crossing to the state after it (``None``: continuous): a list of heyoka
     expressions, one per state (e.g. ``[s.x, -s.r * s.v]``, differentiable
-    symbolically), or a Python function ``reset(y, params) -> y`` (traced on heyoka
-    symbols where it can be, see :meth:`HybridSystem.reset_expressions`).  A guard with ``then=None`` and ``reset=None`` only records
+    symbolically; ``sym.t`` for a reset that depends on time, e.g. a moving stop), or a
+    Python function ``reset(y, params) -> y`` or ``reset(y, params, t) -> y`` (traced on heyoka
+    symbols where it can be, see :meth:`HybridSystem.reset_expressions`).  The guard's
+    surface and the reset are evaluated at the crossing's instant.  A guard with ``then=None`` and ``reset=None`` only records
     the crossing (an observation, e.g. the deepest point of a contact).
     ``role`` (one of :data:`ROLES`) says what the crossing means; without it the
     name decides ("contact": impact, "lowest": flight_minimum, ...; else
@@ -226,11 +229,14 @@ class HybridSystem:
         ``(flags, y)`` to enter a mode with a projected state (e.g. a bar stuck on its
         stop: x = e, v = 0).  A guard that sets one of
         ``halt_flags`` to a non-zero value ends the run with :class:`Escaped`.
-        ``gap(y, params) -> (gap [m], gap rate [m/s])`` gives the signed distance to the
-        stop (> 0: clear) for impact logs and clearance.  By default it is declared by the
-        guard whose role is "impact": its surface, signed so that the approach to the stop
-        is a decrease (``direction=-1``: the surface itself; ``+1``: its negative), and
-        its rate along the flow in the default mode; without an impact guard there is no gap.
+        ``gap(y, params) -> (gap [m], gap rate [m/s])``, or ``gap(y, params, t)`` for a stop
+        that moves, gives the signed distance to the stop (> 0: clear) and its rate (the
+        relative approach speed, < 0 toward the stop) for impact logs and clearance;
+        ``system.gap`` is always callable as ``gap(y, params, t=0.0)``.  By default it is
+        declared by the guard whose role is "impact": its surface, signed so that the approach
+        to the stop is a decrease (``direction=-1``: the surface itself; ``+1``: its negative),
+        and its rate along the flow in the default mode (with the surface's own time derivative);
+        without an impact guard there is no gap.
         ``mode_rule(y, params, flags, given) -> dict`` gives the flags that follow from the
         state at a start (e.g. in contact when it starts inside the stop; the region of a
         piecewise force law); ``flags`` are those so far, ``given`` the names the caller set
@@ -271,8 +277,8 @@ class HybridSystem:
         self.outputs = dict(outputs(self.sym)) if outputs else {}
         impacts = [g for g in self.guards if g.role == "impact"]
         self.impact_guard = impacts[0] if impacts else None
-        self.gap = gap if gap is not None else (_guard_gap(self, self.impact_guard)
-                                                if self.impact_guard is not None else None)
+        self.gap = _with_time(gap) if gap is not None else (_guard_gap(self, self.impact_guard)
+                                                           if self.impact_guard is not None else None)
         for sw in self.switches:
             if sw.flag not in self.flag_defaults or sw.frequency not in self._param_index:
                 raise ValueError(f"switch {sw} names an unknown flag or parameter")
@@ -472,9 +478,9 @@ class HybridSystem:
     def reset_expressions(self, guard: Guard) -> list:
         """The reset map of ``guard`` as heyoka expressions of the state and parameters.
 
-        Given as expressions, they are returned; a Python ``reset(y, params)`` is traced by
-        calling it on the symbols (an object array of state variables and a dict of
-        parameter symbols).  Raises :class:`ParameterError` naming the guard when the
+        Given as expressions, they are returned; a Python ``reset(y, params)`` or
+        ``reset(y, params, t)`` is traced by calling it on the symbols (an object array of state
+        variables, a dict of parameter symbols and heyoka's time).  Raises :class:`ParameterError` naming the guard when the
         function cannot be traced (then declare ``reset`` as expressions for an exact
         Jacobian).  No reset: the identity."""
         if guard.reset is None:
@@ -487,7 +493,7 @@ class HybridSystem:
             y[:] = self.sym.state_vars
             params = {p: self.sym[p] for p in self.param_names}
             try:
-                out = guard.reset(y, params)
+                out = self.reset_function(guard)(y, params, self.sym.t)
                 exprs = [v if isinstance(v, hy.expression) else hy.expression(float(v)) for v in out]
             except Exception as exc:  # noqa: BLE001 - any failure means: not traceable
                 raise ParameterError(f"the reset of guard {guard.name!r} cannot be traced on heyoka symbols "
@@ -500,17 +506,22 @@ class HybridSystem:
         return cache[guard.name]
 
     def reset_function(self, guard: Guard) -> Callable:
-        """``reset(y, params) -> y`` for ``guard`` (compiled once when declared as expressions)."""
-        if guard.reset is None or callable(guard.reset):
-            return guard.reset
+        """``reset(y, params, t=0.0) -> y`` for ``guard`` at time ``t`` [s] of the crossing
+        (compiled once when declared as expressions; a Python ``reset(y, params)`` that does not
+        read time is called as it is, its arity looked up once); None without a reset."""
+        if guard.reset is None:
+            return None
         cache = self.__dict__.setdefault("_reset_cfuncs", {})
         if guard.name not in cache:
-            f = hy.cfunc(list(guard.reset), vars=self.sym.state_vars, compact_mode=True)
-            defaults = dict(self.flag_defaults)
+            if callable(guard.reset):
+                cache[guard.name] = _with_time(guard.reset)
+            else:
+                f = hy.cfunc(list(guard.reset), vars=self.sym.state_vars, compact_mode=True)
+                defaults = dict(self.flag_defaults)
 
-            def reset(y, params, f=f):
-                return call_cfunc(f, y, self.par_vector(params, defaults))
-            cache[guard.name] = reset
+                def reset(y, params, t=0.0, f=f):
+                    return call_cfunc(f, y, self.par_vector(params, defaults), t)
+                cache[guard.name] = reset
         return cache[guard.name]
 
     def lie_derivative(self, expr):
@@ -529,9 +540,9 @@ class HybridSystem:
         return flags
 
     def mode_at(self, y, params: Mapping[str, float], flags: Mapping[str, float] | None = None,
-                given: tuple = ()) -> dict:
-        """Flags that follow from the state ``y`` at a start, by the declared rule (those in
-        ``given`` are the caller's and are left out)."""
+                given: tuple = (), t: float = 0.0) -> dict:
+        """Flags that follow from the state ``y`` at a start at time ``t`` [s], by the declared
+        rule (those in ``given`` are the caller's and are left out)."""
         y = np.asarray(y, dtype=float)
         if self.mode_rule is not None:
             flags = dict(self.flag_defaults) if flags is None else dict(flags)
@@ -539,7 +550,7 @@ class HybridSystem:
         else:
             g = self.impact_guard
             beyond = (g is not None and self.gap is not None and isinstance(g.then, Mapping)
-                      and self.gap(y, params)[0] < 0)
+                      and self.gap(y, params, t)[0] < 0)
             out = dict(g.then) if beyond else {}
         return {k: v for k, v in out.items() if k not in given}
 
@@ -643,20 +654,47 @@ def time_derivative(expr):
 
 
 def _guard_gap(system: "HybridSystem", guard: Guard):
-    """``gap(y, params) -> (gap, rate)`` from the impact guard's surface, > 0 clear.
+    """``gap(y, params, t=0.0) -> (gap, rate)`` from the impact guard's surface, > 0 clear, at
+    time ``t`` [s].
 
-    The rate is taken along the flow in the default mode at t = 0 (for the gap of a stop
-    it involves only velocities)."""
+    The rate is taken along the flow in the default mode, with the surface's partial time
+    derivative (a moving stop): the relative approach speed."""
     sign = -1.0 if guard.direction == 1 else 1.0
     g = guard.expr * sign
     f = hy.cfunc([g, system.lie_derivative(g)], vars=system.sym.state_vars, compact_mode=True)
     defaults = dict(system.flag_defaults)
 
-    def gap(y, params):
-        out = call_cfunc(f, y, system.par_vector(params, defaults))
+    def gap(y, params, t=0.0):
+        out = call_cfunc(f, y, system.par_vector(params, defaults), t)
         return float(out[0]), float(out[1])
 
     return gap
+
+
+def _with_time(fn: Callable) -> Callable:
+    """``fn(y, params)`` or ``fn(y, params, t)`` (a reset, a gap) as ``f(y, params, t=0.0)``: a
+    function that does not take the time is wrapped, one that takes it with a default is returned
+    as it is (no cost per call), one that takes it without a default gets the default 0.0.  The
+    arity is read once, here."""
+    try:
+        sig = inspect.signature(fn)
+    except (TypeError, ValueError):      # a builtin without a signature: the old form
+        sig = None
+    if sig is not None:
+        kinds = [p.kind for p in sig.parameters.values()]
+        pos = [p for p in sig.parameters.values() if p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD)]
+        if inspect.Parameter.VAR_POSITIONAL in kinds or (len(pos) > 2 and pos[2].default is not inspect.Parameter.empty):
+            return fn
+        if len(pos) > 2:
+            def timed(y, params, t=0.0, fn=fn):
+                return fn(y, params, t)
+            timed.__wrapped__ = fn
+            return timed
+
+    def untimed(y, params, t=0.0, fn=fn):
+        return fn(y, params)
+    untimed.__wrapped__ = fn
+    return untimed
 
 
 _FP_TYPES = (float, np.float64, np.longdouble, np.float32) + ((hy.real128,) if hasattr(hy, "real128") else ())

@@ -600,8 +600,8 @@ def _settle_coulomb(owner: dict, o: ModelOptions):
 def _gap(o: ModelOptions):
     """Signed distance to the stop and its rate, (r - e, dr/dt), from a state array."""
     if o.dof == 1:
-        return lambda y, p: (y[0] - p.get("e", 0.0), y[1])
-    return lambda y, p: (y[0] - y[2] - p.get("e", 0.0), y[1] - y[3])
+        return lambda y, p, t=0.0: (y[0] - p.get("e", 0.0), y[1])
+    return lambda y, p, t=0.0: (y[0] - y[2] - p.get("e", 0.0), y[1] - y[3])
 
 
 def _stick_projection(o: ModelOptions):

@@ -518,13 +518,13 @@ def orbit_from_periods(system, params, W, times, points, period_events, **fields
     deepest, release), never by name.  ``W`` [Hz] gives the relay phase of each onset.
     ``fields`` are MapOrbit's remaining fields (status, n_steps, final_state, ...).
     """
-    gap = system.gap if system.gap is not None else (lambda y, p: (math.nan, math.nan))
+    gap = system.gap if system.gap is not None else (lambda y, p, t=0.0: (math.nan, math.nan))
     role = system.role_of
     imp_n, min_gap, min_flight, min_speed, signature = [], [], [], [], []
     it, iv, iph, ipen, idur = [], [], [], [], []
-    g_prev = gap(points[0], params)[0]
+    g_prev = gap(points[0], params, times[0])[0]
     for k, events in enumerate(period_events):
-        g_end = gap(points[k + 1], params)[0]
+        g_end = gap(points[k + 1], params, times[k + 1])[0]
         g_lo, g_flight = min(g_prev, g_end), math.inf
         count, speed = 0, math.inf
         roles = []
@@ -532,7 +532,7 @@ def orbit_from_periods(system, params, W, times, points, period_events, **fields
             r = role(name)
             roles.append(r)
             if r == "impact":
-                g, rate = gap(y, params)
+                g, rate = gap(y, params, t)
                 g_lo = min(g_lo, g)          # 0 at the onset: an instant-reset impact has no "deepest"
                 count += 1
                 speed = min(speed, abs(rate))
@@ -542,10 +542,10 @@ def orbit_from_periods(system, params, W, times, points, period_events, **fields
                 ipen.append(max(0.0, -g))
                 idur.append(math.nan)
             elif r == "flight_minimum":
-                g = gap(y, params)[0]
+                g = gap(y, params, t)[0]
                 g_lo, g_flight = min(g_lo, g), min(g_flight, g)
             elif r == "deepest":
-                g = gap(y, params)[0]
+                g = gap(y, params, t)[0]
                 g_lo = min(g_lo, g)
                 if ipen:
                     ipen[-1] = max(ipen[-1], -g)
@@ -600,7 +600,7 @@ class ImpactMap:
         sensitivities Phi (variational equations, saltation at the events on the way), projected
         onto the impact section g = 0 whose hitting time moves with y0, then the impact's transition:
 
-            J = R_y (I - f- grad(g)^T / (grad(g) . f- + dg/dt)) Phi = Y+ + f+ dt/dy0,
+            J = R_y (I - f- grad(g)^T / (grad(g) . f- + dg/dt)) Phi + R_t dt/dy0 = Y+ + f+ dt/dy0,
 
         Y+ the saltation-updated sensitivities compared at the impact instant (the state then
         moves with f+ while the end follows the impact), dt/dy0 = -grad(g) Phi / (grad(g) . f- + dg/dt).

@@ -161,7 +161,7 @@ def fire(system: HybridSystem, guard: Guard, t: float, y: np.ndarray, flags: Map
         return Outcome(None, {}, [(guard.name, y_minus, y_minus, dict(flags))], False)
     y_guard = None
     if guard.reset is not None:
-        y_guard = np.asarray(system.reset_function(guard)(y_minus.copy(), params), dtype=float)
+        y_guard = np.asarray(system.reset_function(guard)(y_minus.copy(), params, t), dtype=float)
     here = y_minus if y_guard is None else y_guard
     changes: dict = {}
     projected = None
@@ -246,7 +246,7 @@ def start_flags(system: HybridSystem, t: float, y, params: Mapping[str, float],
     base = system.initial_flags(t, params, given)
     if len(given) >= len(system.flag_names) and set(given) >= set(system.flag_names):
         return base
-    base.update(system.mode_at(y, params, base, tuple(given)))
+    base.update(system.mode_at(y, params, base, tuple(given), t=t))
     return base
 
 
@@ -260,23 +260,26 @@ def next_switch(system: HybridSystem, params: Mapping[str, float], counters: Map
     return best, which
 
 
-def saltation(Y: np.ndarray, f_minus, f_plus, grad, g_t: float, g_p, R_y, R_p, dt=None) -> np.ndarray:
+def saltation(Y: np.ndarray, f_minus, f_plus, grad, g_t: float, g_p, R_y, R_p, dt=None, R_t=None) -> np.ndarray:
     """Sensitivities after a state event: ``Y`` (n x (n + m)) holds dy/d(y0, p) just before it.
 
     A guard g(y, t; p) = 0 crossed at t_e moves with the perturbation: dt_e = -(grad g . dy +
-    g_p dp) / (grad g . f- + dg/dt).  The state after the event, compared at the same time,
-    moves by R_y dy + R_p dp + (R_y f- - f+) dt_e, hence (Y's parameter columns carry dp = 1)
+    g_p dp) / (grad g . f- + dg/dt).  The state after the event, R(y-(t_e), t_e), compared at
+    the same time, moves by R_y dy + R_p dp + (R_y f- + R_t - f+) dt_e, hence (Y's parameter
+    columns carry dp = 1)
 
-        Y+ = R_y Y- + [0 | R_p] + (f+ - R_y f-) (grad g . Y- + [0 | g_p]) / (grad g . f- + dg/dt).
+        Y+ = R_y Y- + [0 | R_p] + (f+ - R_y f- - R_t) (grad g . Y- + [0 | g_p]) / (grad g . f- + dg/dt).
 
-    ``R`` is the whole transition: the guard's reset composed with any settle projection, and
-    ``f+`` the vector field of the mode entered.  A grazing crossing (denominator 0) has no
+    ``R`` is the whole transition: the guard's reset composed with any settle projection, ``R_t``
+    its partial time derivative (None: 0, a reset that does not read time; a moving stop's does),
+    and ``f+`` the vector field of the mode entered.  A grazing crossing (denominator 0) has no
     finite saltation: ZeroDivisionError.  ``dt``: :func:`event_time_row`, if already computed.
     """
     n = Y.shape[0]
     out = R_y @ Y
     out[:, n:] += R_p
-    out -= np.outer(f_plus - R_y @ f_minus, event_time_row(Y, f_minus, grad, g_t, g_p) if dt is None else dt)
+    jump = f_plus - R_y @ f_minus if R_t is None else f_plus - R_y @ f_minus - R_t
+    out -= np.outer(jump, event_time_row(Y, f_minus, grad, g_t, g_p) if dt is None else dt)
     return out
 
 

@@ -6,11 +6,12 @@ with respect to the initial state and the chosen parameters.  At a state event (
 crossed at t_e with g(y, t) = 0) the event time itself depends on (y0, p), and Y jumps by the
 saltation rule (:func:`maps.transitions.saltation`):
 
-    Y+ = R_y Y- + [0 | R_p] + (f+ - R_y f-) (grad g . Y- + [0 | g_p]) / (grad g . f- + dg/dt)
+    Y+ = R_y Y- + [0 | R_p] + (f+ - R_y f- - R_t) (grad g . Y- + [0 | g_p]) / (grad g . f- + dg/dt)
 
 with R the reset map (identity for the compliant contact, whose force jumps at onset and
 release so that f+ != f-) composed with any settle projection (a bar that sticks: rank
-deficient), f- and f+ the vector fields before and after.  A relay switch happens at a fixed
+deficient), R_t its partial time derivative (a moving stop's reset), f- and f+ the vector
+fields before and after.  A relay switch happens at a fixed
 time: it needs no saltation for derivatives with respect to the state or to parameters other
 than the relay frequency.
 
@@ -122,13 +123,15 @@ class Derivatives:
         return out[:self.n], float(out[self.n]), out[self.n + 1:]
 
     def reset(self, guard, t, y, pars):
-        """(R_y, R_p) of a guard's reset map at y (identity and zero without a reset)."""
+        """(R_y, R_p, R_t) of a guard's reset map at (t, y) (identity, zero and None without a
+        reset; R_t None: the reset does not read time)."""
         if guard.reset is None:
-            return np.eye(self.n), np.zeros((self.n, self.m))
+            return np.eye(self.n), np.zeros((self.n, self.m)), None
         return self._jacobian(("reset", guard.name), lambda: self.system.reset_expressions(guard), t, y, pars)
 
     def projection(self, name, t, y, params, flags):
-        """(P_y, P_p) of the settle projection named ``name`` (declared in ``system.projections``)."""
+        """(P_y, P_p, P_t) of the settle projection named ``name`` (declared in ``system.projections``;
+        P_t None: it does not read time)."""
         decl = self.system.projections.get(name)
         if decl is None:
             raise ParameterError(f"an exact Jacobian through the settle transition {name!r} needs its projection "
@@ -145,22 +148,26 @@ class Derivatives:
         p = params
         if guard is not None:
             before, after = self.pars(p, flags_before), self.pars(p, flags_after)    # built once per event
-            R_y, R_p = self.reset(guard, t, y_minus, before)
+            R_y, R_p, R_t = self.reset(guard, t, y_minus, before)
             if out.projection is not None:
                 if out.projection == guard.name:    # the guard's own projection, after its reset
                     here = (y_minus if guard.reset is None
-                            else np.asarray(self.system.reset_function(guard)(np.array(y_minus), p), dtype=float))
+                            else np.asarray(self.system.reset_function(guard)(np.array(y_minus), p, t), dtype=float))
                 else:
                     here = out.records[0][2]        # the state the guard left, before settle's projection
-                P_y, P_p = self.projection(out.projection, t, here, p, flags_after)
+                P_y, P_p, P_t = self.projection(out.projection, t, here, p, flags_after)
+                if R_t is not None:
+                    R_t = P_y @ R_t if P_t is None else P_y @ R_t + P_t
+                else:
+                    R_t = P_t
                 R_y, R_p = P_y @ R_y, P_y @ R_p + P_p
             y_after = out.y if out.y is not None else y_minus
             grad, g_t, g_p = self.guard(guard, t, y_minus, before)
             f_minus = self.rhs(t, y_minus, before)
             dt = tr.event_time_row(Y, f_minus, grad, g_t, g_p)
-            return tr.saltation(Y, f_minus, self.rhs(t, y_after, after), grad, g_t, g_p, R_y, R_p, dt), dt
+            return tr.saltation(Y, f_minus, self.rhs(t, y_after, after), grad, g_t, g_p, R_y, R_p, dt, R_t), dt
         if out.projection is not None:            # a projection at a fixed time
-            P_y, P_p = self.projection(out.projection, t, y_now, p, flags_after)
+            P_y, P_p, _ = self.projection(out.projection, t, y_now, p, flags_after)
             return tr.projected(Y, P_y, P_p), None
         return Y, None
 
@@ -170,9 +177,10 @@ class Derivatives:
         ``jump(state, pars, t) -> u+`` takes the state (y-, u-) stacked, the runtime parameters of
         the flags before the event and the event time [s], and returns
 
-            u+ = R_y u- + (f+ - R_y f-) (grad g . u-) / (grad g . f- + dg/dt),
+            u+ = R_y u- + (f+ - R_y f- - R_t) (grad g . u-) / (grad g . f- + dg/dt),
 
-        R the guard's reset (identity without one), f- the vector field at y- before the event
+        R the guard's reset (identity without one), R_t its partial time derivative (a moving
+        stop's), f- the vector field at y- before the event
         and f+ at R(y-) under the flags after it (:func:`maps.transitions.saltation` with one
         column).  One compiled call instead of the general rule's several evaluations and small
         matrix products: the batch engine's hot path in a recorded window.  A grazing crossing
@@ -228,6 +236,8 @@ class Derivatives:
             inputs = columns[0]
         R = system.reset_expressions(guard)
         R_y = [[hy.diff(r, y) for y in ys] for r in R]
+        zero = hy.expression(0.0)
+        R_t = [time_derivative(r) for r in R] if guard.reset is not None else [zero] * self.n
         after = {y: r for y, r in zip(ys, R) if guard.reset is not None}
         after.update({s[k]: hy.expression(float(v)) for k, v in changes.items()})
         f_minus = list(system.rhs)
@@ -239,6 +249,8 @@ class Derivatives:
         rows = []
         for i in range(self.n):
             Rf = hy.sum([R_y[i][j] * f_minus[j] for j in range(self.n)])
+            if R_t[i] != zero:                   # a reset that reads time (a moving stop)
+                Rf = Rf + R_t[i]
             for us, a in zip(columns, along):
                 Ru = hy.sum([R_y[i][j] * us[j] for j in range(self.n)])
                 rows.append(Ru + (f_plus[i] - Rf) * a)
@@ -248,9 +260,16 @@ class Derivatives:
         return hy.cfunc(rows, vars=ys + list(inputs), compact_mode=True)
 
     def _jacobian(self, key, exprs, t, y, pars):
-        f = self._maps.get(key)
-        if f is None:
+        """(d/dy, d/dp, d/dt or None where no row reads time) of the map ``exprs()`` at (t, y)."""
+        entry = self._maps.get(key)
+        if entry is None:
             rows = exprs()
-            f = self._maps[key] = self._cfunc([hy.diff(r, v) for r in rows for v in self._wrt + self._pars])
-        J = call_cfunc(f, y, pars, t).reshape(self.n, self.n + self.m)
-        return J[:, :self.n], J[:, self.n:]
+            d_t = [time_derivative(r) for r in rows]
+            timed = any(d != hy.expression(0.0) for d in d_t)
+            f = self._cfunc([hy.diff(r, v) for r in rows for v in self._wrt + self._pars] + (d_t if timed else []))
+            entry = self._maps[key] = (f, timed)
+        f, timed = entry
+        n, c = self.n, self.n + self.m
+        out = call_cfunc(f, y, pars, t)
+        J = out[:n * c].reshape(n, c)
+        return J[:, :n], J[:, n:], (out[n * c:] if timed else None)

@@ -57,3 +57,20 @@ def test_the_sticky_snippet_leaves_at_the_closed_form_instants(executed):
 def test_the_doc_prints_what_it_says(executed):
     ns, text = executed
     assert "6 impacts; first at t = 4.185486 ; |gap| there < 1e-12: True" in text
+
+
+def test_the_moving_stop_snippet_settles_on_the_period_1_orbit():
+    """The vibrating-table example (a time-dependent guard and reset) prints the closed-form
+    impact phase and relative speed of tests/test_moving_stop.py."""
+    blocks = re.findall(r"```python\n(.*?)```", DOC.read_text(), flags=re.S)
+    code = next(b for b in blocks if "ball-on-a-vibrating-table" in b)
+    ns, out = {}, io.StringIO()
+    with contextlib.redirect_stdout(out):
+        exec(compile(blocks[0], str(DOC), "exec"), ns)
+        out.seek(0)
+        out.truncate()
+        exec(compile(code, str(DOC), "exec"), ns)
+    assert "impact phase 0.098867 relative speed -0.654" in out.getvalue()
+    T, p = ns["T"], ns["p"]
+    ti = math.acos(p["g"] * T * (1 - p["e"]) / (2 * (1 + p["e"])) / (p["A"] * p["w"])) / p["w"]
+    assert abs(ns["orbit"].impact_phase[-1] - ti / T) < 1e-8

@@ -210,7 +210,7 @@ def _clearances(system, params, pt):
     """(smallest gap over nodes, impacts and flight minima; lowest flight minimum) of a branch point."""
     if system.gap is None:
         return math.nan, math.nan
-    flight = [system.gap(ev.y_minus, params)[0] for evs in pt.events for ev in evs
+    flight = [system.gap(ev.y_minus, params, ev.t)[0] for evs in pt.events for ev in evs
               if system.role_of(ev.name) == "flight_minimum"]
     at_nodes = [system.gap(s.y, params)[0] for s in pt.nodes]
     low = min(flight) if flight else math.inf

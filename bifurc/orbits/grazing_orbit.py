@@ -88,7 +88,7 @@ def closest_flight_minimum(problem, pt):
         for ev in events:
             if system.role_of(ev.name) != "flight_minimum":
                 continue
-            gap = system.gap(ev.y_minus, problem.smap.params)[0]
+            gap = system.gap(ev.y_minus, problem.smap.params, ev.t)[0]
             if best is None or gap < best[2]:
                 best = (j, ev.t, gap)
     return best

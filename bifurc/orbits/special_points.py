@@ -203,7 +203,7 @@ def event_at_section(problem, pt, within: float = 1e-5) -> bool:
 
 def _slowest_impact(problem, pt) -> float:
     gap = problem.smap.system.gap
-    speeds = [abs(gap(ev.y_minus, problem.smap.params)[1]) for evs in pt.events for ev in evs
+    speeds = [abs(gap(ev.y_minus, problem.smap.params, ev.t)[1]) for evs in pt.events for ev in evs
               if problem.smap.system.role_of(ev.name) == "impact"] if gap is not None else []
     return min(speeds) if speeds else math.inf
 

@@ -399,7 +399,7 @@ class VariationalRun(HybridRun):
                     Y[:, col] = f * (t0 / self.params[sw.frequency])
         for (flag, value), name in self.system.mode_projections.items():
             if self.flags.get(flag) == value:     # started on a mode's set: perturbations projected onto it
-                P_y, P_p = self.derivatives.projection(name, t0, self.y, self.params, self.flags)
+                P_y, P_p, _ = self.derivatives.projection(name, t0, self.y, self.params, self.flags)
                 Y = tr.projected(Y, P_y, P_p)
                 break
         self._state_view[n:] = Y.ravel()
