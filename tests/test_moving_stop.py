@@ -42,7 +42,7 @@ import numpy as np
 import pytest
 
 import maps
-from bifurc.periodic import find_periodic_orbit
+from bifurc.orbits.periodic import find_periodic_orbit
 from maps import Guard, HybridSystem, Parameter, State
 from maps.impacts import impact_table
 
