@@ -20,6 +20,7 @@ from .engines import engine_for, unsupported
 from .engines.base import OrbitJob
 from .engines.scalar import ScalarEngine
 from .hybrid import HybridState, HybridSystem, IntegrationFailure, commensurate_steps, validate_tol
+from .impacts import impact_log
 from .parameters import ParameterError, validate_value
 from .problem import problem
 from .progression import held_mode
@@ -519,50 +520,31 @@ def orbit_from_periods(system, params, W, times, points, period_events, **fields
     ``fields`` are MapOrbit's remaining fields (status, n_steps, final_state, ...).
     """
     gap = system.gap if system.gap is not None else (lambda y, p, t=0.0: (math.nan, math.nan))
-    role = system.role_of
-    imp_n, min_gap, min_flight, min_speed, signature = [], [], [], [], []
-    it, iv, iph, ipen, idur = [], [], [], [], []
-    g_prev = gap(points[0], params, times[0])[0]
-    for k, events in enumerate(period_events):
-        g_end = gap(points[k + 1], params, times[k + 1])[0]
-        g_lo, g_flight = min(g_prev, g_end), math.inf
-        count, speed = 0, math.inf
-        roles = []
-        for name, t, y in events:
-            r = role(name)
-            roles.append(r)
-            if r == "impact":
-                g, rate = gap(y, params, t)
-                g_lo = min(g_lo, g)          # 0 at the onset: an instant-reset impact has no "deepest"
-                count += 1
-                speed = min(speed, abs(rate))
-                it.append(t)
-                iv.append(rate)
-                iph.append((t * W) % 1.0)
-                ipen.append(max(0.0, -g))
-                idur.append(math.nan)
-            elif r == "flight_minimum":
-                g = gap(y, params, t)[0]
-                g_lo, g_flight = min(g_lo, g), min(g_flight, g)
-            elif r == "deepest":
-                g = gap(y, params, t)[0]
-                g_lo = min(g_lo, g)
-                if ipen:
-                    ipen[-1] = max(ipen[-1], -g)
-            elif r == "release" and idur and math.isnan(idur[-1]):
-                idur[-1] = t - it[-1]
-        imp_n.append(count)
-        min_gap.append(g_lo)
-        min_flight.append(g_flight)
-        min_speed.append(speed)
-        signature.append(tuple(roles))
-        g_prev = g_end
+    step_of = [k for k, events in enumerate(period_events) for _ in events]
+    log = impact_log(system, params, ((name, t, y) for events in period_events for name, t, y in events))
+    n = len(period_events)
+    imp_step = np.array(step_of, dtype=np.int64)[log["event"]] if step_of else np.zeros(0, np.int64)
+    imp_n = np.bincount(imp_step, minlength=n)
+    ends = np.array([gap(y, params, t)[0] for y, t in zip(points[:n + 1], times[:n + 1])], dtype=float)
+    min_gap = np.minimum(ends[:-1], ends[1:]) if n else np.zeros(0)
+    min_flight, min_speed = np.full(n, math.inf), np.full(n, math.inf)
+    for k, g in zip(step_of, log["event_gap"]):       # impacts (0 at the onset), flight minima, deepest points
+        if g == g:
+            min_gap[k] = min(min_gap[k], g)
+    for i, g in zip(log["flight_event"], log["flight_gap"]):
+        min_flight[step_of[i]] = min(min_flight[step_of[i]], g)
+    for k, rate in zip(imp_step, log["velocity"]):
+        min_speed[k] = min(min_speed[k], abs(rate))
+    signature, roles = [], iter(log["event_role"])
+    for events in period_events:
+        signature.append(tuple(next(roles) for _ in events))
+    it = log["time"]
     return MapOrbit(
-        times=np.array(times), points=np.array(points), impacts_per_step=np.array(imp_n, dtype=np.int64),
-        min_gap_per_step=np.array(min_gap), min_impact_speed_per_step=np.array(min_speed),
-        impact_t=np.array(it), impact_velocity=np.array(iv), impact_phase=np.array(iph),
-        impact_penetration=np.array(ipen), impact_duration=np.array(idur),
-        min_flight_gap_per_step=np.array(min_flight), signature=signature, **fields)
+        times=np.array(times), points=np.array(points), impacts_per_step=imp_n.astype(np.int64),
+        min_gap_per_step=min_gap, min_impact_speed_per_step=min_speed,
+        impact_t=it, impact_velocity=log["velocity"], impact_phase=(it * W) % 1.0,
+        impact_penetration=log["penetration"], impact_duration=log["duration"],
+        min_flight_gap_per_step=min_flight, signature=signature, **fields)
 
 
 class ImpactMap:

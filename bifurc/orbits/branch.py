@@ -19,6 +19,7 @@ from types import SimpleNamespace
 import numpy as np
 
 from maps.parameters import ParameterError, validate_value
+from maps.impacts import impact_log
 from maps.poincare import StroboscopicMap
 from maps.problem import problem
 from maps.provenance import cf_attrs, recorded
@@ -206,12 +207,16 @@ def _multiplier_error(system, values, param, sp, br, tol, newton_tol) -> float:
     return multiplier_change(sp.point.multipliers, again.multipliers)
 
 
+def _crossings(pt):
+    """A branch point's guard crossings as (name, t, state before) in time order."""
+    return ((ev.name, ev.t, ev.y_minus) for evs in pt.events for ev in evs)
+
+
 def _clearances(system, params, pt):
     """(smallest gap over nodes, impacts and flight minima; lowest flight minimum) of a branch point."""
     if system.gap is None:
         return math.nan, math.nan
-    flight = [system.gap(ev.y_minus, params, ev.t)[0] for evs in pt.events for ev in evs
-              if system.role_of(ev.name) == "flight_minimum"]
+    flight = list(impact_log(system, params, _crossings(pt))["flight_gap"])
     at_nodes = [system.gap(s.y, params)[0] for s in pt.nodes]
     low = min(flight) if flight else math.inf
     return min(at_nodes + flight + ([0.0] if pt.impacts else [])), low

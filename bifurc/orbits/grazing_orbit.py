@@ -22,6 +22,7 @@ import heyoka as hy
 import numpy as np
 
 from maps.hybrid import IntegrationFailure, call_cfunc
+from maps.impacts import impact_log
 from maps.parameters import ParameterError
 
 from .continuation import flags_of, impact_count
@@ -83,15 +84,12 @@ def closest_flight_minimum(problem, pt):
     system = problem.smap.system
     if system.impact_guard is None or system.gap is None:
         return None
-    best = None
-    for j, events in enumerate(pt.events):
-        for ev in events:
-            if system.role_of(ev.name) != "flight_minimum":
-                continue
-            gap = system.gap(ev.y_minus, problem.smap.params, ev.t)[0]
-            if best is None or gap < best[2]:
-                best = (j, ev.t, gap)
-    return best
+    node_of = [j for j, events in enumerate(pt.events) for _ in events]
+    log = impact_log(system, problem.smap.params, ((ev.name, ev.t, ev.y_minus) for evs in pt.events for ev in evs))
+    if not log["flight_gap"].size:
+        return None
+    i = int(np.argmin(log["flight_gap"]))          # the first of equal minima, as a scan would keep
+    return node_of[log["flight_event"][i]], float(log["flight_time"][i]), float(log["flight_gap"][i])
 
 
 def locate_grazing(problem, prev, *, max_iter: int = 30, radius: float = 0.1):

@@ -22,6 +22,8 @@ import math
 
 import numpy as np
 
+from maps.impacts import impact_log
+
 from .continuation import SMOOTH_ROLES, BranchPoint, NoConvergence, SpecialPoint, flags_of, in_section
 from .grazing_orbit import closest_flight_minimum, locate_grazing
 
@@ -202,10 +204,11 @@ def event_at_section(problem, pt, within: float = 1e-5) -> bool:
 
 
 def _slowest_impact(problem, pt) -> float:
-    gap = problem.smap.system.gap
-    speeds = [abs(gap(ev.y_minus, problem.smap.params, ev.t)[1]) for evs in pt.events for ev in evs
-              if problem.smap.system.role_of(ev.name) == "impact"] if gap is not None else []
-    return min(speeds) if speeds else math.inf
+    if problem.smap.system.gap is None:
+        return math.inf
+    log = impact_log(problem.smap.system, problem.smap.params,
+                     ((ev.name, ev.t, ev.y_minus) for evs in pt.events for ev in evs))
+    return float(np.min(np.abs(log["velocity"]))) if log["velocity"].size else math.inf
 
 
 def _impact_slowing(problem, pt) -> bool:
