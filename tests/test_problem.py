@@ -63,7 +63,7 @@ def test_a_preset_means_the_same_model_on_every_path(tmp_path, listing_state):
                       progress=False, workers=1, batch_size=1)
     np.testing.assert_allclose([float(sw[s].isel(branch=0, relay_hz=0, sample=N)) for s in states],
                                listing_state, rtol=0, atol=1e-12)
-    assert sw.attrs["dc_law"] == "listing"
+    assert sw.attrs["dc_law"] == "listing" and sw.attrs["scene"] == "thesis-1dof"
 
     # the orbit solver: its model's values, and its orbit against the same solve on the explicit listing map
     orb = bifurc.periodic_orbit("thesis-1dof", preset="matlab-listing", params={"V": 120.0, "relay_hz": 4.0},
@@ -193,7 +193,7 @@ def test_a_users_system_runs_through_every_command_on_two_workers(tmp_path):
     with xr.open_dataset(tmp_path / "run.nc") as ds:
         assert ds.attrs["scene"] == "user_scenes:SCENE" and ds.sizes["impact"] == 5
     with xr.open_dataset(tmp_path / "d.nc") as d:
-        assert d.attrs["workers"] == 2
+        assert d.attrs["workers"] == 2 and d.attrs["scene"] == "relay-oscillator-ep"
         assert np.all(d.class_code.values >= 0) and np.all(d.period.values == 1)
     with xr.open_dataset(tmp_path / "orbit.nc") as o:
         assert int(o.period) == 1 and int(o.impacts_per_period) == 1 and int(o.stable) == 1

@@ -61,7 +61,7 @@ def test_the_dataset_has_both_parameters_as_dimensions_and_the_schema_rows(local
     # escaped cells carry the escape (the label claims no more than was measured)
     esc = local.class_code.values == ClassCode.ESCAPED
     assert np.all(local.status.values[esc] == Status.ESCAPED) and np.all(np.isfinite(local.failure_time.values[esc]))
-    assert local.attrs["swept_parameter2"] == "V" and "param_V" not in local.attrs and "param_k" in local.attrs
+    assert local.attrs["scene"] == "thesis-1dof" and local.attrs["swept_parameter2"] == "V" and "param_V" not in local.attrs and "param_k" in local.attrs
 
 
 def test_a_cell_job_carries_both_values_row_major():

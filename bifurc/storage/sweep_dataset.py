@@ -75,7 +75,7 @@ def _progression(results, branches, job, sizes, par, values, mode) -> dict:
 def to_dataset(results, values, job, mode) -> xr.Dataset:
     """Assemble ``results`` {branch: [ValueResult or None per value]} into the sweep Dataset."""
     branches = list(results)
-    system, name = job.problem.system, job.problem.name
+    system, scene_name = job.problem.system, job.problem.name
     par = job.param
     p = system.parameter(par)
     sizes = {"branch": len(branches), par: len(values), "sample": job.record + 1, "step": job.record,
@@ -100,9 +100,9 @@ def to_dataset(results, values, job, mode) -> xr.Dataset:
             ds[var.name] = (var.dims_for(par), data, var.attrs())
     ds[GRAZING_FLAG.name] = grazing_flag(ds.min_gap, ds.min_impact_speed).astype(np.int8).assign_attrs(
         GRAZING_FLAG.attrs())
-    ds.attrs.update({"title": f"{name}: {par} sweep ({mode})", "scene": name, "swept_parameter": par,
+    ds.attrs.update({"title": f"{scene_name}: {par} sweep ({mode})", "scene": scene_name, "swept_parameter": par,
                      "swept_parameter_units": p.unit, "mode": mode,
-                     **run_attrs(job, f"scene {name}, {par} sweep ({mode})", skip=(par,))})
+                     **run_attrs(job, f"scene {scene_name}, {par} sweep ({mode})", skip=(par,))})
     return ds
 
 

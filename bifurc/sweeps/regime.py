@@ -110,7 +110,7 @@ def to_dataset(results, job):
 
     from .grazing import grazing_flag
     from ..storage.sweep_dataset import run_attrs
-    system, name = job.problem.system, job.problem.name
+    system, scene_name = job.problem.system, job.problem.name
     par, par2 = job.param, job.param2
     shape = (len(job.values), len(job.values2))
     coords = {}
@@ -127,8 +127,8 @@ def to_dataset(results, job):
     ds[GRAZING_FLAG.name] = grazing_flag(ds.min_gap, ds.min_impact_speed).astype(np.int8).assign_attrs(
         GRAZING_FLAG.attrs())
     p1, p2 = system.parameter(par), system.parameter(par2)
-    ds.attrs.update({"title": f"{name}: regime map over {par} and {par2}", "scene": name,
+    ds.attrs.update({"title": f"{scene_name}: regime map over {par} and {par2}", "scene": scene_name,
                      "swept_parameter": par, "swept_parameter_units": p1.unit,
                      "swept_parameter2": par2, "swept_parameter2_units": p2.unit, "mode": "independent",
-                     **run_attrs(job, f"scene {name}, regime map over {par} and {par2}", skip=(par, par2))})
+                     **run_attrs(job, f"scene {scene_name}, regime map over {par} and {par2}", skip=(par, par2))})
     return ds
