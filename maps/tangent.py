@@ -17,6 +17,8 @@ import math
 
 import numpy as np
 
+from .translation import shift_off
+
 __all__ = ["companion_start", "renormalise", "reduce", "start_direction", "tangent_stretch", "tangent_sample",
            "TANGENT_SIZE"]
 
@@ -36,14 +38,10 @@ def start_direction(d: int, shift=None) -> np.ndarray:
 
 def reduce(u, shift=None) -> np.ndarray:
     """Tangent vectors ``u`` (..., d) less their component along a translation ``shift = (e, a)``
-    (:func:`maps.translation.translation_basis`): u - u[a] e, the anchor's component 0.  The flow
-    commutes with the translation, so J e = e: a tangent vector reduced after every map step evolves
-    by the reduced map's Jacobian, without the neutral multiplier 1.  Unchanged without a shift."""
-    u = np.asarray(u, dtype=float)
-    if shift is None:
-        return u
-    e, a = shift
-    return u - u[..., a:a + 1] * e
+    (:func:`maps.translation.shift_off`, the one reduction).  The flow commutes with the
+    translation, so J e = e: a tangent vector reduced after every map step evolves by the reduced
+    map's Jacobian, without the neutral multiplier 1.  Unchanged without a shift."""
+    return shift_off(u, shift)
 
 
 def companion_start(y0, d0: float = 1e-8, scale=None) -> np.ndarray:
@@ -97,10 +95,7 @@ def renormalise(reference, z, d0: float = 1e-8, scale=None, shift=None) -> tuple
     (the same motion): the distance is measured in the reduced coordinates, without the neutral
     direction."""
     y = np.asarray(reference, dtype=float)
-    dz = np.asarray(z, dtype=float) - y
-    if shift is not None:
-        e, a = shift
-        dz = dz - dz[a] * e
+    dz = shift_off(np.asarray(z, dtype=float) - y, shift)
     d = dz if scale is None else dz / np.asarray(scale, dtype=float)
     dist = math.sqrt(float(d @ d))
     if not math.isfinite(dist) or dist == 0.0:

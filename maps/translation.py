@@ -12,7 +12,8 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["translation_basis", "reduce_points", "reduce_jacobian", "advance_per_step"]
+__all__ = ["translation_basis", "shift_off", "reduction_matrices", "reduce_points", "reduce_jacobian",
+           "advance_per_step"]
 
 
 def translation_basis(system) -> tuple[np.ndarray, int] | None:
@@ -26,15 +27,32 @@ def translation_basis(system) -> tuple[np.ndarray, int] | None:
     return e / e[a], a
 
 
+def shift_off(u, shift) -> np.ndarray:
+    """The one reduction: states or tangent vectors ``u`` (..., d) less their anchor component
+    times the translation, u - u[a] e, with ``shift = (e, a)`` (:func:`translation_basis`); the
+    anchor's component is then 0.  ``u`` itself (as an array) when ``shift`` is None."""
+    u = np.asarray(u, dtype=float)
+    if shift is None:
+        return u
+    e, a = shift
+    return u - u[..., a:a + 1] * e
+
+
+def reduction_matrices(shift, d: int) -> tuple[np.ndarray, np.ndarray, list]:
+    """``(R, E, keep)`` of :func:`shift_off` as matrices: R ((d-1) x d) maps a state to its reduced
+    coordinates (the anchor left out), E (d x (d-1)) embeds them back with the anchor at 0, ``keep``
+    lists the kept components.  The identity (and every component) when ``shift`` is None."""
+    if shift is None:
+        return np.eye(d), np.eye(d), list(range(d))
+    e, a = shift
+    keep = [i for i in range(d) if i != a]
+    return (np.eye(d) - np.outer(e, np.eye(d)[a]))[keep], np.eye(d)[:, keep], keep
+
+
 def reduce_points(system, points) -> np.ndarray:
     """States ``points`` (..., d) shifted along the translation until the anchor is 0 (a copy;
     the points themselves without a translation)."""
-    p = np.array(points, dtype=float)
-    basis = translation_basis(system)
-    if basis is None:
-        return p
-    e, a = basis
-    return p - p[..., a:a + 1] * e
+    return shift_off(np.array(points, dtype=float), translation_basis(system))
 
 
 def reduce_jacobian(system, J) -> np.ndarray:
@@ -44,11 +62,8 @@ def reduce_jacobian(system, J) -> np.ndarray:
     basis = translation_basis(system)
     if basis is None:
         return J
-    e, a = basis
-    d = J.shape[0]
-    keep = [i for i in range(d) if i != a]
-    R = (np.eye(d) - np.outer(e, np.eye(d)[a]))[keep]       # d reduce / dy
-    return R @ J @ np.eye(d)[:, keep]
+    R, E, _ = reduction_matrices(basis, J.shape[0])
+    return R @ J @ E
 
 
 def advance_per_step(system, points) -> np.ndarray:

@@ -29,7 +29,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from maps.translation import translation_basis
+from maps.translation import reduction_matrices, translation_basis
 
 from maps.hybrid import HybridState, IntegrationFailure
 from maps.parameters import ParameterError, validate_value
@@ -100,17 +100,9 @@ class _Coordinates:
     anchor component (the anchor fixed at 0; reduce(y) shifts y back along the translation)."""
 
     def __init__(self, system):
-        d = len(system.states)
         basis = translation_basis(system)
-        if basis is None:
-            self.E, self.R, self.a, self.e = np.eye(d), np.eye(d), None, None
-            self.names = tuple(system.state_names)
-            return
-        e, a = basis
-        keep = [i for i in range(d) if i != a]
-        self.a, self.e = a, e
-        self.E = np.eye(d)[:, keep]                              # z -> y (anchor 0)
-        self.R = (np.eye(d) - np.outer(e, np.eye(d)[a]))[keep]   # d reduce / dy
+        self.a, self.e = (None, None) if basis is None else (basis[1], basis[0])
+        self.R, self.E, keep = reduction_matrices(basis, len(system.states))   # d reduce / dy; z -> y (anchor 0)
         self.names = tuple(system.state_names[i] for i in keep)
 
     def reduce(self, y):
