@@ -544,6 +544,26 @@ def bare_tangent(problem, values, full, workers) -> tuple[float, float]:
     return wall, cpu
 
 
+def _summary(walls, cpus, bares, bare_cpus, serial) -> None:
+    """The ratios side by side against their targets."""
+    full, wall = walls["full"], walls["batch"]
+    print(f"\nbifurc diagram (full) wall:                {full:7.2f} s")
+    print(f"stroboscopic diagram wall <= 20 s:          {wall:7.2f} s   {'met' if wall <= 20 else 'NOT met'}")
+    print(f"throughput vs serial loop >= 3x:            {serial / wall:7.2f} x   "
+          f"{'met' if serial / wall >= 3 else 'NOT met'}  (processes alone, batch_size=1: {serial / walls['scalar']:.2f} x)")
+    eff = walls["batch"] / bares["batch"]
+    print(f"stroboscopic diagram / bare ensemble <= 1.5: {eff:6.2f}     {'met' if eff <= 1.5 else 'NOT met'}"
+          f"  (batch_size=1 / bare scalar: {walls['scalar'] / bares['scalar']:.2f})")
+    r = full / bares["batch + Lyapunov companions"]
+    print(f"full diagram / bare ensemble with companions (no target: what the product integrated before the "
+          f"tangent vector, other work): {r:5.2f}  (CPU {cpus['full'] / bare_cpus['batch + Lyapunov companions']:.2f})")
+    r = full / bares["tangent"]
+    print(f"full diagram / bare ensemble with tangent vector <= 1.2 (issue 10): "
+          f"{r:5.2f}   {'met' if r <= 1.2 else 'NOT met'}  (CPU {cpus['full'] / bare_cpus['tangent']:.2f}; "
+          f"exponents without grazing or error estimate / bare: {walls['exponents'] / bares['tangent']:.2f}, "
+          f"CPU {cpus['exponents'] / bare_cpus['tangent']:.2f})")
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--n", type=int, default=1000)
@@ -611,22 +631,7 @@ def main(argv=None):
     print(f"serial loop (bifurc.sweep, batch_size=1, 1 process) over {sub.size} of the values, extrapolated to "
           f"{args.n}: {serial:.1f} s")
     print(f"load average after: {os.getloadavg()}")
-    full, wall = walls["full"], walls["batch"]
-    print(f"\nbifurc diagram (full) wall:                {full:7.2f} s")
-    print(f"stroboscopic diagram wall <= 20 s:          {wall:7.2f} s   {'met' if wall <= 20 else 'NOT met'}")
-    print(f"throughput vs serial loop >= 3x:            {serial / wall:7.2f} x   "
-          f"{'met' if serial / wall >= 3 else 'NOT met'}  (processes alone, batch_size=1: {serial / walls['scalar']:.2f} x)")
-    eff = walls["batch"] / bares["batch"]
-    print(f"stroboscopic diagram / bare ensemble <= 1.5: {eff:6.2f}     {'met' if eff <= 1.5 else 'NOT met'}"
-          f"  (batch_size=1 / bare scalar: {walls['scalar'] / bares['scalar']:.2f})")
-    r = full / bares["batch + Lyapunov companions"]
-    print(f"full diagram / bare ensemble with companions (no target: what the product integrated before the "
-          f"tangent vector, other work): {r:5.2f}  (CPU {cpus['full'] / bare_cpus['batch + Lyapunov companions']:.2f})")
-    r = full / bares["tangent"]
-    print(f"full diagram / bare ensemble with tangent vector <= 1.2 (issue 10): "
-          f"{r:5.2f}   {'met' if r <= 1.2 else 'NOT met'}  (CPU {cpus['full'] / bare_cpus['tangent']:.2f}; "
-          f"exponents without grazing or error estimate / bare: {walls['exponents'] / bares['tangent']:.2f}, "
-          f"CPU {cpus['exponents'] / bare_cpus['tangent']:.2f})")
+    _summary(walls, cpus, bares, bare_cpus, serial)
     return 0
 
 

@@ -224,6 +224,29 @@ def cpu() -> float:
     return me.ru_utime + me.ru_stime + kids.ru_utime + kids.ru_stime
 
 
+def _agreement(law, out, full, values) -> None:
+    """How the bare ensembles' rates and escapes agree with the product's sweep."""
+    ds = out["product"]
+    mine, status = ds.progression_rate.values[0], ds.status.values[0]
+    ended = np.where(status == 1, ds.failure_time.values[0], np.nan)       # escaped: when
+    steps = ds.n_steps.values[0]
+    print(f"{law}: with everything (exponents, grazing, error estimate) {full:.2f} s; status ok "
+          f"{int((status == 0).sum())}/{values.size}, median rate {1e3 * np.nanmedian(mine):.3g} mm/s, "
+          f"{int(steps.sum())} Taylor steps")
+    for label in ("bare", "one-pass bare"):
+        b = np.array(out[label], dtype=float)
+        both = np.isfinite(b[:, 0]) & np.isfinite(mine)
+        agree = float(np.nanmax(np.abs(b[both, 0] - mine[both]) / np.maximum(np.abs(mine[both]), 1e-9))) \
+            if both.any() else math.nan
+        esc = np.isfinite(b[:, 1]) | np.isfinite(ended)
+        dt = np.abs(b[esc, 1] - ended[esc])
+        print(f"  {label}: rates agree to {agree:.2g} relative on {int(both.sum())} values; escaped "
+              f"{int(np.isfinite(b[:, 1]).sum())} (product {int(np.isfinite(ended).sum())}), escape times "
+              f"agree to median {np.nanmedian(dt) if esc.any() else math.nan:.2g} s, max "
+              f"{np.nanmax(dt) if esc.any() else math.nan:.2g} s; Taylor steps {int(b[:, 2].sum())} "
+              f"({b[:, 2].sum() / steps.sum() - 1:+.2%} against the product's)")
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--n", type=int, default=200)
@@ -277,25 +300,7 @@ def main(argv=None):
             t0 = time.perf_counter()
             run(two)
             fixed[label] = time.perf_counter() - t0
-        ds = out["product"]
-        mine, status = ds.progression_rate.values[0], ds.status.values[0]
-        ended = np.where(status == 1, ds.failure_time.values[0], np.nan)       # escaped: when
-        steps = ds.n_steps.values[0]
-        print(f"{law}: with everything (exponents, grazing, error estimate) {full:.2f} s; status ok "
-              f"{int((status == 0).sum())}/{values.size}, median rate {1e3 * np.nanmedian(mine):.3g} mm/s, "
-              f"{int(steps.sum())} Taylor steps")
-        for label in ("bare", "one-pass bare"):
-            b = np.array(out[label], dtype=float)
-            both = np.isfinite(b[:, 0]) & np.isfinite(mine)
-            agree = float(np.nanmax(np.abs(b[both, 0] - mine[both]) / np.maximum(np.abs(mine[both]), 1e-9))) \
-                if both.any() else math.nan
-            esc = np.isfinite(b[:, 1]) | np.isfinite(ended)
-            dt = np.abs(b[esc, 1] - ended[esc])
-            print(f"  {label}: rates agree to {agree:.2g} relative on {int(both.sum())} values; escaped "
-                  f"{int(np.isfinite(b[:, 1]).sum())} (product {int(np.isfinite(ended).sum())}), escape times "
-                  f"agree to median {np.nanmedian(dt) if esc.any() else math.nan:.2g} s, max "
-                  f"{np.nanmax(dt) if esc.any() else math.nan:.2g} s; Taylor steps {int(b[:, 2].sum())} "
-                  f"({b[:, 2].sum() / steps.sum() - 1:+.2%} against the product's)")
+        _agreement(law, out, full, values)
         best = {k: min(w) for k, w in walls.items()}
         ratio = {k: best["product"] / best[k] for k in ("bare", "one-pass bare")}
         marginal = {k: (best["product"] - fixed["product"]) / (best[k] - fixed[k]) for k in ratio}

@@ -13,7 +13,7 @@ import xarray as xr
 
 import bifurc
 import maps
-from maps import Guard, HybridSystem, Parameter, ParameterError, PeriodicSwitch, State
+from maps import HybridSystem, Parameter, ParameterError, PeriodicSwitch, State
 
 HERE = Path(__file__).parent
 VALUES = {"V": 90.0, "relay_hz": 9.0}

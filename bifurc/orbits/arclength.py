@@ -51,34 +51,16 @@ def continue_branch(problem: ContinuationProblem, orbit, p_start: float, p_end: 
     while len(branch.points) < max_points:
         prev = branch.points[-1]
         u_pred = prev.u + h * prev.tangent
-        try:
-            u, F, DF, lins, flags_new, its = problem.correct(u_pred, prev.tangent, flags_of(prev), max_move=h)
-            pt = problem.point(u, F, DF, lins, flags_new, its, prev.tangent)
-            turn = math.acos(max(-1.0, min(1.0, float(pt.tangent @ prev.tangent))))
-            why = None
-            if pt.transitions != prev.transitions:
-                why = "signature"
-            elif turn > max_turn:
-                why = f"the tangent turned {turn:.2f} rad"
-        except NoConvergence as exc:
-            why, pt = str(exc), None
+        pt, why = _predict_correct(problem, prev, u_pred, h, max_turn)
         branch.newton_iterations += 0 if pt is None else pt.iterations
         if why is not None:
             if h / 2 >= min_step:
                 h /= 2
                 continue
-            if pt is None:      # the corrector failed at the smallest step: does the map change there?
-                probe = _probe(problem, u_pred, prev)
-                if probe is not None and probe.transitions != prev.transitions:
-                    why, pt = "signature", probe
-            branch.stop_reason = event_reason(prev, pt, why, problem)
-            if locate and (pt is None or why == "signature"):
-                sp = discontinuity(problem, prev, pt, branch.points[-2] if len(branch.points) > 1 else None)
-                if sp is not None:
-                    sp.index = len(branch.points) - 1
-                    branch.special.append(sp)
+            _stop(branch, problem, prev, pt, why, u_pred, locate)
             break
         branch.points.append(pt)
+        its = pt.iterations           # the step rule reads the corrector's effort, not a resection's
         if progress is not None:
             progress(pt)
         if locate:
@@ -101,6 +83,34 @@ def continue_branch(problem: ContinuationProblem, orbit, p_start: float, p_end: 
         branch.stop_reason = f"reached max_points = {max_points}"
     branch.seconds = _time.perf_counter() - clock
     return branch
+
+
+def _predict_correct(problem, prev, u_pred, h: float, max_turn: float):
+    """(the corrected point or None, why it is refused or None) from the prediction ``u_pred``."""
+    try:
+        u, F, DF, lins, flags_new, its = problem.correct(u_pred, prev.tangent, flags_of(prev), max_move=h)
+    except NoConvergence as exc:
+        return None, str(exc)
+    pt = problem.point(u, F, DF, lins, flags_new, its, prev.tangent)
+    turn = math.acos(max(-1.0, min(1.0, float(pt.tangent @ prev.tangent))))
+    if pt.transitions != prev.transitions:
+        return pt, "signature"
+    return pt, (f"the tangent turned {turn:.2f} rad" if turn > max_turn else None)
+
+
+def _stop(branch, problem, prev, pt, why: str, u_pred, locate: bool) -> None:
+    """End ``branch`` at the smallest step: name the reason, probe the map where the corrector
+    failed (does its signature change there?) and locate the discontinuity."""
+    if pt is None:
+        probe = _probe(problem, u_pred, prev)
+        if probe is not None and probe.transitions != prev.transitions:
+            why, pt = "signature", probe
+    branch.stop_reason = event_reason(prev, pt, why, problem)
+    if locate and (pt is None or why == "signature"):
+        sp = discontinuity(problem, prev, pt, branch.points[-2] if len(branch.points) > 1 else None)
+        if sp is not None:
+            sp.index = len(branch.points) - 1
+            branch.special.append(sp)
 
 
 def _probe(problem, u, prev):

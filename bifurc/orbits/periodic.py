@@ -132,18 +132,9 @@ def find_periodic_orbit(smap, start, period: int, *, k0: int = 0, tol: float = 1
     if n % q:
         raise ParameterError(f"period = {n} strobe periods is not a multiple of the forcing period q = {q}: "
                              f"periodic orbits here have periods {q}, {2 * q}, {3 * q}, ...")
-    y0 = start.y if isinstance(start, HybridState) else np.asarray(smap.system.state_vector(start), dtype=float)
-    if not np.all(np.isfinite(y0)):
-        raise ParameterError(f"the start state has a non-finite component: {y0}")
     clock = _time.perf_counter()
-    nodes = [start if isinstance(start, HybridState) else HybridState(y0, None)]
-    try:
-        for j in range(n - 1):
-            nodes.append(smap.step(nodes[-1], k0 + j))
-    except IntegrationFailure as exc:
-        raise OrbitNotFound(f"the first guess fails to integrate: {exc}") from None
     co = _Coordinates(smap.system)
-    nodes = [HybridState(co.embed(co.reduce(s.y)), s.flags) for s in nodes]     # anchor at 0
+    nodes = _first_nodes(smap, start, n, k0, co)
     d = co.E.shape[1]
     scale = _scale([co.reduce(s.y) for s in nodes], atol)
     signatures_seen = []
@@ -174,20 +165,10 @@ def find_periodic_orbit(smap, start, period: int, *, k0: int = 0, tol: float = 1
         if norm < 100 * tol and float(np.max(np.abs(step / scale))) < tol:
             # the integration's noise floor (amplified by large multipliers): the update is below tol
             return _solution(nodes, lins, k0, n, norm, it, scale, clock, co)
-        lam, accepted = 1.0, False
-        while lam >= 1.0 / 64:
-            trial = [HybridState(co.embed(co.reduce(nodes[j].y) + lam * step[j]), nodes[j].flags) for j in range(n)]
-            try:
-                ends = [smap.step(s, k0 + j) for j, s in enumerate(trial)]
-                tn = max(float(np.max(np.abs((co.reduce(ends[j].y) - co.reduce(trial[(j + 1) % n].y)) / scale)))
-                         for j in range(n))
-            except IntegrationFailure:
-                tn = math.inf
-            if tn < (1 - 1e-4 * lam) * norm:
-                nodes, accepted = trial, True
-                break
-            lam /= 2
-        if not accepted:
+        trial = _line_search(smap, nodes, step, k0, co, scale, norm)
+        if trial is not None:
+            nodes = trial
+        else:
             if norm < 100 * tol:         # at the noise floor: no step reduces a residual that is already noise
                 return _solution(nodes, lins, k0, n, norm, it, scale, clock, co)
             changing = len({tuple(s) for s in signatures_seen[-3:]}) > 1
@@ -197,6 +178,38 @@ def find_periodic_orbit(smap, start, period: int, *, k0: int = 0, tol: float = 1
     changing = len({tuple(s) for s in signatures_seen[-3:]}) > 1
     raise OrbitNotFound(f"no convergence in {max_iter} iterations (scaled residual {norm:.3g}"
                         f"{'; the transition signature keeps changing' if changing else ''})", max_iter, norm)
+
+
+def _first_nodes(smap, start, n: int, k0: int, co) -> list:
+    """The first guess's n nodes: ``start`` and its n - 1 images, with the anchor at 0."""
+    y0 = start.y if isinstance(start, HybridState) else np.asarray(smap.system.state_vector(start), dtype=float)
+    if not np.all(np.isfinite(y0)):
+        raise ParameterError(f"the start state has a non-finite component: {y0}")
+    nodes = [start if isinstance(start, HybridState) else HybridState(y0, None)]
+    try:
+        for j in range(n - 1):
+            nodes.append(smap.step(nodes[-1], k0 + j))
+    except IntegrationFailure as exc:
+        raise OrbitNotFound(f"the first guess fails to integrate: {exc}") from None
+    return [HybridState(co.embed(co.reduce(s.y)), s.flags) for s in nodes]     # anchor at 0
+
+
+def _line_search(smap, nodes, step, k0: int, co, scale, norm: float):
+    """Nodes moved by lam * ``step`` for the first lam = 1, 1/2, ..., 1/64 whose scaled residual
+    falls below (1 - 1e-4 lam) ``norm`` (Armijo), or None."""
+    n, lam = len(nodes), 1.0
+    while lam >= 1.0 / 64:
+        trial = [HybridState(co.embed(co.reduce(nodes[j].y) + lam * step[j]), nodes[j].flags) for j in range(n)]
+        try:
+            ends = [smap.step(s, k0 + j) for j, s in enumerate(trial)]
+            tn = max(float(np.max(np.abs((co.reduce(ends[j].y) - co.reduce(trial[(j + 1) % n].y)) / scale)))
+                     for j in range(n))
+        except IntegrationFailure:
+            tn = math.inf
+        if tn < (1 - 1e-4 * lam) * norm:
+            return trial
+        lam /= 2
+    return None
 
 
 def _shooting_matrix(Js, scale) -> np.ndarray:

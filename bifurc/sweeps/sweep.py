@@ -23,7 +23,6 @@ import sys
 import time as _time
 import warnings
 from contextlib import nullcontext
-from dataclasses import replace
 
 import numpy as np
 
@@ -103,17 +102,11 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
         Values per task (default: 8 x batch_size, or 1 without batch mode, in this process;
         automatic on workers); with ``path``, an interruption loses at most the chunks in flight.
     """
-    if mode == "continuation":
-        warnings.warn('sweep mode "continuation" is now called "follow"', DeprecationWarning, stacklevel=2)
-        mode = "follow"
-    if mode not in MODES:
-        raise ParameterError(f"mode {mode!r}; allowed: {', '.join(MODES)}")
+    mode = _mode(mode)
     values = np.asarray(values, dtype=float).ravel()
     job = _job(scene, param, values, transient, record, preset, params, x0, tol, max_period, rtol, atol,
-               lyapunov, circuit, ac_sign, dc_law, max_transient, batch_size, max_record, soil, compaction)
-    if lyapunov_method not in METHODS:
-        raise ParameterError(f"lyapunov_method {lyapunov_method!r}; allowed: {', '.join(METHODS)}")
-    job = replace(job, lyapunov_method=lyapunov_method)
+               lyapunov, circuit, ac_sign, dc_law, max_transient, batch_size, max_record, soil, compaction,
+               lyapunov_method)
     parts = Parts(path, manifest(job, values, mode)) if path else None
     workers, chunk_size = _execution(job, values.size, workers, scheduler, chunk_size)
     pool = WorkerPool(job, workers) if mode == "independent" and workers > 1 else None
@@ -199,8 +192,19 @@ def run_stats(ds, job, seconds, resumed, workers) -> None:
     ds.attrs["compile_seconds"] = job.warm().compile_seconds  # this process's scalar compile (workers compile their own)
 
 
+def _mode(mode: str) -> str:
+    """The sweep mode, checked ("continuation": the deprecated name of "follow")."""
+    if mode == "continuation":
+        warnings.warn('sweep mode "continuation" is now called "follow"', DeprecationWarning, stacklevel=3)
+        mode = "follow"
+    if mode not in MODES:
+        raise ParameterError(f"mode {mode!r}; allowed: {', '.join(MODES)}")
+    return mode
+
+
 def _job(scene, param, values, transient, record, preset, params, x0, tol, max_period, rtol, atol, lyapunov,
-         circuit, ac_sign, dc_law, max_transient, batch_size, max_record=None, soil=None, compaction=None):
+         circuit, ac_sign, dc_law, max_transient, batch_size, max_record=None, soil=None, compaction=None,
+         lyapunov_method="tangent"):
     """The ValueJob of a sweep, every argument checked before anything runs (``scene``: a scene or a
     :class:`maps.Problem`; the other model keywords as :func:`maps.problem`)."""
     tol = validate_tol(tol)
@@ -218,8 +222,11 @@ def _job(scene, param, values, transient, record, preset, params, x0, tol, max_p
     if max_transient is not None:
         max_transient = int(validate_value("max_transient", max_transient, transient, 1e8))
     batch_size = int(validate_value("batch_size", batch_size, 1, 64))
+    if lyapunov_method not in METHODS:
+        raise ParameterError(f"lyapunov_method {lyapunov_method!r}; allowed: {', '.join(METHODS)}")
     return ValueJob(pb, param, transient, record, float(tol), max_period, rtol, atol, lyapunov,
-                    max_transient=max_transient, batch_size=batch_size, max_record=max_record)
+                    max_transient=max_transient, batch_size=batch_size, max_record=max_record,
+                    lyapunov_method=lyapunov_method)
 
 
 def travels(pb) -> bool:

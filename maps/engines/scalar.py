@@ -279,10 +279,7 @@ class HybridRun:
         Raises :class:`IntegrationFailure` on a non-finite state, :class:`EventCap` beyond
         the event caps and :class:`Escaped` when a halt flag is set.
         """
-        if not math.isfinite(float(t_end)):  # NaN: silent no-op; inf: ValueError inside heyoka
-            raise ParameterError(f"'t_end' must be a finite time [s], got {t_end}")
-        if stop_roles and not self._roles.issuperset(stop_roles):
-            raise ParameterError(f"stop_roles {tuple(stop_roles)}: allowed roles here: {', '.join(sorted(self._roles))}")
+        self._check_advance(t_end, stop_roles)
         # The hot loop of every scalar run: it runs once per relay switch (guards act in callbacks);
         # names are bound once, the state is read through a live view and copied only where kept.
         ta, sys, params, flags = self.ta, self.system, self.params, self.flags
@@ -346,14 +343,25 @@ class HybridRun:
                 if self.stopped_by is not None:
                     return self
                 continue
-            if code == _NF_STATE:
-                y_start = np.array(y_start, dtype=float)
-                raise IntegrationFailure(f"non-finite state in the step after t = {t_start:.9g} s "
-                                         f"(last finite state {np.array2string(y_start, precision=6)})",
-                                         t_start, y_start)
-            raise IntegrationFailure(f"integration stopped with {res[0]} at t = {float(ta.time):.9g} s",
-                                     float(ta.time), self.y)
+            raise self._failure(code, res, t_start, y_start)
         return self
+
+    def _check_advance(self, t_end, stop_roles) -> None:
+        if not math.isfinite(float(t_end)):  # NaN: silent no-op; inf: ValueError inside heyoka
+            raise ParameterError(f"'t_end' must be a finite time [s], got {t_end}")
+        if stop_roles and not self._roles.issuperset(stop_roles):
+            raise ParameterError(f"stop_roles {tuple(stop_roles)}: allowed roles here: {', '.join(sorted(self._roles))}")
+
+    def _failure(self, code, res, t_start, y_start) -> IntegrationFailure:
+        """The failure of a propagate_until that ended with ``code`` (a non-finite state: the last
+        finite one, at the segment's start ``t_start``)."""
+        if code == _NF_STATE:
+            y_start = np.array(y_start, dtype=float)
+            return IntegrationFailure(f"non-finite state in the step after t = {t_start:.9g} s "
+                                      f"(last finite state {np.array2string(y_start, precision=6)})",
+                                      t_start, y_start)
+        return IntegrationFailure(f"integration stopped with {res[0]} at t = {float(self.ta.time):.9g} s",
+                                  float(self.ta.time), self.y)
 
 
 class VariationalRun(HybridRun):

@@ -98,11 +98,10 @@ def measure(W: float, V: float, law: str, *, preset=PRESET, ac_sign=AC_SIGN, cir
     """One replay: relay W [Hz], source amplitude V [V], DC law; the 3 s window and the long run."""
     from maps.engines.scalar import HybridRun
     from maps.hybrid import Escaped, IntegrationFailure
-    from maps.simulate import resolve
-    sc, table = resolve(SCENE, {"V": V, "relay_hz": W}, preset, circuit=circuit, ac_sign=ac_sign, dc_law=law)
-    p = {k: v for k, (v, _) in table.items()}
-    system = sc.system
-    y0 = system.state_vector(sc.initial_state(**(X0 if x0 is None else x0)))
+    from maps.problem import problem
+    pb = problem(SCENE, preset, {"V": V, "relay_hz": W}, X0 if x0 is None else x0, circuit=circuit, ac_sign=ac_sign,
+                 dc_law=law)
+    p, system, y0 = dict(pb.values), pb.system, pb.state_vector()
     n3 = int(round(T_THESIS * W))
     K = max(int(long_periods), n3)
     t_grid = np.arange(0.0, K / W + 0.5 * DT, DT)
@@ -128,23 +127,11 @@ def measure(W: float, V: float, law: str, *, preset=PRESET, ac_sign=AC_SIGN, cir
         status = "failed"
     seconds = _time.perf_counter() - clock
     strobe = np.array(strobe)
-    ix, ii = system.state_names.index("x"), system.state_names.index("i")
+    ix = system.state_names.index("x")
     x = samples[:, ix]
     in3 = t_grid <= T_THESIS + 1e-12
     long_from = max(0, len(imps) - int(long_window))
-    # force budget at the stop (x = 0, at rest): the law's DC force (the cubics' + m g offset
-    # cancels the weight, the measured law has none), the AC force at the 3 s run's peak current
-    # (signed: + away from the stop), the weight
-    y_stop = np.zeros(len(system.states))
-    flags = start_flags(system, 0.0, y_stop, p, {"contact": 0.0, "stuck_bar": 0.0})
-    F_dc = float(system.evaluate(["F_dc"], y_stop, p, flags)[0])
-    i_peak = float(np.nanmax(np.abs(samples[in3, ii])))
-    near = in3 & (samples[:, ix] <= NEAR_STOP)
-    if near.any():     # the AC force the bar felt within 1 mm of the stop, at its largest
-        F_ac = max((float(system.evaluate(["F_ac"], y, p, flags)[0]) for y in samples[near]), key=abs)
-    else:              # never near the stop: the force it would feel there at the peak current
-        y_stop[ii] = i_peak
-        F_ac = float(system.evaluate(["F_ac"], y_stop, p, flags)[0])
+    F_dc, F_ac, i_peak, near = _forces_at_stop(system, p, samples[in3])
     lyap = math.nan
     weight_net = 0.0 if law != "measured" else -p["m"] * p["g"]     # what the weight adds beyond the offset
     if status == "ok" and len(imps) >= K:
@@ -153,7 +140,7 @@ def measure(W: float, V: float, law: str, *, preset=PRESET, ac_sign=AC_SIGN, cir
         if not perL and int(long_window) >= 3:     # not periodic: the Lyapunov exponent tells chaos apart
             from bifurc.sweeps.lyapunov import lyapunov_along
             from maps.poincare import StroboscopicMap
-            smap = StroboscopicMap(sc, p, tol=tol)
+            smap = StroboscopicMap(pb, tol=tol)
             lyap = lyapunov_along(smap.step, strobe[long_from:], k0=long_from,
                                   scale=np.maximum(np.abs(strobe[long_from:]).max(axis=0), 1e-9))
             labelL, perL = _label(strobe[long_from:], imps[long_from:], rtol=1e-6, atol=1e-9, lyapunov=lyap)
@@ -174,8 +161,27 @@ def measure(W: float, V: float, law: str, *, preset=PRESET, ac_sign=AC_SIGN, cir
         "impacts_per_period_3s": float(sum(imps[:n3])) / n3 if len(imps) >= n3 else math.nan,
         "impacts_per_period_long": float(np.mean(imps[long_from:])) if imps[long_from:] else math.nan,
         "F_dc_stop_N": F_dc, "F_ac_peak_stop_N": F_ac, "weight_N": p["m"] * p["g"], "weight_net_N": weight_net,
-        "i_peak_A": i_peak, "lyapunov_long": lyap, "ac_near_stop": bool(near.any()), "t": t_grid[in3], "x": xs3,
+        "i_peak_A": i_peak, "lyapunov_long": lyap, "ac_near_stop": near, "t": t_grid[in3], "x": xs3,
     }
+
+
+def _forces_at_stop(system, p, samples) -> tuple:
+    """The force budget at the stop (x = 0, at rest) over the 3 s window's ``samples``: the law's DC
+    force (the cubics' + m g offset cancels the weight, the measured law has none), the AC force at
+    the peak current (signed: + away from the stop; within 1 mm of the stop where the bar came that
+    near), the peak current [A], and whether the bar came that near."""
+    ix, ii = system.state_names.index("x"), system.state_names.index("i")
+    y_stop = np.zeros(len(system.states))
+    flags = start_flags(system, 0.0, y_stop, p, {"contact": 0.0, "stuck_bar": 0.0})
+    F_dc = float(system.evaluate(["F_dc"], y_stop, p, flags)[0])
+    i_peak = float(np.nanmax(np.abs(samples[:, ii])))
+    near = samples[:, ix] <= NEAR_STOP
+    if near.any():     # the AC force the bar felt within 1 mm of the stop, at its largest
+        F_ac = max((float(system.evaluate(["F_ac"], y, p, flags)[0]) for y in samples[near]), key=abs)
+    else:              # never near the stop: the force it would feel there at the peak current
+        y_stop[ii] = i_peak
+        F_ac = float(system.evaluate(["F_ac"], y_stop, p, flags)[0])
+    return F_dc, F_ac, i_peak, bool(near.any())
 
 
 def budget(r) -> str:
