@@ -74,3 +74,17 @@ def test_the_moving_stop_snippet_settles_on_the_period_1_orbit():
     T, p = ns["T"], ns["p"]
     ti = math.acos(p["g"] * T * (1 - p["e"]) / (2 * (1 + p["e"])) / (p["A"] * p["w"])) / p["w"]
     assert abs(ns["orbit"].impact_phase[-1] - ti / T) < 1e-8
+
+
+def test_every_block_runs_in_order_and_the_problem_block_says_what_it_shows():
+    """Every python block of the guide, in one namespace as a reader would paste them (the sweeps
+    run quickly: 17 and 3 values)."""
+    blocks = re.findall(r"```python\n(.*?)```", DOC.read_text(), flags=re.S)
+    ns = {}
+    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+        for code in blocks:
+            exec(compile(code, str(DOC), "exec"), ns)
+    p = ns["p"]
+    assert p.strobe_period() == pytest.approx(2 * math.pi / 0.8, rel=1e-15) and p.forcing_q() == 1
+    assert ns["thesis"].options.dc_law == "listing" and ns["p2"].values["Omega"] == 0.85
+    assert list(ns["d"].Omega.values) == pytest.approx([0.7, 0.8, 0.9])
