@@ -161,8 +161,7 @@ def _negatively_damped_oscillator():
                                       Parameter("zeta", "1", "damping ratio (negative: energy input)", -1, 1),
                                       Parameter("F", "m s-2", "forcing amplitude", 0, 10),
                                       Parameter("Omega", "rad s-1", "forcing frequency", 0, 10, low_open=True)],
-                          rhs=rhs)
-    system.strobe_period = lambda p: 2 * math.pi / p["Omega"]
+                          rhs=rhs, strobe_period=lambda p: 2 * math.pi / p["Omega"])
     return system
 
 
