@@ -2,7 +2,7 @@
 
 One function, :func:`progression_measures`, turns a record of the rig's position at known times,
 the contact onsets and the time the rig is held into the measures every 2-DOF time history
-(:func:`maps.simulate`) and sweep (:mod:`bifurc.storage.sweep_dataset`) stores:
+(:func:`maps.simulate`) and sweep (:mod:`bifurc.sweeps.dataset`) stores:
 
 - ``progression_rate`` [m s-1]: mean forward speed over the window, (x2(t_a) - x2(t_b)) / (t_b - t_a);
 - ``progression_per_period`` [m]: the same per relay period (rate / relay_hz);

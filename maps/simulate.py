@@ -223,6 +223,7 @@ def to_dataset(run, t_eval, samples, transient=None) -> xr.Dataset:
         "n_steps": run.n_steps, "n_events": run.n_events, "n_relay_switches": run.n_switches,
         "status": run.status, "t_end_reached": run.t,
         "title": f"{sc.name}: time history", **cf_attrs(f"scene {sc.name}, time history"),
+        "bifurc_kind": "history",      # bifurc.storage.build.KIND_ATTR (maps never imports bifurc)
     }
     if run.failure is not None:
         attrs["failure"] = str(run.failure)

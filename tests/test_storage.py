@@ -7,7 +7,7 @@ import pytest
 import xarray as xr
 
 import maps
-from bifurc.storage import sweep_dataset as storage
+from bifurc.storage import files, load as storage
 from bifurc.sweeps.classify import CLASS_LABELS
 from bifurc.sweeps.sweep import sweep
 
@@ -34,8 +34,8 @@ def grazing_sweep():
 
 def _round_trip(ds, tmp_path, name):
     path = tmp_path / name
-    storage.save(ds, path)
-    return storage.load(path), path
+    files.write_netcdf(ds, path)
+    return storage.read(path), path
 
 
 @pytest.mark.parametrize("which", ["escaping_sweep", "grazing_sweep"])

@@ -6,7 +6,7 @@ import pytest
 import xarray as xr
 
 import maps
-from bifurc.storage import sweep_dataset as storage
+from bifurc.storage import files, load as storage
 from bifurc.sweeps.classify import CLASS_LABELS
 from bifurc.sweeps.job import ValueJob
 from bifurc.sweeps.sweep import sweep
@@ -209,11 +209,11 @@ def test_a_resumed_value_keeps_the_time_spent_computing_it(tmp_path, monkeypatch
     path = tmp_path / "d.nc"
     monkeypatch.setattr(Parts, "remove", lambda self: None)      # keep the parts, as after a late interruption
     assert main(argv + ["-o", str(path)]) == 0
-    first = storage.load(path)
+    first = storage.read(path)
     out = capsys.readouterr().out
     path.unlink()
     assert main(argv + ["-o", str(path)]) == 0
-    again = storage.load(path)
+    again = storage.read(path)
     np.testing.assert_array_equal(again.run_seconds.values, first.run_seconds.values)
     assert again.attrs["resumed_values"] == 4 and first.attrs["resumed_values"] == 0
     spent = float(first.run_seconds.sum())
@@ -236,8 +236,8 @@ def test_continuation_is_a_deprecated_alias_of_follow(osc):
 def test_netcdf_round_trip_is_lossless(tmp_path):
     ds = sweep("thesis-1dof", "relay_hz", np.array([5.0, 8.0]), preset="matlab-listing", params={"V": 90},
                transient=10, record=8, error_sample=2, progress=False)
-    storage.save(ds, tmp_path / "s.nc")
-    back = storage.load(tmp_path / "s.nc")
+    files.write_netcdf(ds, tmp_path / "s.nc")
+    back = storage.read(tmp_path / "s.nc")
     xr.testing.assert_identical(back.drop_encoding() if hasattr(back, "drop_encoding") else back, ds)
     for name, var in ds.variables.items():
         assert back[name].dtype == var.dtype, name
@@ -324,7 +324,7 @@ def test_killed_sweep_keeps_completed_values_and_resumes(tmp_path):
     fresh = sweep("thesis-1dof", "relay_hz", np.linspace(4, 9, 8), **args)
     for name in ("x", "v", "i", "z", "impact_t", "impact_velocity", "class_code", "min_gap", "n_impacts"):
         np.testing.assert_allclose(resumed[name].values, fresh[name].values, rtol=0, atol=1e-12, equal_nan=True)
-    assert storage.load(path).sizes == resumed.sizes and not parts.exists()
+    assert storage.read(path).sizes == resumed.sizes and not parts.exists()
 
 
 def test_grazing_of_an_impacting_orbit_where_a_new_impact_is_born(osc):
