@@ -26,7 +26,7 @@ def class_at(ds, value, branch=None) -> dict:
             if code >= 0 else "missing",
             "period": int(sub.period), "impacts": int(sub.impacts_per_period), "lyapunov": float(sub.lyapunov),
             "recurrence": float(sub.recurrence), "convergence_rate": float(sub.convergence_rate),
-            "n_impacts": int(sub.n_impacts), "min_gap": float(sub.min_gap),
+            "n_impacts": int(sub.n_impacts), "min_clearance": float(sub.min_clearance),
             "forcing_period": int(sub.forcing_period)}
 
 
@@ -124,7 +124,8 @@ def classification_report(ds, at=None) -> str:
 def _params(a, skip=()) -> str:
     keys = [k for k in sorted(a) if k.startswith("param_") and not k.endswith(("_units", "_source"))
             and k[6:] not in skip]
-    return ", ".join(f"{k[6:]} = {a[k]:g} {a.get(k + '_units', '')}".rstrip() for k in keys)
+    units = {k: a.get(k + "_units", "") for k in keys}
+    return ", ".join(f"{k[6:]} = {a[k]:g}" + (f" {units[k]}" if units[k] not in ("", "1") else "") for k in keys)
 
 
 def _counts(codes, meanings) -> list[str]:

@@ -51,25 +51,25 @@ class MapOrbit:
     ``points[k]`` is the state at ``times[k]``, with the flags ``point_flags[k]`` (columns
     ``flag_names``; :meth:`state` gives the hybrid state); step k runs from ``times[k]`` to
     ``times[k+1]``.  Gaps are distances to the stop [m] (negative: penetration).
-    ``min_gap_per_step`` is the smallest of the gaps at the step's ends, at its impacts
+    ``min_clearance_per_step`` is the smallest of the gaps at the step's ends, at its impacts
     (0 at the onset), at its free-flight minima (role "flight_minimum") and, in contact,
-    minus the deepest penetration: never NaN.  ``min_flight_gap_per_step`` keeps only the free-flight
+    minus the deepest penetration: never NaN.  ``min_flight_clearance_per_step`` keeps only the free-flight
     minima (inf where the step has none): it reaches 0 where a new impact is born
-    (a grazing bifurcation), which the total ``min_gap`` does not show on an
+    (a grazing bifurcation), which the total ``min_clearance`` does not show on an
     impacting orbit.  A system without a declared gap has NaN gaps.
     """
 
     times: np.ndarray                 # (n+1,) [s]
     points: np.ndarray                # (n+1, d)
     impacts_per_step: np.ndarray      # (n,) contacts in (t_k, t_k+1]
-    min_gap_per_step: np.ndarray      # (n,) [m] smallest gap in each step
+    min_clearance_per_step: np.ndarray      # (n,) [m] smallest gap in each step
     min_impact_speed_per_step: np.ndarray  # (n,) [m/s], inf where no contact
-    impact_t: np.ndarray              # [s] contact onsets in the recorded window
+    impact_time: np.ndarray              # [s] contact onsets in the recorded window
     impact_velocity: np.ndarray       # [m/s] gap rate at onset (< 0)
     impact_phase: np.ndarray          # relay phase of each onset, in [0, 1)
     impact_penetration: np.ndarray    # [m] maximum penetration of each contact (>= 0)
     impact_duration: np.ndarray       # [s] contact duration (NaN: still in contact at the end)
-    min_flight_gap_per_step: np.ndarray  # (n,) [m] lowest free-flight minimum per step, inf if none
+    min_flight_clearance_per_step: np.ndarray  # (n,) [m] lowest free-flight minimum per step, inf if none
     status: str = "ok"                # ok, escaped, failed
     failure: str = ""
     failure_time: float = math.nan
@@ -559,10 +559,10 @@ def orbit_from_periods(system, params, W, times, points, period_events, **fields
         g_prev = g_end
     return MapOrbit(
         times=np.array(times), points=np.array(points), impacts_per_step=np.array(imp_n, dtype=np.int64),
-        min_gap_per_step=np.array(min_gap), min_impact_speed_per_step=np.array(min_speed),
-        impact_t=np.array(it), impact_velocity=np.array(iv), impact_phase=np.array(iph),
+        min_clearance_per_step=np.array(min_gap), min_impact_speed_per_step=np.array(min_speed),
+        impact_time=np.array(it), impact_velocity=np.array(iv), impact_phase=np.array(iph),
         impact_penetration=np.array(ipen), impact_duration=np.array(idur),
-        min_flight_gap_per_step=np.array(min_flight), signature=signature, **fields)
+        min_flight_clearance_per_step=np.array(min_flight), signature=signature, **fields)
 
 
 class ImpactMap:
@@ -642,7 +642,7 @@ class ImpactMap:
         while True:
             phases.extend(o.impact_phase)
             vels.extend(o.impact_velocity)
-            times.extend(o.impact_t)
+            times.extend(o.impact_time)
             self.status = o.status
             k += o.n
             if o.status != "ok" or len(times) >= n_impacts or k >= transient_periods + max_periods:

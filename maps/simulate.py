@@ -153,7 +153,7 @@ def _add_progression(ds, run, imp, transient):
     t_a = t_b / 2 if transient is None else min(float(transient), t_b)
     p = run.params
     m = progression_measures(t, x2, x2_start=float(run.y0["x2"]),
-                             relay_hz=p.get("relay_hz"), impact_t=imp["t"], impact_velocity=imp["velocity"],
+                             relay_hz=p.get("relay_hz"), impact_time=imp["t"], impact_velocity=imp["velocity"],
                              m1=p["m1"], held=held_time(run.flag_log, t_a, t_b, held_mode(run.system)),
                              window=(t_a, t_b))
     for name, value in m.items():

@@ -48,10 +48,10 @@ def test_table_has_one_row_per_value_where_to_dataframe_has_none(diagram):
     assert len(diagram.to_dataframe()) == 0  # an empty dimension (grazing) empties the product
     df = diagram.bifurc.table()
     assert len(df) == 3 and list(df.relay_hz) == [5.0, 7.0, 9.0] and set(df.branch) == {"independent"}
-    for column in ("class", "description", "period", "impacts_per_period", "lyapunov", "n_impacts", "min_gap"):
+    for column in ("class", "description", "period", "impacts_per_period", "lyapunov", "n_impacts", "min_clearance"):
         assert column in df, column
     np.testing.assert_array_equal(df.class_code, diagram.class_code.values[0])
-    assert df.attrs["units"]["min_gap"] == "m" and df.attrs["units"]["relay_hz"] == "Hz"
+    assert df.attrs["units"]["min_clearance"] == "m" and df.attrs["units"]["relay_hz"] == "Hz"
 
 
 def test_accessor_class_at_report_and_plot(diagram):

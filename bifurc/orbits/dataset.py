@@ -63,16 +63,16 @@ def orbit_dataset(orbit, smap, pb, *, multiplier_error=math.nan, seconds=math.na
     o = smap.orbit(orbit.nodes[0], n, t0=t0)       # the orbit's own events, one period
     mu_abs, mu_arg = _by_modulus(orbit.multipliers)
     ds = dataset("orbit", {"node": coord(_NODE, n, long_name=f"strobe sample of the orbit, k = {k0} + node"),
-                           "multiplier": coord(_MULTIPLIER, mu_abs.size), "impact": coord(_IMPACT, o.impact_t.size)})
+                           "multiplier": coord(_MULTIPLIER, mu_abs.size), "impact": coord(_IMPACT, o.impact_time.size)})
     _put_nodes(ds, system, orbit.nodes, ("node",), n)
     columns = {"multiplier_abs": mu_abs, "multiplier_arg": mu_arg,
                "signature": [",".join(sig) for sig in orbit.signatures],
-               "impact_time": o.impact_t - t0, "impact_velocity": o.impact_velocity,
-               "impact_phase": ((o.impact_t - t0) / T) % 1.0, "period": n,
+               "impact_time": o.impact_time - t0, "impact_velocity": o.impact_velocity,
+               "impact_phase": ((o.impact_time - t0) / T) % 1.0, "period": n,
                "impacts_per_period": orbit.impacts_per_period, "stable": int(orbit.stable),
                "newton_residual": orbit.residual, "multiplier_error": multiplier_error,
-               "min_clearance": float(np.min(o.min_gap_per_step)) if o.n else math.nan,
-               "min_flight_clearance": float(np.min(o.min_flight_gap_per_step)) if o.n else math.nan,
+               "min_clearance": float(np.min(o.min_clearance_per_step)) if o.n else math.nan,
+               "min_flight_clearance": float(np.min(o.min_flight_clearance_per_step)) if o.n else math.nan,
                "run_seconds": seconds}
     for name, data in columns.items():
         put(ds, _ORBIT_ROWS[name], data)

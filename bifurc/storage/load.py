@@ -16,7 +16,9 @@ __all__ = ["KINDS", "ALIASES", "RENAMED", "kind_of", "canonical_kind", "read", "
 #: former kind names still accepted
 ALIASES = {"simulate": "history"}
 #: variables renamed in bifurc 0.x: old name -> new name (old files are read with the new names)
-RENAMED: dict = {}
+RENAMED = {"min_gap": "min_clearance", "min_flight_gap": "min_flight_clearance",
+           "min_gap_per_step": "min_clearance_per_step", "min_flight_gap_per_step": "min_flight_clearance_per_step",
+           "impact_t": "impact_time"}
 #: attributes that are arrays: netCDF gives a one-element array back as a scalar
 ARRAY_ATTRS = ("error_estimate_values",)
 

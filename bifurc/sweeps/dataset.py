@@ -48,7 +48,7 @@ def _stack(results, branches, var, sizes, par, get=None):
 
 def _put_grazing_flag(ds, dims) -> None:
     """The grazing flag from the per-value minima (schema.grazing_flag)."""
-    ds[GRAZING_FLAG.name] = (dims, grazing_flag(ds.min_gap, ds.min_impact_speed).values.astype(np.int8),
+    ds[GRAZING_FLAG.name] = (dims, grazing_flag(ds.min_clearance, ds.min_impact_speed).values.astype(np.int8),
                              GRAZING_FLAG.attrs())
 
 
@@ -70,7 +70,7 @@ def _progression(results, branches, job, sizes, par, values, mode) -> dict:
             t = (r.transient_used + np.arange(n + 1)) / W
             held = 0.0 if held_by is None else r.held_time      # the time in the mode, from its flag changes
             m = progression_measures(t, r.points[:n + 1, ix2], x2_start=x2_start, relay_hz=W,
-                                     impact_t=r.impact_t, impact_velocity=r.impact_velocity, m1=p["m1"], held=held)
+                                     impact_time=r.impact_time, impact_velocity=r.impact_velocity, m1=p["m1"], held=held)
             if mode != "independent":
                 m["time_to_depth"] = np.nan
             if r.n_impacts > job.max_impacts:

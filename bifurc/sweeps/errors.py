@@ -102,7 +102,7 @@ class ErrorEstimate:
                 sensitive_err = np.fmax(sensitive_err, err)
             if a.n_impacts == b.n_impacts:
                 if a.n_impacts and i in good:
-                    time_err = np.fmax(time_err, float(np.nanmax(np.abs(a.impact_t - b.impact_t))))
+                    time_err = np.fmax(time_err, float(np.nanmax(np.abs(a.impact_time - b.impact_time))))
             else:
                 counts_differ += 1
         return dict(sample_values=self.values[self.idx], point_err=float(point_err), time_err=float(time_err),

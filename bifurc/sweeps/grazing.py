@@ -195,4 +195,4 @@ class BranchFollower:
         if r.n_impacts > self.impacts:
             return -r.min_impact_speed
         self.value, self.start = p, r.end_state
-        return r.min_gap if self.impacts == 0 else r.min_flight_gap
+        return r.min_clearance if self.impacts == 0 else r.min_flight_clearance
