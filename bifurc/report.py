@@ -104,8 +104,15 @@ def classification_report(ds, at=None) -> str:
     n_graze = int(np.sum(ds.grazing_flag.values == 1))
     lines += [f"Orbits flagged grazing (slowest impact < {a.get('grazing_speed_threshold_m_s')} m/s or clearance "
               f"< {a.get('grazing_gap_threshold_m')} m): {n_graze}.", ""]
+    lines += _error_lines(ds)
+    return "\n".join(lines) + "\n"
+
+
+def _error_lines(ds) -> list[str]:
+    """The report's section on numerical error and run time."""
+    a = ds.attrs
     st = ds.status.values
-    lines += ["## Numerical error and run time", "",
+    lines = ["## Numerical error and run time", "",
               f"- sweep wall time {a.get('sweep_seconds', float('nan')):.1f} s; "
               f"{float(np.nansum(ds.run_seconds.values)):.1f} s integrating, "
               f"{int(np.sum(ds.n_steps.values))} Taylor steps",
@@ -118,7 +125,7 @@ def classification_report(ds, at=None) -> str:
                      f"(nan: no periodic value sampled); contact counts differ at "
                      f"{a['error_impact_count_mismatches']} of the re-run values. On chaotic orbits the points are "
                      "not reproducible at any tolerance (sensitive dependence); the class is.")
-    return "\n".join(lines) + "\n"
+    return lines
 
 
 def _params(a, skip=()) -> str:

@@ -127,9 +127,8 @@ def continue_orbit(scene, param: str, span, *, params=None, preset=None, period:
         for br in branches:
             for sp in br.special:
                 sp.multiplier_error = _multiplier_error(system, values, param, sp, br, tol, newton_tol)
-    clearances = [_clearances(system, dict(values, **{param: pt.p}), pt) for br in branches for pt in br.points]
-    return branch_dataset(branches, cont, pb, clearances=clearances, curves=curves,
-                          seconds=_time.perf_counter() - clock)
+    clear = [_clearances(system, dict(values, **{param: pt.p}), pt) for br in branches for pt in br.points]
+    return branch_dataset(branches, cont, pb, clearances=clear, curves=curves, seconds=_time.perf_counter() - clock)
 
 
 def _curves(problem, branches, param2, span2, span, max_points, progress):
