@@ -19,6 +19,7 @@ from .plots.branch import plot_branch, plot_curves
 from .plots.diagram import plot_diagram
 from .plots.history import plot_time_history
 from .plots.map import plot_regime_map
+from .plots.orbit import plot_orbit
 from .sweeps.regime import regime_map
 from .report import class_at, classification_report
 from .sweeps.sweep import sweep
@@ -26,5 +27,5 @@ from .sweeps.sweep import sweep
 register_accessor_with_xarray()  # ds.bifurc, without importing xarray in worker processes
 
 __all__ = ["__version__", "sweep", "load", "plot_diagram", "plot_time_history", "regime_map", "plot_regime_map",
-           "classification_report", "class_at", "periodic_orbit", "continue_orbit", "plot_branch", "plot_curves",
+           "classification_report", "class_at", "periodic_orbit", "continue_orbit", "plot_branch", "plot_curves", "plot_orbit",
            "sweep_point", "find_periodic_orbit", "OrbitNotFound"]

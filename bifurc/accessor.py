@@ -9,9 +9,23 @@ import xarray as xr
 
 from maps.parameters import ParameterError, validate_value
 
-from .storage.load import KINDS, kind_of
+from .storage.load import KINDS, canonical_kind, kind_of
 
-__all__ = ["BifurcAccessor", "Markdown"]
+__all__ = ["BifurcAccessor", "Markdown", "PLOTS"]
+
+#: the plot function of each dataset kind that has a figure: (module, function)
+PLOTS = {"diagram": ("plots.diagram", "plot_diagram"), "map": ("plots.map", "plot_regime_map"),
+         "history": ("plots.history", "plot_time_history"), "orbit": ("plots.orbit", "plot_orbit"),
+         "branch": ("plots.branch", "plot_branch"), "accuracy": ("verification.accuracy", "plot_work_precision")}
+
+
+def _plotter(kind):
+    """The plot function of ``kind`` (imported on use: matplotlib and heyoka load only when drawing), or None."""
+    if kind not in PLOTS:
+        return None
+    import importlib
+    module, name = PLOTS[kind]
+    return getattr(importlib.import_module(f".{module}", __package__), name)
 
 
 class Markdown(str):
@@ -30,41 +44,39 @@ class BifurcAccessor:
 
     @property
     def kind(self) -> str | None:
-        """"diagram", "map", "simulate", "stability", "accuracy" or None (see :data:`bifurc.storage.load.KINDS`)."""
+        """"diagram", "map", "history", "orbit", "branch", "stability", "accuracy" or None: the dataset's
+        ``bifurc_kind`` attribute (see :data:`bifurc.storage.build.KINDS`)."""
         return kind_of(self._ds)
 
     def _need(self, kind: str) -> None:
-        if self.kind != kind:
+        if self.kind != canonical_kind(kind):
             found = f"a {self.kind} dataset" if self.kind else "not a bifurc dataset"
             raise ParameterError(f"this needs a {kind} dataset (from {KINDS[kind]}); this is {found}")
 
     def plot(self, **kw):
-        """The figure of this dataset: bifurcation diagram, regime map, time history or work-precision plot.
+        """The figure of this dataset: bifurcation diagram, regime map, time history, orbit, branch or
+        work-precision plot.
 
-        Keywords go to :func:`bifurc.plot_diagram`, :func:`bifurc.plot_regime_map`, :func:`bifurc.plot_time_history` or
+        Keywords go to :func:`bifurc.plot_diagram`, :func:`bifurc.plot_regime_map`,
+        :func:`bifurc.plot_time_history`, :func:`bifurc.plot_orbit`, :func:`bifurc.plot_branch` or
         :func:`bifurc.verification.accuracy.plot_work_precision` (``ax=``, ``path=``, ...); returns the Axes it drew on.
         """
         kind = self.kind
-        if kind == "diagram":
-            from .plots.diagram import plot_diagram
-            return plot_diagram(self._ds, **kw)
-        if kind == "map":
-            from .plots.map import plot_regime_map
-            return plot_regime_map(self._ds, **kw)
-        if kind == "simulate":
-            from .plots.history import plot_time_history
-            return plot_time_history(self._ds, **kw)
-        if kind == "accuracy":
-            from .verification.accuracy import plot_work_precision
-            return plot_work_precision(self._ds, **kw)
-        raise ParameterError(f"no figure for {'a ' + kind + ' dataset' if kind else 'this dataset'}; "
-                             "plots exist for diagram, map, simulate and accuracy datasets")
+        plot = _plotter(kind)
+        if plot is None:
+            raise ParameterError(f"no figure for {'a ' + kind + ' dataset' if kind else 'this dataset'}; "
+                                 f"plots exist for {', '.join(PLOTS)} datasets")
+        return plot(self._ds, **kw)
 
     def report(self, at=None) -> Markdown:
-        """Markdown classification report of a diagram (``at``: values to tabulate)."""
-        from .report import classification_report
-        self._need("diagram")
-        return Markdown(classification_report(self._ds, at=at))
+        """Markdown report of this dataset: the classification report of a diagram (``at``: values to
+        tabulate), a short summary of any other kind (:func:`bifurc.report.report`)."""
+        from .report import report
+        kind = self.kind
+        if kind is None:
+            raise ParameterError(f"not a bifurc dataset (no bifurc_kind attribute); reports exist for "
+                                 f"{', '.join(KINDS)} datasets")
+        return Markdown(report(self._ds, kind, **({"at": at} if kind == "diagram" else {})))
 
     def class_at(self, value, branch=None) -> dict:
         """Class of the grid value nearest to ``value`` (see :func:`bifurc.class_at`)."""

@@ -1,4 +1,6 @@
-"""Period-1/period-2 classification report (markdown) from a sweep Dataset."""
+"""Markdown reports of every dataset kind: the classification report of a diagram and a short
+summary of a regime map, time history, orbit, branch, work-precision study or stability suite
+(:func:`report` dispatches on ``attrs["bifurc_kind"]``)."""
 from __future__ import annotations
 
 import math
@@ -7,7 +9,8 @@ import numpy as np
 
 from .sweeps.classify import CLASS_LABELS, describe
 
-__all__ = ["classification_report", "class_at"]
+__all__ = ["classification_report", "class_at", "report", "map_report", "history_report", "orbit_report",
+           "branch_report", "accuracy_report", "stability_report", "REPORTS"]
 
 
 def class_at(ds, value, branch=None) -> dict:
@@ -23,7 +26,7 @@ def class_at(ds, value, branch=None) -> dict:
             if code >= 0 else "missing",
             "period": int(sub.period), "impacts": int(sub.impacts_per_period), "lyapunov": float(sub.lyapunov),
             "recurrence": float(sub.recurrence), "convergence_rate": float(sub.convergence_rate),
-            "n_impacts": int(sub.n_impacts), "min_gap": float(sub.min_gap),
+            "n_impacts": int(sub.n_impacts), "min_clearance": float(sub.min_clearance),
             "forcing_period": int(sub.forcing_period)}
 
 
@@ -45,7 +48,7 @@ def classification_report(ds, at=None) -> str:
     par = a["swept_parameter"]
     units = ds[par].attrs.get("units", "")
     values = ds[par].values
-    lines = [f"# Classification report: {a['scene']}, {par} sweep ({a['mode']})", ""]
+    lines = [f"# Classification report (diagram): {a['scene']}, {par} sweep ({a['mode']})", ""]
     keys = [k for k in sorted(a) if k.startswith("param_") and not k.endswith(("_units", "_source"))]
     lines += ["## Settings", "",
               f"- grid: {values.size} values of `{par}` from {values.min():g} to {values.max():g} {units}",
@@ -101,8 +104,15 @@ def classification_report(ds, at=None) -> str:
     n_graze = int(np.sum(ds.grazing_flag.values == 1))
     lines += [f"Orbits flagged grazing (slowest impact < {a.get('grazing_speed_threshold_m_s')} m/s or clearance "
               f"< {a.get('grazing_gap_threshold_m')} m): {n_graze}.", ""]
+    lines += _error_lines(ds)
+    return "\n".join(lines) + "\n"
+
+
+def _error_lines(ds) -> list[str]:
+    """The report's section on numerical error and run time."""
+    a = ds.attrs
     st = ds.status.values
-    lines += ["## Numerical error and run time", "",
+    lines = ["## Numerical error and run time", "",
               f"- sweep wall time {a.get('sweep_seconds', float('nan')):.1f} s; "
               f"{float(np.nansum(ds.run_seconds.values)):.1f} s integrating, "
               f"{int(np.sum(ds.n_steps.values))} Taylor steps",
@@ -115,4 +125,121 @@ def classification_report(ds, at=None) -> str:
                      f"(nan: no periodic value sampled); contact counts differ at "
                      f"{a['error_impact_count_mismatches']} of the re-run values. On chaotic orbits the points are "
                      "not reproducible at any tolerance (sensitive dependence); the class is.")
+    return lines
+
+
+def _params(a, skip=()) -> str:
+    keys = [k for k in sorted(a) if k.startswith("param_") and not k.endswith(("_units", "_source"))
+            and k[6:] not in skip]
+    units = {k: a.get(k + "_units", "") for k in keys}
+    return ", ".join(f"{k[6:]} = {a[k]:g}" + (f" {units[k]}" if units[k] not in ("", "1") else "") for k in keys)
+
+
+def _counts(codes, meanings) -> list[str]:
+    """Markdown table rows "| meaning | count |" of the non-zero counts of flag codes."""
+    codes = np.asarray(codes).ravel()
+    return [f"| {m} | {int((codes == c).sum())} |" for c, m in enumerate(meanings) if (codes == c).any()]
+
+
+def map_report(ds) -> str:
+    """A regime map: its grid, class counts and grazing cells."""
+    a = ds.attrs
+    p1, p2 = a["swept_parameter"], a["swept_parameter2"]
+    lines = [f"# Regime map report (map): {a.get('scene', '')}, {p1} x {p2}", "",
+             f"- grid: {ds.sizes[p1]} values of `{p1}` x {ds.sizes[p2]} values of `{p2}`",
+             f"- parameters: {_params(a, (p1, p2))}", "", "## Class counts", "", "| class | cells |", "|---|---|"]
+    lines += _counts(ds.class_code.values, CLASS_LABELS)
+    missing = int((ds.class_code.values < 0).sum())
+    lines += ([f"| missing | {missing} |"] if missing else []) + ["",
+              f"Cells flagged grazing: {int((ds.grazing_flag.values == 1).sum())}."]
     return "\n".join(lines) + "\n"
+
+
+def history_report(ds) -> str:
+    """A time history: how the run ended, its contacts and the model's DC-force law."""
+    a = ds.attrs
+    n = ds.sizes.get("impact", 0)
+    lines = [f"# Time history report (history): {a.get('scene', '')}", "",
+             f"- status: {a.get('status', 'not recorded')}, reached t = {float(a.get('t_end_reached', np.nan)):.6g} s"
+             + (f" ({a['failure']})" if "failure" in a else ""),
+             f"- {ds.sizes.get('time', 0)} samples; {a.get('n_steps', '?')} Taylor steps, {a.get('n_events', '?')} events",
+             f"- impacts: {n}" + (f", first at t = {float(ds.impact_time.values[0]):.6g} s, speeds "
+                                  f"{np.nanmin(np.abs(ds.impact_velocity.values)):.3g} to "
+                                  f"{np.nanmax(np.abs(ds.impact_velocity.values)):.3g} m/s" if n else ""),
+             f"- DC-force law: {a.get('dc_law', 'not recorded')} ({a.get('dc_law_source', 'source not recorded')})",
+             f"- parameters: {_params(a)}"]
+    return "\n".join(lines) + "\n"
+
+
+def _multipliers(abs_, arg) -> str:
+    return ", ".join(f"{m:.4g}" + (f" (arg {t:.3g} rad)" if abs(t) > 1e-12 else "") for m, t in zip(abs_, arg))
+
+
+def orbit_report(ds) -> str:
+    """A periodic orbit: period, impacts, multipliers and stability."""
+    a = ds.attrs
+    stable = int(ds.stable.values) == 1
+    lines = [f"# Periodic orbit report (orbit): {a.get('scene', '')}", "",
+             f"- period {int(ds.period.values)} strobe periods, {int(ds.impacts_per_period.values)} impacts per period",
+             f"- {'stable' if stable else 'unstable'}: largest multiplier modulus "
+             f"{float(np.max(ds.multiplier_abs.values)):.6g}",
+             f"- Floquet multipliers: {_multipliers(ds.multiplier_abs.values, ds.multiplier_arg.values)} "
+             f"(change at tol/100: {float(ds.multiplier_error.values):.2g})",
+             f"- Newton residual {float(ds.newton_residual.values):.2g} after {a.get('newton_iterations', '?')} "
+             f"iterations; min clearance {float(ds.min_clearance.values):.6g} m",
+             f"- parameters: {_params(a)}"]
+    return "\n".join(lines) + "\n"
+
+
+def branch_report(ds) -> str:
+    """A continued branch: its points and the special points with their kinds and parameter values."""
+    a = ds.attrs
+    par = a["continuation_parameter"]
+    units = a.get("continuation_parameter_units", "")
+    p = ds[par].values
+    lines = [f"# Branch report (branch): {a.get('scene', '')}, continuation in {par}", "",
+             f"- {ds.sizes['point']} points, {par} from {np.min(p):.6g} to {np.max(p):.6g} {units}; "
+             f"{int((ds.stable.values == 1).sum())} stable",
+             f"- branches: {a.get('branch_labels', '')} (stopped: {a.get('branch_stop_reasons', '')})",
+             f"- parameters: {_params(a, (par,))}", "", "## Special points", ""]
+    kinds = ds.special_kind.attrs["flag_meanings"].split()
+    if not ds.sizes.get("special", 0):
+        lines.append("None located.")
+    else:
+        lines += [f"| kind | {par} [{units}] | tolerance | note |", "|---|---|---|---|"]
+        for i in range(ds.sizes["special"]):
+            lines.append(f"| {kinds[int(ds.special_kind.values[i])]} | {float(ds.special_value.values[i]):.8g} | "
+                         f"{float(ds.special_tolerance.values[i]):.2g} | {ds.special_note.values[i]} |")
+    return "\n".join(lines) + "\n"
+
+
+def accuracy_report(ds) -> str:
+    """A work-precision study: per method, the fastest run at each error level reached (a table)."""
+    a = ds.attrs
+    lines = [f"# Work-precision report (accuracy): {a.get('scene', '')}, {float(a.get('t_end', np.nan)):g} s", "",
+             f"- reference: {a.get('reference_precision')} at tol {float(a.get('reference_tol', np.nan)):g} "
+             f"(error bound {float(a.get('reference_error_bound', np.nan)):.2g}), "
+             f"{a.get('reference_n_impacts', '?')} impacts", "",
+             "| method | tol | run time [s] | final-state error | impacts |", "|---|---|---|---|---|"]
+    for i in range(ds.sizes["run"]):
+        lines.append(f"| {ds.method.values[i]} | {float(ds.tol.values[i]):g} | {float(ds.run_seconds.values[i]):.3g} "
+                     f"| {float(ds.final_state_error.values[i]):.2g} | {int(ds.n_impacts.values[i])} |")
+    return "\n".join(lines) + "\n"
+
+
+def stability_report(ds) -> str:
+    """The numerical stability suite: verdict counts."""
+    lines = [f"# Stability suite report (stability): {ds.attrs.get('suite', '')}, {ds.sizes['case']} cases", "",
+             "| verdict | cases |", "|---|---|"]
+    lines += _counts(ds.verdict.values, ds.verdict.attrs["flag_meanings"].split())
+    return "\n".join(lines) + "\n"
+
+
+#: the report of each dataset kind
+REPORTS = {"diagram": classification_report, "map": map_report, "history": history_report, "orbit": orbit_report,
+           "branch": branch_report, "accuracy": accuracy_report, "stability": stability_report}
+
+
+def report(ds, kind: str, **kw) -> str:
+    """The Markdown report of ``ds``, a dataset of ``kind`` (keywords: the diagram's ``at``)."""
+    return REPORTS[kind](ds, **kw)

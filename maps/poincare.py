@@ -52,25 +52,25 @@ class MapOrbit:
     ``points[k]`` is the state at ``times[k]``, with the flags ``point_flags[k]`` (columns
     ``flag_names``; :meth:`state` gives the hybrid state); step k runs from ``times[k]`` to
     ``times[k+1]``.  Gaps are distances to the stop [m] (negative: penetration).
-    ``min_gap_per_step`` is the smallest of the gaps at the step's ends, at its impacts
+    ``min_clearance_per_step`` is the smallest of the gaps at the step's ends, at its impacts
     (0 at the onset), at its free-flight minima (role "flight_minimum") and, in contact,
-    minus the deepest penetration: never NaN.  ``min_flight_gap_per_step`` keeps only the free-flight
+    minus the deepest penetration: never NaN.  ``min_flight_clearance_per_step`` keeps only the free-flight
     minima (inf where the step has none): it reaches 0 where a new impact is born
-    (a grazing bifurcation), which the total ``min_gap`` does not show on an
+    (a grazing bifurcation), which the total ``min_clearance`` does not show on an
     impacting orbit.  A system without a declared gap has NaN gaps.
     """
 
     times: np.ndarray                 # (n+1,) [s]
     points: np.ndarray                # (n+1, d)
     impacts_per_step: np.ndarray      # (n,) contacts in (t_k, t_k+1]
-    min_gap_per_step: np.ndarray      # (n,) [m] smallest gap in each step
+    min_clearance_per_step: np.ndarray      # (n,) [m] smallest gap in each step
     min_impact_speed_per_step: np.ndarray  # (n,) [m/s], inf where no contact
-    impact_t: np.ndarray              # [s] contact onsets in the recorded window
+    impact_time: np.ndarray              # [s] contact onsets in the recorded window
     impact_velocity: np.ndarray       # [m/s] gap rate at onset (< 0)
     impact_phase: np.ndarray          # relay phase of each onset, in [0, 1)
     impact_penetration: np.ndarray    # [m] maximum penetration of each contact (>= 0)
     impact_duration: np.ndarray       # [s] contact duration (NaN: still in contact at the end)
-    min_flight_gap_per_step: np.ndarray  # (n,) [m] lowest free-flight minimum per step, inf if none
+    min_flight_clearance_per_step: np.ndarray  # (n,) [m] lowest free-flight minimum per step, inf if none
     status: str = "ok"                # ok, escaped, failed
     failure: str = ""
     failure_time: float = math.nan
@@ -526,11 +526,11 @@ def orbit_from_periods(system, params, W, times, points, period_events, **fields
     imp_step = np.array(step_of, dtype=np.int64)[log["event"]] if step_of else np.zeros(0, np.int64)
     imp_n = np.bincount(imp_step, minlength=n)
     ends = np.array([gap(y, params, t)[0] for y, t in zip(points[:n + 1], times[:n + 1])], dtype=float)
-    min_gap = np.minimum(ends[:-1], ends[1:]) if n else np.zeros(0)
+    min_clearance = np.minimum(ends[:-1], ends[1:]) if n else np.zeros(0)
     min_flight, min_speed = np.full(n, math.inf), np.full(n, math.inf)
     for k, g in zip(step_of, log["event_gap"]):       # impacts (0 at the onset), flight minima, deepest points
         if g == g:
-            min_gap[k] = min(min_gap[k], g)
+            min_clearance[k] = min(min_clearance[k], g)
     for i, g in zip(log["flight_event"], log["flight_gap"]):
         min_flight[step_of[i]] = min(min_flight[step_of[i]], g)
     for k, rate in zip(imp_step, log["velocity"]):
@@ -541,10 +541,10 @@ def orbit_from_periods(system, params, W, times, points, period_events, **fields
     it = log["time"]
     return MapOrbit(
         times=np.array(times), points=np.array(points), impacts_per_step=imp_n.astype(np.int64),
-        min_gap_per_step=min_gap, min_impact_speed_per_step=min_speed,
-        impact_t=it, impact_velocity=log["velocity"], impact_phase=(it * W) % 1.0,
+        min_clearance_per_step=min_clearance, min_impact_speed_per_step=min_speed,
+        impact_time=it, impact_velocity=log["velocity"], impact_phase=(it * W) % 1.0,
         impact_penetration=log["penetration"], impact_duration=log["duration"],
-        min_flight_gap_per_step=min_flight, signature=signature, **fields)
+        min_flight_clearance_per_step=min_flight, signature=signature, **fields)
 
 
 class ImpactMap:
@@ -624,7 +624,7 @@ class ImpactMap:
         while True:
             phases.extend(o.impact_phase)
             vels.extend(o.impact_velocity)
-            times.extend(o.impact_t)
+            times.extend(o.impact_time)
             self.status = o.status
             k += o.n
             if o.status != "ok" or len(times) >= n_impacts or k >= transient_periods + max_periods:

@@ -2,7 +2,7 @@
 
 One function, :func:`progression_measures`, turns a record of the rig's position at known times,
 the contact onsets and the time the rig is held into the measures every 2-DOF time history
-(:func:`maps.simulate`) and sweep (:mod:`bifurc.storage.sweep_dataset`) stores:
+(:func:`maps.simulate`) and sweep (:mod:`bifurc.sweeps.dataset`) stores:
 
 - ``progression_rate`` [m s-1]: mean forward speed over the window, (x2(t_a) - x2(t_b)) / (t_b - t_a);
 - ``progression_per_period`` [m]: the same per relay period (rate / relay_hz);
@@ -70,14 +70,14 @@ def time_in_mode(flag_log, times, mode) -> np.ndarray:
 
 
 def progression_measures(t, x2, *, x2_start: float, relay_hz: float | None,
-                         impact_t=(), impact_velocity=(), m1: float, held: float = 0.0,
+                         impact_time=(), impact_velocity=(), m1: float, held: float = 0.0,
                          window=None) -> dict:
     """The measures over the window [t[0], t[-1]] of the samples ``t`` [s], ``x2`` [m].
 
     ``x2_start`` [m] is the rig's position at its start (depth 0); a depth already reached at
     the first sample (during a sweep's unrecorded transient) gives NaN.  Samples before
     the window may be included in ``t``, ``x2`` by giving ``window = (t_a, t_b)``, else the
-    window is the whole sample range.  ``impact_t``, ``impact_velocity`` [s, m/s]: contact
+    window is the whole sample range.  ``impact_time``, ``impact_velocity`` [s, m/s]: contact
     onsets and the bar's velocity relative to the rig there (only those in the window count);
     ``held`` [s]: time in the window the soil holds the rig.  Without a relay the per-period
     measures are NaN.
@@ -99,7 +99,7 @@ def progression_measures(t, x2, *, x2_start: float, relay_hz: float | None,
         if j > 0:       # j = 0: reached before the samples (a sweep's unrecorded transient): not measured
             d0, d1 = depth[j - 1], depth[j]
             out["time_to_depth"] = float(t[j - 1] + (TARGET_DEPTH - d0) / (d1 - d0) * (t[j] - t[j - 1]))
-    it, iv = np.asarray(impact_t, dtype=float), np.asarray(impact_velocity, dtype=float)
+    it, iv = np.asarray(impact_time, dtype=float), np.asarray(impact_velocity, dtype=float)
     inside = np.isfinite(it) & (it >= t_a) & (it <= t_b)
     if relay_hz:
         periods = span * relay_hz

@@ -153,7 +153,7 @@ def _add_progression(ds, run, imp, transient):
     t_a = t_b / 2 if transient is None else min(float(transient), t_b)
     p = run.params
     m = progression_measures(t, x2, x2_start=float(run.y0["x2"]),
-                             relay_hz=p.get("relay_hz"), impact_t=imp["t"], impact_velocity=imp["velocity"],
+                             relay_hz=p.get("relay_hz"), impact_time=imp["t"], impact_velocity=imp["velocity"],
                              m1=p["m1"], held=held_time(run.flag_log, t_a, t_b, held_mode(run.system)),
                              window=(t_a, t_b))
     for name, value in m.items():
@@ -223,6 +223,7 @@ def to_dataset(run, t_eval, samples, transient=None) -> xr.Dataset:
         "n_steps": run.n_steps, "n_events": run.n_events, "n_relay_switches": run.n_switches,
         "status": run.status, "t_end_reached": run.t,
         "title": f"{sc.name}: time history", **cf_attrs(f"scene {sc.name}, time history"),
+        "bifurc_kind": "history",      # bifurc.storage.build.KIND_ATTR (maps never imports bifurc)
     }
     if run.failure is not None:
         attrs["failure"] = str(run.failure)

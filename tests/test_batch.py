@@ -35,8 +35,8 @@ def _compare(a, b, lyap_tol=1e-6):
         assert x.n_impacts == y.n_impacts
         assert x.label == y.label, (x.value, x.label, y.label)
         assert np.nanmax(np.abs(x.points - y.points) / np.maximum(1, np.abs(x.points))) < 1e-8
-        assert abs(x.min_gap - y.min_gap) < 1e-9
-        np.testing.assert_allclose(x.impact_t, y.impact_t, rtol=0, atol=1e-9)
+        assert abs(x.min_clearance - y.min_clearance) < 1e-9
+        np.testing.assert_allclose(x.impact_time, y.impact_time, rtol=0, atol=1e-9)
         assert (math.isnan(x.lyapunov) and math.isnan(y.lyapunov)) or abs(x.lyapunov - y.lyapunov) < lyap_tol
 
 
@@ -127,4 +127,4 @@ def test_values_still_converging_integrate_on_from_the_batch_orbit(base):
     assert a.label == b.label == "periodic-no-impact"
     assert a.period == b.period == 2
     assert a.transient_used == b.transient_used > 300
-    assert abs(a.min_gap - b.min_gap) < 1e-6 and b.min_gap > 5e-4
+    assert abs(a.min_clearance - b.min_clearance) < 1e-6 and b.min_clearance > 5e-4

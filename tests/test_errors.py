@@ -47,7 +47,7 @@ CASES = [  # (argv with {placeholders} from the files fixture, text the line mus
     (["report", "{corrupt.nc}"], "not a readable netCDF"),
     (["report", "{truncated.nc}"], "not a readable netCDF"),
     (["report", "{empty.nc}"], "not a readable netCDF"),
-    (["report", "{sim.nc}"], "simulate dataset"),
+    (["report", "{sim.nc}"], "history dataset (from `bifurc simulate`"),
     (["report", "{stab.nc}"], "stability dataset"),
     (["report", "{full}/missing.nc"], "no dataset"),
     (["report", "{full}"], "folder"),

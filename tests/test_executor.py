@@ -48,7 +48,7 @@ def test_recorded_points_are_the_state_at_whole_relay_periods(serial):
 
 def test_impacts_lie_in_the_recorded_window(serial):
     W = serial["relay_hz"].values[None, :, None]
-    t = serial["impact_t"].values
+    t = serial["impact_time"].values
     ok = np.isfinite(t)
     lo = np.broadcast_to(KW["transient"] / W, t.shape)
     hi = np.broadcast_to((KW["transient"] + serial["record_used"].values[..., None]) / W, t.shape)  # extended records

@@ -137,7 +137,7 @@ def test_period_1_orbit_on_a_vibrating_table(case):
     # the impact log: phase and the relative approach speed at the impact instant
     o = smap.orbit(orbit.nodes[0], 1)
     assert o.impacts_per_step.tolist() == [1]
-    phase_err = abs(o.impact_t[0] - ti)
+    phase_err = abs(o.impact_time[0] - ti)
     speed_err = abs(o.impact_velocity[0] + D)
     print(f"{case}: impact time error {phase_err:.2e} s, relative impact speed error {speed_err:.2e} m/s")
     assert phase_err < 1e-9 and abs(o.impact_phase[0] - ti / T) < 1e-9
@@ -169,8 +169,8 @@ def test_the_two_declarations_agree():
     y = y0_abs + np.array([2e-4, -3e-2])          # off the orbit: a transient of several impacts
     o_abs = ab.orbit(y, 6)
     o_rel = rel.orbit(_to_relative(y, 0.0), 6)
-    assert o_abs.impact_t.size == o_rel.impact_t.size >= 5
-    assert np.max(np.abs(o_abs.impact_t - o_rel.impact_t)) < 1e-9
+    assert o_abs.impact_time.size == o_rel.impact_time.size >= 5
+    assert np.max(np.abs(o_abs.impact_time - o_rel.impact_time)) < 1e-9
     assert np.max(np.abs(o_abs.impact_velocity - o_rel.impact_velocity)) < 1e-9
     for k in range(7):
         assert np.max(np.abs(_to_relative(o_abs.points[k], k * T) - o_rel.points[k])) < 1e-9
@@ -196,7 +196,7 @@ def test_a_reset_without_time_is_still_called_with_two_arguments():
     ti, D, y0_abs, mult, _, _ = closed_form()
     smap = maps.StroboscopicMap(sys2, P, period=T, tol=1e-15)
     o = smap.orbit(_to_relative(y0_abs, 0.0), 1)
-    assert calls and abs(o.impact_t[0] - ti) < 1e-9 and abs(o.impact_velocity[0] + D) < 1e-9
+    assert calls and abs(o.impact_time[0] - ti) < 1e-9 and abs(o.impact_velocity[0] + D) < 1e-9
     assert sys2.gap([0.1, 0.2], P) == (0.1, 0.2) == sys2.gap([0.1, 0.2], P, 1.0)
 
 
@@ -208,7 +208,7 @@ def test_a_gap_given_with_time():
                         guards=base.guards, gap=gap)
     ti, D, y0_abs, _, _, _ = closed_form()
     o = maps.StroboscopicMap(sys3, P, period=T, tol=1e-15).orbit(y0_abs, 1)
-    assert abs(o.impact_t[0] - ti) < 1e-9 and abs(o.impact_velocity[0] + D) < 1e-9
+    assert abs(o.impact_time[0] - ti) < 1e-9 and abs(o.impact_velocity[0] + D) < 1e-9
     assert sys3.gap([0.1, 0.2], P) == (0.1, 0.2 - A * W)          # t defaults to 0
 
 

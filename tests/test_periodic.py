@@ -196,7 +196,7 @@ def test_the_impact_oscillator_scene_runs_every_command(tmp_path, capsys):
                  "--n", "3", "--transient", "100", "--record", "10", "--quiet", "-o", str(tmp_path / "d.nc")]) == 0
     d = xr.open_dataset(tmp_path / "d.nc")
     assert (d.class_code.values == 0).all() and (d.period.values == 1).all()
-    assert np.max(np.abs(d.min_gap.values)) < 1e-12
+    assert np.max(np.abs(d.min_clearance.values)) < 1e-12
     assert main(["orbit", "--scene", "impact-oscillator", "--x0", "x=0.5", "--transient", "100", "--tol", "1e-13",
                  "-o", str(tmp_path / "o.nc")]) == 0
     o = xr.open_dataset(tmp_path / "o.nc")

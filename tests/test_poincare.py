@@ -42,7 +42,7 @@ def test_linear_oscillator_map_converges_to_the_analytic_steady_state(osc):
         assert t == pytest.approx((transient + k + phase) * T, rel=1e-15)
         x, v = linear_response(OSC, t)
         assert abs(y[0] - x) / tol < 100 and abs(y[1] - v) / tol < 100
-    assert o.impacts_per_step.sum() == 0 and o.impact_t.size == 0
+    assert o.impacts_per_step.sum() == 0 and o.impact_time.size == 0
     assert np.all(np.isinf(o.min_impact_speed_per_step))
     # the map is affine: its Jacobian has det = exp(-2 zeta w0 T) (Liouville)
     det = np.linalg.det(smap.jacobian(o.points[0], k=transient))
@@ -75,7 +75,7 @@ def test_orbit_impacts_equal_the_time_history(scene, relay_hz):
     sim = maps.simulate("thesis-1dof", periods=n, params={"V": 90.0, "relay_hz": relay_hz},
                         preset="matlab-listing")
     assert o.impacts_per_step.sum() == sim.sizes["impact"] == ref["t"].size > 0
-    np.testing.assert_allclose(o.impact_t, sim.impact_time.values, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(o.impact_time, sim.impact_time.values, rtol=0, atol=1e-12)
     np.testing.assert_allclose(o.impact_velocity, sim.impact_velocity.values, rtol=0, atol=1e-9)
     np.testing.assert_allclose(o.impact_penetration, ref["penetration"], rtol=0, atol=1e-12)
     np.testing.assert_allclose(o.impact_duration, ref["duration"], rtol=0, atol=1e-12)
@@ -89,10 +89,10 @@ def test_orbit_impacts_equal_the_time_history(scene, relay_hz):
     x = maps.simulate("thesis-1dof", t_end=o.times[-1], t_eval=t_grid, params={"V": 90.0, "relay_hz": relay_hz},
                       preset="matlab-listing").x.values
     grid_min = np.array([x[(t_grid >= o.times[k]) & (t_grid <= o.times[k + 1])].min() for k in range(n)])
-    excess = grid_min - o.min_gap_per_step  # the grid can only miss the true minimum from above
+    excess = grid_min - o.min_clearance_per_step  # the grid can only miss the true minimum from above
     assert excess.min() > -1e-12 and excess.max() < 1e-6  # dt = T/2000: a dt^2/8 < 4e-7 m in contact
     lows = free_flight_minima(run)
-    assert np.min(o.min_flight_gap_per_step) == pytest.approx(lows["gap"].min(), abs=1e-15)
+    assert np.min(o.min_flight_clearance_per_step) == pytest.approx(lows["gap"].min(), abs=1e-15)
 
 
 def test_forcing_period_in_relay_periods():
@@ -139,7 +139,7 @@ def test_impact_map_of_a_period_one_impacting_orbit(osc):
     np.testing.assert_allclose(np.diff(t), T, rtol=0, atol=1e-9)
     assert phase[0] == pytest.approx((t[0] / T) % 1.0, abs=1e-12)
     o = maps.StroboscopicMap(osc, p, tol=1e-13).orbit({"x": 0.2, "v": 0.0}, 12, transient=200)
-    np.testing.assert_allclose(o.impact_t, t, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(o.impact_time, t, rtol=0, atol=1e-12)
     np.testing.assert_array_equal(o.impacts_per_step, 1)
     # restitution: the rebound speed is r times the impact speed, from the closed-form flight
     assert np.all(o.min_impact_speed_per_step == pytest.approx(abs(vel[0]), abs=1e-9))

@@ -15,7 +15,7 @@ def test_measures_of_a_steady_advance_are_its_closed_forms():
     x2 = 0.01 - v * t                                # starts at x2 = 0.01 m
     imp_t = np.array([0.5, 4.9, 5.5, 9.0])           # two inside the window [5, 10]
     imp_v = np.array([-3.0, -2.0, -1.0, -0.5])
-    m = progression_measures(t, x2, x2_start=0.01, relay_hz=W, impact_t=imp_t, impact_velocity=imp_v,
+    m = progression_measures(t, x2, x2_start=0.01, relay_hz=W, impact_time=imp_t, impact_velocity=imp_v,
                              m1=m1, held=1.25, window=(5.0, 10.0))
     assert m["progression_rate"] == pytest.approx(v, rel=1e-12)
     assert m["progression_per_period"] == pytest.approx(v / W, rel=1e-12)

@@ -44,7 +44,7 @@ def test_a_cell_is_classified_as_the_one_parameter_diagrams_value(local):
         d = sweep("thesis-1dof", "relay_hz", W, params={"V": v}, workers=1, **skw).isel(branch=0)
         for name in COMPARED:
             assert np.array_equal(local[name].values[:, j], d[name].values), (name, v)
-        for name in ("lyapunov", "min_gap", "recurrence"):
+        for name in ("lyapunov", "min_clearance", "recurrence"):
             np.testing.assert_allclose(local[name].values[:, j], d[name].values, rtol=1e-9, atol=1e-12,
                                        equal_nan=True, err_msg=name)
     d = sweep("thesis-1dof", "V", V, params={"relay_hz": W[1]}, workers=1, **skw).isel(branch=0)
@@ -143,7 +143,7 @@ def test_resume_after_sigkill_of_bifurc_map_equals_an_uninterrupted_run(tmp_path
     fresh = regime_map("thesis-1dof", "relay_hz", np.linspace(3, 7, 3), "V", np.linspace(60, 200, 3),
                        preset="matlab-listing", dc_law="measured", transient=150, record=20, lyapunov=False,
                        batch_size=1, workers=1, progress=False)
-    for name in ("class_code", "period", "impacts_per_period", "n_impacts", "min_gap", "recurrence", "n_steps"):
+    for name in ("class_code", "period", "impacts_per_period", "n_impacts", "min_clearance", "recurrence", "n_steps"):
         np.testing.assert_allclose(resumed[name].values, fresh[name].values, rtol=0, atol=1e-12, equal_nan=True,
                                    err_msg=name)
 

@@ -7,7 +7,7 @@ import pytest
 import xarray as xr
 
 import maps
-from bifurc.storage import sweep_dataset as storage
+from bifurc.storage import files, load as storage
 from bifurc.sweeps.classify import CLASS_LABELS
 from bifurc.sweeps.sweep import sweep
 
@@ -34,8 +34,8 @@ def grazing_sweep():
 
 def _round_trip(ds, tmp_path, name):
     path = tmp_path / name
-    storage.save(ds, path)
-    return storage.load(path), path
+    files.write_netcdf(ds, path)
+    return storage.read(path), path
 
 
 @pytest.mark.parametrize("which", ["escaping_sweep", "grazing_sweep"])
@@ -83,12 +83,12 @@ def test_missing_values_are_flagged_never_silent(escaping_sweep):
     assert int(esc.status) == 1 and CLASS_LABELS[int(esc.class_code)] == "escaped"
     assert math.isfinite(float(esc.failure_time)) and int(esc.n_impacts) == 0
     assert np.isnan(esc.x.values[1:]).all() and np.isfinite(esc.x.values[0])
-    assert np.isnan(float(esc.min_gap)) and np.isnan(float(esc.min_impact_speed))
+    assert np.isnan(float(esc.min_clearance)) and np.isnan(float(esc.min_impact_speed))
     assert int(ok.status) == 0 and int(ok.n_impacts) > 0
-    for name in ("x", "v", "i", "z", "min_gap_per_step", "min_gap", "min_impact_speed", "run_seconds"):
+    for name in ("x", "v", "i", "z", "min_clearance_per_step", "min_clearance", "min_impact_speed", "run_seconds"):
         assert np.isfinite(ok[name].values).all(), name
     n = int(ok.n_impacts)
-    assert np.isfinite(ok.impact_t.values[:n]).all() and np.isnan(ok.impact_t.values[n:]).all()
+    assert np.isfinite(ok.impact_time.values[:n]).all() and np.isnan(ok.impact_time.values[n:]).all()
     assert ok.impacts_per_step.values.sum() == n
 
 

@@ -15,8 +15,8 @@ def test_diagram_and_report_commands(tmp_path, capsys):
     assert main(["diagram", "--scene", "thesis-1dof", "--preset", "matlab-listing", "--set", "V=90",
                  "--from", "5", "--to", "9", "--n", "3", "--transient", "10", "--record", "8", "--quiet",
                  "-o", str(nc), "--plot", str(png)]) == 0
-    from bifurc.storage import sweep_dataset as storage
-    ds = storage.load(nc)
+    from bifurc.storage import files, load as storage
+    ds = storage.read(nc)
     np.testing.assert_allclose(ds.relay_hz.values, [5, 7, 9])
     assert ds.class_code.dims == ("branch", "relay_hz") and (ds.class_code.values >= 0).all()
     assert png.stat().st_size > 20_000

@@ -6,7 +6,7 @@ import pytest
 import xarray as xr
 
 import maps
-from bifurc.storage import sweep_dataset as storage
+from bifurc.storage import files, load as storage
 from bifurc.sweeps.classify import CLASS_LABELS
 from bifurc.sweeps.job import ValueJob
 from bifurc.sweeps.sweep import sweep
@@ -39,7 +39,7 @@ def test_stroboscopic_map_converges_to_the_analytic_steady_state(osc):
     np.testing.assert_allclose(o.points[:, 1], v, atol=1e-12)
     assert o.impacts_per_step.sum() == 0
     # smallest gap per period: the lowest point of the orbit, -X, measured from the stop e
-    np.testing.assert_allclose(o.min_gap_per_step, -X - p["e"], atol=1e-12)
+    np.testing.assert_allclose(o.min_clearance_per_step, -X - p["e"], atol=1e-12)
     # step() from a recorded point gives the next one
     np.testing.assert_allclose(smap.step(o.points[0], k=120), o.points[1], atol=1e-13)
     J = smap.jacobian(o.points[0], k=120)  # linear flow: exp(-zeta w0 T) = |det J|^(1/2)
@@ -54,7 +54,7 @@ def test_map_impacts_equal_the_time_history():
     run = maps.run_scene("thesis-1dof", 2.0, preset="matlab-listing", params={"V": 90, "relay_hz": 9})
     ref = impact_table(run)
     assert o.impacts_per_step.sum() == ref["t"].size > 0
-    np.testing.assert_allclose(o.impact_t, ref["t"], atol=1e-12)
+    np.testing.assert_allclose(o.impact_time, ref["t"], atol=1e-12)
     np.testing.assert_allclose(o.impact_velocity, ref["velocity"], atol=1e-9)
     np.testing.assert_allclose(o.points[-1], run.y, atol=1e-10)
     assert np.all((o.impact_phase >= 0) & (o.impact_phase < 1))
@@ -138,7 +138,7 @@ def test_interrupted_batch_sweep_resumes_to_the_same_dataset(tmp_path, monkeypat
     assert seen == list(values[4:])
     monkeypatch.setattr(ValueJob, "run_many", original)
     fresh = sweep("thesis-1dof", "relay_hz", values, **args)
-    for name in ("x", "v", "i", "z", "impact_t", "class_code", "min_gap", "lyapunov"):
+    for name in ("x", "v", "i", "z", "impact_time", "class_code", "min_clearance", "lyapunov"):
         np.testing.assert_allclose(resumed[name].values, fresh[name].values, rtol=0, atol=1e-12, equal_nan=True)
 
 
@@ -169,7 +169,7 @@ def test_interrupted_sweep_resumes_to_the_same_dataset(tmp_path, monkeypatch):
     assert seen == list(values[4:])  # only the missing values ran
     monkeypatch.setattr(ValueJob, "__call__", original)
     fresh = sweep("thesis-1dof", "relay_hz", values, **args)
-    for name in ("x", "v", "i", "z", "impact_t", "class_code", "min_gap"):
+    for name in ("x", "v", "i", "z", "impact_time", "class_code", "min_clearance"):
         np.testing.assert_allclose(resumed[name].values, fresh[name].values, rtol=0, atol=1e-12, equal_nan=True)
     assert not (tmp_path / "d.nc.parts").exists()
     with pytest.raises(maps.ParameterError, match="other arguments"):
@@ -195,7 +195,7 @@ def test_an_unreadable_resume_part_is_recomputed_with_a_warning(tmp_path, monkey
     with pytest.warns(RuntimeWarning, match="discarding the unreadable resume part"):
         again = sweep("thesis-1dof", "relay_hz", values, path=path, **args)
     assert seen == [values[1]] and again.attrs["resumed_values"] == 3
-    for name in ("x", "v", "i", "z", "impact_t", "class_code", "period", "min_gap", "n_impacts", "status"):
+    for name in ("x", "v", "i", "z", "impact_time", "class_code", "period", "min_clearance", "n_impacts", "status"):
         np.testing.assert_array_equal(again[name].values, first[name].values, err_msg=name)
 
 
@@ -209,11 +209,11 @@ def test_a_resumed_value_keeps_the_time_spent_computing_it(tmp_path, monkeypatch
     path = tmp_path / "d.nc"
     monkeypatch.setattr(Parts, "remove", lambda self: None)      # keep the parts, as after a late interruption
     assert main(argv + ["-o", str(path)]) == 0
-    first = storage.load(path)
+    first = storage.read(path)
     out = capsys.readouterr().out
     path.unlink()
     assert main(argv + ["-o", str(path)]) == 0
-    again = storage.load(path)
+    again = storage.read(path)
     np.testing.assert_array_equal(again.run_seconds.values, first.run_seconds.values)
     assert again.attrs["resumed_values"] == 4 and first.attrs["resumed_values"] == 0
     spent = float(first.run_seconds.sum())
@@ -236,8 +236,8 @@ def test_continuation_is_a_deprecated_alias_of_follow(osc):
 def test_netcdf_round_trip_is_lossless(tmp_path):
     ds = sweep("thesis-1dof", "relay_hz", np.array([5.0, 8.0]), preset="matlab-listing", params={"V": 90},
                transient=10, record=8, error_sample=2, progress=False)
-    storage.save(ds, tmp_path / "s.nc")
-    back = storage.load(tmp_path / "s.nc")
+    files.write_netcdf(ds, tmp_path / "s.nc")
+    back = storage.read(tmp_path / "s.nc")
     xr.testing.assert_identical(back.drop_encoding() if hasattr(back, "drop_encoding") else back, ds)
     for name, var in ds.variables.items():
         assert back[name].dtype == var.dtype, name
@@ -322,9 +322,9 @@ def test_killed_sweep_keeps_completed_values_and_resumes(tmp_path):
         ValueJob.run_many = original
     assert len(seen) == 8 - done
     fresh = sweep("thesis-1dof", "relay_hz", np.linspace(4, 9, 8), **args)
-    for name in ("x", "v", "i", "z", "impact_t", "impact_velocity", "class_code", "min_gap", "n_impacts"):
+    for name in ("x", "v", "i", "z", "impact_time", "impact_velocity", "class_code", "min_clearance", "n_impacts"):
         np.testing.assert_allclose(resumed[name].values, fresh[name].values, rtol=0, atol=1e-12, equal_nan=True)
-    assert storage.load(path).sizes == resumed.sizes and not parts.exists()
+    assert storage.read(path).sizes == resumed.sizes and not parts.exists()
 
 
 def test_grazing_of_an_impacting_orbit_where_a_new_impact_is_born(osc):
@@ -343,7 +343,7 @@ def test_grazing_of_an_impacting_orbit_where_a_new_impact_is_born(osc):
     d = np.array([2e-3, 4e-3, 8e-3])
     down = sweep(osc, "Omega", np.append(g + d, 0.44), mode="follow", grazing=False, **kw).sel(branch="down")
     assert list(down.impacts_per_period.values) == [5] * 4 and list(down.period.values) == [1] * 4
-    root = min(np.roots(np.polyfit(d, down.min_flight_gap.values[:3], 2)), key=abs)
+    root = min(np.roots(np.polyfit(d, down.min_flight_clearance.values[:3], 2)), key=abs)
     assert abs(root) < 20 * xtol  # measured 3.5e-6 (quadratic fit error)
 
 

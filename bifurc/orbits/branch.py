@@ -22,10 +22,11 @@ from maps.parameters import ParameterError, validate_value
 from maps.impacts import impact_log
 from maps.poincare import StroboscopicMap
 from maps.problem import problem
-from maps.provenance import cf_attrs, recorded
+from maps.provenance import recorded
 
 from .arclength import continue_branch
 from .continuation import ContinuationProblem, flags_of, in_section
+from .dataset import branch_dataset
 from .orbit import first_guess, multiplier_change
 from .periodic import OrbitNotFound, find_periodic_orbit, monodromy
 from .special_points import LOCATED_KINDS
@@ -127,7 +128,8 @@ def continue_orbit(scene, param: str, span, *, params=None, preset=None, period:
         for br in branches:
             for sp in br.special:
                 sp.multiplier_error = _multiplier_error(system, values, param, sp, br, tol, newton_tol)
-    return branch_dataset(branches, cont, pb, curves=curves, seconds=_time.perf_counter() - clock)
+    clear = [_clearances(system, dict(values, **{param: pt.p}), pt) for br in branches for pt in br.points]
+    return branch_dataset(branches, cont, pb, clearances=clear, curves=curves, seconds=_time.perf_counter() - clock)
 
 
 def _curves(problem, branches, param2, span2, span, max_points, progress):
@@ -220,128 +222,3 @@ def _clearances(system, params, pt):
     at_nodes = [system.gap(s.y, params)[0] for s in pt.nodes]
     low = min(flight) if flight else math.inf
     return min(at_nodes + flight + ([0.0] if pt.impacts else [])), low
-
-
-def branch_dataset(branches, problem, pb, *, curves=(), seconds=math.nan):
-    """The dataset of continued branches: points in arclength order, branch after branch."""
-    import xarray as xr
-
-    from .._version import __version__
-    from ..storage.schema import BRANCH, SPECIAL, SPECIAL_KINDS, flag_variable, state_variable
-    system, param = problem.smap.system, problem.param
-    unit = system.parameter(param).unit
-    points = [(i, pt) for i, br in enumerate(branches) for pt in br.points]
-    specials = [(i, br, sp) for i, br in enumerate(branches) for sp in br.special]
-    offsets = np.cumsum([0] + [len(br.points) for br in branches])
-    n_node = max([br.period for br in branches] + [1])
-    n_mu = problem.d
-    base = dict(pb.values)
-    ds = xr.Dataset(coords={
-        "point": ("point", np.arange(len(points)), {"units": "1", "long_name": "branch point, in arclength order"}),
-        "node": ("node", np.arange(n_node), {"units": "1", "long_name": "strobe sample of the orbit, k = k0 + node"}),
-        "multiplier": ("multiplier", np.arange(n_mu), {"units": "1", "long_name": "Floquet multiplier, by modulus"}),
-        "special": ("special", np.arange(len(specials)), {"units": "1", "long_name": "located special point"})})
-    p_attrs = {"units": unit, "long_name": f"{param}: {system.parameter(param).long_name}"
-               if getattr(system.parameter(param), "long_name", "") else param}
-    ds[param] = ("point", np.array([pt.p for _, pt in points], float), p_attrs)
-    for j, st in enumerate(system.states):
-        var = state_variable(st, ("point", "node"), ", at the orbit's strobe samples")
-        data = np.full((len(points), n_node), np.nan)
-        for r, (_, pt) in enumerate(points):
-            data[r, :len(pt.nodes)] = [s.y[j] for s in pt.nodes]
-        ds[st.name] = (var.dims, data, var.attrs())
-    for name in system.flag_names:
-        var = flag_variable(name, ("point", "node"))
-        data = np.full((len(points), n_node), np.nan)
-        for r, (_, pt) in enumerate(points):
-            data[r, :len(pt.nodes)] = [float((s.flags or {}).get(name, np.nan)) for s in pt.nodes]
-        ds[var.name] = (var.dims, data, var.attrs())
-    rows = {v.name: v for v in BRANCH + SPECIAL}
-
-    def put(name, data, **attrs):
-        v = rows[name]
-        units = unit if v.units == "<param>" else v.units
-        arr = np.asarray(data, dtype=str) if v.dtype is str else np.asarray(data, dtype=v.dtype)
-        ds[name] = (v.dims, arr, v.attrs(units=units, long_name=v.long_name.format(param=param), **attrs))
-
-    def by_modulus(mu):
-        mu = np.asarray(mu)[np.argsort(-np.abs(mu))]
-        return np.abs(mu), np.angle(mu)
-    clear = [_clearances(system, dict(base, **{param: pt.p}), pt) for _, pt in points]
-    put("branch_id", [i for i, _ in points])
-    put("period", [len(pt.nodes) for _, pt in points])
-    mus = [by_modulus(pt.multipliers) for _, pt in points]
-    put("multiplier_abs", np.array([m[0] for m in mus]).reshape(len(points), n_mu))
-    put("multiplier_arg", np.array([m[1] for m in mus]).reshape(len(points), n_mu))
-    put("stable", [int(pt.stable) for _, pt in points])
-    put("impacts_per_period", [pt.impacts for _, pt in points])
-    put("min_clearance", [c[0] for c in clear])
-    put("min_flight_clearance", [c[1] for c in clear])
-    put("signature", [";".join(",".join(s) for s in pt.signatures) for _, pt in points])
-    put("newton_iterations", [pt.iterations for _, pt in points])
-    put("newton_residual", [pt.residual for _, pt in points])
-    put("section_phase", [pt.phase for _, pt in points])
-    put("section_k0", [pt.k0 for _, pt in points])
-    if problem.co.a is not None:
-        anchor = system.state_names[problem.co.a]
-        ds["advance_per_period"] = ("point", np.array([pt.advance for _, pt in points]), {
-            "units": system.states[problem.co.a].unit,
-            "long_name": f"shift of {anchor} along the system's translation over one period of the orbit"})
-    put("special_kind", [SPECIAL_KINDS.index(sp.kind) for _, _, sp in specials])
-    put("special_value", [sp.p for _, _, sp in specials])
-    put("special_tolerance", [sp.tolerance for _, _, sp in specials])
-    put("special_test_function", [sp.test_function for _, _, sp in specials])
-    put("special_test_value", [sp.test_value for _, _, sp in specials])
-    put("special_point", [int(offsets[i] + max(sp.index, 0)) for i, _, sp in specials])
-    put("special_branch", [i for i, _, _ in specials])
-    smu = [by_modulus(sp.point.multipliers) if sp.point is not None else (np.full(n_mu, np.nan),) * 2
-           for _, _, sp in specials]
-    put("special_multiplier_abs", np.array([m[0] for m in smu]).reshape(len(specials), n_mu))
-    put("special_multiplier_arg", np.array([m[1] for m in smu]).reshape(len(specials), n_mu))
-    put("special_multiplier_error", [sp.multiplier_error for _, _, sp in specials])
-    put("special_note", [sp.note for _, _, sp in specials])
-    if curves:
-        _put_curves(ds, curves, system)
-    name = pb.name
-    ds.attrs.update({
-        "title": f"{name}: branch of periodic orbits in {param}", "scene": name, "continuation_parameter": param,
-        "continuation_parameter_units": unit, "k0": problem.k0, "strobe_period_s": problem.smap.period,
-        "tol": problem.smap.tol, "newton_tol": problem.tol,
-        "branch_labels": " | ".join(br.label for br in branches),
-        "branch_stop_reasons": " | ".join(br.stop_reason for br in branches),
-        "newton_iterations_total": int(sum(br.newton_iterations for br in branches)),
-        "run_seconds": seconds,
-        "method": "pseudo-arclength continuation of the multiple-shooting system (Newton on the bordered system, "
-                  "exact Jacobians from variational equations with saltation); special points located by Illinois "
-                  "false position on test functions along the arclength; grazing by Newton on the augmented "
-                  "system orbit + (gap, gap rate) = 0 at the grazing time",
-        "bifurc_version": __version__,
-        **cf_attrs(f"scene {name}, continuation in {param}"),
-        **pb.attrs(skip=(param,))})
-    if problem.co.a is not None:
-        ds.attrs["reduced_coordinates"] = ", ".join(problem.co.names)
-    return ds
-
-
-
-def _put_curves(ds, curves, system):
-    """Two-parameter curves along ``curve_point`` (their kinds and stop reasons along ``curve``)."""
-    from .curves import CURVE_KINDS
-    p1, p2 = curves[0].params
-    ids = np.concatenate([np.full(len(c.p1), i) for i, c in enumerate(curves)]).astype(np.int16)
-    ds.coords["curve_point"] = ("curve_point", np.arange(ids.size), {"units": "1", "long_name": "point of a curve"})
-    ds.coords["curve"] = ("curve", np.arange(len(curves)), {"units": "1", "long_name": "two-parameter curve"})
-    ds["curve_id"] = ("curve_point", ids, {"units": "1", "long_name": "curve the point belongs to"})
-    for name, attr in ((p1, "p1"), (p2, "p2")):
-        ds[f"curve_{name}"] = ("curve_point", np.concatenate([np.asarray(getattr(c, attr), float) for c in curves]),
-                               {"units": system.parameter(name).unit, "long_name": f"{name} along the curve"})
-    ds["curve_residual"] = ("curve_point", np.concatenate([np.asarray(c.residual, float) for c in curves]),
-                            {"units": "1", "long_name": "largest scaled residual of the defining system"})
-    ds["curve_kind"] = ("curve", np.array([CURVE_KINDS.index(c.kind) for c in curves], np.int8),
-                        {"units": "1", "long_name": "what the curve continues", "flag_values":
-                         np.arange(len(CURVE_KINDS), dtype=np.int8), "flag_meanings": " ".join(CURVE_KINDS)})
-    ds["curve_special"] = ("curve", np.array([c.start for c in curves], np.int32),
-                           {"units": "1", "long_name": "the special point the curve starts from"})
-    ds["curve_stop_reason"] = ("curve", np.array([c.stop_reason for c in curves], dtype=str),
-                               {"units": "1", "long_name": "why the curve stopped"})
-    ds.attrs["curve_parameters"] = f"{p1} {p2}"

@@ -29,12 +29,11 @@ import numpy as np
 from maps.hybrid import IntegrationFailure
 from maps.parameters import ParameterError
 
+from ..storage.schema import CURVE_KINDS
 from .continuation import NoConvergence, bordered_newton, unit_tangent
 from .grazing_orbit import grazing_rows
 
 __all__ = ["Curve", "CurveProblem", "follow_curve", "CURVE_KINDS"]
-
-CURVE_KINDS = ("fold", "period_doubling", "grazing")
 
 
 @dataclass

@@ -19,9 +19,10 @@ from maps.hybrid import HybridState
 from maps.parameters import ParameterError, validate_value
 from maps.poincare import StroboscopicMap
 from maps.problem import problem
-from maps.provenance import cf_attrs, recorded
+from maps.provenance import recorded
 
-from .periodic import OrbitNotFound, PeriodicOrbit, find_periodic_orbit
+from .dataset import orbit_dataset
+from .periodic import OrbitNotFound, find_periodic_orbit
 
 __all__ = ["periodic_orbit", "sweep_point", "orbit_dataset", "first_guess", "multiplier_change", "OrbitNotFound"]
 
@@ -120,69 +121,3 @@ def multiplier_change(a, b) -> float:
         j = int(np.argmin([abs(m - x) for x in b]))
         worst = max(worst, abs(m - b.pop(j)))
     return worst
-
-
-def orbit_dataset(orbit: PeriodicOrbit, smap, pb, *, multiplier_error=math.nan, seconds=math.nan):
-    """The dataset of a converged orbit: nodes (states, flags, signatures), multipliers, impacts."""
-    import xarray as xr
-
-    from ..storage.schema import ORBIT, ORBIT_SCALARS, flag_variable, state_variable
-    system = smap.system
-    n, k0 = orbit.period, orbit.k0
-    T = smap.period
-    t0 = smap.sample_time(k0) - smap.phase * T
-    o = smap.orbit(orbit.nodes[0], n, t0=t0)       # the orbit's own events, one period
-    rows = {v.name: v for v in ORBIT + ORBIT_SCALARS}
-    mu = orbit.multipliers[np.argsort(-np.abs(orbit.multipliers))]
-    ds = xr.Dataset(coords={
-        "node": ("node", np.arange(n), {"units": "1", "long_name": f"strobe sample of the orbit, k = {k0} + node"}),
-        "multiplier": ("multiplier", np.arange(mu.size), {"units": "1", "long_name": "Floquet multiplier, by modulus"}),
-        "impact": ("impact", np.arange(o.impact_t.size), {"units": "1", "long_name": "contact in one period"})})
-    for j, st in enumerate(system.states):
-        var = state_variable(st, ("node",), ", at the orbit's strobe samples")
-        ds[st.name] = ("node", np.array([s.y[j] for s in orbit.nodes]), var.attrs())
-    for name in system.flag_names:
-        var = flag_variable(name, ("node",))
-        ds[var.name] = ("node", np.array([float((s.flags or {}).get(name, np.nan)) for s in orbit.nodes]),
-                        var.attrs())
-
-    def put(name, data):
-        v = rows[name]
-        ds[name] = (v.dims, np.asarray(data, dtype=v.dtype) if v.dtype is not str else np.asarray(data, dtype=str),
-                    v.attrs())
-    put("multiplier_abs", np.abs(mu))
-    put("multiplier_arg", np.angle(mu))
-    put("signature", [",".join(sig) for sig in orbit.signatures])
-    put("impact_time", o.impact_t - t0)
-    put("impact_velocity", o.impact_velocity)
-    put("impact_phase", ((o.impact_t - t0) / T) % 1.0)
-    put("period", n)
-    put("impacts_per_period", orbit.impacts_per_period)
-    put("stable", int(orbit.stable))
-    put("newton_residual", orbit.residual)
-    put("multiplier_error", multiplier_error)
-    put("min_clearance", float(np.min(o.min_gap_per_step)) if o.n else math.nan)
-    put("min_flight_clearance", float(np.min(o.min_flight_gap_per_step)) if o.n else math.nan)
-    put("run_seconds", seconds)
-    if orbit.reduced:      # a translation-invariant system (2-DOF: bar and rig shifted together)
-        anchor = [s for s in system.state_names if s not in orbit.reduced][0]
-        ds["advance_per_period"] = ((), orbit.advance, {
-            "units": system.states[system.state_names.index(anchor)].unit,
-            "long_name": f"shift of {anchor} along the system's translation over one period of the orbit "
-                         f"(2-DOF: the rig; -advance is the progression into the soil)"})
-        ds.attrs["reduced_coordinates"] = ", ".join(orbit.reduced)
-        ds.attrs["reduced_coordinates_note"] = (f"solved with {anchor} = 0 at every node: the multipliers are those "
-                                                f"of the reduced map (the translation's multiplier 1 removed)")
-    from .._version import __version__
-    ds.attrs.update({
-        "title": f"{pb.name}: periodic orbit, period {n}", "k0": k0,
-        "strobe_period_s": T, "forcing_period": smap.forcing_period_steps, "tol": smap.tol,
-        "newton_iterations": orbit.iterations,
-        "conditioning_multiple_shooting": orbit.conditioning.get("multiple_shooting", math.nan),
-        "conditioning_single_shooting": orbit.conditioning.get("single_shooting", math.nan),
-        "method": "Newton by multiple shooting over the strobe periods; exact Jacobians (variational "
-                  "equations with saltation); multipliers: eigenvalues of the monodromy matrix",
-        "bifurc_version": __version__,
-        **cf_attrs(f"scene {pb.name}, periodic orbit of period {n}"),
-        **pb.attrs()})
-    return ds

@@ -1,28 +1,48 @@
-"""Opening bifurc's netCDF files with one-line errors: missing, unreadable, or of another kind."""
+"""Opening bifurc's netCDF files with one-line errors: missing, unreadable, or of another kind.
+
+A file's kind is its ``bifurc_kind`` attribute (:mod:`bifurc.storage.build`); files written before
+that attribute existed are recognised by their variables (:func:`kind_of`).  Variables renamed
+since (:data:`RENAMED`) get their new names on loading.
+"""
 from __future__ import annotations
 
 from pathlib import Path
 
+from .build import KIND_ATTR, KINDS
 from .files import BadFileError
 
-__all__ = ["KINDS", "kind_of", "load"]
+__all__ = ["KINDS", "ALIASES", "RENAMED", "kind_of", "canonical_kind", "read", "load"]
 
-#: dataset kinds and what writes them
-KINDS = {"diagram": "`bifurc diagram` or bifurc.sweep", "map": "`bifurc map` or bifurc.regime_map", "simulate": "`bifurc simulate` or maps.simulate",
-         "stability": "`bifurc verify`", "accuracy": "`bifurc accuracy`",
-         "orbit": "`bifurc orbit` or bifurc.periodic_orbit"}
+#: former kind names still accepted
+ALIASES = {"simulate": "history"}
+#: variables renamed in bifurc 0.x: old name -> new name (old files are read with the new names)
+RENAMED = {"min_gap": "min_clearance", "min_flight_gap": "min_flight_clearance",
+           "min_gap_per_step": "min_clearance_per_step", "min_flight_gap_per_step": "min_flight_clearance_per_step",
+           "impact_t": "impact_time"}
+#: attributes that are arrays: netCDF gives a one-element array back as a scalar
+ARRAY_ATTRS = ("error_estimate_values",)
+
+
+def canonical_kind(kind: str | None) -> str | None:
+    """``kind`` with a former name replaced ("simulate" -> "history")."""
+    return ALIASES.get(kind, kind)
 
 
 def kind_of(ds) -> str | None:
-    """"diagram", "map", "simulate", "stability", "accuracy", "orbit", or None for a dataset bifurc did not write."""
+    """"diagram", "map", "history", "orbit", "branch", "stability", "accuracy", or None for a dataset
+    bifurc did not write: the ``bifurc_kind`` attribute, else (older files) guessed from the variables."""
+    if KIND_ATTR in ds.attrs:
+        return canonical_kind(str(ds.attrs[KIND_ATTR]))
     if "class_code" in ds and "swept_parameter2" in ds.attrs:
         return "map"
     if "class_code" in ds and "swept_parameter" in ds.attrs:
         return "diagram"
+    if "multiplier_abs" in ds and "point" in ds.dims:
+        return "branch"
     if "multiplier_abs" in ds and "node" in ds.dims:
         return "orbit"
     if "time" in ds.dims and "scene" in ds.attrs:
-        return "simulate"
+        return "history"
     if "verdict" in ds:
         return "stability"
     if "reference_precision" in ds.attrs:
@@ -30,14 +50,30 @@ def kind_of(ds) -> str | None:
     return None
 
 
+def read(path):
+    """Open a netCDF dataset fully into memory (the file is not kept open), old variable names renamed."""
+    import numpy as np
+    import xarray as xr
+    with xr.open_dataset(path) as ds:
+        ds = ds.load()
+    for key in ARRAY_ATTRS:
+        if key in ds.attrs:
+            ds.attrs[key] = np.atleast_1d(ds.attrs[key])
+    old = {k: v for k, v in RENAMED.items() if k in ds.variables and v not in ds.variables}
+    return ds.rename(old) if old else ds
+
+
 def load(path, kind: str | None = None):
-    """Open a bifurc netCDF file fully into memory (``kind``: require that kind, see :data:`KINDS`).
+    """Open a bifurc netCDF file fully into memory (``kind``: require that kind, see :data:`KINDS`;
+    "simulate" is accepted for "history").
 
     Raises FileNotFoundError, IsADirectoryError, or :class:`~bifurc.storage.files.BadFileError` for a file
     that is not readable netCDF (truncated, corrupt) or holds another kind of dataset.
     """
-    from .sweep_dataset import load as read
     path = Path(path)
+    kind = canonical_kind(kind)
+    if kind is not None and kind not in KINDS:
+        raise ValueError(f"dataset kind {kind!r}; allowed: {', '.join(KINDS)}")
     if not path.exists():
         raise FileNotFoundError(f"no dataset at {path}")
     if path.is_dir():
@@ -50,6 +86,7 @@ def load(path, kind: str | None = None):
         raise BadFileError(f"{path} is not a readable netCDF file (truncated or corrupt?): {reason}") from None
     found = kind_of(ds)
     if kind is not None and found != kind:
-        what = f"{'an' if found[0] in 'aeiou' else 'a'} {found} dataset (from {KINDS[found]})" if found else "another kind of dataset"
+        what = (f"{'an' if found[0] in 'aeiou' else 'a'} {found} dataset (from {KINDS.get(found, 'another tool')})"
+                if found else "another kind of dataset")
         raise BadFileError(f"{path} holds {what}; this needs a {kind} dataset (from {KINDS[kind]})")
     return ds

@@ -2,7 +2,7 @@
 
 Dimension names in a row are literal except ``PARAM``, which stands for the swept
 parameter's dimension (named after the parameter, e.g. ``relay_hz``).  The sweep
-dataset (:mod:`bifurc.storage.sweep_dataset`) is assembled from :data:`SWEEP`, :data:`SWEEP_COORDS` and
+dataset (:mod:`bifurc.sweeps.dataset`) is assembled from :data:`SWEEP`, :data:`SWEEP_COORDS` and
 :data:`GRAZING`; :data:`HISTORY` describes the time-history dataset of
 :func:`maps.simulate.simulate` (which still writes its own attributes: ``maps`` never
 imports ``bifurc``; the test suite checks the two agree).  :func:`param_attrs` is the one
@@ -15,13 +15,23 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..codes import ClassCode, Status, flag_attrs
-from ..sweeps.grazing import GRAZING_GAP, GRAZING_SPEED
 
-__all__ = ["Variable", "PARAM", "SWEEP", "SWEEP_COORDS", "GRAZING", "HISTORY", "PROGRESSION", "param_attrs",
+__all__ = ["Variable", "PARAM", "GRAZING_GAP", "GRAZING_SPEED", "grazing_flag", "GRAZING_FLAG", "CURVE_KINDS",
+           "CURVE_COORDS", "CURVE", "CELL_VARIABLES", "curve_parameter", "advance_variable", "SWEEP", "SWEEP_COORDS", "GRAZING", "HISTORY", "PROGRESSION", "param_attrs",
            "state_variable", "flag_variable", "ORBIT", "ORBIT_SCALARS", "BRANCH", "SPECIAL", "SPECIAL_KINDS"]
 
 #: placeholder for the swept parameter's dimension
 PARAM = "<param>"
+
+#: an orbit grazes when its smallest clearance is below GRAZING_GAP [m] without contact,
+#: or its slowest impact is below GRAZING_SPEED [m/s] (stored with every grid dataset)
+GRAZING_GAP = 1e-6
+GRAZING_SPEED = 1e-3
+
+
+def grazing_flag(min_clearance, min_impact_speed):
+    """1 where an orbit grazes: slowest impact < GRAZING_SPEED [m/s] or clearance in [0, GRAZING_GAP) [m]."""
+    return (min_impact_speed < GRAZING_SPEED) | ((min_clearance >= 0) & (min_clearance < GRAZING_GAP))
 
 
 @dataclass(frozen=True)
@@ -85,16 +95,16 @@ SWEEP = [
              "period of the forcing in relay periods (0: incommensurate)"),
     Variable("impacts_per_step", V + ("step",), np.int32, -1, "1",
              "contacts in each recorded relay period (-1: not reached)"),
-    Variable("min_gap_per_step", V + ("step",), float, np.nan, "m",
+    Variable("min_clearance_per_step", V + ("step",), float, np.nan, "m",
              "smallest gap to the stop in each recorded relay period (< 0: penetration)"),
     Variable("min_impact_speed_per_step", V + ("step",), float, np.nan, "m s-1",
              "slowest impact in each recorded relay period (inf: no impact)"),
-    Variable("min_gap", V, float, np.nan, "m", "smallest gap to the stop over the record (< 0: penetration)"),
-    Variable("min_flight_gap", V, float, np.nan, "m",
+    Variable("min_clearance", V, float, np.nan, "m", "smallest gap to the stop over the record (< 0: penetration)"),
+    Variable("min_flight_clearance", V, float, np.nan, "m",
              "lowest free-flight minimum of the gap over the record (inf: none; NaN: no period recorded)"),
     Variable("min_impact_speed", V, float, np.nan, "m s-1",
              "slowest impact over the record (inf: no impact; NaN: no period recorded, see status)"),
-    Variable("impact_t", V + ("impact",), float, np.nan, "s", "contact onset time"),
+    Variable("impact_time", V + ("impact",), float, np.nan, "s", "contact onset time"),
     Variable("impact_velocity", V + ("impact",), float, np.nan, "m s-1",
              "gap rate at contact onset (< 0: toward the stop)"),
     Variable("impact_phase", V + ("impact",), float, np.nan, "1", "relay phase of the contact onset, in [0, 1)"),
@@ -113,7 +123,9 @@ SWEEP = [
     Variable("run_seconds", V, float, np.nan, "s",
              "time spent computing the value (a resumed value keeps the time of the run that computed it)"),
 ]
-#: derived from the per-value minima (bifurc.sweeps.grazing.grazing_flag), not a ValueResult field
+#: the per-value rows of the sweep schema: one number per cell of a regime map
+CELL_VARIABLES = [v for v in SWEEP if v.dims == V]
+#: derived from the per-value minima (grazing_flag), not a ValueResult field
 GRAZING_FLAG = Variable("grazing_flag", V, np.int8, 0, "1",
                         f"orbit grazes: slowest impact < {GRAZING_SPEED} m/s or clearance < {GRAZING_GAP} m",
                         _yes_no("clear grazing"))
@@ -214,6 +226,35 @@ SPECIAL = [
     Variable("special_note", SP, str, "", "1", "what was found, or why it was not located"),
 ]
 
+#: what a two-parameter curve continues (bifurc.orbits.curves)
+CURVE_KINDS = ("fold", "period_doubling", "grazing")
+CP, C = ("curve_point",), ("curve",)
+#: two-parameter curves of a branch dataset: points along ``curve_point``, one row per curve along ``curve``
+CURVE_COORDS = [
+    Variable("curve_point", CP, np.int64, 0, "1", "point of a curve"),
+    Variable("curve", C, np.int64, 0, "1", "two-parameter curve"),
+]
+CURVE = [
+    Variable("curve_id", CP, np.int16, -1, "1", "curve the point belongs to"),
+    Variable("curve_residual", CP, float, np.nan, "1", "largest scaled residual of the defining system"),
+    Variable("curve_kind", C, np.int8, -1, "1", "what the curve continues",
+             (("flag_values", np.arange(len(CURVE_KINDS), dtype=np.int8)), ("flag_meanings", " ".join(CURVE_KINDS)))),
+    Variable("curve_special", C, np.int32, -1, "1", "the special point the curve starts from"),
+    Variable("curve_stop_reason", C, str, "", "1", "why the curve stopped"),
+]
+
+
+def curve_parameter(name: str) -> Variable:
+    """The row of one of a curve's two parameters along ``curve_point`` (units: the parameter's, PARAM)."""
+    return Variable(f"curve_{name}", CP, float, np.nan, PARAM, f"{name} along the curve")
+
+
+def advance_variable(state, dims) -> Variable:
+    """The row of a translation-invariant orbit's shift of the anchor ``state`` over one period."""
+    return Variable("advance_per_period", dims, float, np.nan, state.unit,
+                    f"shift of {state.name} along the system's translation over one period of the orbit")
+
+
 T = ("time",)
 I = ("impact",)  # noqa: E741
 #: the time-history dataset of maps.simulate (states: their own units and long names, see state_variable)
@@ -241,7 +282,7 @@ HISTORY = [
     Variable("stuck_fraction", (), float, np.nan, "1", "fraction of the window in which the soil holds the rig"),
 ]
 
-#: 2-DOF sweeps: the progression measures of each value over its recorded window (bifurc.storage.sweep_dataset
+#: 2-DOF sweeps: the progression measures of each value over its recorded window (bifurc.sweeps.dataset
 #: computes them from the stored samples and contacts with maps.progression)
 PROGRESSION = [
     Variable("progression_rate", V, float, np.nan, "m s-1",

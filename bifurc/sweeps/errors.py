@@ -1,6 +1,6 @@
 """Numerical error estimate of a sweep: re-runs at tol/100 and the one-step map error.
 
-Returns the keywords of :func:`bifurc.storage.sweep_dataset.add_error_estimate`.  NaN means nothing of
+Returns the keywords of :func:`bifurc.sweeps.dataset.add_error_estimate`.  NaN means nothing of
 that kind was measured.  :class:`ErrorEstimate` chooses the sampled values (cheap) and hands out
 the integrations as tasks with small picklable payloads (a sweep runs them on its workers);
 :func:`error_estimate` runs them here.
@@ -51,7 +51,7 @@ class ErrorEstimate:
 
     ``tasks``: the integrations as [(cost [relay periods], fn, args)], each returning
     ``(output, seconds)`` (:func:`bifurc.sweeps.executor.timed`); :meth:`result` takes their Futures (in
-    the order of ``tasks``) and assembles the keywords of :func:`bifurc.storage.sweep_dataset.add_error_estimate`.
+    the order of ``tasks``) and assembles the keywords of :func:`bifurc.sweeps.dataset.add_error_estimate`.
     """
 
     def __init__(self, results, values, job, branch, sample, step_points=32):
@@ -80,7 +80,7 @@ class ErrorEstimate:
         return prev.end_state if prev is not None and prev.status == Status.OK else None
 
     def result(self, futures) -> dict:
-        """The keywords of :func:`bifurc.storage.sweep_dataset.add_error_estimate` from the tasks' Futures;
+        """The keywords of :func:`bifurc.sweeps.dataset.add_error_estimate` from the tasks' Futures;
         ``seconds``: the tasks' run times summed."""
         outputs = [f.result() for f in futures]
         seconds = sum(s for _, s in outputs)
@@ -102,7 +102,7 @@ class ErrorEstimate:
                 sensitive_err = np.fmax(sensitive_err, err)
             if a.n_impacts == b.n_impacts:
                 if a.n_impacts and i in good:
-                    time_err = np.fmax(time_err, float(np.nanmax(np.abs(a.impact_t - b.impact_t))))
+                    time_err = np.fmax(time_err, float(np.nanmax(np.abs(a.impact_time - b.impact_time))))
             else:
                 counts_differ += 1
         return dict(sample_values=self.values[self.idx], point_err=float(point_err), time_err=float(time_err),

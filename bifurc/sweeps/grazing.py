@@ -17,25 +17,17 @@ import numpy as np
 from maps.parameters import ParameterError
 
 from ..codes import ClassCode, Status
+from ..storage.schema import GRAZING_GAP, GRAZING_SPEED, grazing_flag
 
 __all__ = ["GRAZING_GAP", "GRAZING_SPEED", "GRAZE_SHRINK", "grazing_flag", "locate_grazing",
            "locate_grazing_values", "grazing_brackets", "locate_bracket", "bracket_cost", "GrazingBracket",
            "BranchFollower"]
 
-#: an orbit grazes when its smallest clearance is below GRAZING_GAP [m] without contact,
-#: or its slowest impact is below GRAZING_SPEED [m/s]
-GRAZING_GAP = 1e-6
-GRAZING_SPEED = 1e-3
 #: a located sign change counts as a graze when the bisection shrank the clearance at its end
 #: with fewer impacts to this fraction of its value at the grid neighbour
 GRAZE_SHRINK = 0.1
 #: classes between which a bracket can hold a graze (a periodic orbit on at least one side)
 _BRACKETABLE = (ClassCode.PERIODIC, ClassCode.PERIODIC_NO_IMPACT, ClassCode.NOT_CONVERGED)
-
-
-def grazing_flag(min_gap, min_impact_speed):
-    """1 where an orbit grazes: slowest impact < GRAZING_SPEED [m/s] or clearance in [0, GRAZING_GAP) [m]."""
-    return (min_impact_speed < GRAZING_SPEED) | ((min_gap >= 0) & (min_gap < GRAZING_GAP))
 
 
 def locate_grazing(signed_clearance, a: float, b: float, *, xtol: float) -> dict:
@@ -203,4 +195,4 @@ class BranchFollower:
         if r.n_impacts > self.impacts:
             return -r.min_impact_speed
         self.value, self.start = p, r.end_state
-        return r.min_gap if self.impacts == 0 else r.min_flight_gap
+        return r.min_clearance if self.impacts == 0 else r.min_flight_clearance

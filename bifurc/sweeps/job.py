@@ -55,12 +55,12 @@ class ValueResult:
     class_reason: str                       # why a value is not-converged ("" otherwise)
     forcing_period: int                     # forcing period in relay periods (0: incommensurate)
     impacts_per_step: np.ndarray            # (record,) contacts per recorded period, -1: not reached
-    min_gap_per_step: np.ndarray            # (record,)
+    min_clearance_per_step: np.ndarray            # (record,)
     min_impact_speed_per_step: np.ndarray   # (record,)
-    min_gap: float
-    min_flight_gap: float
+    min_clearance: float
+    min_flight_clearance: float
     min_impact_speed: float
-    impact_t: np.ndarray                    # (max_impacts,) NaN-padded
+    impact_time: np.ndarray                    # (max_impacts,) NaN-padded
     impact_velocity: np.ndarray
     impact_phase: np.ndarray
     impact_penetration: np.ndarray
@@ -243,7 +243,7 @@ class ValueJob:
         point_flags = np.full((self.record + 1, len(o.flag_names)), np.nan)
         if o.point_flags is not None:
             point_flags[:keep] = o.point_flags[:keep]
-        gaps = o.min_gap_per_step
+        gaps = o.min_clearance_per_step
         speeds = o.min_impact_speed_per_step
         per_step = lambda a, fill: np.pad(a[:self.record], (0, max(0, self.record - a.size)),  # noqa: E731
                                           constant_values=fill)
@@ -254,14 +254,14 @@ class ValueJob:
             impacts_per_period=cls["impacts_per_period"], recurrence=cls["recurrence"],
             convergence_rate=cls["convergence_rate"], lyapunov=lyap[0], lyapunov_low=lyap[1], lyapunov_high=lyap[2],
             class_reason=cls.get("reason", ""), forcing_period=smap.forcing_period_steps,
-            impacts_per_step=per_step(o.impacts_per_step, -1), min_gap_per_step=per_step(gaps, np.nan),
+            impacts_per_step=per_step(o.impacts_per_step, -1), min_clearance_per_step=per_step(gaps, np.nan),
             min_impact_speed_per_step=per_step(speeds, np.nan),
-            min_gap=float(np.min(gaps)) if gaps.size else math.nan,
-            min_flight_gap=float(np.min(o.min_flight_gap_per_step)) if gaps.size else math.nan,
+            min_clearance=float(np.min(gaps)) if gaps.size else math.nan,
+            min_flight_clearance=float(np.min(o.min_flight_clearance_per_step)) if gaps.size else math.nan,
             min_impact_speed=float(np.min(speeds)) if speeds.size else math.nan,  # NaN: no step recorded
-            impact_t=pad(o.impact_t), impact_velocity=pad(o.impact_velocity), impact_phase=pad(o.impact_phase),
+            impact_time=pad(o.impact_time), impact_velocity=pad(o.impact_velocity), impact_phase=pad(o.impact_phase),
             impact_penetration=pad(o.impact_penetration), impact_duration=pad(o.impact_duration),
-            n_impacts=o.impact_t.size, status=Status.of(o.status), failure_time=o.failure_time,
+            n_impacts=o.impact_time.size, status=Status.of(o.status), failure_time=o.failure_time,
             failure=o.failure, n_steps=steps, transient_used=used, run_seconds=seconds,
             final_state=o.final_state, final_flags=o.final_flags,
             held_time=float(o.mode_time[keep - 1]) if o.mode_time is not None and len(o.mode_time) >= keep else math.nan)

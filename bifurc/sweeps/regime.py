@@ -25,13 +25,10 @@ from .errors import error_estimate
 from ..storage.files import guarded_output
 from .job import ValueJob
 from .resume import Parts, manifest
-from ..storage.schema import GRAZING_FLAG, PARAM, SWEEP
+from ..storage.schema import CELL_VARIABLES
 from .sweep import _job, run_stats, run_values
 
 __all__ = ["regime_map", "CellJob", "CELL_VARIABLES"]
-
-#: the per-value rows of the sweep schema: one number per cell
-CELL_VARIABLES = [v for v in SWEEP if v.dims == ("branch", PARAM)]
 
 
 @dataclass(frozen=True)
@@ -90,8 +87,9 @@ def regime_map(scene="thesis-1dof", param="relay_hz", values=None, param2="V", v
     parts = Parts(path, manifest(job, cells, "map")) if path else None
     results, resumed, seconds, workers = run_values(job, cells, "independent", parts, workers, scheduler, chunk_size,
                                                     progress, f"{pb.name} {param} x {param2}")
-    from ..storage import sweep_dataset as storage  # xarray: imported where the Dataset is built
-    ds = to_dataset(results["independent"], job)
+    from . import dataset as storage  # xarray: imported where the Dataset is built
+    from ..storage.files import write_netcdf
+    ds = storage.map_dataset(results["independent"], job)
     run_stats(ds, job, seconds, resumed, workers)
     if error_sample:
         est = error_estimate(results, cells, job, "independent", error_sample)
@@ -99,36 +97,7 @@ def regime_map(scene="thesis-1dof", param="relay_hz", values=None, param2="V", v
         ds = storage.add_error_estimate(ds, sample_values=[a for a, _ in sampled], **est)
         ds.attrs["error_estimate_values2"] = np.asarray([b for _, b in sampled] or [np.nan], float)
     if path:
-        storage.save(ds, path, overwrite=True)  # refused earlier unless overwrite (guarded_output)
+        write_netcdf(ds, path, overwrite=True)  # refused earlier unless overwrite (guarded_output)
         parts.remove()
     return ds
 
-
-def to_dataset(results, job):
-    """The map Dataset from the cells' ValueResults (None: not computed -> the row's fill)."""
-    import xarray as xr
-
-    from .grazing import grazing_flag
-    from ..storage.sweep_dataset import run_attrs
-    system, scene_name = job.problem.system, job.problem.name
-    par, par2 = job.param, job.param2
-    shape = (len(job.values), len(job.values2))
-    coords = {}
-    for name, vals in ((par, job.values), (par2, job.values2)):
-        p = system.parameter(name)
-        coords[name] = (name, np.asarray(vals, float), {"units": p.unit, "long_name": p.long_name})
-    ds = xr.Dataset(coords=coords)
-    for var in CELL_VARIABLES:
-        data = np.full(len(results), var.fill, dtype=object if var.dtype is str else var.dtype)
-        for k, r in enumerate(results):
-            if r is not None:
-                data[k] = getattr(r, var.name)
-        ds[var.name] = ((par, par2), var.finish(data).reshape(shape), var.attrs())
-    ds[GRAZING_FLAG.name] = grazing_flag(ds.min_gap, ds.min_impact_speed).astype(np.int8).assign_attrs(
-        GRAZING_FLAG.attrs())
-    p1, p2 = system.parameter(par), system.parameter(par2)
-    ds.attrs.update({"title": f"{scene_name}: regime map over {par} and {par2}", "scene": scene_name,
-                     "swept_parameter": par, "swept_parameter_units": p1.unit,
-                     "swept_parameter2": par2, "swept_parameter2_units": p2.unit, "mode": "independent",
-                     **run_attrs(job, f"scene {scene_name}, regime map over {par} and {par2}", skip=(par, par2))})
-    return ds

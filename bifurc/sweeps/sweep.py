@@ -15,7 +15,7 @@ processes, still open and warm, while this process builds the Dataset (independe
 process pool; here otherwise).
 
 The pieces: :mod:`bifurc.sweeps.job` (one value), :mod:`bifurc.sweeps.executor` (many values),
-:mod:`bifurc.sweeps.grazing`, :mod:`bifurc.sweeps.errors`, :mod:`bifurc.storage.sweep_dataset`.
+:mod:`bifurc.sweeps.grazing`, :mod:`bifurc.sweeps.errors`, :mod:`bifurc.sweeps.dataset`.
 """
 from __future__ import annotations
 
@@ -34,7 +34,7 @@ from maps.provenance import recorded
 from ..codes import Status
 from .errors import ErrorEstimate
 from .executor import WorkerPool, default_workers, map_values, submit_all
-from ..storage.files import guarded_output
+from ..storage.files import guarded_output, write_netcdf
 from .grazing import GRAZING_GAP, GRAZING_SPEED, bracket_cost, grazing_brackets, locate_bracket
 from .job import ValueJob
 from .lyapunov import METHODS
@@ -54,7 +54,7 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
           ac_sign=None, dc_law=None, soil=None, compaction=None, path=None,
           progress=True, workers=None, scheduler=None, error_sample=3, max_transient=None, batch_size=4,
           chunk_size=None, overwrite=False):
-    """Sweep ``param`` over ``values``; returns an xarray Dataset (see bifurc.storage.sweep_dataset).
+    """Sweep ``param`` over ``values``; returns an xarray Dataset (see bifurc.sweeps.dataset).
 
     Parameters
     ----------
@@ -115,7 +115,7 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
                                                         progress, f"{job.problem.name} {param}", pool=pool)
         warm = pool if resumed < values.size else None   # every value resumed: no worker started, the tail runs here
         tail = _start_tail(results, values, job, MODES[mode][0], grazing, grazing_xtol, error_sample, warm)
-        from ..storage import sweep_dataset as storage  # xarray: imported where the Dataset is built (worker processes start faster)
+        from . import dataset as storage  # xarray: imported where the Dataset is built (worker processes start faster)
         ds = storage.to_dataset(results, values, job, mode)
         run_stats(ds, job, seconds, resumed, workers)
         found, estimate = tail()
@@ -124,7 +124,7 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
     if error_sample:
         ds = storage.add_error_estimate(ds, **estimate)
     if path:
-        storage.save(ds, path, overwrite=True)  # refused earlier unless overwrite (guarded_output)
+        write_netcdf(ds, path, overwrite=True)  # refused earlier unless overwrite (guarded_output)
         parts.remove()
     return ds
 
@@ -133,8 +133,8 @@ def _start_tail(results, values, job, branch, grazing, xtol, error_sample, pool)
     """Start the grazing bisections (if ``grazing``, to ``xtol``) and the error estimate's
     integrations (``error_sample`` values, 0: none) together, the longest first, on
     ``pool``'s workers (None: here, now).  Returns a function that waits for them and gives
-    (located grazes for :func:`bifurc.storage.sweep_dataset.add_grazing`, keywords of
-    :func:`bifurc.storage.sweep_dataset.add_error_estimate` or None)."""
+    (located grazes for :func:`bifurc.sweeps.dataset.add_grazing`, keywords of
+    :func:`bifurc.sweeps.dataset.add_error_estimate` or None)."""
     brackets = grazing_brackets(results, values, xtol) if grazing else []
     est = ErrorEstimate(results, values, job, branch, error_sample) if error_sample else None
     tasks = [(bracket_cost(job, br), locate_bracket, (job, br)) for br in brackets] + (est.tasks if est else [])

@@ -31,8 +31,8 @@ from maps.impacts import impact_table
 from maps.parameters import ParameterError
 from maps.provenance import cf_attrs, recorded
 from maps.problem import problem
-from maps.simulate import dc_law_attrs
 
+from ..storage.build import dataset
 from . import baselines
 
 __all__ = ["reference_solution", "toolkit_solution", "work_precision", "plot_work_precision",
@@ -55,7 +55,7 @@ DEFAULT_LADDERS = {
 
 def _problem(scene, preset=None, params=None, x0=None, circuit=None, ac_sign=None, dc_law=None):
     pb = problem(scene, preset, params, x0, circuit=circuit, ac_sign=ac_sign, dc_law=dc_law)
-    return pb.scene, dict(pb.values), pb.state_vector()
+    return pb.scene, dict(pb.values), pb.state_vector(), pb
 
 
 def reference_solution(scene, t_end, preset=None, params=None, x0=None, precision="longdouble",
@@ -65,7 +65,7 @@ def reference_solution(scene, t_end, preset=None, params=None, x0=None, precisio
     ``precision`` is ``"longdouble"`` (tol 1e-19) or ``"real128"`` (tol 1e-28, ~12 s to compile).
     """
     import heyoka as hy
-    sc, values, y0 = _problem(scene, preset, params, x0, circuit, ac_sign, dc_law)
+    sc, values, y0, pb = _problem(scene, preset, params, x0, circuit, ac_sign, dc_law)
     if precision == "longdouble":
         fp, tol = np.longdouble, tol or 1e-19
     elif precision == "real128":
@@ -84,7 +84,7 @@ def reference_solution(scene, t_end, preset=None, params=None, x0=None, precisio
     bound = final_state_error(out["loose"][0], y_ref)
     return {"y": y_ref, "impact_times": t_imp, "run_seconds": secs, "compile_seconds": comp,
             "precision": precision, "tol": tol, "error_bound": bound, "scene": sc, "params": values,
-            "y0": y0}
+            "y0": y0, "problem": pb}
 
 
 def final_state_error(y, y_ref) -> float:
@@ -193,7 +193,7 @@ def _baseline(method, values, y0, t_end, tol, dc_law, repeats, max_seconds, min_
 
 def _to_dataset(rows, ref, t_end) -> xr.Dataset:
     col = {k: np.array([r[k] for r in rows]) for k in rows[0]}
-    ds = xr.Dataset(coords={"run": ("run", np.arange(len(rows)), {"units": "1", "long_name": "run number"})})
+    ds = dataset("accuracy", {"run": ("run", np.arange(len(rows)), {"units": "1", "long_name": "run number"})})
     ds["method"] = ("run", col["method"].astype(str), {"long_name": "integration method"})
     ds["tol"] = ("run", col["tol"], {"units": "1", "long_name":
                                      "tolerance (rtol = atol; for rk4-bisection the step h in s)"})
@@ -206,16 +206,13 @@ def _to_dataset(rows, ref, t_end) -> xr.Dataset:
     ds["n_impacts"] = ("run", col["n_impacts"], {"units": "1", "long_name": "number of contacts"})
     sc = ref["scene"]
     ds.attrs.update({
-        "scene": sc.name, **dc_law_attrs(sc.options), "t_end": t_end, "reference_precision": ref["precision"],
+        **ref["problem"].attrs(), "t_end": t_end, "reference_precision": ref["precision"],
         "reference_tol": float(ref["tol"]), "reference_error_bound": ref["error_bound"],
         "reference_n_impacts": int(ref["impact_times"].size),
         "reference_final_state": np.array(ref["y"], dtype=float),
         "reference_run_seconds": ref["run_seconds"], "initial_state": np.asarray(ref["y0"], float),
         **cf_attrs(f"scene {sc.name}, work-precision study"),
     })
-    for k, v in ref["params"].items():
-        ds.attrs[f"param_{k}"] = v
-        ds.attrs[f"param_{k}_units"] = sc.system.parameter(k).unit
     return ds
 
 

@@ -32,6 +32,8 @@ from maps.impacts import free_flight_minima, impact_table
 from maps.provenance import cf_attrs, recorded
 from maps.problem import problem
 
+from ..storage.build import dataset
+
 __all__ = ["Case", "CASES", "QUICK", "VERDICTS", "COMPARED_EVENTS", "case_scene", "run_case", "run_suite",
            "compare_runs", "event_log", "sentence", "write_report"]
 
@@ -333,7 +335,7 @@ def _flag_attrs(long_name):
 
 
 def _dataset(rows, quick) -> xr.Dataset:
-    ds = xr.Dataset(coords={"case": ("case", [r["case"] for r in rows], {"long_name": "case name", "units": "1"})})
+    ds = dataset("stability", {"case": ("case", [r["case"] for r in rows], {"long_name": "case name", "units": "1"})})
     for name, (units, long_name) in _VARS.items():
         ds[name] = ("case", np.array([r.get(name, math.nan) for r in rows], dtype=float),
                     {"units": units, "long_name": long_name})

@@ -108,7 +108,7 @@ def reference(law, size, ac_rms) -> dict:
     run = run_scene(SCENE, t_b, params=p, soil=law, tol=TOL, on_segment=on_segment)
     ts, x2 = (np.array(v) for v in zip(*sorted(dict(samples).items())))
     imp = impact_table(run)
-    m = progression_measures(ts, x2, x2_start=0.0, relay_hz=W, impact_t=imp["t"], impact_velocity=imp["velocity"],
+    m = progression_measures(ts, x2, x2_start=0.0, relay_hz=W, impact_time=imp["t"], impact_velocity=imp["velocity"],
                              m1=run.params["m1"], held=held_time(run.flag_log, t_a, t_b, held_mode(run.system)),
                              window=(t_a, t_b))
     mode = held_mode(run.system)       # releases: the held mode left within the window (guards and settle alike)

@@ -1,11 +1,12 @@
-"""The sweep Dataset: assembly from the schema table, CF attributes, netCDF save and load.
+"""The diagram and regime-map Datasets: assembly from the schema table, CF attributes and provenance.
 
 Dimensions: ``branch`` ("independent", or "up"/"down" in follow mode), the
 swept parameter (named after it, e.g. ``relay_hz``), ``sample`` (recorded
 stroboscopic points 0..record), ``step`` (recorded periods), ``impact``
 (contacts in the recorded window, NaN-padded; ``n_impacts`` counts them) and
 ``grazing`` (located grazing values).  Every variable is a row of
-:mod:`bifurc.storage.schema`.
+:mod:`bifurc.storage.schema`; :func:`to_dataset` (kind "diagram") and :func:`map_dataset` (kind
+"map") share the row stacking (:func:`_stack`), the grazing flag and the run attributes.
 """
 from __future__ import annotations
 
@@ -18,18 +19,19 @@ import xarray as xr
 
 from maps.provenance import cf_attrs
 
-from .._version import __version__
-from ..sweeps.classify import lyapunov_threshold
-from ..sweeps.lyapunov import INTERVAL_METHOD, METHODS
-from ..codes import Status
-from ..sweeps.grazing import GRAZING_GAP, GRAZING_SPEED, grazing_flag
-from .schema import (GRAZING, GRAZING_FLAG, PARAM, PROGRESSION, SWEEP, SWEEP_COORDS, flag_variable,
-                     state_variable)
-from .files import write_netcdf
-from ..sweeps.job import FORCING_PERIODS
 from maps.progression import held_mode, progression_measures
 
-__all__ = ["to_dataset", "run_attrs", "add_grazing", "add_error_estimate", "save", "load", "STATUS_MEANINGS"]
+from .._version import __version__
+from ..codes import Status
+from ..storage.build import dataset
+from ..storage.schema import (CELL_VARIABLES, GRAZING, GRAZING_FLAG, GRAZING_GAP, GRAZING_SPEED, PARAM, PROGRESSION,
+                              SWEEP, SWEEP_COORDS, flag_variable, grazing_flag, state_variable)
+from .classify import lyapunov_threshold
+from .job import FORCING_PERIODS
+from .lyapunov import INTERVAL_METHOD, METHODS
+
+__all__ = ["to_dataset", "map_dataset", "run_attrs", "add_grazing", "add_error_estimate",
+           "STATUS_MEANINGS"]
 
 STATUS_MEANINGS = " ".join(s.label for s in Status)
 
@@ -42,6 +44,12 @@ def _stack(results, branches, var, sizes, par, get=None):
             if r is not None:
                 out[bi, i] = getattr(r, var.name) if get is None else get(r)
     return var.finish(out)
+
+
+def _put_grazing_flag(ds, dims) -> None:
+    """The grazing flag from the per-value minima (schema.grazing_flag)."""
+    ds[GRAZING_FLAG.name] = (dims, grazing_flag(ds.min_clearance, ds.min_impact_speed).values.astype(np.int8),
+                             GRAZING_FLAG.attrs())
 
 
 def _progression(results, branches, job, sizes, par, values, mode) -> dict:
@@ -62,7 +70,7 @@ def _progression(results, branches, job, sizes, par, values, mode) -> dict:
             t = (r.transient_used + np.arange(n + 1)) / W
             held = 0.0 if held_by is None else r.held_time      # the time in the mode, from its flag changes
             m = progression_measures(t, r.points[:n + 1, ix2], x2_start=x2_start, relay_hz=W,
-                                     impact_t=r.impact_t, impact_velocity=r.impact_velocity, m1=p["m1"], held=held)
+                                     impact_time=r.impact_time, impact_velocity=r.impact_velocity, m1=p["m1"], held=held)
             if mode != "independent":
                 m["time_to_depth"] = np.nan
             if r.n_impacts > job.max_impacts:
@@ -84,7 +92,7 @@ def to_dataset(results, values, job, mode) -> xr.Dataset:
     coords = {c.name: (c.dims, index.get(c.name, np.arange(sizes[c.name])), c.attrs()) for c in SWEEP_COORDS}
     coords = {"branch": coords.pop("branch"), par: (par, np.asarray(values, float),
                                                   {"units": p.unit, "long_name": p.long_name}), **coords}
-    ds = xr.Dataset(coords=coords)
+    ds = dataset("diagram", coords)
     for j, st in enumerate(system.states):
         var = state_variable(st, ("branch", PARAM, "sample"), ", stroboscopic")
         ds[st.name] = (var.dims_for(par), _stack(results, branches, var, sizes, par, lambda r: r.points[:, j]),
@@ -98,11 +106,34 @@ def to_dataset(results, values, job, mode) -> xr.Dataset:
     if "x2" in system.state_names and "relay_hz" in system.param_names:
         for var, data in _progression(results, branches, job, sizes, par, values, mode).items():
             ds[var.name] = (var.dims_for(par), data, var.attrs())
-    ds[GRAZING_FLAG.name] = grazing_flag(ds.min_gap, ds.min_impact_speed).astype(np.int8).assign_attrs(
-        GRAZING_FLAG.attrs())
+    _put_grazing_flag(ds, ("branch", par))
     ds.attrs.update({"title": f"{scene_name}: {par} sweep ({mode})", "scene": scene_name, "swept_parameter": par,
                      "swept_parameter_units": p.unit, "mode": mode,
                      **run_attrs(job, f"scene {scene_name}, {par} sweep ({mode})", skip=(par,))})
+    return ds
+
+
+def map_dataset(results, job) -> xr.Dataset:
+    """The regime-map Dataset from the cells' ValueResults, flat and row-major over (param, param2)
+    (None: not computed -> the row's fill); ``job`` is a :class:`bifurc.sweeps.regime.CellJob`."""
+    system, name = job.problem.system, job.problem.name
+    par, par2 = job.param, job.param2
+    coords = {}
+    for p_name, vals in ((par, job.values), (par2, job.values2)):
+        p = system.parameter(p_name)
+        coords[p_name] = (p_name, np.asarray(vals, float), {"units": p.unit, "long_name": p.long_name})
+    ds = dataset("map", coords)
+    cells = {"cells": list(results)}        # one "branch" of every cell: the diagram's stacking, then reshaped
+    sizes = {"branch": 1, "cells": len(results)}
+    for var in CELL_VARIABLES:
+        flat = _stack(cells, ["cells"], var, sizes, "cells")[0]
+        ds[var.name] = ((par, par2), flat.reshape(len(job.values), len(job.values2)), var.attrs())
+    _put_grazing_flag(ds, (par, par2))
+    p1, p2 = system.parameter(par), system.parameter(par2)
+    ds.attrs.update({"title": f"{name}: regime map over {par} and {par2}", "scene": name,
+                     "swept_parameter": par, "swept_parameter_units": p1.unit,
+                     "swept_parameter2": par2, "swept_parameter2_units": p2.unit, "mode": "independent",
+                     **run_attrs(job, f"scene {name}, regime map over {par} and {par2}", skip=(par, par2))})
     return ds
 
 
@@ -168,23 +199,4 @@ def add_error_estimate(ds, sample_values, point_err, time_err, counts_differ, se
                                  "chaotic, quasi-periodic or unconverged values that difference "
                                  "(error_map_points_rel_sensitive) reflects sensitivity, not accuracy",
     })
-    return ds
-
-
-def save(ds: xr.Dataset, path, overwrite: bool = False) -> None:
-    """Write atomically to netCDF (a reader never sees a partial file)."""
-    write_netcdf(ds, path, overwrite=overwrite)
-
-
-#: attributes that are arrays: netCDF gives a one-element array back as a scalar
-ARRAY_ATTRS = ("error_estimate_values",)
-
-
-def load(path) -> xr.Dataset:
-    """Open a sweep dataset fully into memory (the file is not kept open)."""
-    with xr.open_dataset(path) as ds:
-        ds = ds.load()
-    for key in ARRAY_ATTRS:
-        if key in ds.attrs:
-            ds.attrs[key] = np.atleast_1d(ds.attrs[key])
     return ds
