@@ -627,13 +627,17 @@ class EventCallback:
 def commensurate_steps(frequencies, period: float, max_steps: int = 1000) -> int:
     """Smallest q <= max_steps with q * period * f an integer (to 1e-9) for every frequency f [Hz],
     else 0 (incommensurate within ``max_steps``)."""
-    q = np.arange(1, int(max_steps) + 1)          # every candidate at once (a loop cost ~1 ms a value)
+    ratios = [float(period) * f for f in frequencies]
+    for q in range(1, min(int(max_steps), 32) + 1):   # the common small q, without numpy's overhead
+        if all(abs(q * r - round(q * r)) <= 1e-9 * max(1.0, q * r) for r in ratios):
+            return q
+    q = np.arange(33, int(max_steps) + 1)          # every larger candidate at once (a loop cost ~1 ms a value)
     whole = np.ones(q.size, dtype=bool)
-    for f in frequencies:
-        x = q * (float(period) * f)
+    for r in ratios:
+        x = q * r
         whole &= np.abs(x - np.round(x)) <= 1e-9 * np.maximum(1.0, x)
     hit = np.flatnonzero(whole)
-    return int(hit[0]) + 1 if hit.size else 0
+    return int(q[hit[0]]) if hit.size else 0
 
 
 def call_cfunc(f, y, pars, t: float = 0.0) -> np.ndarray:
