@@ -9,7 +9,7 @@ import numpy as np
 
 from .sweeps.classify import CLASS_LABELS, describe
 
-__all__ = ["classification_report", "class_at", "report", "map_report", "history_report", "orbit_report",
+__all__ = ["classification_report", "class_at", "undecided_summary", "report", "map_report", "history_report", "orbit_report",
            "branch_report", "accuracy_report", "stability_report", "REPORTS"]
 
 
@@ -39,6 +39,41 @@ def _intervals(values, texts):
     return out
 
 
+#: not-converged reasons by kind: (words the reason starts with or contains, what it means)
+UNDECIDED_KINDS = (
+    ("contain a threshold", "exponent undecided: a trajectory's interval contains the chaos threshold"),
+    ("within +-", "exponent near zero without positive evidence of a torus"),
+    ("not stationary", "not stationary at the budget (intermittency or a long transient)"),
+    ("contracting", "contracting, yet no period up to --max-period"),
+    ("still decays", "a transient still approaching a periodic orbit"),
+    ("near ", "a periodic orbit still converging"),
+    ("other trajectories", "the exponent needs other trajectories"),
+)
+
+
+def undecided_summary(ds) -> list[str]:
+    """One line per kind of not-converged reason of a diagram or map: its count and the one-line
+    remedy (the largest budget its values' evidence suggests); empty when every value is decided."""
+    codes = np.asarray(ds.class_code.values).ravel()
+    reasons = np.asarray(ds.class_reason.values).ravel()
+    need = np.asarray(ds.budget_needed.values).ravel() if "budget_needed" in ds else np.zeros(codes.size)
+    bad = np.flatnonzero(codes == CLASS_LABELS.index("not-converged"))
+    if not bad.size:
+        return []
+    groups: dict = {}
+    for i in bad:
+        kind = next((what for key, what in UNDECIDED_KINDS if key in str(reasons[i])), str(reasons[i]) or "no reason")
+        groups.setdefault(kind, []).append(int(need[i]))
+    budget = ds.attrs.get("budget_periods", "?")
+    out = [f"{bad.size} not-converged (budget {budget} relay periods per value):"]
+    for kind, needs in sorted(groups.items(), key=lambda kv: -len(kv[1])):
+        wanted = max(needs)
+        remedy = (f"try --budget {int(min(wanted, 10**6))}" if 0 < wanted < 10**6 else
+                  "a longer budget is unlikely to decide (near the threshold)" if wanted else "see class_reason")
+        out.append(f"  {len(needs)}: {kind}; {remedy}")
+    return out
+
+
 def classification_report(ds, at=None) -> str:
     """Markdown: settings, class counts, classes at chosen values, intervals, grazing, errors.
 
@@ -61,13 +96,16 @@ def classification_report(ds, at=None) -> str:
                  + " (classes in relative coordinates, the common shift of bar, rig and soil front removed; the progression per period in the class text)"
                  if a.get("soil", "none") != "none" else ""),
               f"- initial state: {a.get('initial_state', '')}",
-              f"- classification: period n, a multiple of the forcing period q (`forcing_period`; none "
+              f"- classification (anytime: an undecided value is extended up to {a.get('budget_periods', '?')} relay "
+              f"periods, transient included): period n, a multiple of the forcing period q (`forcing_period`; none "
               f"when q = 0) up to {a['max_period']}, when the recurrence distance <= "
-              f"rtol {a['classification_rtol']:g} x scale + atol {a['classification_atol']:g} over the whole "
-              f"record; otherwise a decaying recurrence is *not-converged*, and a Lyapunov exponent over "
-              f"{a.get('lyapunov_steps', '?')} periods decides chaotic (> {a.get('lyapunov_threshold', float('nan')):.3g}) "
-              "vs quasi-periodic, unless its 95 % interval contains the threshold; undecided is *not-converged* "
-              f"(`class_reason` says why); exponent by {a.get('lyapunov_method', 'companion (not recorded)')}",
+              f"rtol {a['classification_rtol']:g} x scale + atol {a['classification_atol']:g} over the stationary "
+              f"window (`transient_used`, `record_used`); otherwise chaotic when every one of "
+              f"{a.get('lyapunov_trajectories', 4)} tangent trajectories' exponent interval lies above the threshold "
+              f"2 ln(n)/n, quasi-periodic when they lie within it and the 0-1 test and a converged rotation number "
+              f"show a torus; else *not-converged* (`class_reason` says why, `budget_needed` what would decide it); "
+              f"exponent by {a.get('lyapunov_method', 'companion (not recorded)')}",
+              f"- period convention: {_convention(ds)}",
               "- parameters: " + ", ".join(f"{k[6:]} = {a[k]:g} {a.get(k + '_units', '')}" for k in keys), ""]
     codes = ds.class_code.values
     lines += ["## Class counts", "", "| class | " + " | ".join(map(str, ds.branch.values)) + " |",
@@ -77,6 +115,9 @@ def classification_report(ds, at=None) -> str:
         if any(counts):
             lines.append(f"| {label} | " + " | ".join(str(int(n)) for n in counts) + " |")
     lines.append("")
+    undecided = undecided_summary(ds)
+    if undecided:
+        lines += ["## Undecided values", ""] + [f"- {line.strip()}" for line in undecided] + [""]
     if at is None:
         at = [v for v in range(int(math.ceil(values.min())), int(math.floor(values.max())) + 1)]
     if len(at):
@@ -106,6 +147,17 @@ def classification_report(ds, at=None) -> str:
               f"< {a.get('grazing_gap_threshold_m')} m): {n_graze}.", ""]
     lines += _error_lines(ds)
     return "\n".join(lines) + "\n"
+
+
+def _convention(ds) -> str:
+    """The two period conventions, and where they differ."""
+    if "period_mechanical" not in ds:
+        return "full state (this file stores no mechanical period)"
+    full, mech = ds.period.values, ds.period_mechanical.values
+    differ = int(np.sum((full > 0) & (mech > 0) & (full != mech)))
+    return (f"`period`/`impacts_per_period` count the full state (electrical states included); "
+            f"`period_mechanical`/`impacts_per_period_mechanical` the mechanical states alone (the thesis' "
+            f"period-n); they differ at {differ} value(s) (`period_difference` says why)")
 
 
 def _error_lines(ds) -> list[str]:

@@ -220,7 +220,7 @@ class HybridSystem:
                  settle_if: tuple | Callable | None = None, projections: Mapping | None = None,
                  mode_projections: Mapping | None = None, translation: Mapping[str, float] | None = None,
                  strobe_period: Callable | None = None, forcing: Sequence[str] | Callable | None = None,
-                 options=None):
+                 options=None, mechanical: Sequence[str] | None = None):
         """``rhs(sym) -> list of expressions`` and ``guards(sym) -> list of Guard`` receive a
         :class:`Symbols` giving ``sym.x``/``sym['x']`` for states, parameters and flags,
         and ``sym.t`` for time.  ``settle(t, y, flags, params) -> flags`` makes the flags
@@ -260,6 +260,7 @@ class HybridSystem:
         self.strobe_period = strobe_period
         self.forcing = forcing
         self.options = options
+        self.mechanical = tuple(mechanical) if mechanical is not None else None
         self.structure = (name,) + tuple(structure)
         names = [s.name for s in self.states] + [p.name for p in self.parameters] + list(self.flag_defaults)
         if len(set(names)) != len(names):
@@ -282,6 +283,8 @@ class HybridSystem:
         for sw in self.switches:
             if sw.flag not in self.flag_defaults or sw.frequency not in self._param_index:
                 raise ValueError(f"switch {sw} names an unknown flag or parameter")
+        if self.mechanical is not None and not set(self.mechanical) <= set(self.state_names):
+            raise ValueError(f"mechanical states {self.mechanical} of {name!r} are not all states")
         if forcing is not None and not callable(forcing):
             self.forcing = tuple(forcing)
             unknown = [f for f in self.forcing if f not in self._param_index]
@@ -335,6 +338,12 @@ class HybridSystem:
             if not math.isfinite(v):
                 raise ParameterError(f"initial state {n!r} must be finite, got {v}")
         return y
+
+    @property
+    def mechanical_index(self) -> list:
+        """Indices of the mechanical states (every state when none are declared)."""
+        names = self.mechanical if self.mechanical is not None else self.state_names
+        return [self.state_names.index(n) for n in names]
 
     # ----- clock -------------------------------------------------------
     def strobe_period_of(self, params: Mapping[str, float]) -> float | None:

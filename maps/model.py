@@ -796,7 +796,8 @@ def build_system(options: ModelOptions | None = None, **kw) -> HybridSystem:
         switches=switches, outputs=lambda s: _outputs(o, s), structure=o.key(),
         halt_flags=("escaped",), gap=_gap(o), settle=settle,
         mode_rule=lambda y, params, flags, given=(): start_flags(owner["system"], o, y, params, flags, given),
-        translation=translation, forcing=("f_mains",) if o.ac else None, options=o, **stick_decl)
+        translation=translation, forcing=("f_mains",) if o.ac else None, options=o,
+        mechanical=[st.name for st in o.state_list() if st.name not in ("i", "z", "q")], **stick_decl)
     owner["system"] = system
     _SYSTEMS[o.key()] = system
     return system

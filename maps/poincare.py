@@ -103,6 +103,63 @@ class MapOrbit:
             out[:m] = tangent_stretch(self.tangent_start, self.tangent[:m], scale, self.tangent_shift)
         return out
 
+    def then(self, more: "MapOrbit") -> "MapOrbit":
+        """This orbit followed by ``more``, which starts where this one ended (its first point is
+        this one's last; its tangent vector, if any, continues this one's direction)."""
+        cat = np.concatenate
+        tangent = None
+        if self.tangent is not None and more.tangent is not None:
+            tangent = np.vstack([self.tangent, more.tangent])
+        mode_time = None
+        if self.mode_time is not None and more.mode_time is not None:
+            mode_time = cat([self.mode_time, self.mode_time[-1] + more.mode_time[1:]])
+        flags = None if self.point_flags is None or more.point_flags is None else \
+            np.vstack([self.point_flags, more.point_flags[1:]])
+        return replace(
+            more, times=cat([self.times, more.times[1:]]), points=np.vstack([self.points, more.points[1:]]),
+            impacts_per_step=cat([self.impacts_per_step, more.impacts_per_step]),
+            min_clearance_per_step=cat([self.min_clearance_per_step, more.min_clearance_per_step]),
+            min_impact_speed_per_step=cat([self.min_impact_speed_per_step, more.min_impact_speed_per_step]),
+            impact_time=cat([self.impact_time, more.impact_time]),
+            impact_velocity=cat([self.impact_velocity, more.impact_velocity]),
+            impact_phase=cat([self.impact_phase, more.impact_phase]),
+            impact_penetration=cat([self.impact_penetration, more.impact_penetration]),
+            impact_duration=cat([self.impact_duration, more.impact_duration]),
+            min_flight_clearance_per_step=cat([self.min_flight_clearance_per_step, more.min_flight_clearance_per_step]),
+            n_steps=self.n_steps + more.n_steps, run_seconds=self.run_seconds + more.run_seconds,
+            point_flags=flags, signature=list(self.signature) + list(more.signature),
+            tangent_start=self.tangent_start, tangent=tangent, mode_time=mode_time)
+
+    def since(self, k: int) -> "MapOrbit":
+        """The orbit from its point ``k`` on (steps k, k+1, ...; the impacts after times[k])."""
+        if k <= 0:
+            return self
+        keep = self.impact_time > self.times[k]
+        tangent_start, tangent = self.tangent_start, self.tangent
+        if tangent is not None and len(tangent) >= k:
+            last = tangent[k - 1]
+            tangent_start, tangent = last / np.linalg.norm(last), tangent[k:]
+        return replace(
+            self, times=self.times[k:], points=self.points[k:], impacts_per_step=self.impacts_per_step[k:],
+            min_clearance_per_step=self.min_clearance_per_step[k:],
+            min_impact_speed_per_step=self.min_impact_speed_per_step[k:],
+            impact_time=self.impact_time[keep], impact_velocity=self.impact_velocity[keep],
+            impact_phase=self.impact_phase[keep], impact_penetration=self.impact_penetration[keep],
+            impact_duration=self.impact_duration[keep],
+            min_flight_clearance_per_step=self.min_flight_clearance_per_step[k:],
+            point_flags=None if self.point_flags is None else self.point_flags[k:],
+            signature=list(self.signature)[k:], tangent_start=tangent_start, tangent=tangent,
+            mode_time=None if self.mode_time is None else self.mode_time[k:] - self.mode_time[k])
+
+    @property
+    def tangent_direction(self) -> np.ndarray | None:
+        """The unit tangent vector at the orbit's end (to continue it), or None."""
+        if self.tangent is None or not len(self.tangent):
+            return None
+        last = np.asarray(self.tangent[-1], dtype=float)
+        norm = np.linalg.norm(last)
+        return last / norm if np.isfinite(norm) and norm > 0 else None
+
     def state(self, k: int) -> HybridState:
         """The hybrid state (continuous state and flags) at point k (negative: from the end)."""
         flags = None if self.point_flags is None else dict(zip(self.flag_names, self.point_flags[k]))
@@ -378,40 +435,50 @@ class StroboscopicMap:
         res = self._engine.run([job])[0]
         return self._orbit_from(res, job)
 
-    def orbits(self, overrides: list, x0, n, *, transient: int = 0, flags: dict | None = None,
-               method: str = "auto", batch_size: int = 4, tangent: bool = False) -> list[MapOrbit]:
+    def orbits(self, overrides: list, x0, n, *, transient: int | list = 0, flags: dict | list | None = None,
+               method: str = "auto", batch_size: int = 4, tangent: bool = False, k0: int | list = 0,
+               tangent_start: list | None = None) -> list[MapOrbit]:
         """One orbit per parameter set: ``overrides[i]`` (a dict) changes this map's parameters.
 
-        Every orbit starts from ``x0`` (a state, or a list of one state per set) at t = 0, as
-        :meth:`orbit`, and records ``n`` steps (an int, or a list of one per set).  ``method``:
+        Every orbit starts from ``x0`` (a state, or a list of one state per set) at sample ``k0``
+        (an int, or one per set; t = the k0-th sample time), as :meth:`orbit`, and records ``n``
+        steps (an int, or a list of one per set).  ``flags``: the start mode (a dict, or one per
+        set; None: the system's rule or the hybrid states' own flags).  ``method``:
         "batch" (heyoka batch mode, ``batch_size`` SIMD lanes: the transient without stops at
         observation-only guards, then the recorded window with them), "scalar" (one after the
         other), "auto" (batch where the engine supports the system).  Results agree to
         round-off, amplified by chaotic dynamics.  ``tangent``: a tangent vector is integrated
-        with each recorded window from :func:`maps.tangent.start_direction`
-        (:meth:`MapOrbit.tangent_stretch`).
+        with each recorded window from :func:`maps.tangent.start_direction`, or from
+        ``tangent_start[i]`` (a unit vector, to continue one) (:meth:`MapOrbit.tangent_stretch`).
         """
-        lengths = n if isinstance(n, (list, tuple)) else [n] * len(overrides)
-        if len(lengths) != len(overrides):
-            raise ParameterError(f"n: {len(lengths)} record lengths for {len(overrides)} parameter sets")
+        m_sets = len(overrides)
+        per_set = lambda v, name: v if isinstance(v, (list, tuple)) else [v] * m_sets  # noqa: E731
+        lengths, starts_k, transients = per_set(n, "n"), per_set(k0, "k0"), per_set(transient, "transient")
+        if not len(lengths) == len(starts_k) == len(transients) == m_sets:
+            raise ParameterError(f"n, k0 and transient: one per parameter set ({m_sets}), got {len(lengths)}, "
+                                 f"{len(starts_k)} and {len(transients)}")
         lengths = [int(validate_value("n", m, 1, 1e8)) for m in lengths]
-        transient = int(validate_value("transient", transient, 0, 1e8))
+        starts_k = [int(validate_value("k0", k, 0, 1e12)) for k in starts_k]
+        transients = [int(validate_value("transient", t, 0, 1e8)) for t in transients]
         params = [self.system.validate(dict(self.params, **o)) for o in overrides]
         starts = x0 if isinstance(x0, list) else [x0] * len(params)
+        modes = flags if isinstance(flags, list) else [flags] * len(params)
         jobs, recorded = [], self._recorded(tangent)
-        for p, s, m in zip(params, starts, lengths):
+        for i, (p, s, m, k, tr) in enumerate(zip(params, starts, lengths, starts_k, transients)):
             y, given, _ = _split(s)
-            jobs.append(self._job(p, self.system.state_vector(y), flags if flags is not None else given,
-                                  0, transient, m, **recorded))
+            kw = dict(recorded, tangent=np.asarray(tangent_start[i], dtype=float)) \
+                if tangent and tangent_start is not None else recorded
+            jobs.append(self._job(p, self.system.state_vector(y), modes[i] if modes[i] is not None else given,
+                                  k, tr, m, **kw))
         method = self._method(method, batch_size)
         clock = _time.perf_counter()
         if method == "scalar":
             results = self._engine.run(jobs)
         else:
             full = self._batch_engine(batch_size, observations=True, tangent=tangent)
-            if transient:
+            if any(transients):
                 first = self._batch_engine(batch_size, observations=False).run([replace(j, record=0, log=False) for j in jobs])
-                second = full.run([replace(j, y0=r.final_state, flags=r.final_flags, k0=transient, transient=0)
+                second = full.run([replace(j, y0=r.final_state, flags=r.final_flags, k0=j.k0 + j.transient, transient=0)
                                    for j, r in zip(jobs, first)])
                 results = []
                 for pre, r in zip(first, second):

@@ -146,7 +146,13 @@ def add_grid_options(parser, what: str = "value") -> None:
     """The options of a grid of independent ``what``s (diagram values, map cells): the record per
     ``what``, the period search, Lyapunov exponents, where it runs, and its outputs."""
     parser.add_argument("--transient", type=int, default=300, help=f"relay periods discarded per {what}")
-    parser.add_argument("--record", type=int, default=100, help=f"relay periods recorded per {what}")
+    parser.add_argument("--record", type=int, default=100,
+                        help=f"relay periods recorded per {what} before it is first judged; an undecided {what} is "
+                             f"extended up to --budget (its stored samples are the first --record of the judged window)")
+    parser.add_argument("--budget", type=int, default=None,
+                        help=f"relay periods per {what}, transient included, that an undecided {what} may be "
+                             f"extended to (default 3000); a {what} still undecided then is not-converged with its "
+                             f"reason and the budget its evidence suggests")
     parser.add_argument("--max-record", type=int, default=None,
                         help=f"extend the record of a {what} whose forcing period q exceeds record/3 (q <= "
                              f"--max-period) to 3 q relay periods, at most this many (default 3 x --record)")

@@ -17,7 +17,8 @@ def register(subparsers):
     p.add_argument("--to", dest="stop", type=float, required=True, help="last value")
     p.add_argument("--n", type=int, default=100, help="number of values (default 100)")
     p.add_argument("--max-transient", type=int, default=None,
-                   help="extend the transient of values still converging, up to this many relay periods")
+                   help="(superseded by --budget) extend values still converging up to this many relay periods: "
+                        "the budget is at least this plus --record")
     p.add_argument("--mode", choices=("independent", "follow"), default="independent",
                    help="independent: every value from x0; follow: each value from the previous one's final "
                         "state, up then down")
@@ -39,7 +40,7 @@ def run(args) -> int:
     values = np.linspace(args.start, args.stop, args.n)
     ds = sweep(args.scene, args.param, values, mode=args.mode, transient=args.transient, record=args.record,
                max_record=args.max_record, max_period=args.max_period, lyapunov=not args.no_lyapunov, path=args.output,
-               max_transient=args.max_transient, batch_size=args.batch_size,
+               max_transient=args.max_transient, batch_size=args.batch_size, budget=args.budget,
                progress=not args.quiet, workers=args.workers, scheduler=args.scheduler, overwrite=args.force,
                **kw)
     if args.plot:
@@ -53,12 +54,16 @@ def run(args) -> int:
     print(f"{a['scene']}: {args.param} {args.start:g}..{args.stop:g} ({args.n} values, {args.mode}) in "
           f"{a['values_seconds']:.1f} s of computation ({a['sweep_seconds']:.1f} s wall this run{resumed}): "
           f"{counts}; {_grazing_text(ds)}")
+    from ..report import undecided_summary
+    for line in undecided_summary(ds):
+        print(f"  {line}")
     if "error_map_points_rel" in a:
         print(f"  error estimate (tol/100): one map step {a.get('error_map_step_rel', float('nan')):.1e} relative; "
               f"whole re-runs of periodic values: map points {a['error_map_points_rel']:.1e}, impact times "
               f"{a['error_impact_time_s']:.1e} s (nan: none sampled)"
-              + (f"; {a['error_sensitive_values']} non-periodic value(s) re-run differ by "
-                 f"{a['error_map_points_rel_sensitive']:.1e} (sensitivity, not error)"
+              + (f"; {a['error_sensitive_values']} value(s) re-run differ by "
+                 f"{a['error_map_points_rel_sensitive']:.1e} (sensitivity, not error: non-periodic, or periodic "
+                 f"values whose re-run reaches another attractor from the same start)"
                  if a["error_sensitive_values"] else ""))
     print(f"  wrote {args.output}" + (f" and {args.plot}" if args.plot else ""))
     return 0

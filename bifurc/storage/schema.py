@@ -91,6 +91,25 @@ SWEEP = [
     Variable("lyapunov_high", V, float, np.nan, "1",
              "upper end of the exponent's 95 % interval, per relay period (NaN: none)"),
     Variable("class_reason", V, str, "", "1", "why the value is not-converged (empty otherwise)"),
+    Variable("budget_needed", V, np.int64, 0, "1",
+             "relay periods per value that the evidence of a not-converged value suggests would decide it "
+             "(0: decided; see --budget)"),
+    Variable("period_mechanical", V, np.int16, -1, "1",
+             "period of the mechanical states alone (positions, velocities), in relay periods (0: not periodic): "
+             "the thesis' period-n"),
+    Variable("impacts_per_period_mechanical", V, np.int16, -1, "1",
+             "impacts per mechanical period (-1: not periodic)"),
+    Variable("period_difference", V, str, "", "1",
+             "why the mechanical period differs from the full state's (empty: it does not)"),
+    Variable("lyapunov_spread", V, float, np.nan, "1",
+             "standard deviation of the exponent between its tangent trajectories, per relay period (NaN: one)"),
+    Variable("lyapunov_trajectories", V, np.int16, 0, "1",
+             "tangent trajectories on the same attractor the exponent and its interval come from (0: none)"),
+    Variable("rotation_number", V, float, np.nan, "1",
+             "rotation number of a quasi-periodic orbit per relay period, in [0, 1/2] (NaN: none)"),
+    Variable("zero_one_k", V, float, np.nan, "1",
+             "Gottwald-Melbourne 0-1 test statistic K on the window (near 0 regular, near 1 chaotic; NaN: "
+             "not tested)"),
     Variable("forcing_period", V, np.int32, 0, "1",
              "period of the forcing in relay periods (0: incommensurate)"),
     Variable("impacts_per_step", V + ("step",), np.int32, -1, "1",
@@ -116,10 +135,10 @@ SWEEP = [
     Variable("failure_time", V, float, np.nan, "s", "time of escape or failure (NaN: none)"),
     Variable("n_steps", V, np.int64, 0, "1", "Taylor steps"),
     Variable("record_used", V, np.int32, -1, "1",
-             "relay periods recorded, classified and used for the exponent (record, extended up to max_record "
-             "to hold three forcing periods; fewer after an escape); the stored samples are its first record"),
+             "relay periods in the window the class was judged on (the stationary part of the record, extended "
+             "while undecided up to the budget; fewer after an escape); the stored samples are its first record"),
     Variable("transient_used", V, np.int64, -1, "1",
-             "transient discarded before the record, in relay periods (extended where still converging)"),
+             "relay periods before the judged window: the transient, and the record's parts found not stationary"),
     Variable("run_seconds", V, float, np.nan, "s",
              "time spent computing the value (a resumed value keeps the time of the run that computed it)"),
 ]

@@ -38,6 +38,7 @@ import numpy as np
 from ..codes import ClassCode
 
 __all__ = ["CLASS_LABELS", "FLAG_MEANINGS", "classify_orbit", "candidate_periods", "describe", "code_of",
+           "mechanical_period",
            "lyapunov_threshold",
            "state_scale", "ClassCode"]
 
@@ -156,6 +157,35 @@ def classify_orbit(points, impacts_per_step, *, max_period: int = 16, rtol: floa
                        f"contracting (exponent {lyapunov:.3g}) yet no period up to {max_period}")
     why = "no period found" if candidates else "no candidate period fits the record (see candidate_periods)"
     return _result("not-converged", best_n, -1, best_d, rate, rtol, atol, f"{why} and no exponent")
+
+
+def mechanical_period(points, impacts_per_step, period: int, mechanical, *, rtol: float = 1e-6,
+                      atol: float = 1e-9, impacts: int = -1) -> tuple[int, int, str]:
+    """(period, impacts per period, why it differs) of the mechanical states alone (the columns
+    ``mechanical`` of ``points`` (N, d)) on an orbit of full-state ``period`` n with ``impacts``
+    per period: the smallest divisor p of n at which the mechanical states recur (the recurrence
+    test of :func:`classify_orbit`) and every window of p steps holds the same impacts.  ``why``
+    names what repeats only every n: the other (electrical) states' sign flip, or their own period.
+    (0, -1, "") when the orbit is not periodic."""
+    if period <= 0:
+        return 0, -1, ""
+    p = np.asarray(points, dtype=float)
+    mech = list(mechanical)
+    other = [j for j in range(p.shape[1]) if j not in mech]
+    s = state_scale(p, atol)
+    imp = np.asarray(impacts_per_step, dtype=np.int64)
+    for d in (k for k in range(1, period) if period % k == 0):
+        if p.shape[0] <= 2 * d:
+            break
+        diff = np.abs(p[d:, mech] - p[:-d, mech]) / (rtol * s[mech] + atol)
+        windows = np.convolve(imp, np.ones(d, dtype=np.int64), mode="valid")
+        if float(np.max(diff)) <= 1.0 and windows.size and np.all(windows == windows[0]):
+            flip = other and float(np.max(np.abs(p[d:, other] + p[:-d, other]) / (rtol * s[other] + atol))) <= 1.0
+            why = (f"the other states change sign every {d} strobe periods (the relay-switched forcing's "
+                   f"half-period symmetry): they repeat every {period}" if flip else
+                   f"the other states repeat only every {period} strobe periods")
+            return d, int(windows[0]), why
+    return period, int(impacts), ""
 
 
 def candidate_periods(q: int, max_period: int) -> list[int]:

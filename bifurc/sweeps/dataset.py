@@ -28,7 +28,13 @@ from ..storage.schema import (CELL_VARIABLES, GRAZING, GRAZING_FLAG, GRAZING_GAP
                               SWEEP, SWEEP_COORDS, flag_variable, grazing_flag, state_variable)
 from .classify import lyapunov_threshold
 from .job import FORCING_PERIODS
+from .anytime import ANYTIME_METHOD, TRAJECTORIES
 from .lyapunov import INTERVAL_METHOD, METHODS
+
+#: how the stored exponent interval is made
+INTERVAL_METHOD_K = (f"the wider of a 95 % Student-t prediction interval for another trajectory's mean exponent from "
+                     f"the spread of {TRAJECTORIES} tangent trajectories (the value's own and perturbed copies of its "
+                     f"state; lyapunov_spread) and their batch-means intervals ({INTERVAL_METHOD})")
 
 __all__ = ["to_dataset", "map_dataset", "run_attrs", "add_grazing", "add_error_estimate",
            "STATUS_MEANINGS"]
@@ -145,13 +151,19 @@ def run_attrs(job, history, skip=()) -> dict:
         "transient_periods": job.transient,
         "recorded_periods": job.record, "max_record_periods": job.record_cap,
         "record_extension": f"a record holding fewer than {FORCING_PERIODS} forcing periods q (q <= max_period) is "
-                            f"extended to {FORCING_PERIODS} q relay periods, at most max_record_periods (record_used); "
-                            "the exponent and its threshold use each value's whole record unless lyapunov_steps is set",
+                            f"extended to {FORCING_PERIODS} q relay periods, at most max_record_periods; an undecided "
+                            f"value is then extended (doubling its window) up to budget_periods, its non-stationary "
+                            f"first halves discarded (transient_used); it is judged on that window (record_used)",
+        "budget_periods": job.spent,
+        "classification_method": ANYTIME_METHOD,
         "tol": job.tol, "max_period": job.max_period,
         "max_transient_periods": job.max_transient if job.max_transient is not None else job.transient,
         "classification_rtol": job.rtol, "classification_atol": job.atol,
         "lyapunov_steps": job.exponent_steps, "lyapunov_threshold": lyapunov_threshold(job.exponent_steps),
-        "lyapunov_interval_method": INTERVAL_METHOD, "lyapunov_method": METHODS[job.lyapunov_method],
+        "lyapunov_threshold_rule": "2 ln(n)/n (at least 2e-3) for an n-step window (the finite-window bias on a "
+                                   "sheared torus); a value's own threshold uses its window",
+        "lyapunov_interval_method": INTERVAL_METHOD_K, "lyapunov_method": METHODS[job.lyapunov_method],
+        "lyapunov_trajectories": TRAJECTORIES,
         "initial_state": ", ".join(f"{k}={v:g}" for k, v in job.x0.items()),
         "grazing_gap_threshold_m": GRAZING_GAP, "grazing_speed_threshold_m_s": GRAZING_SPEED,
         "bifurc_version": __version__, "heyoka_version": hy.__version__, "numpy_version": np.__version__,
@@ -179,7 +191,7 @@ def add_grazing(ds: xr.Dataset, found) -> xr.Dataset:
 
 
 def add_error_estimate(ds, sample_values, point_err, time_err, counts_differ, seconds, tight_tol,
-                       sensitive_err=math.nan, n_sensitive=0, step_err=math.nan) -> xr.Dataset:
+                       sensitive_err=math.nan, n_sensitive=0, step_err=math.nan, not_robust=()) -> xr.Dataset:
     """Record the numerical error estimate next to the run time (NaN: nothing of that kind sampled)."""
     ds.attrs.update({
         "error_estimate_values": np.asarray(sample_values, float) if len(sample_values) else np.array([math.nan]),
@@ -191,12 +203,16 @@ def add_error_estimate(ds, sample_values, point_err, time_err, counts_differ, se
         "error_map_points_rel_sensitive": sensitive_err,
         "error_sensitive_values": int(n_sensitive),
         "error_estimate_seconds": seconds,
+        "error_periodic_not_robust": np.asarray(not_robust, float) if len(not_robust) else np.array([math.nan]),
         "error_estimate_method": "error_map_step_rel: one relay period from the same recorded states of the "
                                  "sampled values at tol and at tol/100, largest |difference| scaled by each "
                                  "state's largest magnitude (the error of every map point, any class); "
                                  "error_map_points_rel, error_impact_time_s: whole values re-run at tol/100 from "
                                  "the same start, over periodic values (global error; NaN: none re-run); at "
                                  "chaotic, quasi-periodic or unconverged values that difference "
-                                 "(error_map_points_rel_sensitive) reflects sensitivity, not accuracy",
+                                 "(error_map_points_rel_sensitive) reflects sensitivity, not accuracy; a periodic "
+                                 "value whose re-run lands elsewhere (beyond 1e-3 at every phase: another attractor "
+                                 "from the same start, after a transient that amplifies round-off) is listed in "
+                                 "error_periodic_not_robust and counted with the sensitive ones",
     })
     return ds

@@ -12,6 +12,8 @@ from dataclasses import replace
 
 import numpy as np
 
+from maps.hybrid import HybridState
+
 from .classify import state_scale
 from ..codes import Status
 from .executor import submit_all, timed
@@ -27,6 +29,11 @@ def _spread(pool, k):
     if not pool or k <= 0:
         return []
     return [pool[j] for j in np.unique(np.linspace(0, len(pool) - 1, k).round().astype(int))]
+
+
+#: a periodic value re-run at tol/100 whose window differs by more than this (scaled, at any phase)
+#: reached another attractor from the same start: its label is not robust to the tolerance
+ROBUST = 1e-3
 
 
 def error_estimate(results, values, job, branch, sample, step_points=32) -> dict:
@@ -64,11 +71,15 @@ class ErrorEstimate:
         self.tight = tight = replace(job, tol=job.tol / TIGHTER, lyapunov=False)
         # costs [relay periods] only order the tasks: a period at tol/TIGHTER counted as two at tol
         length = lambda i: 2.0 * (res[i].transient_used + res[i].record_used)  # noqa: E731
+        # the same window at tol/TIGHTER: from the same start, to the same sample index, recorded as long
+        window = lambda i: (res[i].transient_used, min(res[i].record_used, job.record))  # noqa: E731
         if branch == "independent":      # one batch pass for the whole sample, job.batch_size values at once
             passes = math.ceil(len(self.idx) / max(1, job.batch_size))
-            reruns = [(passes * max(map(length, self.idx)), timed, (tight.run_many, values[self.idx]))] if self.idx else []
+            reruns = [(passes * max(map(length, self.idx)), timed,
+                       (rerun, tight, values[self.idx], [window(i) for i in self.idx], None))] if self.idx else []
         else:
-            reruns = [(length(i), timed, (tight, values[i], self._start(i))) for i in self.idx]
+            reruns = [(length(i), timed, (rerun, tight, values[[i]], [window(i)], [self._start(i)]))
+                      for i in self.idx]
         steps = [(3.0 * min(step_points, res[i].record_used), timed,
                   (map_step_error, res[i].points[:res[i].record_used + 1], res[i].transient_used, values[i], job,
                    tight, step_points)) for i in self.idx]
@@ -85,30 +96,51 @@ class ErrorEstimate:
         outputs = [f.result() for f in futures]
         seconds = sum(s for _, s in outputs)
         n = len(outputs) - len(self.idx)            # the re-runs' tasks, then one map step task per value
-        reruns = outputs[0][0] if self.branch == "independent" and n else [out for out, _ in outputs[:n]]
+        reruns = outputs[0][0] if self.branch == "independent" and n else [out[0] for out, _ in outputs[:n]]
         res, good, job = self.res, self.good, self.job
         point_err = sensitive_err = step_err = time_err = math.nan
-        counts_differ = 0
+        counts_differ, not_robust = 0, []
         for i, b, (step, _) in zip(self.idx, reruns, outputs[n:]):
             a = res[i]
             step_err = np.fmax(step_err, step)
-            if b.status != Status.OK:
+            if b.status != "ok":
                 counts_differ += 1
                 continue
-            err = float(np.nanmax(np.abs(a.points - b.points) / state_scale(a.points, job.atol)))
-            if i in good:
+            m = min(a.points.shape[0], b.points.shape[0])
+            scale = state_scale(a.points[:m], job.atol)
+            err = float(np.nanmax(np.abs(a.points[:m] - b.points[:m]) / scale))
+            if i in good and err > ROBUST:      # the same orbit at another phase, or another attractor?
+                err = min([err] + [float(np.nanmax(np.abs(a.points[j:m] - b.points[:m - j]) / scale))
+                                   for j in range(1, min(int(a.period), m - 1))])
+                if err > ROBUST:
+                    not_robust.append(float(self.values[i]))
+            if i in good and err <= ROBUST:
                 point_err = np.fmax(point_err, err)
             else:
                 sensitive_err = np.fmax(sensitive_err, err)
-            if a.n_impacts == b.n_impacts:
-                if a.n_impacts and i in good:
-                    time_err = np.fmax(time_err, float(np.nanmax(np.abs(a.impact_time - b.impact_time))))
+            ta = a.impact_time[np.isfinite(a.impact_time) & (a.impact_time <= b.times[-1])]
+            if ta.size == b.impact_time.size:
+                if ta.size and i in good:
+                    time_err = np.fmax(time_err, float(np.max(np.abs(ta - b.impact_time))))
             else:
                 counts_differ += 1
         return dict(sample_values=self.values[self.idx], point_err=float(point_err), time_err=float(time_err),
                     counts_differ=counts_differ, seconds=seconds, tight_tol=self.tight.tol,
-                    sensitive_err=float(sensitive_err), n_sensitive=len([i for i in self.idx if i not in good]),
-                    step_err=float(step_err))
+                    sensitive_err=float(sensitive_err),
+                    n_sensitive=len([i for i in self.idx if i not in good]) + len(not_robust),
+                    step_err=float(step_err), not_robust=not_robust)
+
+
+def rerun(job, values, windows, starts=None) -> list:
+    """The orbits of ``values`` under ``job`` (a tighter tolerance's) over the given windows
+    [(transient, record)]: from x0 (or ``starts[i]``, a (state, flags) pair), the transient, then
+    the record: the same sample indexes as the run they check, without its judgement."""
+    smap = job.warm()
+    over = [job.at(v) for v in values]
+    x0 = [job.x0_state() if s is None else HybridState(s[0], s[1]) for s in (starts or [None] * len(over))]
+    flags = [job.problem.flags0 if s is None else None for s in (starts or [None] * len(over))]
+    return smap.orbits(over, x0, [r for _, r in windows], transient=[t for t, _ in windows], flags=flags,
+                       batch_size=job.batch_size)
 
 
 def map_step_error(pts, k0, value, job, tight, n_points) -> float:

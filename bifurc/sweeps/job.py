@@ -16,9 +16,11 @@ from maps.poincare import StroboscopicMap
 from maps.problem import Problem
 from maps.translation import reduce_points, translation_basis
 
-from .classify import DECAY_RATE, candidate_periods, classify_orbit, lyapunov_threshold, state_scale
+from maps.hybrid import HybridState
+
+from .anytime import BUDGET, Value
+from .classify import candidate_periods, classify_orbit, mechanical_period, state_scale
 from ..codes import ClassCode, Status
-from .lyapunov import exponent_interval, largest_lyapunov
 
 __all__ = ["ValueJob", "ValueResult", "RECORD_FACTOR", "FORCING_PERIODS"]
 
@@ -75,6 +77,14 @@ class ValueResult:
     final_state: np.ndarray
     final_flags: dict
     held_time: float = math.nan             # [s] time the soil holds the rig over the stored samples (NaN: no soil)
+    period_mechanical: int = 0              # period of the mechanical states alone (0: not periodic)
+    impacts_per_period_mechanical: int = -1  # impacts per mechanical period (-1: not periodic)
+    period_difference: str = ""             # why the mechanical period differs from the full one ("": it does not)
+    lyapunov_spread: float = math.nan       # standard deviation of the exponent between trajectories
+    lyapunov_trajectories: int = 0          # tangent trajectories the exponent comes from (0: none)
+    rotation_number: float = math.nan       # a torus' rotation number per strobe period, in [0, 1/2] (NaN: none)
+    zero_one_k: float = math.nan            # the 0-1 test's K on the window (NaN: not tested)
+    budget_needed: int = 0                  # relay periods the evidence suggests (0: decided)
 
     @property
     def label(self) -> str:
@@ -110,6 +120,7 @@ class ValueJob:
     batch_size: int = 4               # SIMD lanes of run_many (heyoka batch mode); 1: scalar path
     max_record: int | None = None   # cap of the record extension [relay periods] (None: RECORD_FACTOR x record)
     lyapunov_method: str = "tangent"  # "tangent": a tangent vector with the batch engine's record; "companion"
+    budget: int = BUDGET              # relay periods per value, transient included (anytime classification)
 
     @property
     def params(self) -> dict:
@@ -159,9 +170,11 @@ class ValueJob:
         smap.set_params(**self.at(value))
         y0, flags = (self.x0_state(), self.problem.flags0) if start is None else start
         clock = _time.perf_counter()
-        o = smap.orbit(y0, self.record_for(smap.forcing_period_steps), transient=self.transient, flags=flags,
-                       tangent=self._tangent)
-        return self._complete(value, smap, o, clock)
+        q = smap.forcing_period_steps
+        o = smap.orbit(y0, self.record_for(q), transient=self.transient, flags=flags, tangent=self._tangent)
+        v = self._value(smap, value, dict(smap.params), q, o, _time.perf_counter() - clock)
+        self._anytime(smap, [v], "scalar")
+        return self._pack(smap, v)
 
     @property
     def exponent_steps(self) -> int:
@@ -172,10 +185,14 @@ class ValueJob:
     def _exponent_steps(self, record: int) -> int:
         return record if self.lyapunov_steps is None else self.lyapunov_steps
 
-    def _lyapunov_needed(self, o, cls) -> bool:
-        return self.lyapunov and o.status == "ok" and not ClassCode(cls["code"]).periodic
+    @property
+    def spent(self) -> int:
+        """A value's budget [relay periods of its own trajectory, transient included]: ``budget``,
+        at least ``max_transient`` + the record (the former extension's limit)."""
+        extra = self.max_transient + self.record if self.max_transient is not None else 0
+        return max(self.budget, extra, self.transient + self.record_cap)
 
-    def _lyapunov_scale(self, o):
+    def _scale(self, o):
         return state_scale(self._reduced(o), self.atol)
 
     def _reduced(self, o):
@@ -188,53 +205,106 @@ class ValueJob:
         """Integrate a tangent vector with the record (the exponent's method)."""
         return self.lyapunov and self.lyapunov_method == "tangent"
 
-    def _tangent_exponent(self, o, steps: int):
-        """(exponent, low, high) over the first ``steps`` of the tangent vector integrated with ``o``
-        (None: none was, or the record is shorter)."""
-        st = o.tangent_stretch(self._lyapunov_scale(o))
-        return None if st is None or steps > st.size else exponent_interval(st[:steps])
-
     def _classify(self, o, q: int, **kw):
         """Classify orbit ``o`` of a map whose forcing repeats every ``q`` samples (0: never)."""
         return classify_orbit(self._reduced(o), o.impacts_per_step, max_period=self.max_period, rtol=self.rtol,
                               periods=candidate_periods(q, self.max_period),
                               atol=self.atol, status=o.status, **kw)
 
-    def _complete(self, value, smap, o, clock, lyap=None, seconds=None, cls=None) -> ValueResult:
-        """Classification (integrating on while still converging, up to ``max_transient``), the
-        Lyapunov exponent where not periodic (``lyap``: already computed along ``o``), packing.
-        ``cls``: ``o``'s classification without an exponent, if already made.  The value's run
-        time is the time since ``clock``, plus ``seconds`` already spent on it (a batch's share)."""
-        used, steps = self.transient, o.n_steps
-        q = smap.forcing_period_steps        # smap holds this value's parameters
-        record = self.record_for(q)
-        cls = self._classify(o, q) if cls is None else cls
-        limit = self.max_transient if self.max_transient is not None else self.transient
-        while self._extends(o, cls, used):  # still converging: integrate on
-            extra = max(1, min(used, limit - used))  # doubling, up to the limit
-            o = smap.orbit(o.final_state, record, transient=extra, flags=o.final_flags,
-                           t0=smap.sample_time(used + record) - smap.sample_time(0), tangent=self._tangent)
-            used, steps, lyap = used + record + extra, steps + o.n_steps, None
-            cls = self._classify(o, q)
-        steps_l = self._exponent_steps(record)
-        if self._lyapunov_needed(o, cls):
-            if lyap is None:
-                scale = self._lyapunov_scale(o)
-                lyap = self._tangent_exponent(o, steps_l)
-                if lyap is None and steps_l <= record:    # the companion along the recorded window
-                    lyap = exponent_interval(smap.stretch([o.points[:steps_l + 1]], [{}], k0=[used],
-                                                          scales=[scale], method="scalar")[0])
-                elif lyap is None:                        # two trajectories after it (no interval)
-                    lyap = (largest_lyapunov(smap.step, o.final_state, steps_l, scale=scale,
-                                             k0=used + record, shift=translation_basis(smap.system)),
-                            math.nan, math.nan)
-            cls = self._classify(o, q, lyapunov=lyap[0], lyap_tol=lyapunov_threshold(steps_l),
-                                 lyapunov_interval=lyap[1:])
-        else:
-            lyap = (math.nan, math.nan, math.nan)
-        return self._pack(value, smap, o, cls, lyap, used, steps, _time.perf_counter() - clock + (seconds or 0.0))
+    def _stretch(self, smap, o, params, k0: int, scale) -> np.ndarray | None:
+        """The log stretch per step along ``o`` (starting at sample ``k0``): its tangent vector's, or
+        a companion's (``lyapunov_method="companion"``); None without exponents."""
+        if not self.lyapunov or o.n == 0:
+            return None
+        if o.tangent_start is not None:
+            return o.tangent_stretch(scale)
+        return smap.stretch([o.points], [params], k0=[k0], scales=[scale], method="scalar")[0]
 
-    def _pack(self, value, smap, o, cls, lyap, used, steps, seconds) -> ValueResult:
+    def _value(self, smap, value, params, q, o, seconds) -> Value:
+        v = Value(float(value), params, q, o, self.transient, seconds=seconds, steps=o.n_steps)
+        v.scale = self._scale(o)
+        v.stretch = self._stretch(smap, o, params, self.transient, v.scale)
+        return v
+
+    def _judge(self, v: Value) -> None:
+        from .anytime import judge
+        mech = self.warm().system.mechanical_index
+
+        def stretch_of(o):      # the stretch of the window or of a copy, kept in step with it
+            return v.stretch[-o.n:] if o is v.orbit else v.copy_stretch[[id(c) for c in v.copies].index(id(o))][-o.n:]
+
+        judge(v, classify=lambda o: self._classify(o, v.q), stretch=stretch_of, budget=self.spent,
+              record=self.record_for(v.q), lyapunov=self.lyapunov,
+              observable=lambda o: self._reduced(o)[:, mech] / v.scale[mech], max_period=self.max_period)
+
+    def _anytime(self, smap, vs: list, method: str) -> None:
+        """Judge every value; extend the undecided ones together until each is decided or out of budget."""
+        for v in vs:
+            self._judge(v)
+        while True:
+            todo = [v for v in vs if v.action is not None]
+            if not todo:
+                return
+            clock = _time.perf_counter()
+            self._extend(smap, todo, method)
+            share = (_time.perf_counter() - clock) / len(todo)
+            for v in todo:
+                v.seconds += share
+                self._judge(v)
+
+    def _extend(self, smap, todo: list, method: str) -> None:
+        """One round: each value's own trajectory and its copies on by the periods it asked for; new
+        copies start from its state perturbed, decorrelate, then record as much."""
+        from maps.tangent import start_direction
+        from .anytime import DECORRELATE, PERTURBATION
+        d = len(smap.system.states)
+        start = start_direction(d, translation_basis(smap.system))
+        kw = dict(method=method, batch_size=self.batch_size, tangent=self._tangent)
+        runs, jobs = [], []            # (value, which copy or None for its own trajectory, new?)
+        for v in todo:
+            n = v.action[1]
+            jobs.append((v.params, v.orbit.final, n, v.end, v.orbit.tangent_direction))
+            runs.append((v, None))
+            for c, end in zip(v.copies, v.copy_ends):
+                jobs.append((v.params, c.final, n, end, c.tangent_direction))
+                runs.append((v, c))
+        ext = self._orbits(smap, jobs, 0, start, kw)
+        fresh, born = [], []
+        for v in todo:
+            for j in range(len(v.copies) + 1, v.action[2]):
+                u = np.random.default_rng(j).standard_normal(d)
+                y = v.orbit.final.y + PERTURBATION * v.scale * u / np.linalg.norm(u)
+                fresh.append((v.params, HybridState(y, dict(v.orbit.final_flags)), v.action[1], v.end, start))
+                born.append(v)
+        new = self._orbits(smap, fresh, DECORRELATE, start, kw) if fresh else []
+        for (v, c), o in zip(runs, ext):
+            v.steps += o.n_steps
+            if c is None:
+                extra = self._stretch(smap, o, v.params, v.end, v.scale)
+                v.orbit = v.orbit.then(o)
+                v.stretch = None if extra is None else np.concatenate([v.stretch, extra])
+            else:
+                i = [id(x) for x in v.copies].index(id(c))
+                extra = self._stretch(smap, o, v.params, v.copy_ends[i], v.scale)
+                v.copies[i], v.copy_ends[i] = c.then(o), v.copy_ends[i] + o.n
+                v.copy_stretch[i] = np.concatenate([v.copy_stretch[i], extra])
+        for v, o, job in zip(born, new, fresh):
+            v.steps += o.n_steps
+            v.copies.append(o)
+            v.copy_ends.append(job[3] + DECORRELATE + o.n)
+            v.copy_stretch.append(self._stretch(smap, o, v.params, job[3] + DECORRELATE, v.scale))
+
+    def _orbits(self, smap, jobs, transient: int, start, kw) -> list:
+        """Orbits of ``jobs`` (params, hybrid start, steps, sample index, tangent direction or None)."""
+        return smap.orbits([p for p, *_ in jobs], [s for _, s, *_ in jobs], [n for _, _, n, *_ in jobs],
+                           k0=[k for *_, k, _ in jobs], transient=transient,
+                           tangent_start=[t if t is not None else start for *_, t in jobs] if kw["tangent"] else None,
+                           **kw)
+
+    def _pack(self, smap, v: Value) -> ValueResult:
+        """The ValueResult of a judged value: its window's first ``record`` samples and per-step rows,
+        its window's impacts (the first ``max_impacts``), its class and evidence."""
+        o, cls, lyap, used, steps, seconds, value = v.orbit, v.cls, v.lyap, v.start, v.steps, v.seconds, v.value
         cap = self.max_impacts
         pad = lambda a: np.concatenate([a[:cap], np.full(max(0, cap - a.size), np.nan)])  # noqa: E731
         keep = min(o.points.shape[0], self.record + 1)       # an extended record: its first ``record`` steps
@@ -248,6 +318,9 @@ class ValueJob:
         per_step = lambda a, fill: np.pad(a[:self.record], (0, max(0, self.record - a.size)),  # noqa: E731
                                           constant_values=fill)
         periodic = ClassCode(cls["code"]).periodic
+        mech = mechanical_period(self._reduced(o), o.impacts_per_step, cls["period"] if periodic else 0,
+                                 smap.system.mechanical_index, rtol=self.rtol, atol=self.atol,
+                                 impacts=cls["impacts_per_period"]) if o.status == "ok" else (0, -1, "")
         return ValueResult(
             value=float(value), points=points, point_flags=point_flags, record_used=o.n, class_code=ClassCode(cls["code"]),
             period=cls["period"] if periodic else 0, candidate_period=cls["period"],
@@ -264,50 +337,33 @@ class ValueJob:
             n_impacts=o.impact_time.size, status=Status.of(o.status), failure_time=o.failure_time,
             failure=o.failure, n_steps=steps, transient_used=used, run_seconds=seconds,
             final_state=o.final_state, final_flags=o.final_flags,
-            held_time=float(o.mode_time[keep - 1]) if o.mode_time is not None and len(o.mode_time) >= keep else math.nan)
+            held_time=float(o.mode_time[keep - 1]) if o.mode_time is not None and len(o.mode_time) >= keep else math.nan,
+            period_mechanical=mech[0], impacts_per_period_mechanical=mech[1], period_difference=mech[2],
+            lyapunov_spread=v.spread, lyapunov_trajectories=v.trajectories if np.isfinite(lyap[0]) else 0,
+            rotation_number=v.rotation, zero_one_k=v.zero_one, budget_needed=v.budget_needed if not periodic and
+            ClassCode(cls["code"]) == ClassCode.NOT_CONVERGED else 0)
 
     # ----- many values at once: the map's ensemble method ----------------------------
     def run_many(self, values) -> list:
         """The same results as ``[self(v) for v in values]`` (up to round-off), with the orbits of
         every value integrated together by the map (:meth:`maps.StroboscopicMap.orbits`: heyoka's
-        batch mode where the engine supports the system).  The Lyapunov exponent comes from the
-        tangent vector integrated with each recorded window (``lyapunov_method="tangent"``),
-        else from companions (``StroboscopicMap.stretch``).  Values that are still converging
-        and may integrate on (``max_transient``) continue one by one."""
+        batch mode where the engine supports the system), the extensions of undecided values too."""
         smap = self.warm()
         if self.batch_size == 1:
             return [self(v) for v in values]
         clock = _time.perf_counter()
         over = [self.at(v) for v in values]
         qs = [smap.forcing_period_for(p) for p in over]
-        records = [self.record_for(q) for q in qs]
-        orbits = smap.orbits(over, self.x0_state(), records, transient=self.transient,
-                             batch_size=self.batch_size, tangent=self._tangent)
-        classes = [self._classify(o, q) for o, q in zip(orbits, qs)]
-        lyap = [None] * len(values)
-        want = [i for i, (o, cls) in enumerate(zip(orbits, classes))
-                if self._lyapunov_needed(o, cls) and self._exponent_steps(records[i]) <= records[i]
-                and not self._extends(o, cls)]
-        for i in want:                                    # the tangent vector integrated with the record
-            lyap[i] = self._tangent_exponent(orbits[i], self._exponent_steps(records[i]))
-        want = [i for i in want if lyap[i] is None]       # else the companions (the cross-check)
-        if want:
-            stretch = smap.stretch([orbits[i].points[:self._exponent_steps(records[i]) + 1] for i in want],
-                                   [over[i] for i in want], k0=[self.transient] * len(want),
-                                   scales=[self._lyapunov_scale(orbits[i]) for i in want],
-                                   batch_size=self.batch_size)
-            for i, st in zip(want, stretch):
-                lyap[i] = exponent_interval(st)
+        orbits = smap.orbits(over, self.x0_state(), [self.record_for(q) for q in qs], transient=self.transient,
+                             flags=self.problem.flags0, batch_size=self.batch_size, tangent=self._tangent)
         share = (_time.perf_counter() - clock) / max(1, len(values))
-        out = []
-        for v, p, o, lam, cls in zip(values, over, orbits, lyap, classes):
+        vs = []
+        for v, p, q, o in zip(values, over, qs, orbits):
             smap.set_params(**p)
-            out.append(self._complete(v, smap, o, _time.perf_counter(), lyap=lam, seconds=share, cls=cls))
+            vs.append(self._value(smap, v, smap.params, q, o, share))
+        self._anytime(smap, vs, "auto")
+        out = []
+        for v in vs:
+            smap.set_params(**v.params)
+            out.append(self._pack(smap, v))
         return out
-
-    def _extends(self, o, cls, used=None) -> bool:
-        """Still converging and allowed to integrate on (``max_transient``) after ``used`` periods."""
-        used = self.transient if used is None else used
-        limit = self.max_transient if self.max_transient is not None else self.transient
-        return (o.status == "ok" and cls["label"] == "not-converged" and used < limit
-                and cls["convergence_rate"] < DECAY_RATE)

@@ -56,7 +56,7 @@ def regime_map(scene="thesis-1dof", param="relay_hz", values=None, param2="V", v
                record=100, preset=None, params=None, x0=None, tol=1e-10, max_period=100, rtol=1e-6, atol=1e-9,
                lyapunov=True, circuit=None, ac_sign=None, dc_law=None, soil=None, compaction=None, max_record=None,
                path=None, progress=True, workers=None, scheduler=None, error_sample=3, max_transient=None,
-               batch_size=4, chunk_size=None, overwrite=False):
+               batch_size=4, chunk_size=None, overwrite=False, budget=None):
     """Classify every cell of the grid ``values`` (of ``param``) x ``values2`` (of ``param2``);
     returns an xarray Dataset with dimensions (param, param2).
 
@@ -76,7 +76,8 @@ def regime_map(scene="thesis-1dof", param="relay_hz", values=None, param2="V", v
         raise ParameterError("values2 must be a non-empty array of finite numbers")
     first = dict(params or {}, **{param2: float(values2[0])})
     job = _job(scene, param, values, transient, record, preset, first, x0, tol, max_period, rtol, atol,
-               lyapunov, circuit, ac_sign, dc_law, max_transient, batch_size, max_record, soil, compaction)
+               lyapunov, circuit, ac_sign, dc_law, max_transient, batch_size, max_record, soil, compaction,
+               "tangent", budget)
     pb = job.problem
     pb.system.parameter(param2)  # raises for an unknown name
     for v in values2:            # every value of param2 valid before anything runs

@@ -25,7 +25,7 @@ __all__ = ["Parts", "PARTS_FORMAT", "manifest"]
 
 #: version of the parts' layout (2: pickles, up to bifurc 0.1.0; 3: netCDF chunks; 8: min_gap, min_flight_gap,
 #: min_gap_per_step and impact_t renamed min_clearance, min_flight_clearance, min_clearance_per_step, impact_time)
-PARTS_FORMAT = 8
+PARTS_FORMAT = 9
 _FIELDS = [f.name for f in fields(ValueResult)]
 _CODES = {"class_code": ClassCode, "status": Status}
 

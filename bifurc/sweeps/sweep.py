@@ -36,6 +36,7 @@ from .errors import ErrorEstimate
 from .executor import WorkerPool, default_workers, map_values, submit_all
 from ..storage.files import guarded_output, write_netcdf
 from .grazing import GRAZING_GAP, GRAZING_SPEED, bracket_cost, grazing_brackets, locate_bracket
+from .anytime import BUDGET
 from .job import ValueJob
 from .lyapunov import METHODS
 from .resume import Parts, manifest
@@ -53,7 +54,7 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
           atol=1e-9, lyapunov=True, lyapunov_method="tangent", grazing=True, grazing_xtol=None, circuit=None,
           ac_sign=None, dc_law=None, soil=None, compaction=None, path=None,
           progress=True, workers=None, scheduler=None, error_sample=3, max_transient=None, batch_size=4,
-          chunk_size=None, overwrite=False):
+          chunk_size=None, overwrite=False, budget=None):
     """Sweep ``param`` over ``values``; returns an xarray Dataset (see bifurc.sweeps.dataset).
 
     Parameters
@@ -106,7 +107,7 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
     values = np.asarray(values, dtype=float).ravel()
     job = _job(scene, param, values, transient, record, preset, params, x0, tol, max_period, rtol, atol,
                lyapunov, circuit, ac_sign, dc_law, max_transient, batch_size, max_record, soil, compaction,
-               lyapunov_method)
+               lyapunov_method, budget)
     parts = Parts(path, manifest(job, values, mode)) if path else None
     workers, chunk_size = _execution(job, values.size, workers, scheduler, chunk_size)
     pool = WorkerPool(job, workers) if mode == "independent" and workers > 1 else None
@@ -204,7 +205,7 @@ def _mode(mode: str) -> str:
 
 def _job(scene, param, values, transient, record, preset, params, x0, tol, max_period, rtol, atol, lyapunov,
          circuit, ac_sign, dc_law, max_transient, batch_size, max_record=None, soil=None, compaction=None,
-         lyapunov_method="tangent"):
+         lyapunov_method="tangent", budget=None):
     """The ValueJob of a sweep, every argument checked before anything runs (``scene``: a scene or a
     :class:`maps.Problem`; the other model keywords as :func:`maps.problem`)."""
     tol = validate_tol(tol)
@@ -224,9 +225,10 @@ def _job(scene, param, values, transient, record, preset, params, x0, tol, max_p
     batch_size = int(validate_value("batch_size", batch_size, 1, 64))
     if lyapunov_method not in METHODS:
         raise ParameterError(f"lyapunov_method {lyapunov_method!r}; allowed: {', '.join(METHODS)}")
+    budget = BUDGET if budget is None else int(validate_value("budget", budget, transient + record, 1e9))
     return ValueJob(pb, param, transient, record, float(tol), max_period, rtol, atol, lyapunov,
                     max_transient=max_transient, batch_size=batch_size, max_record=max_record,
-                    lyapunov_method=lyapunov_method)
+                    lyapunov_method=lyapunov_method, budget=budget)
 
 
 def travels(pb) -> bool:

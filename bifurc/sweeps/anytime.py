@@ -1,0 +1,235 @@
+"""Anytime classification: a value's record is extended where its evidence does not decide.
+
+After the transient and the first record, every value is judged (:func:`judge`) on its window, the
+stationary part of its record; undecided values are extended together, on the map's batch engine
+(:meth:`maps.StroboscopicMap.orbits`), until each is decided or has spent its budget:
+
+1. periodic on the window, or on its second half (then the first half was a transient and is
+   discarded): **periodic**, with its period and impacts;
+2. a recurrence that still decays geometrically: a transient approaching a periodic orbit, extend;
+3. the window's halves differ (:func:`~bifurc.sweeps.evidence.halves_differ`): the first half is
+   a transient or an intermittent burst: discard it, extend;
+4. the exponent from K tangent trajectories (the value's own and K - 1 perturbed copies of its
+   state, decorrelated over ``DECORRELATE`` periods; :func:`~bifurc.sweeps.evidence.exponent_estimate`):
+   an interval above the threshold: **chaotic**; within +-threshold with positive evidence of a
+   torus (the 0-1 test's K below ``TORUS_K`` and a rotation number whose halves agree):
+   **quasi-periodic**; below -threshold (contracting without a period up to ``max_period``) or
+   containing a threshold: extend.
+
+A value still undecided when its budget is spent is "not-converged" with its reason and the budget
+its evidence suggests.  Each value's decisions depend on its own record only, so a sweep gives the
+same dataset with any number of workers or batch lanes.  The budget counts relay (strobe) periods
+of the value's own trajectory, transient included; its copies run alongside.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .classify import DECAY_RATE, lyapunov_threshold
+from .evidence import TORUS_K, exponent_estimate, halves_differ, rotation_number, zero_one_test
+from .lyapunov import _student_t, exponent_interval
+
+__all__ = ["Value", "judge", "near_period", "BUDGET", "TRAJECTORIES", "DECORRELATE", "QP_SAMPLES", "ANYTIME_METHOD"]
+
+#: default budget of a value [relay periods of its own trajectory, transient included]
+BUDGET = 3000
+#: tangent trajectories the exponent's interval comes from (the value's own and its copies)
+TRAJECTORIES = 4
+#: periods a copy runs from its perturbed start before it is recorded (decorrelation)
+DECORRELATE = 100
+#: samples the torus test needs
+QP_SAMPLES = 400
+#: a value whose evidence asks for more than this many budgets is not extended further (it cannot decide)
+HOPELESS = 4
+#: relative size of the copies' perturbations (of each state's scale)
+PERTURBATION = 1e-6
+#: how values are classified (stored with every sweep)
+ANYTIME_METHOD = ("anytime: judged on a stationary window (halves compared, a non-stationary first half discarded); "
+                  "periodic by recurrence; otherwise extended, doubling, up to the budget with "
+                  f"{TRAJECTORIES} tangent trajectories: chaotic when every trajectory's exponent interval is above "
+                  "the threshold, quasi-periodic when within it with a torus (0-1 test K below "
+                  f"{TORUS_K}, a converged rotation number not near a fraction with a recurring period)")
+
+
+@dataclass
+class Value:
+    """One parameter value's evidence while it is judged."""
+
+    value: float
+    params: dict
+    q: int
+    orbit: object                    # MapOrbit: the judged window of the value's own trajectory
+    start: int                       # sample index of orbit.points[0] (the transient used)
+    seconds: float = 0.0
+    steps: int = 0                   # Taylor steps, discarded parts included
+    copies: list = field(default_factory=list)   # MapOrbits of the perturbed copies (their recorded parts)
+    copy_ends: list = field(default_factory=list)   # sample index of each copy's last point
+    copy_stretch: list = field(default_factory=list)  # each copy's log stretch per recorded step
+    stretch: np.ndarray | None = None  # the window's log stretch per step (None: no exponent)
+    scale: np.ndarray | None = None    # the state scale of the exponent's norm (the first record's)
+    cls: dict | None = None
+    lyap: tuple = (math.nan, math.nan, math.nan)
+    spread: float = math.nan
+    trajectories: int = 1
+    rotation: float = math.nan
+    zero_one: float = math.nan
+    budget_needed: int = 0
+    action: tuple | None = None      # ("extend", periods, copies wanted) or None (decided, or out of budget)
+
+    @property
+    def end(self) -> int:
+        """The sample index of the window's last point."""
+        return self.start + self.orbit.n
+
+    def discard(self, k: int) -> None:
+        """Drop the window's first ``k`` steps (a transient); the copies keep what overlaps."""
+        self.orbit = self.orbit.since(k)
+        self.stretch = None if self.stretch is None else self.stretch[k:]
+        self.start += k
+        cuts = [max(0, c.n - self.orbit.n) for c in self.copies]
+        self.copies = [c.since(cut) for c, cut in zip(self.copies, cuts)]
+        self.copy_stretch = [st[cut:] for st, cut in zip(self.copy_stretch, cuts)]
+
+
+def judge(v: Value, *, classify, stretch, budget: int, record: int, lyapunov: bool, observable,
+          max_period: int = 100) -> None:
+    """Set ``v.cls`` (the class on its current evidence) and ``v.action`` (the next extension, or
+    None).  ``classify(orbit)``: the recurrence classification of a window; ``stretch(orbit)``: the
+    log stretch per step of the window or of a copy; ``observable(orbit)``: the torus test's
+    samples (N, d)."""
+    o = v.orbit
+    v.action = None
+    cls = classify(o)
+    if o.status != "ok" or cls["label"] in ("periodic", "periodic-no-impact", "escaped", "failed"):
+        v.cls = cls
+        return
+    half = o.n // 2
+    if half >= max(3, record // 2):
+        late = classify(o.since(half))
+        if late["label"] in ("periodic", "periodic-no-impact"):
+            v.discard(half)
+            v.cls = late
+            return
+    left = budget - v.end
+    more = min(max(record, o.n), left)
+    if math.isfinite(cls["convergence_rate"]) and cls["convergence_rate"] < DECAY_RATE:
+        v.cls = cls
+        v.action = ("extend", more, 1) if more > 0 else None
+        v.budget_needed = 2 * v.end if more <= 0 else 0
+        return
+    st = stretch(o) if lyapunov else None
+    why = halves_differ(st, o.impacts_per_step)
+    if why:
+        if more > 0:
+            v.discard(half)
+            v.cls, v.action = dict(cls, reason=why), ("extend", min(max(record, o.n), budget - v.end), 1)
+            return
+        v.cls = _undecided(cls, f"not stationary at the budget: {why}")
+        v.budget_needed = 2 * v.end
+        return
+    if not lyapunov:
+        v.cls = _undecided(cls, "no period found and no exponent (lyapunov=False)")
+        return
+    _judge_exponent(v, cls, st, stretch, more, observable, max_period, budget)
+
+
+def _judge_exponent(v: Value, cls, own, stretch, more: int, observable, max_period: int = 100,
+                    budget: int = BUDGET) -> None:
+    """The exponent's part of :func:`judge`: chaotic, quasi-periodic, or extend."""
+    o = v.orbit
+    if len(v.copies) + 1 < TRAJECTORIES:     # the interval must hold across trajectories: copies first
+        v.cls = _undecided(cls, "the exponent needs other trajectories on the same attractor")
+        v.action = ("extend", more, TRAJECTORIES) if more > 0 else None
+        v.lyap = exponent_estimate(own[None, :])[:3] if own is not None else v.lyap
+        return
+    m = min([c.n for c in v.copies] + [o.n])
+    rows = [own[-m:]] + [stretch(c)[-m:] for c in v.copies]
+    mean, lo, hi, spread = exponent_estimate(np.vstack(rows))
+    v.lyap, v.spread, v.trajectories = (mean, lo, hi), spread, len(rows)
+    thr = lyapunov_threshold(m)
+    each = [exponent_interval(r) for r in rows]       # each trajectory's own batch-means interval
+    if all(e[1] > thr for e in each) or (all(e[0] > thr for e in each) and mean_interval(each)[0] > thr):
+        # every trajectory separates (whatever their spread), or every one's exponent is above the threshold
+        # and so is the 95 % interval of their common mean: chaos
+        v.cls = dict(cls, code=_code("chaotic"), label="chaotic", period=0, impacts_per_period=-1, reason="")
+        return
+    lo_all, hi_all = min(e[1] for e in each), max(e[2] for e in each)
+    if -thr <= lo_all and hi_all <= thr:
+        samples = observable(o)
+        if samples.shape[0] >= QP_SAMPLES:
+            v.zero_one = zero_one_test(samples @ np.linspace(1.0, 0.5, samples.shape[1]))
+            v.rotation, drift = rotation_number(samples)
+            near = near_period(samples, v.rotation, max_period)
+            if near:
+                why, need = near, 2 * o.n
+            elif v.zero_one < TORUS_K and drift < 1e-2:
+                v.cls = dict(cls, code=_code("quasi-periodic"), label="quasi-periodic", period=0,
+                             impacts_per_period=-1, reason="")
+                return
+            else:
+                why = (f"the exponent's interval [{lo:.3g}, {hi:.3g}] lies within +-{thr:.3g} but the record shows "
+                       f"no torus (0-1 test K = {v.zero_one:.2f}, rotation number drift {drift:.2g})")
+                need = 2 * o.n
+        else:
+            why = f"the exponent's interval [{lo:.3g}, {hi:.3g}] lies within +-{thr:.3g}: a torus test needs " \
+                  f"{QP_SAMPLES} samples"
+            need = max(QP_SAMPLES, 2 * o.n)
+    elif hi_all < -thr:
+        why = f"contracting (exponent {mean:.3g}, interval [{lo:.3g}, {hi:.3g}]) yet no period up to the maximum"
+        need = 2 * o.n
+    else:
+        undecided = [e for e in each if e[1] <= thr and not (e[2] < -thr or (-thr <= e[1] and e[2] <= thr))]
+        worst = max(undecided or each, key=lambda e: e[2] - e[1])
+        near = min(abs(worst[0] - thr), abs(worst[0] + thr))
+        why = (f"{len(undecided) or len(each)} of {len(each)} trajectories' exponent intervals contain a threshold "
+               f"+-{thr:.3g} (widest [{worst[1]:.3g}, {worst[2]:.3g}])")
+        need = int(min(1e7, m * ((worst[2] - worst[1]) / 2 / max(near, 1e-12)) ** 2)) if near > 0 else 10 ** 7
+    v.cls = _undecided(cls, why)
+    wanted = int(v.start + max(need, 2 * o.n))
+    if more > 0 and (wanted <= HOPELESS * budget or v.end < budget // 2):
+        v.action = ("extend", more, TRAJECTORIES)
+    else:                 # out of budget, or the evidence says the budget cannot decide it: stop here
+        v.budget_needed = wanted
+
+
+def mean_interval(each) -> tuple[float, float]:
+    """95 % interval of the common mean of K trajectories' exponents, from their means' spread and
+    their batch-means half-widths (each: (mean, low, high)), the wider."""
+    means = np.array([e[0] for e in each])
+    k = means.size
+    half_between = _student_t(0.975, k - 1) * float(np.std(means, ddof=1)) / math.sqrt(k) if k > 1 else 0.0
+    half_within = float(np.sqrt(np.mean([((e[2] - e[1]) / 2) ** 2 for e in each]))) / math.sqrt(k)
+    half = max(half_between, half_within)
+    return float(means.mean()) - half, float(means.mean()) + half
+
+
+def near_period(samples, rho: float, max_period: int) -> str:
+    """Why samples (N, d) with rotation number ``rho`` look like a periodic orbit still converging
+    rather than a torus ("": they do not): rho within 1e-4 of a fraction a/b with b <= max_period
+    and the samples recurring at lag b to 1 % of their extent."""
+    from fractions import Fraction
+    if not math.isfinite(rho):
+        return ""
+    f = Fraction(rho).limit_denominator(max(1, int(max_period)))
+    b = f.denominator
+    if abs(rho - f.numerator / b) > 1e-4 or samples.shape[0] <= 2 * b:
+        return ""
+    extent = float(np.max(np.ptp(samples, axis=0)))
+    lag = float(np.max(np.abs(samples[b:] - samples[:-b])))
+    if extent > 0 and lag <= 1e-2 * extent:
+        return (f"the rotation number {rho:.5f} is near {f.numerator}/{b} and the samples recur at lag {b} to "
+                f"{lag / extent:.2g} of their extent: a period-{b} orbit still converging, not a torus")
+    return ""
+
+
+def _undecided(cls, why: str) -> dict:
+    return dict(cls, code=_code("not-converged"), label="not-converged", period=cls["period"], impacts_per_period=-1,
+                reason=why)
+
+
+def _code(label: str):
+    from ..codes import ClassCode
+    return ClassCode.of(label)

@@ -1,0 +1,133 @@
+"""The evidence a label rests on, beyond the recurrence test: stationarity, an exponent interval
+that holds across trajectories, and positive evidence of a torus.
+
+- :func:`halves_differ`: a record is judged only where it is stationary; its first and second
+  halves are compared (the exponent's and the impact rate's batch-means intervals, the presence
+  of impacts).  Where they differ, the first half is a transient (or an intermittent burst).
+- :func:`exponent_estimate`: the largest Lyapunov exponent from K tangent trajectories on the same
+  attractor (perturbed copies of one state): their mean, and a 95 % interval that covers another
+  trajectory's estimate over the same window (a prediction interval from the between-trajectory
+  spread, never narrower than one trajectory's batch-means interval).
+- :func:`zero_one_test`: Gottwald and Melbourne's 0-1 test for chaos (correlation method; G. A.
+  Gottwald, I. Melbourne, SIAM J. Appl. Dyn. Syst. 8 (2009) 129-145): K near 0 for regular
+  (periodic or quasi-periodic) motion, near 1 for chaos.
+- :func:`rotation_number`: the mean turn per step of the samples about their centre in their
+  principal plane (an invariant circle of the stroboscopic map), with the halves' difference.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .lyapunov import _student_t, exponent_interval
+
+__all__ = ["halves_differ", "exponent_estimate", "zero_one_test", "rotation_number", "TORUS_K", "MIN_HALF"]
+
+#: 0-1 test statistic below which motion counts as regular (Gottwald and Melbourne report K < 0.1
+#: for regular and K > 0.9 for chaotic records of a few thousand samples; records here may be shorter)
+TORUS_K = 0.25
+#: fewest steps in each half for the halves to be compared
+MIN_HALF = 50
+
+
+def _disjoint(a, b) -> bool:
+    return np.isfinite(a[1:]).all() and np.isfinite(b[1:]).all() and (a[2] < b[1] or b[2] < a[1])
+
+
+def halves_differ(stretch, impacts) -> str:
+    """Why the first and second halves of a record differ ("" when they agree or are too short):
+    disjoint 95 % intervals of the exponent (``stretch``: log stretch per step, or None) or of the
+    impact rate (``impacts``: contacts per step), or impacts in one half only."""
+    imp = np.asarray(impacts, dtype=float)
+    h = imp.size // 2
+    if h < MIN_HALF:
+        return ""
+    a, b = imp[:h], imp[h:2 * h]
+    if (a.sum() == 0) != (b.sum() == 0) and max(a.sum(), b.sum()) >= 3:
+        return (f"impacts in one half of the record only ({int(a.sum())} then {int(b.sum())}): "
+                f"an intermittent burst or a transient")
+    ra, rb = exponent_interval(a), exponent_interval(b)
+    if _disjoint(ra, rb):
+        return f"the impact rate changes between the record's halves ({ra[0]:.3g} then {rb[0]:.3g} per step)"
+    if stretch is not None:
+        s = np.asarray(stretch, dtype=float)[:2 * h]
+        if np.all(np.isfinite(s)):
+            ea, eb = exponent_interval(s[:h]), exponent_interval(s[h:])
+            if _disjoint(ea, eb):
+                return (f"the exponent changes between the record's halves ({ea[0]:.3g} then {eb[0]:.3g} per step)")
+    return ""
+
+
+def exponent_estimate(stretches) -> tuple[float, float, float, float]:
+    """(exponent, low, high, spread) [per step] from ``stretches`` (K, n): K tangent trajectories'
+    log stretch per step over the same n steps.  The exponent is the mean of the K trajectories'
+    means; ``spread`` their standard deviation (NaN for K = 1); the 95 % interval is the wider of
+    the Student-t prediction interval for another trajectory's mean, mean +- t(K-1) spread
+    sqrt(1 + 1/K), and the trajectories' batch-means intervals (:func:`exponent_interval`, their
+    root mean square half-width).  NaN where a stretch is not finite."""
+    s = np.atleast_2d(np.asarray(stretches, dtype=float))
+    if s.size == 0 or not np.all(np.isfinite(s)):
+        return math.nan, math.nan, math.nan, math.nan
+    each = [exponent_interval(row) for row in s]
+    means = np.array([e[0] for e in each])
+    halves = np.array([(e[2] - e[1]) / 2 for e in each])
+    mean = float(np.mean(means))
+    within = float(np.sqrt(np.mean(halves ** 2))) if np.all(np.isfinite(halves)) else math.nan
+    if s.shape[0] == 1:
+        return mean, mean - within, mean + within, math.nan
+    k = s.shape[0]
+    spread = float(np.std(means, ddof=1))
+    between = _student_t(0.975, k - 1) * spread * math.sqrt(1 + 1 / k)
+    half = max(between, within) if math.isfinite(within) else between
+    return mean, mean - half, mean + half, spread
+
+
+def zero_one_test(phi, n_c: int = 100, seed: int = 0) -> float:
+    """Gottwald and Melbourne's 0-1 test (correlation method) on the observable ``phi`` (N,):
+    the median over ``n_c`` frequencies c in (pi/5, 4 pi/5) of the correlation between n and the
+    mean square displacement of the translation variables (p_c, q_c), less its oscillatory part,
+    for n up to N/10.  Near 0: regular; near 1: chaotic.  NaN for fewer than 100 samples or a
+    constant observable."""
+    x = np.asarray(phi, dtype=float)
+    N = x.size
+    if N < 100 or not np.all(np.isfinite(x)) or np.ptp(x) == 0:
+        return math.nan
+    x = (x - x.mean()) / x.std()
+    ncut = N // 10
+    j = np.arange(1, N + 1)
+    n = np.arange(1, ncut + 1)
+    cs = np.random.default_rng(seed).uniform(math.pi / 5, 4 * math.pi / 5, n_c)
+    size = 1 << int(math.ceil(math.log2(2 * N)))
+    ks = []
+    for c in cs:
+        z = np.cumsum(x * np.exp(1j * j * c))                   # p_c + i q_c
+        f = np.fft.fft(z, size)
+        lagged = np.fft.ifft(f * np.conj(f))[1:ncut + 1].real   # sum_j Re z_{j+n} conj(z_j)
+        sq = np.concatenate([[0.0], np.cumsum(np.abs(z) ** 2)])
+        head, tail = sq[N - n], sq[N] - sq[n]                   # sum |z_j|^2 over j < N-n, over j >= n
+        M = (head + tail - 2 * lagged) / (N - n)
+        D = M - np.mean(x) ** 2 * (1 - np.cos(n * c)) / (1 - math.cos(c))
+        if np.std(D) > 0:
+            ks.append(np.corrcoef(n, D)[0, 1])
+    return float(np.median(ks)) if ks else math.nan
+
+
+def rotation_number(points) -> tuple[float, float]:
+    """(rotation number in [0, 1/2], |difference between the halves' numbers|) of samples ``points``
+    (N, d) turning about their centre in their principal plane (the first two principal components
+    of the samples, each component scaled by its range): the mean wrapped angle increment per step
+    over 2 pi, taken mod 1 and folded to [0, 1/2] (a projection does not keep the orientation: rho
+    and 1 - rho are the same circle turned over).  Meaningful for an invariant circle that winds
+    once about its centre."""
+    p = np.asarray(points, dtype=float)
+    if p.shape[0] < 8 or not np.all(np.isfinite(p)):
+        return math.nan, math.nan
+    span = np.ptp(p, axis=0)
+    p = (p - p.mean(axis=0)) / np.where(span > 0, span, 1.0)
+    _, _, vt = np.linalg.svd(p, full_matrices=False)
+    xy = p @ vt[:2].T if vt.shape[0] >= 2 else np.c_[p[:, 0], np.zeros(p.shape[0])]
+    turn = np.angle(np.exp(1j * np.diff(np.arctan2(xy[:, 1], xy[:, 0])))) / (2 * math.pi)
+    h = turn.size // 2
+    rho = float(np.mean(turn)) % 1.0
+    return min(rho, 1.0 - rho), abs(float(np.mean(turn[:h]) - np.mean(turn[h:])))
