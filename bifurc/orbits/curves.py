@@ -121,6 +121,9 @@ class CurveProblem:
             B = np.zeros((2, w.size))
             B[:, j * d:(j + 1) * d] = rows[:, :d]
             B[:, self.N:] = rows[:, d:]
+            for i, name in enumerate(self.names):     # t_g = (t_g / T) T(p): it moves with a period-setting parameter
+                B[:, self.N + i] += rows[:, -1] * w[-1] * self.base.smap.period_derivative(name) \
+                    * self.p_scales[i] / self.base.smap.period
             return np.concatenate([F, G2]), np.vstack([np.column_stack([top, np.zeros(top.shape[0])]), B]), lins
         sigma = self._sigma(M)
         grad = np.zeros(w.size)
