@@ -245,3 +245,17 @@ def test_a_bar_resting_on_the_stop_is_a_stable_orbit_with_the_circuits_closed_fo
     assert np.all(mod[:2] < 1e-12)                                              # x, v: projected
     np.testing.assert_allclose(mod[2:], math.exp(-p["R"] * 0.2 / (2 * L)), rtol=1e-8)
     assert int(ds.stable) == 1
+
+
+@pytest.mark.parametrize("n", [1, 7, 40, 100])
+def test_multipliers_of_an_n_fold_orbit_are_mu_to_the_n(n):
+    """The 1:1 orbit past its period doubling in Omega (multipliers -1.40 and -0.277, closed form)
+    taken n times: the multipliers are mu^n to 1e-10 relative, the small one (|mu|^100 ~ 1e-56) too,
+    which the eigenvalues of the product of the Jacobians lose (absolute error eps |mu_1|^n)."""
+    p = dict(BASE, e=0.0, Omega=2.7)
+    (_, _, y0, mu), = [o for o in closed_form_1_1(**p) if abs(o[1]) > 0.05]
+    smap = maps.StroboscopicMap(maps.forced_oscillator_with_stop(), p, tol=1e-15)
+    orbit = find_periodic_orbit(smap, [maps.HybridState(y0, {"stuck": 0.0})] * n, n, tol=1e-12)
+    want, got = np.sort_complex(mu ** n), np.sort_complex(orbit.multipliers)
+    assert np.min(np.abs(want)) < (1e-30 if n == 100 else 1.0)
+    np.testing.assert_allclose(got, want, rtol=1e-10, atol=0)

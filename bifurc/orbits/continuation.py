@@ -24,7 +24,8 @@ import numpy as np
 from maps.hybrid import HybridState, IntegrationFailure
 from maps.parameters import ParameterError
 
-from .periodic import _Coordinates, _shooting_matrix, monodromy
+from .floquet import product_eigenvalues
+from .periodic import _Coordinates, _shooting_matrix
 
 __all__ = ["BranchPoint", "SpecialPoint", "Branch", "ContinuationProblem", "NoConvergence", "SMOOTH_ROLES",
            "transition_signature", "flags_of", "in_section", "unit_tangent", "bordered_newton", "impact_count"]
@@ -164,7 +165,7 @@ class ContinuationProblem:
         co = self.co
         Js = [co.R @ L.J @ co.E for L in lins]
         advance = float(sum(L.state.y[co.a] for L in lins)) if co.a is not None else 0.0
-        return BranchPoint(p=self.parameter(u), nodes=self.states(u, flags), multipliers=np.linalg.eigvals(monodromy(Js)),
+        return BranchPoint(p=self.parameter(u), nodes=self.states(u, flags), multipliers=product_eigenvalues(Js, self.scale),
                            signatures=[L.signature for L in lins], jacobians=Js, u=u,
                            tangent=unit_tangent(DF, reference) if tangent is None else tangent / np.linalg.norm(tangent),
                            iterations=iterations,

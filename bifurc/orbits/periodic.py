@@ -17,7 +17,8 @@ period needs is a result of the orbit: ``advance`` [the anchor's unit] per perio
 
 The forcing of a relay scene repeats after q relay periods (``forcing_period_steps``): n must
 be a multiple of q.  The multipliers are the eigenvalues of J_{n-1} ... J_0 (the monodromy
-matrix at node 0).  The solver never returns an unconverged orbit: it says why it stopped
+matrix at node 0), computed from the n Jacobians without forming their product
+(:mod:`bifurc.orbits.floquet`: the small ones keep their relative accuracy).  The solver never returns an unconverged orbit: it says why it stopped
 (singular Jacobian, a transition signature that kept changing, residual stalled, iteration cap,
 the integration failing).
 """
@@ -33,6 +34,8 @@ from maps.translation import reduction_matrices, translation_basis
 
 from maps.hybrid import HybridState, IntegrationFailure
 from maps.parameters import ParameterError, validate_value
+
+from .floquet import product_eigenvalues
 
 __all__ = ["PeriodicOrbit", "OrbitNotFound", "find_periodic_orbit", "monodromy"]
 
@@ -51,7 +54,8 @@ class PeriodicOrbit:
 
     ``nodes[j]`` is the hybrid state at sample k0 + j (j < n); ``jacobians[j]`` the exact
     one-period Jacobian there; ``signatures[j]`` the roles of the events of that period, in
-    order.  ``multipliers`` are the Floquet multipliers (eigenvalues of the monodromy matrix),
+    order.  ``multipliers`` are the Floquet multipliers (eigenvalues of the monodromy matrix, from
+    the cyclic matrix of the Jacobians: :func:`~bifurc.orbits.floquet.product_eigenvalues`),
     ``stable`` is max |multiplier| < 1.  ``residual`` is the largest scaled residual
     |P(y_j) - y_{j+1}| / scale at the solution; ``conditioning`` compares the multiple-shooting
     matrix with single shooting's (monodromy - I)."""
@@ -116,7 +120,8 @@ def find_periodic_orbit(smap, start, period: int, *, k0: int = 0, tol: float = 1
                         atol: float = 1e-9) -> PeriodicOrbit:
     """Newton by multiple shooting for a period-``period`` orbit of ``smap`` through samples
     k0 ... k0 + period - 1, from ``start`` (a :class:`~maps.hybrid.HybridState` or a bare state
-    at sample k0: the first guess of the nodes is the map's own iteration from it).
+    at sample k0: the first guess of the nodes is the map's own iteration from it; or the list of
+    the ``period`` nodes).
 
     Converged when the largest residual, scaled per state component by the orbit's magnitude
     (at least ``atol``), is below ``tol``, or below 100 tol with a Newton update below tol or no
@@ -181,7 +186,10 @@ def find_periodic_orbit(smap, start, period: int, *, k0: int = 0, tol: float = 1
 
 
 def _first_nodes(smap, start, n: int, k0: int, co) -> list:
-    """The first guess's n nodes: ``start`` and its n - 1 images, with the anchor at 0."""
+    """The first guess's n nodes: ``start`` and its n - 1 images (or ``start`` itself when it is a
+    list of n HybridStates: an unstable orbit's iterates drift away), with the anchor at 0."""
+    if isinstance(start, (list, tuple)) and len(start) == n and all(isinstance(s, HybridState) for s in start):
+        return [HybridState(co.embed(co.reduce(s.y)), s.flags) for s in start]
     y0 = start.y if isinstance(start, HybridState) else np.asarray(smap.system.state_vector(start), dtype=float)
     if not np.all(np.isfinite(y0)):
         raise ParameterError(f"the start state has a non-finite component: {y0}")
@@ -233,7 +241,7 @@ def _solution(nodes, lins, k0, n, norm, it, scale, clock, co) -> PeriodicOrbit:
         orbit.advance = float(sum(L.state.y[co.a] for L in lins))     # every node starts with the anchor at 0
         orbit.reduced = co.names
     M = orbit.monodromy
-    orbit.multipliers = np.linalg.eigvals(M)
+    orbit.multipliers = product_eigenvalues(Js, scale)
     d = M.shape[0]
     partial, growth = np.eye(d), 1.0
     for J in Js:              # how far single shooting's intermediate products stretch a perturbation
