@@ -12,7 +12,7 @@ import numpy as np
 from maps.hybrid import IntegrationFailure
 from maps.parameters import ParameterError
 
-from .continuation import SMOOTH_ROLES, Branch, ContinuationProblem, NoConvergence, flags_of
+from .continuation import SMOOTH_ROLES, Branch, ContinuationProblem, NoConvergence, flags_of, next_step
 from .special_points import TESTS, detect, discontinuity, event_at_section, event_reason
 
 __all__ = ["continue_branch"]
@@ -78,7 +78,7 @@ def continue_branch(problem: ContinuationProblem, orbit, p_start: float, p_end: 
         if not lo - 1e-12 * max(1.0, abs(lo)) <= pt.p <= hi + 1e-12 * max(1.0, abs(hi)):
             branch.stop_reason = f"left the interval [{lo:.6g}, {hi:.6g}] at {problem.param} = {pt.p:.10g}"
             break
-        h = min(max_step, h * (1.5 if its <= 3 else 1.0 if its <= 5 else 0.7))
+        h = next_step(h, its, max_step)
     else:
         branch.stop_reason = f"reached max_points = {max_points}"
     branch.seconds = _time.perf_counter() - clock

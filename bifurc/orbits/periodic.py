@@ -36,6 +36,7 @@ from maps.hybrid import HybridState, IntegrationFailure
 from maps.parameters import ParameterError, validate_value
 
 from .floquet import product_eigenvalues
+from .newton import accept
 
 __all__ = ["PeriodicOrbit", "OrbitNotFound", "find_periodic_orbit", "monodromy"]
 
@@ -124,8 +125,8 @@ def find_periodic_orbit(smap, start, period: int, *, k0: int = 0, tol: float = 1
     the ``period`` nodes).
 
     Converged when the largest residual, scaled per state component by the orbit's magnitude
-    (at least ``atol``), is below ``tol``, or below 100 tol with a Newton update below tol or no
-    step reducing it (the noise floor of the integration, amplified by large multipliers).  Raises :class:`OrbitNotFound` with the reason
+    (at least ``atol``), passes :func:`~bifurc.orbits.newton.accept` (below ``tol``, or at the
+    integration's noise floor).  Raises :class:`OrbitNotFound` with the reason
     otherwise, and :class:`~maps.parameters.ParameterError` for a period that is not a multiple
     of the forcing period q (or q = 0: the forcing never repeats).
     """
@@ -167,14 +168,14 @@ def find_periodic_orbit(smap, start, period: int, *, k0: int = 0, tol: float = 1
             raise OrbitNotFound(f"singular Jacobian at iteration {it} (condition number {cond:.3g}): a fold, "
                                 f"a grazing or a stick makes the orbit degenerate", it, norm)
         step = np.linalg.solve(M, -res).reshape(n, d) * scale
-        if norm < 100 * tol and float(np.max(np.abs(step / scale))) < tol:
+        if accept(norm, tol, update=float(np.max(np.abs(step / scale)))):
             # the integration's noise floor (amplified by large multipliers): the update is below tol
             return _solution(nodes, lins, k0, n, norm, it, scale, clock, co)
         trial = _line_search(smap, nodes, step, k0, co, scale, norm)
         if trial is not None:
             nodes = trial
         else:
-            if norm < 100 * tol:         # at the noise floor: no step reduces a residual that is already noise
+            if accept(norm, tol, stalled=True):   # at the noise floor: no step reduces a residual that is noise
                 return _solution(nodes, lins, k0, n, norm, it, scale, clock, co)
             changing = len({tuple(s) for s in signatures_seen[-3:]}) > 1
             why = ("the transition signature keeps changing (an impact born or lost between iterates)"
