@@ -259,3 +259,17 @@ def test_multipliers_of_an_n_fold_orbit_are_mu_to_the_n(n):
     want, got = np.sort_complex(mu ** n), np.sort_complex(orbit.multipliers)
     assert np.min(np.abs(want)) < (1e-30 if n == 100 else 1.0)
     np.testing.assert_allclose(got, want, rtol=1e-10, atol=0)
+
+
+def test_a_velocity_zero_at_every_sample_is_scaled_by_its_amplitude():
+    """Undamped, far from the stop: the orbit is x_p = F cos(Omega t) / (w0^2 - Omega^2), whose velocity
+    is 0 at every strobe sample t = k T.  Scaling v by max(|v|, 1e-9) at the samples made a
+    well-conditioned problem 'singular'; by its amplitude over the period it is solved."""
+    p = dict(BASE, zeta=0.0, e=-5.0, Omega=1.7)
+    smap = maps.StroboscopicMap(maps.forced_oscillator_with_stop(), p, tol=1e-14)
+    a = p["F"] / (p["w0"] ** 2 - p["Omega"] ** 2)
+    orbit = find_periodic_orbit(smap, maps.HybridState(np.array([0.9 * a, 0.01]), {"stuck": 0.0}), 1, tol=1e-12)
+    assert orbit.nodes[0].y[0] == pytest.approx(a, rel=1e-12)
+    assert abs(orbit.nodes[0].y[1]) < 1e-12
+    assert orbit.scale[1] == pytest.approx(abs(a) * p["Omega"], rel=0.05)       # the amplitude of v
+    assert orbit.conditioning["multiple_shooting"] < 1e3

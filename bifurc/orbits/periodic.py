@@ -33,6 +33,7 @@ import numpy as np
 from maps.translation import reduction_matrices, translation_basis
 
 from maps.hybrid import HybridState, IntegrationFailure
+from maps.impacts import impact_log
 from maps.parameters import ParameterError, validate_value
 
 from .floquet import product_eigenvalues
@@ -96,8 +97,24 @@ def monodromy(jacobians) -> np.ndarray:
     return M
 
 
-def _scale(states, atol):
-    return np.maximum(np.max(np.abs(np.asarray(states)), axis=0), atol)
+def _scale(states, atol, amplitude=0.0):
+    """Per state component: the largest |y| over ``states``, at least ``atol``; where that is below
+    1e-3 of the orbit's ``amplitude`` between samples, the amplitude (a component zero at every
+    sample, e.g. a velocity sampled at its turning point, scaled by atol made the Newton matrix
+    singular)."""
+    at_nodes = np.max(np.abs(np.asarray(states)), axis=0)
+    return np.maximum(np.where(at_nodes < 1e-3 * amplitude, amplitude, at_nodes), atol)
+
+
+def _amplitude(smap, node, k: int, co) -> np.ndarray:
+    """max |y| per (reduced) component at a quarter, half and three quarters of the period from ``node``
+    at sample k (zeros where the integration fails: the node magnitudes then scale alone)."""
+    t0, t1 = smap.sample_time(k), smap.sample_time(k + 1)
+    try:
+        ys = [co.reduce(smap.linearize(node, k, until=t0 + f * (t1 - t0)).state.y) for f in (0.25, 0.5, 0.75)]
+    except (IntegrationFailure, ZeroDivisionError, ParameterError):
+        return np.zeros(co.E.shape[1])
+    return np.max(np.abs(np.array(ys)), axis=0)
 
 
 class _Coordinates:
@@ -125,7 +142,7 @@ def find_periodic_orbit(smap, start, period: int, *, k0: int = 0, tol: float = 1
     the ``period`` nodes).
 
     Converged when the largest residual, scaled per state component by the orbit's magnitude
-    (at least ``atol``), passes :func:`~bifurc.orbits.newton.accept` (below ``tol``, or at the
+    (at the nodes and between them, at least ``atol``), passes :func:`~bifurc.orbits.newton.accept` (below ``tol``, or at the
     integration's noise floor).  Raises :class:`OrbitNotFound` with the reason
     otherwise, and :class:`~maps.parameters.ParameterError` for a period that is not a multiple
     of the forcing period q (or q = 0: the forcing never repeats).
@@ -142,11 +159,12 @@ def find_periodic_orbit(smap, start, period: int, *, k0: int = 0, tol: float = 1
     co = _Coordinates(smap.system)
     nodes = _first_nodes(smap, start, n, k0, co)
     d = co.E.shape[1]
-    scale = _scale([co.reduce(s.y) for s in nodes], atol)
+    amplitude = _amplitude(smap, nodes[0], k0, co)
+    scale = _scale([co.reduce(s.y) for s in nodes], atol, amplitude)
     signatures_seen = []
     for it in range(max_iter + 1):
         if it:      # the orbit's magnitude, not the first guess's (a guess at rest scaled v by atol)
-            scale = _scale([co.reduce(s.y) for s in nodes], atol)
+            scale = _scale([co.reduce(s.y) for s in nodes], atol, amplitude)
         try:
             lins = [smap.linearize(s, k0 + j) for j, s in enumerate(nodes)]
         except (IntegrationFailure, ZeroDivisionError) as exc:
@@ -159,7 +177,7 @@ def find_periodic_orbit(smap, start, period: int, *, k0: int = 0, tol: float = 1
         # the mode of each node: the flags its incoming step ends in
         nodes = [HybridState(nodes[j].y, dict(lins[j - 1].state.flags)) for j in range(n)]
         if norm < tol:
-            return _solution(nodes, lins, k0, n, norm, it, scale, clock, co)
+            return _solution(smap, nodes, lins, k0, n, norm, it, scale, clock, co)
         if it == max_iter:
             break
         M = _shooting_matrix([co.R @ L.J @ co.E for L in lins], scale)
@@ -170,13 +188,13 @@ def find_periodic_orbit(smap, start, period: int, *, k0: int = 0, tol: float = 1
         step = np.linalg.solve(M, -res).reshape(n, d) * scale
         if accept(norm, tol, update=float(np.max(np.abs(step / scale)))):
             # the integration's noise floor (amplified by large multipliers): the update is below tol
-            return _solution(nodes, lins, k0, n, norm, it, scale, clock, co)
+            return _solution(smap, nodes, lins, k0, n, norm, it, scale, clock, co)
         trial = _line_search(smap, nodes, step, k0, co, scale, norm)
         if trial is not None:
             nodes = trial
         else:
             if accept(norm, tol, stalled=True):   # at the noise floor: no step reduces a residual that is noise
-                return _solution(nodes, lins, k0, n, norm, it, scale, clock, co)
+                return _solution(smap, nodes, lins, k0, n, norm, it, scale, clock, co)
             changing = len({tuple(s) for s in signatures_seen[-3:]}) > 1
             why = ("the transition signature keeps changing (an impact born or lost between iterates)"
                    if changing else "the residual stalled: no step along the Newton direction reduces it")
@@ -233,7 +251,26 @@ def _shooting_matrix(Js, scale) -> np.ndarray:
     return M
 
 
-def _solution(nodes, lins, k0, n, norm, it, scale, clock, co) -> PeriodicOrbit:
+def _chattering(smap, lins) -> str:
+    """Why the converged nodes are no orbit: a period whose impacts slow geometrically to below 1e-8 of
+    its fastest (20 or more: an accumulation of impacts the integration stops resolving, the mass then
+    passing the stop unseen), else ''."""
+    system = smap.system
+    if system.gap is None:
+        return ""
+    for j, L in enumerate(lins):
+        speeds = np.abs(impact_log(system, smap.params, ((ev.name, ev.t, ev.y_minus) for ev in L.events))["velocity"])
+        if speeds.size >= 20 and speeds.min() < 1e-8 * speeds.max():
+            return (f"period {j} of the converged nodes has {speeds.size} impacts slowing to {speeds.min():.3g} "
+                    f"(from {speeds.max():.3g}): an accumulation of impacts (chattering) the integration does not "
+                    f"resolve; the mass sticks there (declare a stick mode, e.g. stick_speed > 0)")
+    return ""
+
+
+def _solution(smap, nodes, lins, k0, n, norm, it, scale, clock, co) -> PeriodicOrbit:
+    why = _chattering(smap, lins)
+    if why:
+        raise OrbitNotFound(why, it, norm)
     Js = [co.R @ L.J @ co.E for L in lins]             # the reduced map's Jacobians
     orbit = PeriodicOrbit(nodes=nodes, k0=k0, period=n, jacobians=Js, signatures=[L.signature for L in lins],
                           multipliers=np.array([]), residual=norm, iterations=it, scale=scale,
