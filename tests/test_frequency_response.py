@@ -88,3 +88,27 @@ def test_the_grazing_curve_in_f_and_omega_equals_the_closed_form():
 def test_relay_hz_under_mains_forcing_stays_refused():
     with pytest.raises(ParameterError, match="relay_hz cannot be continued"):
         bifurc.continue_orbit("thesis-1dof", "relay_hz", (8.5, 8.6), error=False)
+
+
+def test_branch_switching_at_the_period_doubling_in_omega_at_default_settings():
+    """The period-2 branch born at the 1:1 orbit's period doubling (Omega ~ 2.6632), switched at default
+    settings (the bifurcation itself is the start; the first step is corrected with the parameter
+    free): a stable period-2 orbit on it is the attractor of a long simulation, to 1e-9."""
+    import maps
+    ds = bifurc.continue_orbit("impact-oscillator", "Omega", (2.5, 3.5), params=P, branch_switch=True, error=False)
+    doubled = ds.where(ds.branch_id == 1, drop=True)
+    assert doubled.sizes["point"] >= 20 and set(doubled.period.values.astype(int)) == {2}
+    stable = doubled.where(doubled.stable == 1, drop=True)
+    j = int(np.argmin(np.abs(stable.Omega.values - 2.70)))
+    Om = float(stable.Omega[j])
+    assert abs(Om - 2.70) < 0.01
+    smap = maps.StroboscopicMap(maps.forced_oscillator_with_stop(), dict(P, Omega=Om), tol=1e-13)
+    t0 = (int(stable.section_k0[j]) + float(stable.section_phase[j])) * smap.period
+    node = maps.HybridState(np.array([float(stable.x[j, 0]), float(stable.v[j, 0])]), {"stuck": 0.0})
+    on_branch = smap.orbit(node, 2, t0=t0)
+    assert on_branch.impact_velocity.size == 2
+    assert abs(on_branch.impact_velocity[0] - on_branch.impact_velocity[1]) > 1e-3     # truly period 2
+    simulated = smap.orbit({"x": float(stable.x[j, 0]) + 1e-3, "v": float(stable.v[j, 0]) - 1e-3}, 2,
+                           transient=3000, t0=t0)
+    np.testing.assert_allclose(np.sort(simulated.impact_velocity), np.sort(on_branch.impact_velocity), rtol=0,
+                               atol=1e-9)
