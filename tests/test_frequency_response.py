@@ -9,7 +9,7 @@ from scipy.optimize import brentq
 
 import bifurc
 from maps.parameters import ParameterError
-from test_periodic import closed_form_1_1
+from test_periodic import closed_form_1_1, free_flight
 
 P = dict(w0=1.0, zeta=0.05, F=0.5, Omega=2.5, e=0.0, r=0.7)
 
@@ -17,14 +17,8 @@ P = dict(w0=1.0, zeta=0.05, F=0.5, Omega=2.5, e=0.0, r=0.7)
 def _closed_form_node(p, phase):
     """[(state at t = phase T mod T, multipliers)] of every 1:1 orbit at parameters ``p``."""
     from scipy.linalg import expm
-    w0, zeta, F, Om, e, r = (p[k] for k in ("w0", "zeta", "F", "Omega", "e", "r"))
-    T = 2 * math.pi / Om
-    Al = np.array([[0.0, 1.0], [-w0 * w0, -2 * zeta * w0]])
-    D = (w0 * w0 - Om * Om) ** 2 + (2 * zeta * w0 * Om) ** 2
-    a, b = F * (w0 * w0 - Om * Om) / D, F * 2 * zeta * w0 * Om / D
-
-    def xp(t):
-        return np.array([a * math.cos(Om * t) + b * math.sin(Om * t), Om * (-a * math.sin(Om * t) + b * math.cos(Om * t))])
+    Al, xp = free_flight(*(p[k] for k in ("w0", "zeta", "F", "Omega")))
+    T, e, r = 2 * math.pi / p["Omega"], p["e"], p["r"]
     out = []
     for ti, v, _, mu in closed_form_1_1(**p):
         t = phase * T if phase * T > ti else phase * T + T           # the first sample after the impact

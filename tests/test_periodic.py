@@ -14,6 +14,15 @@ from bifurc.orbits.periodic import OrbitNotFound, find_periodic_orbit
 BASE = dict(w0=1.0, zeta=0.05, F=0.5, Omega=2.5, e=0.2, r=0.7)
 
 
+def free_flight(w0, zeta, F, Omega):
+    """(A_lin, x_p): the free flight's matrix and its particular solution t -> (x_p, x_p') [m, m/s]."""
+    Al = np.array([[0.0, 1.0], [-w0 * w0, -2 * zeta * w0]])
+    D = (w0 * w0 - Omega * Omega) ** 2 + (2 * zeta * w0 * Omega) ** 2
+    a, b = F * (w0 * w0 - Omega * Omega) / D, F * 2 * zeta * w0 * Omega / D
+    return Al, lambda t: np.array([a * math.cos(Omega * t) + b * math.sin(Omega * t),
+                                   Omega * (-a * math.sin(Omega * t) + b * math.cos(Omega * t))])
+
+
 def closed_form_1_1(w0, zeta, F, Omega, e, r):
     """Every 1:1 impacting orbit (one impact per forcing period T = 2 pi / Omega), derived by hand:
     between impacts x = x_p(t) + homogeneous part, x_p = A cos(Omega t) + B sin(Omega t); the flight
