@@ -31,6 +31,24 @@ __all__ = ["StroboscopicMap", "MapOrbit", "MapLinearization", "ImpactMap", "Impa
            "orbit_from_periods"]
 
 
+def _period_slope(system, params: dict, name: str) -> float:
+    """dT/dp of the system's declared clock T (strobe_period, switch or forcing) at ``params``."""
+    p = float(params[name])
+    h = 1e-20 * max(1.0, abs(p))
+    if system.strobe_period is not None:
+        try:
+            T = system.strobe_period(dict(params, **{name: complex(p, h)}))
+            return float(np.imag(T) / h) if isinstance(T, complex) else 0.0
+        except (TypeError, ValueError, ZeroDivisionError):
+            pass
+    h = 1e-6 * max(1.0, abs(p))
+    try:
+        up, down = system.strobe_period_of(dict(params, **{name: p + h})), system.strobe_period_of(dict(params, **{name: p - h}))
+    except (ValueError, ZeroDivisionError, KeyError):
+        return 0.0
+    return 0.0 if up is None or down is None else (up - down) / (2 * h)
+
+
 def forcing_period_steps(f_mains: float, relay_hz: float | None, max_steps: int = 1000,
                          period: float | None = None) -> int:
     """Smallest q <= max_steps after which a relay-switched mains forcing repeats, else 0
@@ -366,6 +384,11 @@ class StroboscopicMap:
         run.reset(self.sample_time(k, t0), y, flags)
         n = int(validate_value("n", n, 1, 1e6))
         clock = self.system.strobe_parameter
+        periodic = {} if self._rate(self.params) is not None else \
+            {p: dT for p in params if (dT := self.period_derivative(p)) != 0.0}
+        if periodic:       # the start t_k = t0 + (k + phase) T moves: d y(t1) / d t_k = -Phi f(t_k, y_k)
+            d = run.derivatives
+            f_start = d.rhs(self.sample_time(k, t0), np.asarray(y, float), d.pars(self.params, run.flags))
         if until is not None:
             if clock is not None and clock in params:
                 raise ParameterError(f"linearize(until=...) takes no derivative with respect to {clock}")
@@ -377,13 +400,30 @@ class StroboscopicMap:
         t1 = self.sample_time(k + n, t0) if until is None else t1
         moving = {} if self._rate(self.params) is None or clock not in params else \
             {clock: -(t1 - t0) / self.params[clock]}      # t_k = t0 + k / W
+        if until is None:      # the end t_{k+n} = t0 + (k + n + phase) T moves with T
+            moving.update({p: (k + n + self.phase) * dT for p, dT in periodic.items()})
         Y = run.end_time_term(t1, moving)
         n = Y.shape[0]
         J = Y[:, :n]
+        for p, dT in periodic.items():
+            Y[:, n + params.index(p)] -= J @ f_start * ((k + self.phase) * dT)
         signature = tuple(self.system.role_of(ev.name) for ev in run.events)
         events, run.events = tuple(run.events), []
         return MapLinearization(HybridState(run.y, dict(run.flags)), J, Y[:, n:], signature,
                                 run.compile_seconds, events)
+
+    def period_derivative(self, name: str) -> float:
+        """dT/d``name`` [s per parameter unit] of the declared clock at the current values (0 when
+        the period is given or does not depend on ``name``): a complex step of ``strobe_period``
+        (exact for analytic formulas such as 2 pi / Omega), else a central difference."""
+        if self._period_given is not None or name not in self.params:
+            return 0.0
+        cache = self.__dict__.setdefault("_dT", {})
+        key = (name, tuple(sorted(self.params.items())))
+        if key not in cache:
+            cache.clear()
+            cache[key] = _period_slope(self.system, self.params, name)
+        return cache[key]
 
     def _variational(self, params: tuple, y):
         """This map's reusable VariationalRun with respect to the state and ``params`` (compiled

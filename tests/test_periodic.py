@@ -14,6 +14,15 @@ from bifurc.orbits.periodic import OrbitNotFound, find_periodic_orbit
 BASE = dict(w0=1.0, zeta=0.05, F=0.5, Omega=2.5, e=0.2, r=0.7)
 
 
+def free_flight(w0, zeta, F, Omega):
+    """(A_lin, x_p): the free flight's matrix and its particular solution t -> (x_p, x_p') [m, m/s]."""
+    Al = np.array([[0.0, 1.0], [-w0 * w0, -2 * zeta * w0]])
+    D = (w0 * w0 - Omega * Omega) ** 2 + (2 * zeta * w0 * Omega) ** 2
+    a, b = F * (w0 * w0 - Omega * Omega) / D, F * 2 * zeta * w0 * Omega / D
+    return Al, lambda t: np.array([a * math.cos(Omega * t) + b * math.sin(Omega * t),
+                                   Omega * (-a * math.sin(Omega * t) + b * math.cos(Omega * t))])
+
+
 def closed_form_1_1(w0, zeta, F, Omega, e, r):
     """Every 1:1 impacting orbit (one impact per forcing period T = 2 pi / Omega), derived by hand:
     between impacts x = x_p(t) + homogeneous part, x_p = A cos(Omega t) + B sin(Omega t); the flight
@@ -245,3 +254,31 @@ def test_a_bar_resting_on_the_stop_is_a_stable_orbit_with_the_circuits_closed_fo
     assert np.all(mod[:2] < 1e-12)                                              # x, v: projected
     np.testing.assert_allclose(mod[2:], math.exp(-p["R"] * 0.2 / (2 * L)), rtol=1e-8)
     assert int(ds.stable) == 1
+
+
+@pytest.mark.parametrize("n", [1, 7, 40, 100])
+def test_multipliers_of_an_n_fold_orbit_are_mu_to_the_n(n):
+    """The 1:1 orbit past its period doubling in Omega (multipliers -1.40 and -0.277, closed form)
+    taken n times: the multipliers are mu^n to 1e-10 relative, the small one (|mu|^100 ~ 1e-56) too,
+    which the eigenvalues of the product of the Jacobians lose (absolute error eps |mu_1|^n)."""
+    p = dict(BASE, e=0.0, Omega=2.7)
+    (_, _, y0, mu), = [o for o in closed_form_1_1(**p) if abs(o[1]) > 0.05]
+    smap = maps.StroboscopicMap(maps.forced_oscillator_with_stop(), p, tol=1e-15)
+    orbit = find_periodic_orbit(smap, [maps.HybridState(y0, {"stuck": 0.0})] * n, n, tol=1e-12)
+    want, got = np.sort_complex(mu ** n), np.sort_complex(orbit.multipliers)
+    assert np.min(np.abs(want)) < (1e-30 if n == 100 else 1.0)
+    np.testing.assert_allclose(got, want, rtol=1e-10, atol=0)
+
+
+def test_a_velocity_zero_at_every_sample_is_scaled_by_its_amplitude():
+    """Undamped, far from the stop: the orbit is x_p = F cos(Omega t) / (w0^2 - Omega^2), whose velocity
+    is 0 at every strobe sample t = k T.  Scaling v by max(|v|, 1e-9) at the samples made a
+    well-conditioned problem 'singular'; by its amplitude over the period it is solved."""
+    p = dict(BASE, zeta=0.0, e=-5.0, Omega=1.7)
+    smap = maps.StroboscopicMap(maps.forced_oscillator_with_stop(), p, tol=1e-14)
+    a = p["F"] / (p["w0"] ** 2 - p["Omega"] ** 2)
+    orbit = find_periodic_orbit(smap, maps.HybridState(np.array([0.9 * a, 0.01]), {"stuck": 0.0}), 1, tol=1e-12)
+    assert orbit.nodes[0].y[0] == pytest.approx(a, rel=1e-12)
+    assert abs(orbit.nodes[0].y[1]) < 1e-12
+    assert orbit.scale[1] == pytest.approx(abs(a) * p["Omega"], rel=0.05)       # the amplitude of v
+    assert orbit.conditioning["multiple_shooting"] < 1e3

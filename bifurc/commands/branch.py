@@ -85,7 +85,7 @@ def run(args) -> int:
               + (f"; {ds.special_note.values[i]}" if str(ds.special_note.values[i]) else ""))
     for c in range(ds.sizes.get("curve", 0)):
         n = int((ds.curve_id.values == c).sum())
-        print(f"  curve {c} ({['fold', 'period_doubling', 'grazing'][int(ds.curve_kind[c])]}, {n} points in "
+        print(f"  curve {c} ({SPECIAL_KINDS[int(ds.curve_kind[c])]}, {n} points in "
               f"({par}, {args.param2})): {ds.curve_stop_reason.values[c]}")
     if args.output:
         write_netcdf(ds, args.output, overwrite=args.force)

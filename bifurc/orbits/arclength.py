@@ -12,7 +12,7 @@ import numpy as np
 from maps.hybrid import IntegrationFailure
 from maps.parameters import ParameterError
 
-from .continuation import SMOOTH_ROLES, Branch, ContinuationProblem, NoConvergence, flags_of
+from .continuation import SMOOTH_ROLES, Branch, ContinuationProblem, NoConvergence, flags_of, next_step
 from .special_points import TESTS, detect, discontinuity, event_at_section, event_reason
 
 __all__ = ["continue_branch"]
@@ -40,8 +40,14 @@ def continue_branch(problem: ContinuationProblem, orbit, p_start: float, p_end: 
     e_p = np.zeros(u0.size)
     e_p[-1] = direction
     reference = e_p if tangent is None else np.asarray(tangent, float)
-    try:
-        u, F, DF, lins, flags, its = problem.correct(u0, e_p, flags)    # the start, at p_start
+    try:    # the start, corrected at p_start; a switched branch's start is the located bifurcation itself,
+        # taken as it is (the doubled system is singular there: two null directions), its first step
+        # corrected in the plane normal to the given tangent, the parameter free
+        if tangent is None:
+            u, F, DF, lins, flags, its = problem.correct(u0, e_p, flags)
+        else:
+            u, its = u0, 0
+            F, DF, lins = _evaluate(problem, u0, flags)
     except NoConvergence as exc:
         branch.stop_reason = f"the start orbit does not converge at {problem.param} = {p_start:.10g}: {exc}"
         return branch
@@ -78,7 +84,7 @@ def continue_branch(problem: ContinuationProblem, orbit, p_start: float, p_end: 
         if not lo - 1e-12 * max(1.0, abs(lo)) <= pt.p <= hi + 1e-12 * max(1.0, abs(hi)):
             branch.stop_reason = f"left the interval [{lo:.6g}, {hi:.6g}] at {problem.param} = {pt.p:.10g}"
             break
-        h = min(max_step, h * (1.5 if its <= 3 else 1.0 if its <= 5 else 0.7))
+        h = next_step(h, its, max_step)
     else:
         branch.stop_reason = f"reached max_points = {max_points}"
     branch.seconds = _time.perf_counter() - clock
@@ -111,6 +117,14 @@ def _stop(branch, problem, prev, pt, why: str, u_pred, locate: bool) -> None:
         if sp is not None:
             sp.index = len(branch.points) - 1
             branch.special.append(sp)
+
+
+def _evaluate(problem, u, flags):
+    """problem.evaluate, its failures as NoConvergence."""
+    try:
+        return problem.evaluate(u, flags)
+    except (IntegrationFailure, ZeroDivisionError, ParameterError) as exc:
+        raise NoConvergence(f"the integration failed: {exc}") from None
 
 
 def _probe(problem, u, prev):

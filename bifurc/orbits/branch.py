@@ -43,11 +43,12 @@ def _check_param(smap, system, param, values):
                              f"only at isolated values of {param} (the thesis model: q = 17 at 8.5 Hz, over 1000 "
                              f"for most values near it), so no continuous branch exists; continue in another "
                              f"parameter at a fixed {param}")
-    moved = dict(values, **{param: values[param] * (1 + 1e-6) + 1e-9})
-    if smap.period_for(moved) != smap.period_for(values):
-        raise ParameterError(f"param {param!r} sets the strobe period: the map's derivative at a fixed sample "
-                             f"index would move its start time too, which is not implemented; continue in another "
-                             f"parameter (or rescale time so that the period is fixed)")
+
+
+def _sets_period(smap, param) -> bool:
+    """``param`` moves the strobe period (the map's derivative then moves the sample instants too:
+    :meth:`maps.StroboscopicMap.linearize`)."""
+    return smap.period_derivative(param) != 0.0 or param == smap.system.strobe_parameter
 
 
 @recorded("bifurc.continue_orbit")
@@ -64,8 +65,9 @@ def continue_orbit(scene, param: str, span, *, params=None, preset=None, period:
     Parameters
     ----------
     param : str
-        A numeric parameter of the scene.  Refused: ``relay_hz`` under mains forcing (no continuous
-        branch exists) and any parameter that sets the strobe period.
+        A numeric parameter of the scene, the one that sets the strobe period included (the forcing
+        frequency ``Omega`` of a harmonically forced system: the sample instants move with it).
+        Refused: ``relay_hz`` under mains forcing (no continuous branch exists).
     span : (float, float)
         Start value and end value; the branch stops where it leaves the interval between them.
     period, x0, start, k0, transient, preset, circuit, ac_sign, dc_law, soil, compaction : as in
@@ -106,12 +108,12 @@ def continue_orbit(scene, param: str, span, *, params=None, preset=None, period:
     if param2 is not None:
         _check_param(smap, system, param2, values)
         system.validate(dict(values, **{param2: b2}))
-    max_points = int(validate_value("max_points", max_points, 2, 100_000))
-    step = validate_value("step", step, 0.0, 1.0, low_open=True)
-    max_step = validate_value("max_step", max_step, step, 10.0)
+    max_points, step, max_step = _steps(max_points, step, max_step)
     newton_tol = 10 * tol if newton_tol is None else validate_value("newton_tol", newton_tol, 0.0, 1.0, low_open=True)
     transient = int(validate_value("transient", transient, 0, 1e7))
     start, k0, period = first_guess(smap, pb, transient=transient, start=start, k0=k0, period=period)
+    if smap.forcing_period_steps and any(_sets_period(smap, name) for name in (param, param2) if name):
+        k0 = k0 % smap.forcing_period_steps   # the same map; d t_k / dp = (k + phase) dT/dp stays small
     orbit = find_periodic_orbit(smap, start, period, k0=k0, tol=newton_tol)
     say = (lambda pt, label: progress(_describe(pt, label, param))) if progress else None
     cont = ContinuationProblem(smap, param, period, k0, scale=orbit.scale, p_scale=abs(b - a), p_ref=a,
@@ -156,6 +158,12 @@ def _curves(problem, branches, param2, span2, span, max_points, progress):
                 progress(f"{sp.kind} curve from {problem.param} = {sp.p:.8g}: {len(curve.p1)} points; "
                          f"{curve.stop_reason}")
     return out
+
+
+def _steps(max_points, step, max_step):
+    """(max_points, step, max_step) validated, or a one-line error naming the argument."""
+    step = validate_value("step", step, 0.0, 1.0, low_open=True)
+    return int(validate_value("max_points", max_points, 2, 100_000)), step, validate_value("max_step", max_step, step, 10.0)
 
 
 def _span(name, span, what):

@@ -24,10 +24,12 @@ import numpy as np
 from maps.hybrid import HybridState, IntegrationFailure
 from maps.parameters import ParameterError
 
-from .periodic import _Coordinates, _shooting_matrix, monodromy
+from .floquet import product_eigenvalues
+from .newton import accept
+from .periodic import _Coordinates, _shooting_matrix
 
 __all__ = ["BranchPoint", "SpecialPoint", "Branch", "ContinuationProblem", "NoConvergence", "SMOOTH_ROLES",
-           "transition_signature", "flags_of", "in_section", "unit_tangent", "bordered_newton", "impact_count"]
+           "transition_signature", "flags_of", "next_step", "in_section", "unit_tangent", "bordered_newton", "impact_count"]
 
 #: event roles that make the map non-smooth when they appear or vanish (observations and
 #: free-flight minima only record; they may come and go along a smooth branch)
@@ -164,7 +166,7 @@ class ContinuationProblem:
         co = self.co
         Js = [co.R @ L.J @ co.E for L in lins]
         advance = float(sum(L.state.y[co.a] for L in lins)) if co.a is not None else 0.0
-        return BranchPoint(p=self.parameter(u), nodes=self.states(u, flags), multipliers=np.linalg.eigvals(monodromy(Js)),
+        return BranchPoint(p=self.parameter(u), nodes=self.states(u, flags), multipliers=product_eigenvalues(Js, self.scale),
                            signatures=[L.signature for L in lins], jacobians=Js, u=u,
                            tangent=unit_tangent(DF, reference) if tangent is None else tangent / np.linalg.norm(tangent),
                            iterations=iterations,
@@ -204,9 +206,9 @@ def bordered_newton(evaluate, u_pred, normal, flags, tol: float, *, max_iter: in
     (:class:`ContinuationProblem`) and two-parameter curves (:mod:`bifurc.orbits.curves`).
 
     ``evaluate(u, flags) -> (G, DG, linearizations)`` raises :class:`NoConvergence` when it
-    cannot.  Converged when max |G| < ``tol``, or below 100 tol when the iteration stalls (the
-    residual no longer halves) or, with ``tiny_update``, when the Newton update falls below tol:
-    the integration's noise floor, amplified by large multipliers near a grazing.  With
+    cannot.  Converged by :func:`~bifurc.orbits.newton.accept`: max |G| < ``tol``, or at the noise
+    floor when the iteration stalls (the residual no longer halves) or, with ``tiny_update``, when
+    the Newton update falls below tol.  With
     ``keep_impacts`` a step that adds an impact (crossing a grazing, where the map is not
     differentiable) is halved, down to 1e-3 of itself.  ``max_move`` (a predictor step's length):
     a solution farther than that (and than 1e3 tol) from u_pred is refused, Newton having
@@ -230,7 +232,7 @@ def bordered_newton(evaluate, u_pred, normal, flags, tol: float, *, max_iter: in
         if not math.isfinite(norm):
             raise NoConvergence("non-finite residual")
         stalled = it >= 2 and norm > 0.5 * last
-        if norm < tol or (stalled and norm < 100 * tol):
+        if accept(norm, tol, stalled=stalled):
             return done(u, G, DG, lins, flags, it)
         if it == max_iter or (it >= stall_after and stalled):
             raise NoConvergence(f"the corrector stalled at scaled residual {norm:.3g} after {it} iterations")
@@ -239,7 +241,7 @@ def bordered_newton(evaluate, u_pred, normal, flags, tol: float, *, max_iter: in
             du = np.linalg.solve(np.vstack([DG, normal]), np.append(-G, -float(normal @ (u - u_pred))))
         except np.linalg.LinAlgError:
             raise NoConvergence("singular bordered Jacobian") from None
-        if tiny_update and norm < 100 * tol and float(np.max(np.abs(du))) < tol:
+        if tiny_update and accept(norm, tol, update=float(np.max(np.abs(du)))):
             return done(u, G, DG, lins, flags, it)
         lam = 1.0
         while True:                        # the trial's evaluation is the next iteration's
@@ -250,6 +252,13 @@ def bordered_newton(evaluate, u_pred, normal, flags, tol: float, *, max_iter: in
         u = u + lam * du
         G, DG, lins = trial
     raise NoConvergence("no convergence")   # pragma: no cover - the loop returns or raises
+
+
+def next_step(h: float, iterations: int, max_step: float) -> float:
+    """The one step rule of branches and two-parameter curves: the arclength step after a point the
+    corrector took ``iterations`` to converge: x1.5 after an easy one (<= 3), kept (<= 5), else x0.7,
+    at most ``max_step`` (a failure halves it, down to the driver's min_step)."""
+    return min(max_step, h * (1.5 if iterations <= 3 else 1.0 if iterations <= 5 else 0.7))
 
 
 def flags_of(pt) -> list:

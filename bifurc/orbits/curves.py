@@ -30,7 +30,7 @@ from maps.hybrid import IntegrationFailure
 from maps.parameters import ParameterError
 
 from ..storage.schema import CURVE_KINDS
-from .continuation import NoConvergence, bordered_newton, unit_tangent
+from .continuation import NoConvergence, bordered_newton, next_step, unit_tangent
 from .grazing_orbit import grazing_rows
 
 __all__ = ["Curve", "CurveProblem", "follow_curve", "CURVE_KINDS"]
@@ -121,6 +121,9 @@ class CurveProblem:
             B = np.zeros((2, w.size))
             B[:, j * d:(j + 1) * d] = rows[:, :d]
             B[:, self.N:] = rows[:, d:]
+            for i, name in enumerate(self.names):     # t_g = (t_g / T) T(p): it moves with a period-setting parameter
+                B[:, self.N + i] += rows[:, -1] * w[-1] * self.base.smap.period_derivative(name) \
+                    * self.p_scales[i] / self.base.smap.period
             return np.concatenate([F, G2]), np.vstack([np.column_stack([top, np.zeros(top.shape[0])]), B]), lins
         sigma = self._sigma(M)
         grad = np.zeros(w.size)
@@ -136,11 +139,11 @@ def _correct(problem, w_pred, normal, flags, tol, max_move=None):
     """Newton on [G(w); normal . (w - w_pred)] = 0 (:func:`bifurc.orbits.continuation.bordered_newton`); on
     a grazing curve an iterate that adds an impact is damped back toward the last one; a step
     passes its length ``max_move`` (a solution farther away is on another curve: refused).
-    Returns (w, G, DG, flags, max |G|)."""
-    w, G, DG, _, flags, _ = bordered_newton(problem.evaluate, w_pred, normal, flags, tol, max_iter=12, stall_after=4,
+    Returns (w, G, DG, flags, max |G|, iterations)."""
+    w, G, DG, _, flags, its = bordered_newton(problem.evaluate, w_pred, normal, flags, tol, max_iter=12, stall_after=4,
                                             tiny_update=False, keep_impacts=problem.kind == "grazing",
                                             max_move=max_move)
-    return w, G, DG, flags, float(np.max(np.abs(G)))
+    return w, G, DG, flags, float(np.max(np.abs(G))), its
 
 
 def follow_curve(problem: CurveProblem, w0, flags, p2_end: float, bounds1, *, step: float = 0.02,
@@ -157,7 +160,7 @@ def follow_curve(problem: CurveProblem, w0, flags, p2_end: float, bounds1, *, st
             problem.refresh_bordering(w0, flags)
         e = np.zeros(w0.size)
         e[problem.N + 1] = 1.0                       # fix p2 for the start
-        w, G, DG, flags, norm = _correct(problem, w0, e, flags, tol)
+        w, G, DG, flags, norm, _ = _correct(problem, w0, e, flags, tol)
     except NoConvergence as exc:
         curve.stop_reason = f"the start does not converge: {exc}"
         return curve
@@ -168,7 +171,7 @@ def follow_curve(problem: CurveProblem, w0, flags, p2_end: float, bounds1, *, st
     h = step
     while len(curve.p1) < max_points:
         try:
-            w_new, G, DG, flags_new, norm = _correct(problem, w + h * t, t, flags, tol, max_move=h)
+            w_new, G, DG, flags_new, norm, its = _correct(problem, w + h * t, t, flags, tol, max_move=h)
             t_new = unit_tangent(DG, t)
         except NoConvergence as exc:
             if h / 2 >= min_step:
@@ -189,7 +192,7 @@ def follow_curve(problem: CurveProblem, w0, flags, p2_end: float, bounds1, *, st
         if not (lo2 - 1e-12 <= p2 <= hi2 + 1e-12 and lo1 - 1e-12 <= p1 <= hi1 + 1e-12):
             curve.stop_reason = f"left the parameter box at ({p1:.10g}, {p2:.10g})"
             break
-        h = min(max_step, 1.3 * h)
+        h = next_step(h, its, max_step)
     else:
         curve.stop_reason = f"reached max_points = {max_points}"
     return curve

@@ -13,7 +13,7 @@ from maps.provenance import cf_attrs
 
 from .._version import __version__
 from ..storage.build import coord, dataset, put
-from ..storage.schema import (BRANCH, CURVE, CURVE_COORDS, CURVE_KINDS, ORBIT, ORBIT_SCALARS, SPECIAL,
+from ..storage.schema import (BRANCH, CURVE, CURVE_COORDS, ORBIT, ORBIT_SCALARS, SPECIAL,
                               SPECIAL_KINDS, Variable, advance_variable, curve_parameter, flag_variable,
                               state_variable)
 
@@ -177,7 +177,7 @@ def _put_curves(ds, curves, system) -> None:
     ds.coords.update({v.name: coord(v, n) for v, n in zip(CURVE_COORDS, (n_points, len(curves)))})
     columns = {"curve_id": np.concatenate([np.full(len(c.p1), i) for i, c in enumerate(curves)]),
                "curve_residual": np.concatenate([np.asarray(c.residual, float) for c in curves]),
-               "curve_kind": [CURVE_KINDS.index(c.kind) for c in curves],
+               "curve_kind": [SPECIAL_KINDS.index(c.kind) for c in curves],
                "curve_special": [c.start for c in curves], "curve_stop_reason": [c.stop_reason for c in curves]}
     put(ds, _ROWS["curve_id"], columns["curve_id"])
     for name, attr in ((p1, "p1"), (p2, "p2")):

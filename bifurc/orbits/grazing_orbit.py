@@ -26,6 +26,7 @@ from maps.impacts import impact_log
 from maps.parameters import ParameterError
 
 from .continuation import flags_of, impact_count
+from .newton import accept
 
 __all__ = ["closest_flight_minimum", "locate_grazing", "gap_derivatives", "grazing_rows"]
 
@@ -97,15 +98,15 @@ def locate_grazing(problem, prev, *, max_iter: int = 30, radius: float = 0.1):
     not located), the gap at t_g, the grazing BranchPoint or None, a note, {"t_g", "node"}).
     Iterates stay within ``radius`` (scaled units, as the arclength step) of ``prev``: farther, it is
     another grazing, and this one is reported as not located.  Converged when the residual is below
-    the problem's tol, or at the integration's noise floor (residual and Newton update both below
-    100 tol, as :func:`~bifurc.orbits.periodic.find_periodic_orbit`), the tolerance then the update left."""
+    the problem's tol, or at the integration's noise floor (:func:`~bifurc.orbits.newton.accept`, the
+    one rule of every Newton here), the tolerance then the update left."""
     near = closest_flight_minimum(problem, prev)
     if near is None:
         return math.nan, math.nan, math.nan, None, "no free-flight minimum to graze", {}
     j, t_g, _ = near
     gscale = float(np.max(problem.scale))
     u, flags = prev.u.copy(), flags_of(prev)
-    impacts, last_step, norm = prev.impacts, math.inf, math.inf
+    impacts, last_step, norm, last_update = prev.impacts, math.inf, math.inf, math.inf
 
     def failed(exc):
         return problem.parameter(u), math.nan, math.nan, None, f"the augmented Newton failed: {exc}", {}
@@ -143,7 +144,10 @@ def locate_grazing(problem, prev, *, max_iter: int = 30, radius: float = 0.1):
             step = np.linalg.solve(A, -np.concatenate([F, G]))
         except np.linalg.LinAlgError:
             break
-        if norm < 100 * problem.tol and float(np.max(np.abs(step[:-1]))) < 100 * problem.tol \
+        update = float(np.max(np.abs(step[:-1])))
+        stalled = it >= 2 and update > 0.9 * last_update     # at the residual's noise floor: the update stopped shrinking
+        last_update = update
+        if accept(norm, problem.tol, update=update, stalled=stalled) \
                 and impact_count(lins) == impacts:
             # the integration's noise floor (as find_periodic_orbit's): residual and update are both
             # round-off; the value is as good as the update Newton still asks for

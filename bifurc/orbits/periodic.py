@@ -17,7 +17,8 @@ period needs is a result of the orbit: ``advance`` [the anchor's unit] per perio
 
 The forcing of a relay scene repeats after q relay periods (``forcing_period_steps``): n must
 be a multiple of q.  The multipliers are the eigenvalues of J_{n-1} ... J_0 (the monodromy
-matrix at node 0).  The solver never returns an unconverged orbit: it says why it stopped
+matrix at node 0), computed from the n Jacobians without forming their product
+(:mod:`bifurc.orbits.floquet`: the small ones keep their relative accuracy).  The solver never returns an unconverged orbit: it says why it stopped
 (singular Jacobian, a transition signature that kept changing, residual stalled, iteration cap,
 the integration failing).
 """
@@ -32,7 +33,11 @@ import numpy as np
 from maps.translation import reduction_matrices, translation_basis
 
 from maps.hybrid import HybridState, IntegrationFailure
+from maps.impacts import impact_log
 from maps.parameters import ParameterError, validate_value
+
+from .floquet import product_eigenvalues
+from .newton import accept
 
 __all__ = ["PeriodicOrbit", "OrbitNotFound", "find_periodic_orbit", "monodromy"]
 
@@ -51,7 +56,8 @@ class PeriodicOrbit:
 
     ``nodes[j]`` is the hybrid state at sample k0 + j (j < n); ``jacobians[j]`` the exact
     one-period Jacobian there; ``signatures[j]`` the roles of the events of that period, in
-    order.  ``multipliers`` are the Floquet multipliers (eigenvalues of the monodromy matrix),
+    order.  ``multipliers`` are the Floquet multipliers (eigenvalues of the monodromy matrix, from
+    the cyclic matrix of the Jacobians: :func:`~bifurc.orbits.floquet.product_eigenvalues`),
     ``stable`` is max |multiplier| < 1.  ``residual`` is the largest scaled residual
     |P(y_j) - y_{j+1}| / scale at the solution; ``conditioning`` compares the multiple-shooting
     matrix with single shooting's (monodromy - I)."""
@@ -91,8 +97,24 @@ def monodromy(jacobians) -> np.ndarray:
     return M
 
 
-def _scale(states, atol):
-    return np.maximum(np.max(np.abs(np.asarray(states)), axis=0), atol)
+def _scale(states, atol, amplitude=0.0):
+    """Per state component: the largest |y| over ``states``, at least ``atol``; where that is below
+    1e-3 of the orbit's ``amplitude`` between samples, the amplitude (a component zero at every
+    sample, e.g. a velocity sampled at its turning point, scaled by atol made the Newton matrix
+    singular)."""
+    at_nodes = np.max(np.abs(np.asarray(states)), axis=0)
+    return np.maximum(np.where(at_nodes < 1e-3 * amplitude, amplitude, at_nodes), atol)
+
+
+def _amplitude(smap, node, k: int, co) -> np.ndarray:
+    """max |y| per (reduced) component at a quarter, half and three quarters of the period from ``node``
+    at sample k (zeros where the integration fails: the node magnitudes then scale alone)."""
+    t0, t1 = smap.sample_time(k), smap.sample_time(k + 1)
+    try:
+        ys = [co.reduce(smap.linearize(node, k, until=t0 + f * (t1 - t0)).state.y) for f in (0.25, 0.5, 0.75)]
+    except (IntegrationFailure, ZeroDivisionError, ParameterError):
+        return np.zeros(co.E.shape[1])
+    return np.max(np.abs(np.array(ys)), axis=0)
 
 
 class _Coordinates:
@@ -116,11 +138,12 @@ def find_periodic_orbit(smap, start, period: int, *, k0: int = 0, tol: float = 1
                         atol: float = 1e-9) -> PeriodicOrbit:
     """Newton by multiple shooting for a period-``period`` orbit of ``smap`` through samples
     k0 ... k0 + period - 1, from ``start`` (a :class:`~maps.hybrid.HybridState` or a bare state
-    at sample k0: the first guess of the nodes is the map's own iteration from it).
+    at sample k0: the first guess of the nodes is the map's own iteration from it; or the list of
+    the ``period`` nodes).
 
     Converged when the largest residual, scaled per state component by the orbit's magnitude
-    (at least ``atol``), is below ``tol``, or below 100 tol with a Newton update below tol or no
-    step reducing it (the noise floor of the integration, amplified by large multipliers).  Raises :class:`OrbitNotFound` with the reason
+    (at the nodes and between them, at least ``atol``), passes :func:`~bifurc.orbits.newton.accept` (below ``tol``, or at the
+    integration's noise floor).  Raises :class:`OrbitNotFound` with the reason
     otherwise, and :class:`~maps.parameters.ParameterError` for a period that is not a multiple
     of the forcing period q (or q = 0: the forcing never repeats).
     """
@@ -136,11 +159,12 @@ def find_periodic_orbit(smap, start, period: int, *, k0: int = 0, tol: float = 1
     co = _Coordinates(smap.system)
     nodes = _first_nodes(smap, start, n, k0, co)
     d = co.E.shape[1]
-    scale = _scale([co.reduce(s.y) for s in nodes], atol)
+    amplitude = _amplitude(smap, nodes[0], k0, co)
+    scale = _scale([co.reduce(s.y) for s in nodes], atol, amplitude)
     signatures_seen = []
     for it in range(max_iter + 1):
         if it:      # the orbit's magnitude, not the first guess's (a guess at rest scaled v by atol)
-            scale = _scale([co.reduce(s.y) for s in nodes], atol)
+            scale = _scale([co.reduce(s.y) for s in nodes], atol, amplitude)
         try:
             lins = [smap.linearize(s, k0 + j) for j, s in enumerate(nodes)]
         except (IntegrationFailure, ZeroDivisionError) as exc:
@@ -153,7 +177,7 @@ def find_periodic_orbit(smap, start, period: int, *, k0: int = 0, tol: float = 1
         # the mode of each node: the flags its incoming step ends in
         nodes = [HybridState(nodes[j].y, dict(lins[j - 1].state.flags)) for j in range(n)]
         if norm < tol:
-            return _solution(nodes, lins, k0, n, norm, it, scale, clock, co)
+            return _solution(smap, nodes, lins, k0, n, norm, it, scale, clock, co)
         if it == max_iter:
             break
         M = _shooting_matrix([co.R @ L.J @ co.E for L in lins], scale)
@@ -162,15 +186,15 @@ def find_periodic_orbit(smap, start, period: int, *, k0: int = 0, tol: float = 1
             raise OrbitNotFound(f"singular Jacobian at iteration {it} (condition number {cond:.3g}): a fold, "
                                 f"a grazing or a stick makes the orbit degenerate", it, norm)
         step = np.linalg.solve(M, -res).reshape(n, d) * scale
-        if norm < 100 * tol and float(np.max(np.abs(step / scale))) < tol:
+        if accept(norm, tol, update=float(np.max(np.abs(step / scale)))):
             # the integration's noise floor (amplified by large multipliers): the update is below tol
-            return _solution(nodes, lins, k0, n, norm, it, scale, clock, co)
+            return _solution(smap, nodes, lins, k0, n, norm, it, scale, clock, co)
         trial = _line_search(smap, nodes, step, k0, co, scale, norm)
         if trial is not None:
             nodes = trial
         else:
-            if norm < 100 * tol:         # at the noise floor: no step reduces a residual that is already noise
-                return _solution(nodes, lins, k0, n, norm, it, scale, clock, co)
+            if accept(norm, tol, stalled=True):   # at the noise floor: no step reduces a residual that is noise
+                return _solution(smap, nodes, lins, k0, n, norm, it, scale, clock, co)
             changing = len({tuple(s) for s in signatures_seen[-3:]}) > 1
             why = ("the transition signature keeps changing (an impact born or lost between iterates)"
                    if changing else "the residual stalled: no step along the Newton direction reduces it")
@@ -181,7 +205,10 @@ def find_periodic_orbit(smap, start, period: int, *, k0: int = 0, tol: float = 1
 
 
 def _first_nodes(smap, start, n: int, k0: int, co) -> list:
-    """The first guess's n nodes: ``start`` and its n - 1 images, with the anchor at 0."""
+    """The first guess's n nodes: ``start`` and its n - 1 images (or ``start`` itself when it is a
+    list of n HybridStates: an unstable orbit's iterates drift away), with the anchor at 0."""
+    if isinstance(start, (list, tuple)) and len(start) == n and all(isinstance(s, HybridState) for s in start):
+        return [HybridState(co.embed(co.reduce(s.y)), s.flags) for s in start]
     y0 = start.y if isinstance(start, HybridState) else np.asarray(smap.system.state_vector(start), dtype=float)
     if not np.all(np.isfinite(y0)):
         raise ParameterError(f"the start state has a non-finite component: {y0}")
@@ -224,7 +251,26 @@ def _shooting_matrix(Js, scale) -> np.ndarray:
     return M
 
 
-def _solution(nodes, lins, k0, n, norm, it, scale, clock, co) -> PeriodicOrbit:
+def _chattering(smap, lins) -> str:
+    """Why the converged nodes are no orbit: a period whose impacts slow geometrically to below 1e-8 of
+    its fastest (20 or more: an accumulation of impacts the integration stops resolving, the mass then
+    passing the stop unseen), else ''."""
+    system = smap.system
+    if system.gap is None:
+        return ""
+    for j, L in enumerate(lins):
+        speeds = np.abs(impact_log(system, smap.params, ((ev.name, ev.t, ev.y_minus) for ev in L.events))["velocity"])
+        if speeds.size >= 20 and speeds.min() < 1e-8 * speeds.max():
+            return (f"period {j} of the converged nodes has {speeds.size} impacts slowing to {speeds.min():.3g} "
+                    f"(from {speeds.max():.3g}): an accumulation of impacts (chattering) the integration does not "
+                    f"resolve; the mass sticks there (declare a stick mode, e.g. stick_speed > 0)")
+    return ""
+
+
+def _solution(smap, nodes, lins, k0, n, norm, it, scale, clock, co) -> PeriodicOrbit:
+    why = _chattering(smap, lins)
+    if why:
+        raise OrbitNotFound(why, it, norm)
     Js = [co.R @ L.J @ co.E for L in lins]             # the reduced map's Jacobians
     orbit = PeriodicOrbit(nodes=nodes, k0=k0, period=n, jacobians=Js, signatures=[L.signature for L in lins],
                           multipliers=np.array([]), residual=norm, iterations=it, scale=scale,
@@ -233,7 +279,7 @@ def _solution(nodes, lins, k0, n, norm, it, scale, clock, co) -> PeriodicOrbit:
         orbit.advance = float(sum(L.state.y[co.a] for L in lins))     # every node starts with the anchor at 0
         orbit.reduced = co.names
     M = orbit.monodromy
-    orbit.multipliers = np.linalg.eigvals(M)
+    orbit.multipliers = product_eigenvalues(Js, scale)
     d = M.shape[0]
     partial, growth = np.eye(d), 1.0
     for J in Js:              # how far single shooting's intermediate products stretch a perturbation

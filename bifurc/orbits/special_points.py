@@ -24,6 +24,7 @@ import numpy as np
 
 from maps.impacts import impact_log
 
+from ..storage.schema import SPECIAL_KINDS
 from .continuation import SMOOTH_ROLES, BranchPoint, NoConvergence, SpecialPoint, flags_of, in_section
 from .grazing_orbit import closest_flight_minimum, locate_grazing
 
@@ -54,8 +55,9 @@ TESTS = {"fold": ("fold", "dp/ds: the parameter component of the unit tangent", 
 
 
 #: the special points located by a test function or an augmented system (the others bound a
-#: branch's end: the last point before an event, or an extrapolation)
+#: branch's end: the last point before an event, or an extrapolation); names of schema.SPECIAL_KINDS
 LOCATED_KINDS = (*TESTS, "grazing")
+assert set(LOCATED_KINDS) <= set(SPECIAL_KINDS), "special-point kinds outside the one vocabulary"
 
 #: the words of a failed fold's note where a period-2m branch is born at a period doubling
 BIRTH_NOTE = "born at a period doubling"

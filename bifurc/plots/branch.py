@@ -10,9 +10,11 @@ __all__ = ["plot_branch", "plot_curves", "branch_curves", "SPECIAL_LABELS"]
 
 #: short labels of the special points on the figure
 SPECIAL_LABELS = {"fold": "LP", "period_doubling": "PD", "neimark_sacker": "NS", "grazing": "G",
-                  "impact_lost": "IL", "stick_onset": "ST", "signature_change": "SC"}
+                  "impact_lost": "IL", "stick_onset": "ST", "signature_change": "SC", "cusp": "CP",
+                  "fold_flip": "LPPD", "grazing_fold": "GLP", "curve_crossing": "X", "resonance": "R"}
 _MARKERS = {"fold": "s", "period_doubling": "D", "neimark_sacker": "h", "grazing": "v", "impact_lost": "^",
-            "stick_onset": "X", "signature_change": "P"}
+            "stick_onset": "X", "signature_change": "P", "cusp": "*", "fold_flip": "*", "grazing_fold": "*",
+            "curve_crossing": "*", "resonance": "*"}
 
 
 def plot_branch(ds, path=None, state=None, node: int = 0, ax=None, diagram=None, overwrite=False, label=None,
@@ -82,14 +84,13 @@ def _draw_diagram(ax, diagram, par, state):
 def branch_curves(ds) -> list:
     """[(p1 values, p2 values, label)] of the two-parameter curves of a branch dataset, ready to draw
     over a regime map of the same two parameters."""
-    from ..orbits.curves import CURVE_KINDS
     if "curve_id" not in ds:
         return []
     p1, p2 = ds.attrs["curve_parameters"].split()
     out = []
     for c in range(ds.sizes["curve"]):
         sel = ds.curve_id.values == c
-        kind = CURVE_KINDS[int(ds.curve_kind.values[c])]
+        kind = SPECIAL_KINDS[int(ds.curve_kind.values[c])]
         out.append((ds[f"curve_{p1}"].values[sel], ds[f"curve_{p2}"].values[sel], f"{SPECIAL_LABELS[kind]} curve"))
     return out
 

@@ -200,9 +200,12 @@ ORBIT_SCALARS = [
 ]
 
 PT, PM, SP, SPM = ("point",), ("point", "multiplier"), ("special",), ("special", "multiplier")
-#: special points of a branch, in the order of their codes
+#: the one vocabulary of special points (branches, two-parameter curves and their codimension-2 points),
+#: in the order of their codes: codimension one on a branch (the first seven), then codimension two on a
+#: two-parameter curve (a fold curve's cusp, a fold meeting a period doubling, a fold meeting a grazing,
+#: two curves crossing, a Neimark-Sacker pair reaching +-1: strong resonances)
 SPECIAL_KINDS = ("fold", "period_doubling", "neimark_sacker", "grazing", "impact_lost", "stick_onset",
-                 "signature_change")
+                 "signature_change", "cusp", "fold_flip", "grazing_fold", "curve_crossing", "resonance")
 #: a continued branch (bifurc.orbits.branch): one row per corrected point (states and flags per node from
 #: state_variable / flag_variable with dims ("point", "node"); the parameter itself is a variable
 #: named after it, dims ("point",))
@@ -245,8 +248,8 @@ SPECIAL = [
     Variable("special_note", SP, str, "", "1", "what was found, or why it was not located"),
 ]
 
-#: what a two-parameter curve continues (bifurc.orbits.curves)
-CURVE_KINDS = ("fold", "period_doubling", "grazing")
+#: the special points a two-parameter curve continues (bifurc.orbits.curves); curve_kind is coded as special_kind
+CURVE_KINDS = ("fold", "period_doubling", "neimark_sacker", "grazing")
 CP, C = ("curve_point",), ("curve",)
 #: two-parameter curves of a branch dataset: points along ``curve_point``, one row per curve along ``curve``
 CURVE_COORDS = [
@@ -257,7 +260,8 @@ CURVE = [
     Variable("curve_id", CP, np.int16, -1, "1", "curve the point belongs to"),
     Variable("curve_residual", CP, float, np.nan, "1", "largest scaled residual of the defining system"),
     Variable("curve_kind", C, np.int8, -1, "1", "what the curve continues",
-             (("flag_values", np.arange(len(CURVE_KINDS), dtype=np.int8)), ("flag_meanings", " ".join(CURVE_KINDS)))),
+             (("flag_values", np.arange(len(SPECIAL_KINDS), dtype=np.int8)),
+              ("flag_meanings", " ".join(SPECIAL_KINDS)))),
     Variable("curve_special", C, np.int32, -1, "1", "the special point the curve starts from"),
     Variable("curve_stop_reason", C, str, "", "1", "why the curve stopped"),
 ]
