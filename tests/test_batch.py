@@ -45,7 +45,8 @@ def test_sweep_point_batch_equals_scalar(base, x0):
     """11 values in 4 lanes (refilled 2-3 times each), 2 passes (transient, recorded window with
     every observation guard and the tangent vector); x0 = 0 starts on the stop.  A short horizon:
     the record is not extended (max_record)."""
-    point = ValueJob(maps.problem("thesis-1dof", params=base, x0=x0), "relay_hz", transient=4, record=6, lyapunov_steps=6, max_record=6)
+    point = ValueJob(maps.problem("thesis-1dof", params=base, x0=x0), "relay_hz", transient=4, record=6, lyapunov_steps=6, max_record=6,
+                     budget=10)
     values = np.linspace(2.0, 10.0, 11)
     scalar = [point(v) for v in values]
     batch = point.run_many(values)
@@ -60,7 +61,7 @@ def test_escaping_lanes_end_and_are_refilled(base):
     """Sweeping V to 1000 V throws the bar out: a lane that ends early is refilled, and the escape
     time is the scalar one (a non-relay parameter swept: the relay frequency is fixed per lane)."""
     point = ValueJob(maps.problem("thesis-1dof", params=dict(base, relay_hz=5.0)), "V", transient=2, record=4, lyapunov_steps=4,
-                     max_record=4)
+                     max_record=4, budget=6)
     values = np.linspace(600.0, 1000.0, 9)
     scalar = [point(v) for v in values]
     batch = point.run_many(values)
@@ -106,9 +107,10 @@ def test_batch_refuses_systems_it_cannot_run(base):
 
 
 def test_sweep_batch_and_scalar_datasets_agree():
-    """sweep(batch_size=4) and sweep(batch_size=1) store the same diagram on a short horizon."""
+    """sweep(batch_size=4) and sweep(batch_size=1) store the same diagram on a short horizon (a budget
+    that allows no extension: chaos amplifies the paths' round-off over long windows)."""
     kw = dict(preset="matlab-listing", params={"V": 90.0}, transient=4, record=6, max_record=6, progress=False,
-              grazing=False, error_sample=0)
+              grazing=False, error_sample=0, budget=10)
     values = np.linspace(3.0, 9.0, 7)
     a = sweep("thesis-1dof", "relay_hz", values, batch_size=1, **kw)
     b = sweep("thesis-1dof", "relay_hz", values, batch_size=4, **kw)

@@ -101,7 +101,7 @@ def test_sweep_stuck_fraction_is_the_time_in_the_holding_mode(soil):
     engines, and a finely sampled flag to the sampling's resolution."""
     W, tr, rec = 6.0, 4, 12
     kw = dict(transient=tr, record=rec, workers=1, progress=False, lyapunov=False, grazing=False, error_sample=0,
-              soil=soil, tol=1e-12)                      # the time history's tolerance
+              soil=soil, tol=1e-12, budget=tr + rec)     # the time history's tolerance and window
     h = maps.simulate("prototype", t_end=(tr + rec) / W, transient=tr / W, params={"relay_hz": W}, soil=soil,
                       dt=1.0 / (W * 2000))
     for batch_size in (4, 1):

@@ -15,7 +15,7 @@ def test_diagram_and_report_commands(tmp_path, capsys):
     assert main(["diagram", "--scene", "thesis-1dof", "--preset", "matlab-listing", "--set", "V=90",
                  "--from", "5", "--to", "9", "--n", "3", "--transient", "10", "--record", "8", "--quiet",
                  "-o", str(nc), "--plot", str(png)]) == 0
-    from bifurc.storage import files, load as storage
+    from bifurc.storage import load as storage
     ds = storage.read(nc)
     np.testing.assert_allclose(ds.relay_hz.values, [5, 7, 9])
     assert ds.class_code.dims == ("branch", "relay_hz") and (ds.class_code.values >= 0).all()
@@ -38,8 +38,10 @@ def test_quick_study_compares_every_frequency(tmp_path):
     text = (tmp_path / "comparison.md").read_text()
     for w in range(2, 11):
         assert f"\n| {w} |" in text
-    # at the thesis' 25 V the AC pull never brings the bar to the stop: said, not hidden
-    assert int(ds.n_impacts.max()) == 0 and "does not reach the stop" in text
+    # at the thesis' 25 V the AC pull brings the bar to the stop at 2 Hz only, and there only after the
+    # first hundreds of periods (a quasi-periodic orbit judged on a longer window): said, not hidden
+    n = ds.n_impacts.values[0]
+    assert n[0] > 0 and int(n[1:].max()) == 0 and "does not reach the stop" in text
     for f in ("thesis-text.nc", "thesis-text.png", "thesis-text.md"):
         assert (tmp_path / f).exists()
     before = (tmp_path / "comparison.md").read_text()

@@ -252,7 +252,7 @@ def test_map_step_error_follows_the_tolerance_on_a_non_periodic_value():
     est = {}
     for tol in (1e-7, 1e-11):
         ds = sweep("thesis-1dof", "relay_hz", np.array([5.0]), preset="matlab-listing", params={"V": 90},
-                   transient=60, record=40, tol=tol, grazing=False, error_sample=1, progress=False)
+                   transient=60, record=40, tol=tol, grazing=False, error_sample=1, progress=False, budget=100)
         est[tol] = ds.attrs
     assert int(ds.class_code.values.ravel()[0]) in (2, 3, 4)  # not periodic (4: over 40 periods the exponent's
     #                                                          interval contains the chaos threshold)
@@ -280,18 +280,22 @@ def test_a_still_converging_transient_is_extended_until_it_decides(osc):
     rate = math.exp(-0.005 * 1.0 * 2 * math.pi / 0.7)
     args = dict(params=p, transient=20, record=30, tol=1e-13, lyapunov=False, grazing=False, error_sample=0,
                 progress=False)
-    short = sweep(osc, "Omega", [0.7], **args).isel(branch=0, Omega=0)
+    short = sweep(osc, "Omega", [0.7], budget=50, **args).isel(branch=0, Omega=0)   # no room to extend
     assert CLASS_LABELS[int(short.class_code)] == "not-converged"
     # the decaying free oscillation (w_d ~ w0) nearly repeats every 7 samples of T = 2 pi / 0.7,
     # the best candidate; its distance decays at the analytic rate per period
     assert float(short.convergence_rate) == pytest.approx(rate, rel=1e-3)
     assert int(short.period) == 0 and int(short.candidate_period) == 7  # not periodic: period 0
-    assert int(short.transient_used) == 20
-    long = sweep(osc, "Omega", [0.7], max_transient=1000, **args).isel(branch=0, Omega=0)
-    assert CLASS_LABELS[int(long.class_code)] == "periodic-no-impact" and int(long.period) == 1
-    assert math.log(1e-6) / math.log(rate) < int(long.transient_used) <= 1000
-    x, v, X = steady_state(p)
-    assert float(long.x.isel(sample=-1)) == pytest.approx(x, abs=1e-5 * X)
+    assert int(short.transient_used) == 20 and int(short.budget_needed) > 50    # what would decide it
+    # the default budget (anytime: the window doubles until the recurrence holds), and max_transient, the
+    # former limit, which still raises the budget to max_transient + record
+    for long in (sweep(osc, "Omega", [0.7], **args).isel(branch=0, Omega=0),
+                 sweep(osc, "Omega", [0.7], max_transient=1000, budget=50, **args).isel(branch=0, Omega=0)):
+        assert CLASS_LABELS[int(long.class_code)] == "periodic-no-impact" and int(long.period) == 1
+        assert math.log(1e-6) / math.log(rate) < int(long.transient_used) + int(long.record_used) <= 1030
+        assert int(long.budget_needed) == 0
+        x, v, X = steady_state(p)
+        assert float(long.x.isel(sample=-1)) == pytest.approx(x, abs=1e-5 * X)
 
 
 KILL_SCRIPT = """
@@ -364,7 +368,8 @@ def test_the_exponent_uses_the_whole_recorded_window_with_an_interval_and_reason
     series recomputed here by the exact one-period Jacobians at the stored points, each an exact
     restart with its mode), its interval brackets it, and every not-converged value says why."""
     ds = sweep("thesis-1dof", "relay_hz", np.array([5.0, 9.0]), preset="matlab-listing", params={"V": 90},
-               transient=50, record=200, grazing=False, error_sample=0, progress=False, batch_size=1).isel(branch=0)
+               transient=50, record=200, grazing=False, error_sample=0, progress=False, batch_size=1,
+               budget=250).isel(branch=0)     # one window of 200 periods, one trajectory
     assert ds.attrs["lyapunov_steps"] == 200 and "batch means" in ds.attrs["lyapunov_interval_method"]
     lam, lo, hi = ds.lyapunov.values, ds.lyapunov_low.values, ds.lyapunov_high.values
     assert np.all(np.isfinite(lam)) and np.all((lo <= lam) & (lam <= hi))
@@ -439,7 +444,7 @@ def test_record_extended_to_three_forcing_periods_up_to_max_record():
     assert ds.record_used.attrs["units"] == "1" and "max_record" in ds.record_used.attrs["long_name"]
     for cap, batch in ((150, 1), (100, 4)):
         short = sweep("thesis-1dof", "relay_hz", np.array([8.9]), max_record=cap, batch_size=batch,
-                      **kw).isel(branch=0, relay_hz=0)
+                      budget=300 + cap, **kw).isel(branch=0, relay_hz=0)
         assert int(short.record_used) == cap and int(short.period) == 0
         assert ClassCode(int(short.class_code)) != ClassCode.PERIODIC
     with pytest.raises(maps.parameters.ParameterError, match="max_record"):

@@ -47,7 +47,6 @@ def _regroup(lam, n: int, d: int) -> np.ndarray:
     with np.errstate(over="ignore", under="ignore"):
         logmod = n * np.log(np.maximum(np.abs(lam), 1e-300))
         arg = n * np.angle(lam)
-    mu = np.exp(logmod + 1j * arg)
     left = list(np.argsort(-logmod))
     out = []
     for _ in range(d):

@@ -135,8 +135,9 @@ SWEEP = [
     Variable("failure_time", V, float, np.nan, "s", "time of escape or failure (NaN: none)"),
     Variable("n_steps", V, np.int64, 0, "1", "Taylor steps"),
     Variable("record_used", V, np.int32, -1, "1",
-             "relay periods in the window the class was judged on (the stationary part of the record, extended "
-             "while undecided up to the budget; fewer after an escape); the stored samples are its first record"),
+             "relay periods in the window the class was judged on (the stationary part of the record: first "
+             "extended up to max_record to hold three forcing periods, then while undecided up to the budget; "
+             "fewer after an escape); the stored samples are its first record"),
     Variable("transient_used", V, np.int64, -1, "1",
              "relay periods before the judged window: the transient, and the record's parts found not stationary"),
     Variable("run_seconds", V, float, np.nan, "s",

@@ -115,12 +115,14 @@ def judge(v: Value, *, classify, stretch, budget: int, record: int, lyapunov: bo
             return
     left = budget - v.end
     more = min(max(record, o.n), left)
+    st = stretch(o) if lyapunov else None
+    if st is not None:       # the value's own exponent, until copies give one that holds across trajectories
+        v.lyap = exponent_estimate(st[None, :])[:3]
     if math.isfinite(cls["convergence_rate"]) and cls["convergence_rate"] < DECAY_RATE:
         v.cls = cls
         v.action = ("extend", more, 1) if more > 0 else None
         v.budget_needed = 2 * v.end if more <= 0 else 0
         return
-    st = stretch(o) if lyapunov else None
     why = halves_differ(st, o.impacts_per_step)
     if why:
         if more > 0:
@@ -131,7 +133,7 @@ def judge(v: Value, *, classify, stretch, budget: int, record: int, lyapunov: bo
         v.budget_needed = 2 * v.end
         return
     if not lyapunov:
-        v.cls = _undecided(cls, "no period found and no exponent (lyapunov=False)")
+        v.cls = _undecided(cls, cls.get("reason") or "no period found and no exponent (lyapunov=False)")
         return
     _judge_exponent(v, cls, st, stretch, more, observable, max_period, budget)
 
@@ -141,9 +143,10 @@ def _judge_exponent(v: Value, cls, own, stretch, more: int, observable, max_peri
     """The exponent's part of :func:`judge`: chaotic, quasi-periodic, or extend."""
     o = v.orbit
     if len(v.copies) + 1 < TRAJECTORIES:     # the interval must hold across trajectories: copies first
-        v.cls = _undecided(cls, "the exponent needs other trajectories on the same attractor")
+        v.cls = _undecided(cls, "the exponent needs other trajectories on the same attractor (out of budget "
+                                "before they could run)" if more <= 0 else "the exponent needs other trajectories")
         v.action = ("extend", more, TRAJECTORIES) if more > 0 else None
-        v.lyap = exponent_estimate(own[None, :])[:3] if own is not None else v.lyap
+        v.budget_needed = 0 if more > 0 else v.end + 2 * DECORRELATE
         return
     m = min([c.n for c in v.copies] + [o.n])
     rows = [own[-m:]] + [stretch(c)[-m:] for c in v.copies]

@@ -203,7 +203,7 @@ def add_error_estimate(ds, sample_values, point_err, time_err, counts_differ, se
         "error_map_points_rel_sensitive": sensitive_err,
         "error_sensitive_values": int(n_sensitive),
         "error_estimate_seconds": seconds,
-        "error_periodic_not_robust": np.asarray(not_robust, float) if len(not_robust) else np.array([math.nan]),
+        "error_periodic_not_robust": ", ".join(f"{v:g}" for v in not_robust),
         "error_estimate_method": "error_map_step_rel: one relay period from the same recorded states of the "
                                  "sampled values at tol and at tol/100, largest |difference| scaled by each "
                                  "state's largest magnitude (the error of every map point, any class); "

@@ -86,7 +86,9 @@ def grazing_brackets(results, values, xtol) -> list:
 
     ``results``: {branch: [ValueResult or None per value]}; ``xtol`` None: a thousandth of the grid
     spacing.  From no impact to impacts, one neighbour must be periodic and the other periodic or
-    not-converged (near a grazing bifurcation convergence is slow); from m > 0 to m' impacts per
+    not-converged (near a grazing bifurcation convergence is slow), or the non-impacting one periodic
+    and the other of any class (a grazing into chaos: the periodic orbit's clearance still vanishes
+    in the bracket, and the bisection follows it); from m > 0 to m' impacts per
     period both must be periodic.  Between chaotic or quasi-periodic neighbours the sign of the
     clearance brackets nothing meaningful.  Nothing is integrated.
     """
@@ -98,7 +100,9 @@ def grazing_brackets(results, values, xtol) -> list:
             ra, rb = res[i], res[i + 1]
             if ra is None or rb is None or ra.status != Status.OK or rb.status != Status.OK:
                 continue
-            if ra.class_code not in _BRACKETABLE or rb.class_code not in _BRACKETABLE:
+            birth = min(ra.n_impacts, rb.n_impacts) == 0 and \
+                (ra if ra.n_impacts == 0 else rb).class_code == ClassCode.PERIODIC_NO_IMPACT
+            if not birth and (ra.class_code not in _BRACKETABLE or rb.class_code not in _BRACKETABLE):
                 continue
             if ra.class_code == rb.class_code == ClassCode.NOT_CONVERGED:
                 continue  # no periodic orbit on either side: no branch whose clearance vanishes

@@ -190,7 +190,7 @@ class ValueJob:
         """A value's budget [relay periods of its own trajectory, transient included]: ``budget``,
         at least ``max_transient`` + the record (the former extension's limit)."""
         extra = self.max_transient + self.record if self.max_transient is not None else 0
-        return max(self.budget, extra, self.transient + self.record_cap)
+        return max(self.budget, extra, self.transient + self.record)
 
     def _scale(self, o):
         return state_scale(self._reduced(o), self.atol)
@@ -280,19 +280,24 @@ class ValueJob:
         for (v, c), o in zip(runs, ext):
             v.steps += o.n_steps
             if c is None:
-                extra = self._stretch(smap, o, v.params, v.end, v.scale)
+                extra = self._stretch(smap, o, v.params, v.end, v.scale) if o.status == "ok" else None
                 v.orbit = v.orbit.then(o)
-                v.stretch = None if extra is None else np.concatenate([v.stretch, extra])
-            else:
-                i = [id(x) for x in v.copies].index(id(c))
-                extra = self._stretch(smap, o, v.params, v.copy_ends[i], v.scale)
-                v.copies[i], v.copy_ends[i] = c.then(o), v.copy_ends[i] + o.n
-                v.copy_stretch[i] = np.concatenate([v.copy_stretch[i], extra])
+                v.stretch = None if extra is None or v.stretch is None else np.concatenate([v.stretch, extra])
+                continue
+            i = [id(x) for x in v.copies].index(id(c))
+            extra = self._stretch(smap, o, v.params, v.copy_ends[i], v.scale) if o.status == "ok" else None
+            if extra is None or v.copy_stretch[i] is None:     # a copy that left the domain: not the attractor
+                del v.copies[i], v.copy_ends[i], v.copy_stretch[i]
+                continue
+            v.copies[i], v.copy_ends[i] = c.then(o), v.copy_ends[i] + o.n
+            v.copy_stretch[i] = np.concatenate([v.copy_stretch[i], extra])
         for v, o, job in zip(born, new, fresh):
             v.steps += o.n_steps
-            v.copies.append(o)
-            v.copy_ends.append(job[3] + DECORRELATE + o.n)
-            v.copy_stretch.append(self._stretch(smap, o, v.params, job[3] + DECORRELATE, v.scale))
+            extra = self._stretch(smap, o, v.params, job[3] + DECORRELATE, v.scale) if o.status == "ok" else None
+            if extra is not None:
+                v.copies.append(o)
+                v.copy_ends.append(job[3] + DECORRELATE + o.n)
+                v.copy_stretch.append(extra)
 
     def _orbits(self, smap, jobs, transient: int, start, kw) -> list:
         """Orbits of ``jobs`` (params, hybrid start, steps, sample index, tangent direction or None)."""
