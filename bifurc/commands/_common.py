@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import argparse
 
-from maps.model import DC_LAWS, SOIL_LAWS
+from maps.laws import DC_LAWS, SOIL_LAWS
 from maps.parameters import ParameterError
 
 __all__ = ["add_parameter_options", "add_scene_options", "add_force_option", "parse_sets", "parse_x0", "parse_floats", "scene_kwargs",

@@ -1,6 +1,4 @@
 """`bifurc map`: a two-parameter regime map to netCDF and a figure."""
-import numpy as np
-
 from ._common import add_grid_options, add_scene_options, check_outputs, check_plot, check_scheduler, scene_kwargs
 
 
@@ -24,6 +22,8 @@ def register(subparsers):
 
 
 def run(args) -> int:
+    import numpy as np
+
     from maps.parameters import ParameterError
 
     from ..plots.map import regime_categories
