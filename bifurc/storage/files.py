@@ -30,8 +30,18 @@ except ImportError:  # not POSIX: no lock
     fcntl = None
 
 __all__ = ["OutputBusy", "BadFileError", "refuse_existing", "output_lock", "guarded_output", "write_netcdf",
-           "save_figure", "write_text", "check_figure_path", "check_figure_output", "make_parent", "user_umask", "ZLIB_LEVEL"]
+           "save_figure", "write_text", "stored_names", "STORED_AS", "ELAPSED_ATTRS", "check_figure_path", "check_figure_output", "make_parent", "user_umask", "ZLIB_LEVEL"]
 
+#: variable attribute: the name of a variable stored under another one (:func:`stored_names`)
+STORED_AS = "bifurc_name"
+#: on disk, the units of elapsed time [s] with ``standard_name = "time"``: CF-1.10 4.4 asks a time
+#: coordinate for "<unit> since <epoch>" and a calendar; the epoch is nominal (t = 0: the start of the
+#: integration) and :func:`bifurc.storage.load.read` gives the variable its units "s" back
+ELAPSED_UNITS = "s since 1970-01-01 00:00:00"
+ELAPSED_ATTRS = {"units": ELAPSED_UNITS, "calendar": "proleptic_gregorian",
+                 "comment": "elapsed time from the start of the integration; the epoch is nominal"}
+#: dataset attributes that name a parameter with a variable of its own
+PARAMETER_ATTRS = ("swept_parameter", "swept_parameter2", "continuation_parameter")
 #: zlib level of every numeric netCDF variable (4: most of level 9's gain at a fraction of its time)
 ZLIB_LEVEL = 4
 #: per-variable encodings kept when a dataset read from a file is written again
@@ -149,12 +159,36 @@ def guarded_output(path_arg: str = "path"):
 
 
 def _encoding(ds) -> dict:
+    """zlib on every numeric variable; no ``_FillValue`` on a coordinate variable (CF-1.10 2.5.1)."""
     enc = {}
     for name, var in ds.variables.items():
         if var.ndim and var.dtype.kind in "fiub":
             keep = {k: v for k, v in var.encoding.items() if k in _KEEP_ENCODING}
             enc[name] = {**keep, "zlib": True, "complevel": ZLIB_LEVEL, "shuffle": True}
+            if name in ds.dims:
+                enc[name]["_FillValue"] = None
     return enc
+
+
+def stored_names(ds) -> dict:
+    """CF-1.10 2.3: no two variable names may differ only by case. A parameter's variable beside a
+    state of the same letter (``V`` and ``v`` in a sweep or branch in ``V``) is stored as
+    ``V_parameter`` (any other clash as ``NAME_2``, ...), with attribute :data:`STORED_AS` giving
+    its name back; returns {name: stored name} of the renamed variables."""
+    params = {ds.attrs.get(k) for k in PARAMETER_ATTRS}
+    groups = {}
+    for name in ds.variables:
+        groups.setdefault(str(name).lower(), []).append(name)
+    taken, out = {str(n).lower() for n in ds.variables}, {}
+    for names in groups.values():
+        keep = next((n for n in names if n not in params), names[0])
+        for k, name in enumerate([n for n in names if n != keep], start=2):
+            new = f"{name}_parameter" if name in params else f"{name}_{k}"
+            while new.lower() in taken:
+                new += "_"
+            taken.add(new.lower())
+            out[name] = new
+    return out
 
 
 def _publish(tmp, path) -> None:
@@ -180,6 +214,14 @@ def write_netcdf(ds, path, overwrite: bool = False) -> Path:
     refuse_existing(path, overwrite)
     out = ds.copy(deep=False)
     out.attrs = {**cf_attrs(), **ds.attrs}
+    renamed = stored_names(out)
+    if renamed:
+        out = out.rename(renamed)
+        for old, new in renamed.items():
+            out[new].attrs = {**out[new].attrs, STORED_AS: old}
+    for name, var in out.variables.items():
+        if var.attrs.get("standard_name") == "time" and var.attrs.get("units") == "s":
+            out[name].attrs = {**var.attrs, **ELAPSED_ATTRS}
     tmp = _temporary(path)
     try:
         out.to_netcdf(tmp, encoding=_encoding(out))

@@ -9,7 +9,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from .build import KIND_ATTR, KINDS
-from .files import BadFileError
+from .files import ELAPSED_ATTRS, STORED_AS, BadFileError
 
 __all__ = ["KINDS", "ALIASES", "RENAMED", "kind_of", "canonical_kind", "read", "load"]
 
@@ -51,15 +51,21 @@ def kind_of(ds) -> str | None:
 
 
 def read(path):
-    """Open a netCDF dataset fully into memory (the file is not kept open), old variable names renamed."""
+    """Open a netCDF dataset fully into memory (the file is not kept open), old variable names renamed
+    and variables stored under another name (CF's case rule) given their names back."""
     import numpy as np
     import xarray as xr
-    with xr.open_dataset(path) as ds:
+    with xr.open_dataset(path, decode_times=False) as ds:
         ds = ds.load()
+    for var in ds.variables.values():
+        if var.attrs.get("units") == ELAPSED_ATTRS["units"] and var.attrs.get("comment") == ELAPSED_ATTRS["comment"]:
+            var.attrs = {k: v for k, v in var.attrs.items() if k not in ELAPSED_ATTRS} | {"units": "s"}
     for key in ARRAY_ATTRS:
         if key in ds.attrs:
             ds.attrs[key] = np.atleast_1d(ds.attrs[key])
     old = {k: v for k, v in RENAMED.items() if k in ds.variables and v not in ds.variables}
+    stored = {k: str(v.attrs.pop(STORED_AS)) for k, v in ds.variables.items() if STORED_AS in v.attrs}
+    old.update(stored)   # names stored otherwise to keep CF's case rule (storage.files.stored_names)
     return ds.rename(old) if old else ds
 
 

@@ -193,7 +193,7 @@ def _to_dataset(rows, ref, t_end) -> xr.Dataset:
     ds["n_impacts"] = ("run", col["n_impacts"], {"units": "1", "long_name": "number of contacts"})
     sc = ref["scene"]
     ds.attrs.update({
-        **ref["problem"].attrs(), "t_end": t_end, "reference_precision": ref["precision"],
+        "title": f"{sc.name}: work-precision study, error against run time", **ref["problem"].attrs(), "t_end": t_end, "reference_precision": ref["precision"],
         "reference_tol": float(ref["tol"]), "reference_error_bound": ref["error_bound"],
         "reference_n_impacts": int(ref["impact_times"].size),
         "reference_final_state": np.array(ref["y"], dtype=float),
