@@ -29,7 +29,7 @@ try:
 except ImportError:  # not POSIX: no lock
     fcntl = None
 
-__all__ = ["OutputBusy", "BadFileError", "refuse_existing", "output_lock", "guarded_output", "write_netcdf",
+__all__ = ["OutputBusy", "BadFileError", "OutputError", "check_writable", "refuse_existing", "output_lock", "guarded_output", "write_netcdf",
            "save_figure", "write_text", "stored_names", "STORED_AS", "ELAPSED_ATTRS", "check_figure_path", "check_figure_output", "make_parent", "user_umask", "ZLIB_LEVEL"]
 
 #: variable attribute: the name of a variable stored under another one (:func:`stored_names`)
@@ -57,10 +57,49 @@ class BadFileError(ValueError):
     """An input file that cannot be used: corrupt, truncated, or of another kind."""
 
 
+class OutputError(OSError):
+    """An output that cannot be written (read-only or full file system, no permission): one line."""
+
+
 def refuse_existing(path, overwrite: bool = False, hint: str = "pass overwrite=True") -> None:
-    """Raise :class:`FileExistsError` if ``path`` exists and ``overwrite`` is false."""
+    """Raise :class:`IsADirectoryError` if ``path`` is a folder (``overwrite`` or not), and
+    :class:`FileExistsError` if it exists and ``overwrite`` is false."""
+    if path is not None and os.path.isdir(path):
+        raise IsADirectoryError(f"{path} is a folder, not a file; name a file to write")
     if path is not None and not overwrite and os.path.lexists(path):
         raise FileExistsError(f"{path} exists; {hint} to replace it")
+
+
+def _megabytes(n: float) -> str:
+    return f"{n / 1e6:.3g} MB" if n < 1e9 else f"{n / 1e9:.3g} GB"
+
+
+def _reason(exc) -> str:
+    """An OS error's reason in words ("read-only file system", "no space left on device")."""
+    return (exc.strerror or str(exc) or type(exc).__name__).lower()
+
+
+def check_writable(path, need_bytes: float = 0) -> Path:
+    """Before computing: ``path`` can be written. Its folder, or the nearest existing folder above it
+    (nothing is created), accepts a new file (a probe file is written and removed) and its file
+    system has ``need_bytes`` free; else :class:`OutputError` in one line (a folder at ``path``:
+    :class:`IsADirectoryError`; a file where a folder must be: :class:`NotADirectoryError`)."""
+    path = Path(path)
+    refuse_existing(path, overwrite=True)
+    folder = next((p for p in path.absolute().parents if os.path.lexists(p)), Path("/"))
+    if not folder.is_dir():
+        raise NotADirectoryError(f"cannot write {path}: {folder} is a file, not a folder")
+    try:
+        fd, probe = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".probe", dir=folder)
+        os.close(fd)
+        os.unlink(probe)
+        free = shutil.disk_usage(folder).free
+    except OSError as exc:
+        raise OutputError(f"cannot write {path}: {_reason(exc)}") from None
+    if need_bytes > free:
+        raise OutputError(f"cannot write {path}: it needs about {_megabytes(need_bytes)} and its file system has "
+                          f"{_megabytes(free)} free")
+    return path
 
 
 def user_umask() -> int:
@@ -105,7 +144,10 @@ def output_lock(path):
         return
     lock = _lock_path(make_parent(path))
     while True:
-        fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o666)
+        try:
+            fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o666)
+        except OSError as exc:
+            raise OutputError(f"cannot write {path}: {_reason(exc)} (its lock {lock})") from None
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:
@@ -129,7 +171,8 @@ def output_lock(path):
 def guarded_output(path_arg: str = "path"):
     """Decorator for API functions that write ``path_arg`` and take ``overwrite``.
 
-    When the path is given: the output lock is held during the call, an existing output is
+    When the path is given: it must be writable (:func:`check_writable`, before any work), the output
+    lock is held during the call, an existing output is
     refused unless ``overwrite``, and a ``<path>.parts/`` folder this call created is removed
     again if the call fails before completing any part (a refused argument leaves nothing that
     would block the corrected call). An interrupted call keeps its completed parts: a rerun resumes.
@@ -145,6 +188,7 @@ def guarded_output(path_arg: str = "path"):
             if path is None:
                 return func(*args, **kwargs)
             parts = Path(str(path) + ".parts")
+            check_writable(path)
             with output_lock(path):
                 refuse_existing(path, bound.arguments.get("overwrite", False))
                 fresh = not parts.exists()
@@ -222,22 +266,40 @@ def write_netcdf(ds, path, overwrite: bool = False) -> Path:
     for name, var in out.variables.items():
         if var.attrs.get("standard_name") == "time" and var.attrs.get("units") == "s":
             out[name].attrs = {**var.attrs, **ELAPSED_ATTRS}
-    tmp = _temporary(path)
+    try:
+        tmp = _temporary(path)
+    except OSError as exc:
+        raise OutputError(f"cannot write {path}: {_reason(exc)}") from None
     try:
         out.to_netcdf(tmp, encoding=_encoding(out))
         _publish(tmp, path)
-    except BaseException:
-        with contextlib.suppress(FileNotFoundError):
+    except BaseException as exc:
+        with contextlib.suppress(OSError):
             os.unlink(tmp)
+        if isinstance(exc, (OSError, RuntimeError)) and not isinstance(exc, OutputError):  # netCDF: "HDF error"
+            raise OutputError(f"cannot write {path}: {_write_failure(exc, path)}") from None
         raise
     return path
+
+
+def _write_failure(exc, path) -> str:
+    """Why writing ``path`` failed: a full file system is named as such (netCDF says "HDF error")."""
+    with contextlib.suppress(OSError):
+        if shutil.disk_usage(Path(path).parent).free < 1e6:
+            return "no space left on device"
+    return _reason(exc) if isinstance(exc, OSError) else " ".join(str(exc).split())
 
 
 def write_text(path, text: str, overwrite: bool = False) -> Path:
     """Write ``text`` to ``path`` (refused if it exists and not ``overwrite``); returns the path."""
     path = Path(path)
     refuse_existing(path, overwrite)
-    make_parent(path).write_text(text)
+    try:
+        make_parent(path).write_text(text)
+    except OSError as exc:
+        if isinstance(exc, (NotADirectoryError, IsADirectoryError)):
+            raise
+        raise OutputError(f"cannot write {path}: {_reason(exc)}") from None
     return path
 
 
@@ -264,7 +326,10 @@ def check_figure_output(path, overwrite: bool = False, what: str = "figure path"
 def save_figure(fig, path, overwrite: bool = False, dpi: int = 130, close: bool = True) -> Path:
     """Save ``fig`` to ``path`` (format from the extension, checked first) and close it if ``close``."""
     path = make_parent(check_figure_output(path, overwrite))
-    fig.savefig(path, dpi=dpi)
+    try:
+        fig.savefig(path, dpi=dpi)
+    except OSError as exc:
+        raise OutputError(f"cannot write {path}: {_reason(exc)}") from None
     if close:
         import matplotlib.pyplot as plt
         plt.close(fig)

@@ -11,7 +11,7 @@ from pathlib import Path
 from .build import KIND_ATTR, KINDS
 from .files import ELAPSED_ATTRS, STORED_AS, BadFileError
 
-__all__ = ["KINDS", "ALIASES", "RENAMED", "kind_of", "canonical_kind", "read", "load"]
+__all__ = ["KINDS", "ALIASES", "RENAMED", "kind_of", "canonical_kind", "require_kind", "read", "load"]
 
 #: former kind names still accepted
 ALIASES = {"simulate": "history"}
@@ -48,6 +48,17 @@ def kind_of(ds) -> str | None:
     if "reference_precision" in ds.attrs:
         return "accuracy"
     return None
+
+
+def require_kind(ds, kind: str, what: str = "this") -> None:
+    """:class:`~maps.parameters.ParameterError` in one line unless ``ds`` is a ``kind`` dataset:
+    "plot_diagram needs a diagram dataset (from ...); this is a history dataset"."""
+    found = kind_of(ds) if hasattr(ds, "attrs") and hasattr(ds, "variables") else None
+    if found != canonical_kind(kind):
+        from maps.parameters import ParameterError
+        this = (f"{'an' if found[0] in 'aeiou' else 'a'} {found} dataset" if found
+                else "not a bifurc dataset" if hasattr(ds, "attrs") else f"a {type(ds).__name__}")
+        raise ParameterError(f"{what} needs a {kind} dataset (from {KINDS[kind]}); this is {this}")
 
 
 def read(path):
