@@ -8,6 +8,7 @@ import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 import xarray as xr  # noqa: E402
 
+import bifurc  # noqa: E402
 import maps  # noqa: E402
 from bifurc import __version__, cli  # noqa: E402
 from bifurc.cli import main  # noqa: E402
