@@ -11,8 +11,7 @@ Importing bifurc never selects a matplotlib backend; it registers the ``ds.bifur
 The public names are imported on first use (PEP 562), so the command line starts without
 heyoka, xarray or matplotlib.
 """
-
-import importlib
+from maps._lazy import lazy_exports
 
 from ._version import __version__
 from ._xarray_hook import register_accessor_with_xarray
@@ -33,13 +32,4 @@ __all__ = ["__version__", "sweep", "load", "plot_diagram", "plot_time_history", 
            "sweep_point", "find_periodic_orbit", "OrbitNotFound"]
 
 
-def __getattr__(name):
-    if name not in _LAZY:
-        raise AttributeError(f"module 'bifurc' has no attribute {name!r}")
-    value = getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__():
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_exports(__name__, _LAZY, globals())

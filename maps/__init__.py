@@ -11,10 +11,10 @@ soil laws (``SOIL_LAWS``), progression measures (:func:`progression_measures`) a
 coordinates of a shift-invariant system (:func:`translation_basis`, :func:`reduce_points`,
 :func:`reduce_jacobian`).
 """
-import importlib
 import sys
 import types
 
+from ._lazy import lazy_exports
 from ._version import __version__
 
 #: public name -> the submodule that defines it; imported on first use (PEP 562), so that
@@ -60,13 +60,4 @@ class _Package(types.ModuleType):
 sys.modules[__name__].__class__ = _Package
 
 
-def __getattr__(name):
-    if name not in _LAZY:
-        raise AttributeError(f"module 'maps' has no attribute {name!r}")
-    value = getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__():
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_exports(__name__, _LAZY, globals())

@@ -56,13 +56,10 @@ def bytes_per_value(record: int) -> int:
 
 def available_memory() -> float:
     """Bytes the machine can give now (MemAvailable of /proc/meminfo; else the physical memory)."""
-    try:
-        with open("/proc/meminfo") as fh:
-            for line in fh:
-                if line.startswith("MemAvailable:"):
-                    return float(line.split()[1]) * 1024
-    except OSError:
-        pass
+    from ..storage.files import proc_field
+    kib = proc_field("/proc/meminfo", "MemAvailable")
+    if kib is not None:
+        return float(kib) * 1024
     try:
         return float(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
     except (ValueError, OSError, AttributeError):
@@ -78,10 +75,6 @@ def estimate(n_values: int, transient: int, record: int, workers) -> dict:
             "seconds": n_values * (max(transient, 0) + max(record, 0)) * SECONDS_PER_PERIOD / workers}
 
 
-def _size(n: float) -> str:
-    return f"{n / 1e9:.3g} GB" if n >= 1e9 else f"{n / 1e6:.3g} MB"
-
-
 def _duration(s: float) -> str:
     return f"{s / 86400:.3g} days" if s >= 86400 else f"{s / 3600:.3g} h" if s >= 3600 else f"{s:.3g} s"
 
@@ -89,11 +82,12 @@ def _duration(s: float) -> str:
 def check_budget(args, n_values: int, what: str = "values") -> dict:
     """Refuse (one line) a job whose estimated memory exceeds the available memory or whose run time
     exceeds MAX_HOURS, unless ``args.yes``; returns the estimate."""
+    from ..storage.files import size_text
     est = estimate(n_values, args.transient, args.record, args.workers)
     free = available_memory()
     over = []
     if est["memory"] > free:
-        over.append(f"about {_size(est['memory'])} of memory, {_size(free)} available")
+        over.append(f"about {size_text(est['memory'])} of memory, {size_text(free)} available")
     if est["seconds"] > MAX_HOURS * 3600:
         over.append(f"about {_duration(est['seconds'])} of computation, over the {MAX_HOURS:g} h limit")
     if over and not getattr(args, "yes", False):

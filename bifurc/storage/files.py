@@ -29,7 +29,7 @@ try:
 except ImportError:  # not POSIX: no lock
     fcntl = None
 
-__all__ = ["OutputBusy", "BadFileError", "OutputError", "check_writable", "refuse_existing", "output_lock", "guarded_output", "write_netcdf",
+__all__ = ["OutputBusy", "BadFileError", "OutputError", "check_writable", "size_text", "proc_field", "refuse_existing", "output_lock", "guarded_output", "write_netcdf",
            "save_figure", "write_text", "stored_names", "STORED_AS", "ELAPSED_ATTRS", "check_figure_path", "check_figure_output", "make_parent", "user_umask", "ZLIB_LEVEL"]
 
 #: variable attribute: the name of a variable stored under another one (:func:`stored_names`)
@@ -70,8 +70,21 @@ def refuse_existing(path, overwrite: bool = False, hint: str = "pass overwrite=T
         raise FileExistsError(f"{path} exists; {hint} to replace it")
 
 
-def _megabytes(n: float) -> str:
+def size_text(n: float) -> str:
+    """Bytes in words: "0.92 MB", "6.9e+04 GB"."""
     return f"{n / 1e6:.3g} MB" if n < 1e9 else f"{n / 1e9:.3g} GB"
+
+
+def proc_field(path: str, key: str):
+    """The first word after ``key:`` in a /proc file such as /proc/meminfo (None: no such file or line)."""
+    try:
+        with open(path) as fh:
+            for line in fh:
+                if line.startswith(f"{key}:"):
+                    return line.split()[1]
+    except OSError:
+        pass
+    return None
 
 
 def _reason(exc) -> str:
@@ -97,20 +110,16 @@ def check_writable(path, need_bytes: float = 0) -> Path:
     except OSError as exc:
         raise OutputError(f"cannot write {path}: {_reason(exc)}") from None
     if need_bytes > free:
-        raise OutputError(f"cannot write {path}: it needs about {_megabytes(need_bytes)} and its file system has "
-                          f"{_megabytes(free)} free")
+        raise OutputError(f"cannot write {path}: it needs about {size_text(need_bytes)} and its file system has "
+                          f"{size_text(free)} free")
     return path
 
 
 def user_umask() -> int:
     """The process umask (read without changing it where /proc allows)."""
-    try:
-        with open("/proc/self/status") as fh:
-            for line in fh:
-                if line.startswith("Umask:"):
-                    return int(line.split()[1], 8)
-    except OSError:
-        pass
+    umask = proc_field("/proc/self/status", "Umask")
+    if umask is not None:
+        return int(umask, 8)
     with _UMASK_LOCK:
         mask = os.umask(0o077)
         os.umask(mask)

@@ -7,7 +7,8 @@
 - :mod:`~bifurc.verification.baselines`: scipy and the thesis' fixed-step RK4, written
   independently of heyoka.
 """
-import importlib
+
+from maps._lazy import lazy_exports
 
 #: public name -> its submodule, imported on first use (``bifurc accuracy --help`` stays light)
 _LAZY = {**dict.fromkeys(("plot_work_precision", "reference_solution", "work_precision"), "accuracy"),
@@ -18,9 +19,4 @@ __all__ = ["CASES", "QUICK", "VERDICTS", "run_case", "run_suite", "write_report"
            "reference_solution", "plot_work_precision", "solve_scipy", "solve_rk4_bisection"]
 
 
-def __getattr__(name):
-    if name not in _LAZY:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
-    globals()[name] = value
-    return value
+__getattr__, __dir__ = lazy_exports(__name__, _LAZY, globals())
