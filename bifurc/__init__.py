@@ -8,24 +8,28 @@ top of the dynamics in :mod:`maps`.
 >>> d.bifurc.plot(); d.bifurc.table(); d.bifurc.class_at(6.0)
 
 Importing bifurc never selects a matplotlib backend; it registers the ``ds.bifurc`` accessor.
+The public names are imported on first use (PEP 562), so the command line starts without
+heyoka, xarray or matplotlib.
 """
+from maps._lazy import lazy_exports
+
 from ._version import __version__
 from ._xarray_hook import register_accessor_with_xarray
-from .orbits.branch import continue_orbit
-from .storage.load import load
-from .orbits.orbit import periodic_orbit, sweep_point
-from .orbits.periodic import OrbitNotFound, find_periodic_orbit
-from .plots.branch import plot_branch, plot_curves
-from .plots.diagram import plot_diagram
-from .plots.history import plot_time_history
-from .plots.map import plot_regime_map
-from .plots.orbit import plot_orbit
-from .sweeps.regime import regime_map
-from .report import class_at, classification_report
-from .sweeps.sweep import sweep
+
+#: public name -> the submodule that defines it, imported on first use
+_LAZY = {
+    "continue_orbit": "orbits.branch", "load": "storage.load", "periodic_orbit": "orbits.orbit",
+    "sweep_point": "orbits.orbit", "OrbitNotFound": "orbits.periodic", "find_periodic_orbit": "orbits.periodic",
+    "plot_branch": "plots.branch", "plot_curves": "plots.branch", "plot_diagram": "plots.diagram",
+    "plot_time_history": "plots.history", "plot_regime_map": "plots.map", "plot_orbit": "plots.orbit",
+    "regime_map": "sweeps.regime", "class_at": "report", "classification_report": "report", "sweep": "sweeps.sweep",
+}
 
 register_accessor_with_xarray()  # ds.bifurc, without importing xarray in worker processes
 
 __all__ = ["__version__", "sweep", "load", "plot_diagram", "plot_time_history", "regime_map", "plot_regime_map",
            "classification_report", "class_at", "periodic_orbit", "continue_orbit", "plot_branch", "plot_curves", "plot_orbit",
            "sweep_point", "find_periodic_orbit", "OrbitNotFound"]
+
+
+__getattr__, __dir__ = lazy_exports(__name__, _LAZY, globals())

@@ -9,7 +9,7 @@ import xarray as xr
 
 from maps.parameters import ParameterError, validate_value
 
-from .storage.load import KINDS, canonical_kind, kind_of
+from .storage.load import KINDS, kind_of, require_kind
 
 __all__ = ["BifurcAccessor", "Markdown", "PLOTS"]
 
@@ -49,9 +49,7 @@ class BifurcAccessor:
         return kind_of(self._ds)
 
     def _need(self, kind: str) -> None:
-        if self.kind != canonical_kind(kind):
-            found = f"a {self.kind} dataset" if self.kind else "not a bifurc dataset"
-            raise ParameterError(f"this needs a {kind} dataset (from {KINDS[kind]}); this is {found}")
+        require_kind(self._ds, kind)
 
     def plot(self, **kw):
         """The figure of this dataset: bifurcation diagram, regime map, time history, orbit, branch or

@@ -25,9 +25,9 @@ __all__ = ["COMMANDS", "UsageError", "build_parser", "main"]
 #: subcommand modules in bifurc.commands, each with register(subparsers); missing ones are skipped
 COMMANDS = ["scenes", "params", "simulate", "diagram", "map", "orbit", "branch", "report", "accuracy", "verify", "study"]
 
-#: user-facing failures: one line on stderr, exit code 2
+#: user-facing failures: one line on stderr, exit code 2 (any OSError: a file system refusing a file)
 USER_ERRORS = (ParameterError, BadFileError, FileNotFoundError, FileExistsError, IsADirectoryError,
-               NotADirectoryError, PermissionError)
+               NotADirectoryError, PermissionError, OSError)
 
 
 class UsageError(ValueError):
@@ -65,6 +65,8 @@ def _warn(message, category, filename, lineno, file=None, line=None) -> None:
 
 
 def _fail(message) -> int:
+    if isinstance(message, OSError) and message.strerror and message.filename:
+        message = f"{message.filename}: {message.strerror.lower()}"   # "[Errno 30] ..." in words
     print(f"bifurc: error: {' '.join(str(message).split())}", file=sys.stderr)
     return 2
 

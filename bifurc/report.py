@@ -79,6 +79,8 @@ def classification_report(ds, at=None) -> str:
 
     ``at``: parameter values to tabulate (default: the integers inside the grid).
     """
+    from .storage.load import require_kind
+    require_kind(ds, "diagram", "classification_report")
     a = ds.attrs
     par = a["swept_parameter"]
     units = ds[par].attrs.get("units", "")

@@ -11,21 +11,32 @@ soil laws (``SOIL_LAWS``), progression measures (:func:`progression_measures`) a
 coordinates of a shift-invariant system (:func:`translation_basis`, :func:`reduce_points`,
 :func:`reduce_jacobian`).
 """
+import sys
+import types
+
+from ._lazy import lazy_exports
 from ._version import __version__
-from .examples import forced_oscillator_with_stop
-from .engines import BatchEngine, HybridRun, OrbitJob, OrbitResult, ScalarEngine, engine_for
-from .hybrid import (ROLES, Escaped, EventCap, EventRecord, Guard, HybridState, HybridSystem, IntegrationFailure,
-                     PeriodicSwitch, State)
-from .model import PARAMETERS, SOIL_LAWS, ModelOptions, build_system
-from .parameters import Parameter, ParameterError
-from .poincare import ImpactLinearization, ImpactMap, MapLinearization, MapOrbit, StroboscopicMap
-from .presets import PRESETS
-from .progression import progression_measures
-from .problem import Problem, problem
-from .registry import get_scene, register_scene, scene_names
-from .scenes import SCENES, ParameterValues, Scene
-from .simulate import resolve, run_scene, simulate
-from .translation import reduce_jacobian, reduce_points, translation_basis
+
+#: public name -> the submodule that defines it; imported on first use (PEP 562), so that
+#: ``import maps.parameters`` (the command line's start) does not load heyoka
+_LAZY = {
+    "forced_oscillator_with_stop": "examples",
+    **dict.fromkeys(("BatchEngine", "HybridRun", "OrbitJob", "OrbitResult", "ScalarEngine", "engine_for"), "engines"),
+    **dict.fromkeys(("ROLES", "Escaped", "EventCap", "EventRecord", "Guard", "HybridState", "HybridSystem",
+                     "IntegrationFailure", "PeriodicSwitch", "State"), "hybrid"),
+    **dict.fromkeys(("PARAMETERS", "ModelOptions", "build_system"), "model"),
+    "SOIL_LAWS": "laws",
+    **dict.fromkeys(("Parameter", "ParameterError"), "parameters"),
+    **dict.fromkeys(("ImpactLinearization", "ImpactMap", "MapLinearization", "MapOrbit", "StroboscopicMap"),
+                    "poincare"),
+    "PRESETS": "presets",
+    "progression_measures": "progression",
+    **dict.fromkeys(("Problem", "problem"), "problem"),
+    **dict.fromkeys(("get_scene", "register_scene", "scene_names"), "registry"),
+    **dict.fromkeys(("SCENES", "ParameterValues", "Scene"), "scenes"),
+    **dict.fromkeys(("resolve", "run_scene", "simulate"), "simulate"),
+    **dict.fromkeys(("reduce_jacobian", "reduce_points", "translation_basis"), "translation"),
+}
 
 __all__ = ["__version__", "Escaped", "EventRecord", "Guard", "HybridRun", "HybridSystem", "IntegrationFailure",
            "PeriodicSwitch", "State", "PARAMETERS", "ModelOptions", "build_system", "Parameter",
@@ -35,3 +46,18 @@ __all__ = ["__version__", "Escaped", "EventRecord", "Guard", "HybridRun", "Hybri
            "OrbitResult", "engine_for", "MapLinearization", "ImpactLinearization", "SOIL_LAWS",
            "progression_measures", "translation_basis", "reduce_points", "reduce_jacobian", "Problem", "problem",
            "register_scene", "ParameterValues"]
+
+
+class _Package(types.ModuleType):
+    """``maps.simulate`` and ``maps.problem`` are the functions, as with the former eager imports,
+    even after their submodules of the same names are imported (which binds the submodule)."""
+
+    def __setattr__(self, name, value):
+        if not (isinstance(value, types.ModuleType) and _LAZY.get(name) == name):
+            super().__setattr__(name, value)
+
+
+sys.modules[__name__].__class__ = _Package
+
+
+__getattr__, __dir__ = lazy_exports(__name__, _LAZY, globals())

@@ -17,6 +17,7 @@ import heyoka as hy
 import numpy as np
 
 from .hybrid import Guard, HybridSystem, PeriodicSwitch, State
+from .laws import COMPACTION, DC_LAWS, SOIL_LAWS
 from .parameters import Parameter
 
 __all__ = ["ModelOptions", "PARAMETERS", "build_system", "ESCAPE_MARGIN", "DC_LAWS", "SOIL_LAWS", "COMPACTION",
@@ -56,20 +57,6 @@ PARAMETERS = {p.name: p for p in [
                                        "surface value", 0, 1e6, low_open=True),
 ]}
 
-#: the form of the compaction option (a resistance growing with depth; docs/model.md)
-COMPACTION = ("resistance R(depth) = R0 (1 + depth / soil_depth_scale), R0 = soil_friction (coulomb) or "
-              "P_max (drift), depth = -x2 (coulomb: the rig below its start at x2 = 0) or -d (drift: the "
-              "slider, the soil front)")
-
-#: the soil laws of the 2-DOF scenes (MODEL.md section 2): name -> provenance
-SOIL_LAWS = {
-    "viscous": "listings C.4-C.6: F_soil = -soil_c v2 on the rig",
-    "coulomb": "dry friction with sticking, limit soil_friction (listing C.14's sign(x)*1000, with sticking added)",
-    "drift": "impact with drift (Pavlovskaia, Wiercigroch and Grebogi, Phys. Rev. E 64, 056224, 2001): a "
-             "visco-elastic element (k_s, c_s) in series with a plastic slider of threshold P_max; the slider "
-             "position d is a state; modes no contact / elastic / progression",
-}
-
 #: the bar is "escaped" beyond d_dc + ESCAPE_MARGIN above the stop, or deeper
 #: than STOP_ESCAPE into it [m]: far outside the fitted force laws.
 ESCAPE_MARGIN = 0.1
@@ -77,16 +64,6 @@ STOP_ESCAPE = 0.02
 #: offset [m] of the contact/release surface while the bar is stuck (both guards inactive then)
 STUCK_LIFT = 1e-3
 
-#: the three DC-force laws found in the thesis (MODEL.md section 1): name -> provenance
-DC_LAWS = {
-    "listing": "listing C.9 as printed: F_dc = -a3 xa^3 + a2 xa^2 - a1 xa + m g (the cubic the thesis' "
-               "simulations ran; it flips only the cubic term of eq 4.6)",
-    "fit": "eqs 4.6-4.7 as printed: F_dc = -a3 xa^3 - a2 xa^2 + a1 xa + m g (eq 4.6 is the least-squares "
-           "odd cubic of Table 4.1, eq 4.7 its negative shifted by the weight; eq 4.7 prints 1.55 N for m g)",
-    "measured": "Table 4.1 only: monotone piecewise cubic (PCHIP, Fritsch-Carlson) through the 20 V table, "
-                "odd in xa, zero for |xa| > 0.029 m (section 4.2: no effect beyond the measured range); "
-                "no weight offset",
-}
 #: |xa| beyond which the measured law is zero [m] (the last row of Table 4.1)
 DC_EDGE = 0.029
 #: lower/upper bound [m] of the two outer regions of the measured law: never reached (the

@@ -14,8 +14,6 @@ import inspect
 import subprocess
 from pathlib import Path
 
-import numpy as np
-
 from ._version import __version__
 
 __all__ = ["CONVENTIONS", "cf_attrs", "command", "current_call", "git_commit", "recorded"]
@@ -44,6 +42,7 @@ def git_commit() -> str | None:
 
 def _short(value) -> str:
     """A compact repr for history: arrays and long sequences summarised."""
+    import numpy as np
     if isinstance(value, (np.ndarray, list, tuple)) and np.size(value) > 4:
         a = np.asarray(value)
         if a.dtype.kind in "fiu":

@@ -168,6 +168,8 @@ def _import_graph():
                     t = t.rpartition(".")[0]
                 if t and t != m:
                     graph[m].add(t)
+        if f.name == "__init__.py" and "_LAZY" in f.read_text():  # exports imported on first use (PEP 562)
+            graph[m] |= {f"{m}.{sub}" for sub in importlib.import_module(m)._LAZY.values()} & set(mods)
     return graph
 
 

@@ -1,5 +1,6 @@
 """CF: every units string is UDUNITS-valid (checked by cf-units), every file carries Conventions,
-history (time, command line or API call, version, commit) and source."""
+history (time, command line or API call, version, commit) and source, and every file kind passes
+the IOOS compliance checker's cf:1.10 suite with no message at all (errors or warnings)."""
 import cf_units
 import numpy as np
 import pytest
@@ -18,6 +19,13 @@ COMMANDS = {
     "verify/stability.nc": ["verify", "--case", "stiff-k1e+05-c0", "-o", "{dir}/verify"],
     "orbit.nc": ["orbit", "--preset", "matlab-listing", "--set", "V=90", "--relay-hz", "8.5", "--tol", "1e-10",
                  "--no-error", "-o", "{dir}/orbit.nc"],
+    "map.nc": ["map", "--preset", "matlab-listing", "--from", "5", "--to", "9", "--n", "2", "--from2", "80", "--to2",
+               "90", "--n2", "2", "--transient", "10", "--record", "6", "--quiet", "-o", "{dir}/map.nc"],
+    # a sweep and a branch in V beside the state v: names differing only by case (CF 2.3)
+    "diagram_V.nc": ["diagram", "--preset", "matlab-listing", "--relay-hz", "9", "--param", "V", "--from", "80", "--to",
+                     "90", "--n", "2", "--transient", "10", "--record", "6", "--quiet", "-o", "{dir}/diagram_V.nc"],
+    "branch.nc": ["continue", "--preset", "matlab-listing", "--dc-law", "measured", "--relay-hz", "10", "--param", "V",
+                  "--from", "90", "--to", "92", "-o", "{dir}/branch.nc"],
     "accuracy/accuracy.nc": ["accuracy", "--preset", "matlab-listing", "--set", "V=90", "--relay-hz", "9",
                              "--t-end", "0.2", "--methods", "heyoka,rk4-bisection", "--tols", "1e-8",
                              "--steps", "1e-3", "-o", "{dir}/accuracy"],
@@ -31,8 +39,48 @@ def written(tmp_path_factory):
     for name, argv in COMMANDS.items():
         argv = [a.replace("{dir}", str(d)) for a in argv]
         assert main(argv) == 0, argv
-        out[name] = (argv, xr.load_dataset(d / name))
+        out[name] = (argv, bifurc.load(d / name))
+    out["dir"] = d
     return out
+
+
+def _files(written):
+    return {name: v for name, v in written.items() if name != "dir"}
+
+
+@pytest.mark.filterwarnings("ignore::DeprecationWarning")
+def test_every_file_kind_passes_the_cf_1_10_compliance_checker(written):
+    runner = pytest.importorskip("compliance_checker.runner")
+    suite = runner.CheckSuite()
+    suite.load_all_available_checkers()
+    kinds = set()
+    for name, (_, ds) in _files(written).items():
+        kinds.add(ds.attrs["bifurc_kind"])
+        results, errors = suite.run_all(suite.load_dataset(str(written["dir"] / name)), ["cf:1.10"], skip_checks=[])["cf:1.10"]
+        assert not errors, (name, errors)
+        assert not [(r.name, r.msgs) for r in results if r.msgs], name
+        assert ds.attrs["title"], name
+    assert kinds == {"diagram", "map", "history", "orbit", "branch", "accuracy", "stability"}
+
+
+def test_a_parameter_beside_a_state_of_the_same_letter_is_stored_apart_and_loaded_back(written):
+    for name in ("diagram_V.nc", "branch.nc"):
+        loaded = written[name][1]
+        assert {"V", "v"} <= set(loaded.variables) and "V_parameter" not in loaded.variables
+        assert "bifurc_name" not in loaded["V"].attrs and loaded["V"].attrs["units"] == "V"
+        with xr.open_dataset(written["dir"] / name) as raw:   # as another netCDF tool sees the file
+            assert "V" not in raw.variables and raw["V_parameter"].attrs["bifurc_name"] == "V"
+            np.testing.assert_array_equal(raw["V_parameter"].values, loaded["V"].values)
+    assert written["diagram_V.nc"][1]["V"].values.tolist() == [80.0, 90.0]
+
+
+def test_elapsed_time_is_cf_time_on_disk_and_seconds_when_loaded(written):
+    loaded = written["simulate.nc"][1]
+    assert loaded.time.attrs["units"] == "s" and loaded.time.attrs["standard_name"] == "time"
+    with xr.open_dataset(written["dir"] / "simulate.nc", decode_times=False) as raw:
+        assert raw.time.attrs["units"] == "s since 1970-01-01 00:00:00" and "_FillValue" not in raw.time.encoding
+        np.testing.assert_array_equal(raw.time.values, loaded.time.values)
+    assert loaded.time.values[0] == 0.0 and abs(loaded.time.values[-1] - 1.0) < 1e-12   # --t-end 1 --dt 1e-3
 
 
 def unit_strings(ds):
@@ -52,7 +100,7 @@ def assert_udunits(pairs):
 
 
 def test_every_units_string_in_every_file_is_udunits_valid(written):
-    for name, (_, ds) in written.items():
+    for name, (_, ds) in _files(written).items():
         assert_udunits(unit_strings(ds))
     diagram = written["diagram.nc"][1]
     for name in ("period", "lyapunov", "forcing_period", "transient_used"):
@@ -75,7 +123,7 @@ def test_parameter_state_and_schema_units_are_udunits_valid():
 
 def test_every_file_carries_conventions_history_and_source(written):
     commit = git_commit()
-    for name, (argv, ds) in written.items():
+    for name, (argv, ds) in _files(written).items():
         a = ds.attrs
         assert a["Conventions"] == "CF-1.10", name
         assert "bifurc " + " ".join(argv[:2]) in a["history"], (name, a["history"])  # the command line

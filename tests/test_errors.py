@@ -67,7 +67,7 @@ CASES = [  # (argv with {placeholders} from the files fixture, text the line mus
     ([*DIAGRAM, "-o", "{full}/d9.nc", "--workers", "0"], "workers"),
     ([*DIAGRAM, "-o", "{full}/d10.nc", "--transient", "-1"], "transient"),
     ([*DIAGRAM, "-o", "{full}/d11.nc", "--record", "1"], "record"),
-    ([*DIAGRAM, "-o", "{full}/d12.nc", "--from", "nan"], "values"),
+    ([*DIAGRAM, "-o", "{full}/d12.nc", "--from", "nan"], "--from nan"),
     ([*DIAGRAM, "-o", "{full}/d13.nc", "--batch-size", "100"], "batch_size"),
     ([*DIAGRAM, "-o", "{full}/d14.nc", "--max-transient", "1"], "max_transient"),
     ([*DIAGRAM, "-o", "{full}/d15.nc", "--param", "bogus"], "bogus"),

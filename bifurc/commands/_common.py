@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import argparse
 
-from maps.model import DC_LAWS, SOIL_LAWS
+from maps.laws import DC_LAWS, SOIL_LAWS
 from maps.parameters import ParameterError
 
 __all__ = ["add_parameter_options", "add_scene_options", "add_force_option", "parse_sets", "parse_x0", "parse_floats", "scene_kwargs",
@@ -99,18 +99,22 @@ def add_force_option(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--force", action="store_true", help="replace existing output files")
 
 
-def check_outputs(args, *paths) -> None:
-    """Before any long work: refuse existing outputs unless --force (one line naming --force)."""
-    from ..storage.files import refuse_existing
+def check_outputs(args, *paths, need_bytes: float = 0) -> None:
+    """Before any long work: refuse existing outputs unless --force (one line naming --force), a folder
+    where a file is to go, and a folder that cannot take the file (read-only, full: ``need_bytes``)."""
+    from ..storage.files import check_writable, refuse_existing
     for path in paths:
-        refuse_existing(path, args.force, hint="use --force")
+        if path is not None:
+            refuse_existing(path, args.force, hint="use --force")
+            check_writable(path, need_bytes)
 
 
 def check_plot(args) -> None:
     """``--plot``: a format matplotlib writes, not in the way of an existing file (unless --force)."""
     if args.plot:
-        from ..storage.files import check_figure_output
+        from ..storage.files import check_figure_output, check_writable
         check_figure_output(args.plot, args.force, what="--plot")
+        check_writable(args.plot)
 
 
 #: seconds to wait for a Dask scheduler before saying it is unreachable
@@ -169,4 +173,7 @@ def add_grid_options(parser, what: str = "value") -> None:
     parser.add_argument("-o", "--output", required=True, help="netCDF file to write")
     parser.add_argument("--plot", default=None, help="figure file (.png, .pdf, .svg, ...)")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
+    parser.add_argument("--yes", action="store_true",
+                        help="run a job estimated to need more memory than is available or more than a day "
+                             "(refused otherwise, with its estimate)")
     add_force_option(parser)

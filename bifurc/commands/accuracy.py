@@ -20,7 +20,7 @@ OUTPUTS = ("accuracy.csv", "accuracy.nc", "accuracy.png")
 
 
 def register(subparsers):
-    from ..verification.accuracy import DEFAULT_LADDERS
+    from ..verification.ladders import DEFAULT_LADDERS
     p = subparsers.add_parser(NAME, help="error against run time: toolkit vs scipy and fixed-step RK4",
                               description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--scene", default="thesis-1dof", help="scene name (default thesis-1dof)")

@@ -55,7 +55,11 @@ def run(args) -> int:
     diagram = None
     if args.diagram:
         from ..storage.load import load
-        diagram = load(args.diagram)
+        diagram = load(args.diagram, kind="diagram")
+        if diagram.attrs.get("swept_parameter") != args.param:   # before computing the branch, not after
+            from maps.parameters import ParameterError
+            raise ParameterError(f"--diagram {args.diagram} sweeps {diagram.attrs.get('swept_parameter')!r}, the "
+                                 f"branch {args.param!r}: give a diagram of --param {args.param}")
     kw = scene_kwargs(args)
     params = kw.pop("params")
 

@@ -1,6 +1,5 @@
 """`bifurc diagram`: a one-parameter bifurcation diagram to netCDF and a figure."""
-import numpy as np
-
+from ._guards import check_budget, check_grid_options
 from ._common import add_grid_options, add_scene_options, check_outputs, check_plot, check_scheduler, scene_kwargs
 
 
@@ -27,14 +26,18 @@ def register(subparsers):
 
 
 def run(args) -> int:
+    import numpy as np
+
     from maps.parameters import ParameterError
 
     from ..sweeps.classify import CLASS_LABELS
     from ..sweeps.sweep import sweep
     if args.n < 1:
         raise ParameterError(f"--n {args.n}: need at least 1 value")
+    check_grid_options(args, [("--param", args.param)])
+    est = check_budget(args, args.n)
     kw = scene_kwargs(args)
-    check_outputs(args, args.output)
+    check_outputs(args, args.output, need_bytes=est["file"])
     check_plot(args)
     check_scheduler(args.scheduler)
     values = np.linspace(args.start, args.stop, args.n)

@@ -1,6 +1,5 @@
 """`bifurc map`: a two-parameter regime map to netCDF and a figure."""
-import numpy as np
-
+from ._guards import check_budget, check_grid_options
 from ._common import add_grid_options, add_scene_options, check_outputs, check_plot, check_scheduler, scene_kwargs
 
 
@@ -24,6 +23,8 @@ def register(subparsers):
 
 
 def run(args) -> int:
+    import numpy as np
+
     from maps.parameters import ParameterError
 
     from ..plots.map import regime_categories
@@ -31,8 +32,10 @@ def run(args) -> int:
     for opt, n in (("--n", args.n), ("--n2", args.n2)):
         if n < 1:
             raise ParameterError(f"{opt} {n}: need at least 1 value")
+    check_grid_options(args, [("--param", args.param), ("--param2", args.param2)])
+    est = check_budget(args, args.n * args.n2, "cells")
     kw = scene_kwargs(args)
-    check_outputs(args, args.output)
+    check_outputs(args, args.output, need_bytes=est["file"])
     check_plot(args)
     check_scheduler(args.scheduler)
     ds = regime_map(args.scene, args.param, np.linspace(args.start, args.stop, args.n), args.param2,

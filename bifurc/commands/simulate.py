@@ -1,6 +1,4 @@
 """`bifurc simulate`: a time history to netCDF and a figure."""
-import maps
-
 from ._common import add_force_option, add_scene_options, check_outputs, check_plot, scene_kwargs
 
 
@@ -21,6 +19,8 @@ def register(subparsers):
 
 
 def run(args) -> int:
+    import maps
+
     kw = scene_kwargs(args)
     check_outputs(args, args.output)
     check_plot(args)

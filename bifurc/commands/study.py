@@ -50,7 +50,26 @@ def run_study(name, out, quick=False, progress=True, overwrite=False, hint="pass
     if unknown:
         from maps.parameters import ParameterError
         raise ParameterError(f"study {name} takes no {', '.join(unknown)}")
+    _check_cases(name, study, options.get("cases"))
+    from ..storage.files import check_writable
+    check_writable(out / "report.md")   # the folder takes files (read-only, missing rights: one line now)
     return study.run(out, quick=quick, progress=progress, overwrite=overwrite, **options)
+
+
+def case_names(study) -> list:
+    """The case names of a study module: its ``CASES`` (names, or tuples that start with the name)."""
+    return [c[0] if isinstance(c, (tuple, list)) else str(c) for c in getattr(study, "CASES", [])]
+
+
+def _check_cases(name, study, cases) -> None:
+    """Every requested case exists (a typo would otherwise run nothing and report an empty study)."""
+    if not cases:
+        return
+    from maps.parameters import ParameterError
+    known = case_names(study)
+    bad = [c for c in cases if c not in known]
+    if bad:
+        raise ParameterError(f"unknown case {bad[0]!r} for study {name}; cases: {', '.join(known) or 'none'}")
 
 
 def written(name, out) -> str:

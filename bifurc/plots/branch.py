@@ -30,6 +30,8 @@ def plot_branch(ds, path=None, state=None, node: int = 0, ax=None, diagram=None,
     ``colour``: the legend text and first palette index, to tell several datasets apart on one Axes.
     Returns the Axes (shown once in Jupyter).
     """
+    from ..storage.load import require_kind
+    require_kind(ds, "branch", "plot_branch")
     if path is not None:
         check_figure_output(path, overwrite)
     par = ds.attrs["continuation_parameter"]

@@ -30,6 +30,8 @@ def plot_diagram(ds, path=None, state=None, branch=None, ax=None, overwrite=Fals
     strip; the figure is ``axes[0].figure``). Returning Axes, not the Figure, shows the figure
     once in Jupyter (a returned Figure is displayed again by the inline backend).
     """
+    from ..storage.load import require_kind
+    require_kind(ds, "diagram", "plot_diagram")
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
     if path is not None:

@@ -131,6 +131,8 @@ def plot_time_history(ds, path=None, ax=None, overwrite=False):
     What it drew on: ``ax`` as given, else the new Axes, one per panel, as an array (the figure
     is ``axes[0].figure``; returning Axes shows the figure once in Jupyter).
     """
+    from ..storage.load import require_kind
+    require_kind(ds, "history", "plot_time_history")
     if path is not None:
         check_figure_output(path, overwrite)
     panels = history_panels(ds)

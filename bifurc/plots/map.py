@@ -75,6 +75,8 @@ def plot_regime_map(ds, path=None, ax=None, curves=None, overwrite=False):
     instead of a new figure.  ``path``: also save the figure there (an existing file is
     refused unless ``overwrite``) and close it.  Returns the Axes drawn on.
     """
+    from ..storage.load import require_kind
+    require_kind(ds, "map", "plot_regime_map")
     from matplotlib.colors import BoundaryNorm, ListedColormap
     from matplotlib.patches import Patch
     if path is not None:

@@ -30,6 +30,8 @@ def plot_orbit(ds, path=None, ax=None, overwrite=False):
     ``ax``: draw into this Axes, or a pair (plane, multipliers).  ``path``: also save there (an existing
     file is refused unless ``overwrite``) and close the figure.  Returns the plane's Axes.
     """
+    from ..storage.load import require_kind
+    require_kind(ds, "orbit", "plot_orbit")
     if path is not None:
         check_figure_output(path, overwrite)
     own = ax is None

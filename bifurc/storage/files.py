@@ -29,9 +29,19 @@ try:
 except ImportError:  # not POSIX: no lock
     fcntl = None
 
-__all__ = ["OutputBusy", "BadFileError", "refuse_existing", "output_lock", "guarded_output", "write_netcdf",
-           "save_figure", "write_text", "check_figure_path", "check_figure_output", "make_parent", "user_umask", "ZLIB_LEVEL"]
+__all__ = ["OutputBusy", "BadFileError", "OutputError", "check_writable", "size_text", "proc_field", "refuse_existing", "output_lock", "guarded_output", "write_netcdf",
+           "save_figure", "write_text", "stored_names", "STORED_AS", "ELAPSED_ATTRS", "check_figure_path", "check_figure_output", "make_parent", "user_umask", "ZLIB_LEVEL"]
 
+#: variable attribute: the name of a variable stored under another one (:func:`stored_names`)
+STORED_AS = "bifurc_name"
+#: on disk, the units of elapsed time [s] with ``standard_name = "time"``: CF-1.10 4.4 asks a time
+#: coordinate for "<unit> since <epoch>" and a calendar; the epoch is nominal (t = 0: the start of the
+#: integration) and :func:`bifurc.storage.load.read` gives the variable its units "s" back
+ELAPSED_UNITS = "s since 1970-01-01 00:00:00"
+ELAPSED_ATTRS = {"units": ELAPSED_UNITS, "calendar": "proleptic_gregorian",
+                 "comment": "elapsed time from the start of the integration; the epoch is nominal"}
+#: dataset attributes that name a parameter with a variable of its own
+PARAMETER_ATTRS = ("swept_parameter", "swept_parameter2", "continuation_parameter")
 #: zlib level of every numeric netCDF variable (4: most of level 9's gain at a fraction of its time)
 ZLIB_LEVEL = 4
 #: per-variable encodings kept when a dataset read from a file is written again
@@ -47,21 +57,69 @@ class BadFileError(ValueError):
     """An input file that cannot be used: corrupt, truncated, or of another kind."""
 
 
+class OutputError(OSError):
+    """An output that cannot be written (read-only or full file system, no permission): one line."""
+
+
 def refuse_existing(path, overwrite: bool = False, hint: str = "pass overwrite=True") -> None:
-    """Raise :class:`FileExistsError` if ``path`` exists and ``overwrite`` is false."""
+    """Raise :class:`IsADirectoryError` if ``path`` is a folder (``overwrite`` or not), and
+    :class:`FileExistsError` if it exists and ``overwrite`` is false."""
+    if path is not None and os.path.isdir(path):
+        raise IsADirectoryError(f"{path} is a folder, not a file; name a file to write")
     if path is not None and not overwrite and os.path.lexists(path):
         raise FileExistsError(f"{path} exists; {hint} to replace it")
 
 
-def user_umask() -> int:
-    """The process umask (read without changing it where /proc allows)."""
+def size_text(n: float) -> str:
+    """Bytes in words: "0.92 MB", "6.9e+04 GB"."""
+    return f"{n / 1e6:.3g} MB" if n < 1e9 else f"{n / 1e9:.3g} GB"
+
+
+def proc_field(path: str, key: str):
+    """The first word after ``key:`` in a /proc file such as /proc/meminfo (None: no such file or line)."""
     try:
-        with open("/proc/self/status") as fh:
+        with open(path) as fh:
             for line in fh:
-                if line.startswith("Umask:"):
-                    return int(line.split()[1], 8)
+                if line.startswith(f"{key}:"):
+                    return line.split()[1]
     except OSError:
         pass
+    return None
+
+
+def _reason(exc) -> str:
+    """An OS error's reason in words ("read-only file system", "no space left on device")."""
+    return (exc.strerror or str(exc) or type(exc).__name__).lower()
+
+
+def check_writable(path, need_bytes: float = 0) -> Path:
+    """Before computing: ``path`` can be written. Its folder, or the nearest existing folder above it
+    (nothing is created), accepts a new file (a probe file is written and removed) and its file
+    system has ``need_bytes`` free; else :class:`OutputError` in one line (a folder at ``path``:
+    :class:`IsADirectoryError`; a file where a folder must be: :class:`NotADirectoryError`)."""
+    path = Path(path)
+    refuse_existing(path, overwrite=True)
+    folder = next((p for p in path.absolute().parents if os.path.lexists(p)), Path("/"))
+    if not folder.is_dir():
+        raise NotADirectoryError(f"cannot write {path}: {folder} is a file, not a folder")
+    try:
+        fd, probe = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".probe", dir=folder)
+        os.close(fd)
+        os.unlink(probe)
+        free = shutil.disk_usage(folder).free
+    except OSError as exc:
+        raise OutputError(f"cannot write {path}: {_reason(exc)}") from None
+    if need_bytes > free:
+        raise OutputError(f"cannot write {path}: it needs about {size_text(need_bytes)} and its file system has "
+                          f"{size_text(free)} free")
+    return path
+
+
+def user_umask() -> int:
+    """The process umask (read without changing it where /proc allows)."""
+    umask = proc_field("/proc/self/status", "Umask")
+    if umask is not None:
+        return int(umask, 8)
     with _UMASK_LOCK:
         mask = os.umask(0o077)
         os.umask(mask)
@@ -95,7 +153,10 @@ def output_lock(path):
         return
     lock = _lock_path(make_parent(path))
     while True:
-        fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o666)
+        try:
+            fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o666)
+        except OSError as exc:
+            raise OutputError(f"cannot write {path}: {_reason(exc)} (its lock {lock})") from None
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:
@@ -119,7 +180,8 @@ def output_lock(path):
 def guarded_output(path_arg: str = "path"):
     """Decorator for API functions that write ``path_arg`` and take ``overwrite``.
 
-    When the path is given: the output lock is held during the call, an existing output is
+    When the path is given: it must be writable (:func:`check_writable`, before any work), the output
+    lock is held during the call, an existing output is
     refused unless ``overwrite``, and a ``<path>.parts/`` folder this call created is removed
     again if the call fails before completing any part (a refused argument leaves nothing that
     would block the corrected call). An interrupted call keeps its completed parts: a rerun resumes.
@@ -135,6 +197,7 @@ def guarded_output(path_arg: str = "path"):
             if path is None:
                 return func(*args, **kwargs)
             parts = Path(str(path) + ".parts")
+            check_writable(path)
             with output_lock(path):
                 refuse_existing(path, bound.arguments.get("overwrite", False))
                 fresh = not parts.exists()
@@ -149,12 +212,36 @@ def guarded_output(path_arg: str = "path"):
 
 
 def _encoding(ds) -> dict:
+    """zlib on every numeric variable; no ``_FillValue`` on a coordinate variable (CF-1.10 2.5.1)."""
     enc = {}
     for name, var in ds.variables.items():
         if var.ndim and var.dtype.kind in "fiub":
             keep = {k: v for k, v in var.encoding.items() if k in _KEEP_ENCODING}
             enc[name] = {**keep, "zlib": True, "complevel": ZLIB_LEVEL, "shuffle": True}
+            if name in ds.dims:
+                enc[name]["_FillValue"] = None
     return enc
+
+
+def stored_names(ds) -> dict:
+    """CF-1.10 2.3: no two variable names may differ only by case. A parameter's variable beside a
+    state of the same letter (``V`` and ``v`` in a sweep or branch in ``V``) is stored as
+    ``V_parameter`` (any other clash as ``NAME_2``, ...), with attribute :data:`STORED_AS` giving
+    its name back; returns {name: stored name} of the renamed variables."""
+    params = {ds.attrs.get(k) for k in PARAMETER_ATTRS}
+    groups = {}
+    for name in ds.variables:
+        groups.setdefault(str(name).lower(), []).append(name)
+    taken, out = {str(n).lower() for n in ds.variables}, {}
+    for names in groups.values():
+        keep = next((n for n in names if n not in params), names[0])
+        for k, name in enumerate([n for n in names if n != keep], start=2):
+            new = f"{name}_parameter" if name in params else f"{name}_{k}"
+            while new.lower() in taken:
+                new += "_"
+            taken.add(new.lower())
+            out[name] = new
+    return out
 
 
 def _publish(tmp, path) -> None:
@@ -180,22 +267,48 @@ def write_netcdf(ds, path, overwrite: bool = False) -> Path:
     refuse_existing(path, overwrite)
     out = ds.copy(deep=False)
     out.attrs = {**cf_attrs(), **ds.attrs}
-    tmp = _temporary(path)
+    renamed = stored_names(out)
+    if renamed:
+        out = out.rename(renamed)
+        for old, new in renamed.items():
+            out[new].attrs = {**out[new].attrs, STORED_AS: old}
+    for name, var in out.variables.items():
+        if var.attrs.get("standard_name") == "time" and var.attrs.get("units") == "s":
+            out[name].attrs = {**var.attrs, **ELAPSED_ATTRS}
+    try:
+        tmp = _temporary(path)
+    except OSError as exc:
+        raise OutputError(f"cannot write {path}: {_reason(exc)}") from None
     try:
         out.to_netcdf(tmp, encoding=_encoding(out))
         _publish(tmp, path)
-    except BaseException:
-        with contextlib.suppress(FileNotFoundError):
+    except BaseException as exc:
+        with contextlib.suppress(OSError):
             os.unlink(tmp)
+        if isinstance(exc, (OSError, RuntimeError)) and not isinstance(exc, OutputError):  # netCDF: "HDF error"
+            raise OutputError(f"cannot write {path}: {_write_failure(exc, path)}") from None
         raise
     return path
+
+
+def _write_failure(exc, path) -> str:
+    """Why writing ``path`` failed: a full file system is named as such (netCDF says "HDF error")."""
+    with contextlib.suppress(OSError):
+        if shutil.disk_usage(Path(path).parent).free < 1e6:
+            return "no space left on device"
+    return _reason(exc) if isinstance(exc, OSError) else " ".join(str(exc).split())
 
 
 def write_text(path, text: str, overwrite: bool = False) -> Path:
     """Write ``text`` to ``path`` (refused if it exists and not ``overwrite``); returns the path."""
     path = Path(path)
     refuse_existing(path, overwrite)
-    make_parent(path).write_text(text)
+    try:
+        make_parent(path).write_text(text)
+    except OSError as exc:
+        if isinstance(exc, (NotADirectoryError, IsADirectoryError)):
+            raise
+        raise OutputError(f"cannot write {path}: {_reason(exc)}") from None
     return path
 
 
@@ -222,7 +335,10 @@ def check_figure_output(path, overwrite: bool = False, what: str = "figure path"
 def save_figure(fig, path, overwrite: bool = False, dpi: int = 130, close: bool = True) -> Path:
     """Save ``fig`` to ``path`` (format from the extension, checked first) and close it if ``close``."""
     path = make_parent(check_figure_output(path, overwrite))
-    fig.savefig(path, dpi=dpi)
+    try:
+        fig.savefig(path, dpi=dpi)
+    except OSError as exc:
+        raise OutputError(f"cannot write {path}: {_reason(exc)}") from None
     if close:
         import matplotlib.pyplot as plt
         plt.close(fig)

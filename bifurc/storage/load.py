@@ -9,9 +9,9 @@ from __future__ import annotations
 from pathlib import Path
 
 from .build import KIND_ATTR, KINDS
-from .files import BadFileError
+from .files import ELAPSED_ATTRS, STORED_AS, BadFileError
 
-__all__ = ["KINDS", "ALIASES", "RENAMED", "kind_of", "canonical_kind", "read", "load"]
+__all__ = ["KINDS", "ALIASES", "RENAMED", "kind_of", "canonical_kind", "require_kind", "read", "load"]
 
 #: former kind names still accepted
 ALIASES = {"simulate": "history"}
@@ -50,16 +50,33 @@ def kind_of(ds) -> str | None:
     return None
 
 
+def require_kind(ds, kind: str, what: str = "this") -> None:
+    """:class:`~maps.parameters.ParameterError` in one line unless ``ds`` is a ``kind`` dataset:
+    "plot_diagram needs a diagram dataset (from ...); this is a history dataset"."""
+    found = kind_of(ds) if hasattr(ds, "attrs") and hasattr(ds, "variables") else None
+    if found != canonical_kind(kind):
+        from maps.parameters import ParameterError
+        this = (f"{'an' if found[0] in 'aeiou' else 'a'} {found} dataset" if found
+                else "not a bifurc dataset" if hasattr(ds, "attrs") else f"a {type(ds).__name__}")
+        raise ParameterError(f"{what} needs a {kind} dataset (from {KINDS[kind]}); this is {this}")
+
+
 def read(path):
-    """Open a netCDF dataset fully into memory (the file is not kept open), old variable names renamed."""
+    """Open a netCDF dataset fully into memory (the file is not kept open), old variable names renamed
+    and variables stored under another name (CF's case rule) given their names back."""
     import numpy as np
     import xarray as xr
-    with xr.open_dataset(path) as ds:
+    with xr.open_dataset(path, decode_times=False) as ds:
         ds = ds.load()
+    for var in ds.variables.values():
+        if var.attrs.get("units") == ELAPSED_ATTRS["units"] and var.attrs.get("comment") == ELAPSED_ATTRS["comment"]:
+            var.attrs = {k: v for k, v in var.attrs.items() if k not in ELAPSED_ATTRS} | {"units": "s"}
     for key in ARRAY_ATTRS:
         if key in ds.attrs:
             ds.attrs[key] = np.atleast_1d(ds.attrs[key])
     old = {k: v for k, v in RENAMED.items() if k in ds.variables and v not in ds.variables}
+    stored = {k: str(v.attrs.pop(STORED_AS)) for k, v in ds.variables.items() if STORED_AS in v.attrs}
+    old.update(stored)   # names stored otherwise to keep CF's case rule (storage.files.stored_names)
     return ds.rename(old) if old else ds
 
 

@@ -77,6 +77,37 @@ def _from_dataset(ds):
     return out
 
 
+def _difference(held: str, manifest: dict) -> str:
+    """What the stored manifest ``held`` (text) says that ``manifest`` does not: its format version, or
+    the first arguments that differ ("a sweep with V = 90, this run has V = 100"); unreadable: says so."""
+    try:
+        stored = json.loads(held)
+    except ValueError:
+        stored = None
+    if not isinstance(stored, dict):
+        return "an unreadable manifest.json (not this bifurc's resume data)"
+    version = stored.get("version") or stored.get("parts_format") or "unknown"
+    args = stored.get("arguments")
+    if version not in (PARTS_FORMAT, "unknown") or not isinstance(args, dict):
+        return (f"a sweep with other arguments (or parts of format version {version}; this bifurc writes "
+                f"{PARTS_FORMAT})")
+    new = json.loads(json.dumps(manifest, sort_keys=True, default=str))["arguments"]
+    flat = lambda a: {**{k: v for k, v in a.items() if k != "params"},  # noqa: E731
+                      **{k: v for k, v in (a.get("params") or {}).items()}}
+    old, now = flat(args), flat(new)
+    diff = [k for k in sorted(set(old) | set(now)) if old.get(k) != now.get(k)]
+    shown = ", ".join(f"{k} = {_short(old.get(k))}" for k in diff[:3])
+    ours = ", ".join(f"{k} = {_short(now.get(k))}" for k in diff[:3])
+    return f"a sweep with other arguments: made with {shown}; this run has {ours}"
+
+
+def _short(value) -> str:
+    if isinstance(value, list) and len(value) > 4:
+        return f"{len(value)} values {value[0]:g}..{value[-1]:g}" if all(isinstance(v, (int, float)) for v in value) \
+            else f"{len(value)} items"
+    return f"{value:g}" if isinstance(value, float) else str(value)
+
+
 class Parts:
     """The completed values of one sweep under ``<path>.parts/``."""
 
@@ -86,11 +117,9 @@ class Parts:
         mfile = self.dir / "manifest.json"
         text = json.dumps(manifest, sort_keys=True, default=str)
         if mfile.exists():
-            if mfile.read_text() != text:
-                stored = json.loads(mfile.read_text() or "{}")
-                version = stored.get("version") or stored.get("parts_format") or "unknown"
-                raise ParameterError(f"{self.dir} holds a sweep with other arguments (or parts of format version "
-                                     f"{version}, this bifurc writes {PARTS_FORMAT}); remove it or change -o")
+            held = mfile.read_text()
+            if held != text:
+                raise ParameterError(f"{self.dir} holds {_difference(held, manifest)}; remove it or change -o")
         else:
             mfile.write_text(text)
 

@@ -7,9 +7,16 @@
 - :mod:`~bifurc.verification.baselines`: scipy and the thesis' fixed-step RK4, written
   independently of heyoka.
 """
-from .accuracy import plot_work_precision, reference_solution, work_precision
-from .baselines import solve_rk4_bisection, solve_scipy
-from .suite import CASES, QUICK, VERDICTS, run_case, run_suite, write_report
+
+from maps._lazy import lazy_exports
+
+#: public name -> its submodule, imported on first use (``bifurc accuracy --help`` stays light)
+_LAZY = {**dict.fromkeys(("plot_work_precision", "reference_solution", "work_precision"), "accuracy"),
+         **dict.fromkeys(("solve_rk4_bisection", "solve_scipy"), "baselines"),
+         **dict.fromkeys(("CASES", "QUICK", "VERDICTS", "run_case", "run_suite", "write_report"), "suite")}
 
 __all__ = ["CASES", "QUICK", "VERDICTS", "run_case", "run_suite", "write_report", "work_precision",
            "reference_solution", "plot_work_precision", "solve_scipy", "solve_rk4_bisection"]
+
+
+__getattr__, __dir__ = lazy_exports(__name__, _LAZY, globals())

@@ -34,23 +34,10 @@ from maps.problem import problem
 
 from ..storage.build import dataset
 from . import baselines
+from .ladders import DEFAULT_LADDERS
 
 __all__ = ["reference_solution", "toolkit_solution", "work_precision", "plot_work_precision",
            "DEFAULT_LADDERS", "final_state_error"]
-
-#: tolerance ladders per method (rtol = atol for scipy, the step h [s] for RK4).  "heyoka": the
-#: toolkit's run with every guard record (turning points too); "heyoka-transient": the run the
-#: scalar engine's transients take, without stops at observation-only guards (final state and
-#: contacts: what the baselines compute)
-DEFAULT_LADDERS = {
-    "heyoka": [1e-6, 1e-8, 1e-10, 1e-12, 1e-14, 1e-15],
-    "heyoka-transient": [1e-6, 1e-8, 1e-10, 1e-12, 1e-14, 1e-15],
-    "scipy-DOP853": [1e-6, 1e-8, 1e-10, 1e-12, 1e-13],
-    "scipy-RK45": [1e-6, 1e-8, 1e-10],
-    "scipy-LSODA": [1e-6, 1e-8, 1e-10, 1e-12],
-    "scipy-Radau": [1e-5, 1e-7, 1e-9],
-    "rk4-bisection": [1e-3, 3e-4, 1e-4, 3e-5, 1e-5],
-}
 
 
 def _problem(scene, preset=None, params=None, x0=None, circuit=None, ac_sign=None, dc_law=None):
@@ -206,7 +193,7 @@ def _to_dataset(rows, ref, t_end) -> xr.Dataset:
     ds["n_impacts"] = ("run", col["n_impacts"], {"units": "1", "long_name": "number of contacts"})
     sc = ref["scene"]
     ds.attrs.update({
-        **ref["problem"].attrs(), "t_end": t_end, "reference_precision": ref["precision"],
+        "title": f"{sc.name}: work-precision study, error against run time", **ref["problem"].attrs(), "t_end": t_end, "reference_precision": ref["precision"],
         "reference_tol": float(ref["tol"]), "reference_error_bound": ref["error_bound"],
         "reference_n_impacts": int(ref["impact_times"].size),
         "reference_final_state": np.array(ref["y"], dtype=float),

@@ -1,0 +1,31 @@
+"""The names and provenance of the model's law options (DC force, 2-DOF soil, compaction).
+
+A light module (no heyoka, no numpy) so that the command line lists the choices without
+loading the integrator; :mod:`maps.model` implements the laws named here.
+"""
+__all__ = ["DC_LAWS", "SOIL_LAWS", "COMPACTION"]
+
+#: the form of the compaction option (a resistance growing with depth; docs/model.md)
+COMPACTION = ("resistance R(depth) = R0 (1 + depth / soil_depth_scale), R0 = soil_friction (coulomb) or "
+              "P_max (drift), depth = -x2 (coulomb: the rig below its start at x2 = 0) or -d (drift: the "
+              "slider, the soil front)")
+
+#: the soil laws of the 2-DOF scenes (MODEL.md section 2): name -> provenance
+SOIL_LAWS = {
+    "viscous": "listings C.4-C.6: F_soil = -soil_c v2 on the rig",
+    "coulomb": "dry friction with sticking, limit soil_friction (listing C.14's sign(x)*1000, with sticking added)",
+    "drift": "impact with drift (Pavlovskaia, Wiercigroch and Grebogi, Phys. Rev. E 64, 056224, 2001): a "
+             "visco-elastic element (k_s, c_s) in series with a plastic slider of threshold P_max; the slider "
+             "position d is a state; modes no contact / elastic / progression",
+}
+
+#: the three DC-force laws found in the thesis (MODEL.md section 1): name -> provenance
+DC_LAWS = {
+    "listing": "listing C.9 as printed: F_dc = -a3 xa^3 + a2 xa^2 - a1 xa + m g (the cubic the thesis' "
+               "simulations ran; it flips only the cubic term of eq 4.6)",
+    "fit": "eqs 4.6-4.7 as printed: F_dc = -a3 xa^3 - a2 xa^2 + a1 xa + m g (eq 4.6 is the least-squares "
+           "odd cubic of Table 4.1, eq 4.7 its negative shifted by the weight; eq 4.7 prints 1.55 N for m g)",
+    "measured": "Table 4.1 only: monotone piecewise cubic (PCHIP, Fritsch-Carlson) through the 20 V table, "
+                "odd in xa, zero for |xa| > 0.029 m (section 4.2: no effect beyond the measured range); "
+                "no weight offset",
+}

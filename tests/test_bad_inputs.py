@@ -1,0 +1,237 @@
+"""The whole bad-input corpus of the newcomer review (tests/data/bad_inputs.py): every command line
+through ``python -m bifurc`` in a subprocess (two at a time), each ending within 10 s with its exit
+code, exactly one ``bifurc: error:`` line and no traceback; every API row raising its typed,
+one-line exception. The default run takes the rows of ``QUICK`` (one per kind of refusal, about
+15 s); ``--runslow`` runs all 107 (about a minute on two cores). Plus the guards that need more than a command line: a disk that fills
+mid-run, a real read-only file system, the budget estimate against a normal job."""
+import contextlib
+import fcntl
+import json
+import os
+import shutil
+import subprocess
+import sys
+import time
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import bifurc
+import maps
+from bifurc.cli import main
+from bifurc.storage.build import dataset
+from bifurc.storage.files import write_netcdf
+
+sys.path.insert(0, str(Path(__file__).parent))
+from data.bad_inputs import API, CLI, CONT, MAP, QUICK, SIM, D  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+#: seconds each corpus row may take (the issue's limit)
+LIMIT = 10.0
+
+
+def _mount_tmpfs(where: Path, options: str) -> bool:
+    """Mount a small tmpfs at ``where`` (root only; False where the machine does not allow it)."""
+    if os.geteuid() != 0 or not shutil.which("mount"):
+        return False
+    where.mkdir()
+    r = subprocess.run(["mount", "-t", "tmpfs", "-o", options, "tmpfs", str(where)], capture_output=True)
+    return r.returncode == 0
+
+
+def _read_only_folder(d: Path) -> str:
+    """A folder no one may write into: a read-only tmpfs (root), a chmod 555 folder (other users), or
+    /sys, which refuses root too."""
+    if _mount_tmpfs(d / "ro", "ro,size=64k"):
+        return str(d / "ro")
+    if os.geteuid() != 0:
+        (d / "ro").mkdir(exist_ok=True)
+        (d / "ro").chmod(0o555)
+        return str(d / "ro")
+    return "/sys"
+
+
+@pytest.fixture(scope="module")
+def files(tmp_path_factory):
+    d = tmp_path_factory.mktemp("corpus")
+    for argv in ([*D, "-o", f"{d}/diagram.nc"], [*SIM, "-o", f"{d}/run.nc"], [*MAP, "-o", f"{d}/map.nc"],
+                 [*CONT, "-o", f"{d}/branch.nc"]):
+        assert main(argv) == 0, argv
+    write_netcdf(dataset("stability", attrs={"title": "t"}).assign(verdict=("case", np.zeros(2, np.int8))),
+                 d / "stability.nc")
+    write_netcdf(dataset("accuracy", attrs={"title": "t"}).assign(tol=("run", [1e-8])), d / "accuracy.nc")
+    (d / "random.nc").write_bytes(np.random.default_rng(0).bytes(4096))
+    data = (d / "diagram.nc").read_bytes()
+    (d / "truncated.nc").write_bytes(data[: len(data) // 2])
+    (d / "empty.nc").write_bytes(b"")
+    (d / "text.nc").write_text("not netCDF\n")
+    (d / "exists.nc").write_text("keep me")
+    (d / "adir").mkdir()
+    (d / "nonempty").mkdir()
+    (d / "nonempty" / "notes.txt").write_text("keep me")
+    (d / "corrupt.nc.parts").mkdir()
+    (d / "corrupt.nc.parts" / "manifest.json").write_text("{bad json")
+    (d / "other.nc.parts").mkdir()
+    (d / "other.nc.parts" / "manifest.json").write_text(json.dumps(
+        {"format": "bifurc sweep parts", "version": 8, "arguments": {"params": {"V": 80.0}}}))
+    lock = os.open(d / "busy.nc.lock", os.O_RDWR | os.O_CREAT)
+    fcntl.flock(lock, fcntl.LOCK_EX)         # another run holds busy.nc (X11)
+    full = d / "full"
+    out = {"d": str(d), "ro": _read_only_folder(d), "full": str(full) if _mount_tmpfs(full, "size=64k") else None}
+    with socket_port() as port:
+        out["port"] = str(port)
+    yield out
+    os.close(lock)
+    for m in (d / "ro", full):
+        if m.is_mount():
+            subprocess.run(["umount", str(m)], capture_output=True)
+
+
+@contextlib.contextmanager
+def socket_port():
+    import socket
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    yield port       # closed: nothing listens there
+
+
+def _run(argv):
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    t0 = time.perf_counter()
+    try:
+        r = subprocess.run([sys.executable, "-m", "bifurc", *argv], env=env, capture_output=True, text=True,
+                           timeout=60)
+        return r.returncode, r.stdout, r.stderr, time.perf_counter() - t0, argv
+    except subprocess.TimeoutExpired:
+        return None, "", "timeout", time.perf_counter() - t0, argv
+
+
+@pytest.fixture(scope="module")
+def results(files, request):
+    """Every selected CLI row run once, two at a time: {id: (code, stdout, stderr, seconds)}."""
+    slow = request.config.getoption("--runslow")
+    rows = {r[0]: [a.format(**files) for a in r[1]] for r in CLI
+            if (slow or r[0] in QUICK) and not ("{full}" in " ".join(r[1]) and files["full"] is None)}
+    with ThreadPoolExecutor(max_workers=2) as pool:
+        done = dict(zip(rows, pool.map(_run, rows.values())))
+    return done
+
+
+def _marks(row):
+    marks = [] if row[0] in QUICK else [pytest.mark.slow]
+    if "part A" in row[4:]:
+        marks.append(pytest.mark.xfail(reason="report --at off the grid refuses once part A's class_at does "
+                                              "(issue 29 part A)", strict=False))
+    return marks
+
+
+@pytest.mark.parametrize("row", [pytest.param(r, id=r[0], marks=_marks(r)) for r in CLI])
+def test_cli_row(row, results, files):
+    rid, argv, code, stream = row[:4]
+    if "{full}" in " ".join(argv) and files["full"] is None:
+        pytest.skip("no small tmpfs can be mounted here; the disk-full path is tested in-process below")
+    got, out, err, seconds, _ = results[rid]
+    assert got == code, (rid, got, err)
+    assert "Traceback" not in err and "Traceback" not in out, (rid, err)
+    lines = err.strip().splitlines()
+    if stream is None:
+        assert not lines, (rid, err)
+    else:
+        assert len(lines) == 1 and lines[0].startswith(f"bifurc: {stream}:"), (rid, err)
+    assert seconds < LIMIT, (rid, seconds)
+
+
+def test_nothing_is_left_behind_by_the_refusals(results, files):
+    d = Path(files["d"])
+    assert (d / "exists.nc").read_text() == "keep me" and (d / "nonempty" / "notes.txt").read_text() == "keep me"
+    assert (d / "corrupt.nc.parts" / "manifest.json").read_text() == "{bad json"   # nothing lost
+    assert not (d / "adir.parts").exists() and not list((d / "adir").iterdir())
+    assert not (d / "o.nc").exists() and not (d / "c90dir").exists() and not (d / "m.nc").exists()
+
+
+@pytest.fixture(scope="module")
+def api_scope(files):
+    d = files["d"]
+    return {"bifurc": bifurc, "maps": maps, "np": np, "folder": d, "ro": files["ro"],
+            "d": bifurc.load(f"{d}/diagram.nc"), "h": bifurc.load(f"{d}/run.nc"), "m": bifurc.load(f"{d}/map.nc")}
+
+
+@pytest.mark.parametrize("row", API, ids=[r[0] for r in API])
+def test_api_row(row, api_scope):
+    rid, code, expected = row
+    t0 = time.perf_counter()
+    with pytest.raises(Exception) as info:
+        eval(code, dict(api_scope))  # noqa: S307 - the corpus is this repository's own data
+    names = [c.__name__ for c in type(info.value).__mro__]
+    assert expected in names, (rid, type(info.value).__name__, str(info.value))
+    text = str(info.value).strip()
+    assert text and "\n" not in text and "Traceback" not in text, (rid, text)
+    assert time.perf_counter() - t0 < LIMIT
+
+
+def test_a_disk_filling_mid_run_is_one_line_and_keeps_the_parts(tmp_path, monkeypatch, capsys):
+    """The second part of a sweep fails to write (netCDF's "HDF error" on a full disk): one line naming
+    the full disk, exit 2, the first part kept for the rerun."""
+    import xarray as xr
+
+    import bifurc.storage.files as files_mod
+    real, calls = xr.Dataset.to_netcdf, {"n": 0}
+
+    def failing(self, path, *a, **kw):
+        calls["n"] += 1
+        if calls["n"] == 2:
+            raise RuntimeError("NetCDF: HDF error")
+        return real(self, path, *a, **kw)
+    monkeypatch.setattr(xr.Dataset, "to_netcdf", failing)
+    real_usage = shutil.disk_usage     # full once the failing write has happened (not at the check before)
+    monkeypatch.setattr(files_mod.shutil, "disk_usage", lambda p: shutil._ntuple_diskusage(10**6, 10**6 - 10, 10)
+                        if calls["n"] >= 2 else real_usage(p))
+    out = tmp_path / "x.nc"
+    code = main(["diagram", "--preset", "matlab-listing", "--set", "V=90", "--from", "2", "--to", "10", "--n", "8",
+                 "--transient", "5", "--record", "4", "--no-lyapunov", "--quiet", "--workers", "1",
+                 "--batch-size", "1", "-o", str(out)])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1 and "no space left on device" in err, err
+    assert err.startswith(f"bifurc: error: cannot write {tmp_path}/x.nc.parts/"), err
+    assert len(list((tmp_path / "x.nc.parts").glob("*.nc"))) == 1 and not out.exists()
+
+
+def test_the_free_space_check_refuses_before_computing(tmp_path, monkeypatch, capsys):
+    import bifurc.storage.files as files_mod
+    monkeypatch.setattr(files_mod.shutil, "disk_usage", lambda p: shutil._ntuple_diskusage(10**9, 10**9 - 1000, 1000))
+    t0 = time.perf_counter()
+    assert main([*D, "-o", str(tmp_path / "x.nc")]) == 2
+    err = capsys.readouterr().err
+    assert "its file system has 0.001 MB free" in err and time.perf_counter() - t0 < 5, err
+    assert not list(tmp_path.iterdir())
+
+
+def test_a_normal_job_is_within_the_budget_and_the_estimate_is_an_upper_bound(tmp_path):
+    """The README's main job: not refused; its estimated memory bounds the written file from above
+    and the estimated run time is within 10x of a measured one on this machine."""
+    import argparse
+
+    from bifurc.commands._guards import check_budget, estimate
+    args = argparse.Namespace(transient=300, record=100, workers=1, yes=False)
+    est = check_budget(args, 81)
+    assert est["memory"] < 50e6 and est["seconds"] < 60
+    ds = bifurc.sweep("thesis-1dof", "relay_hz", np.linspace(2, 10, 9), preset="matlab-listing", params={"V": 90},
+                      transient=300, record=100, progress=False, workers=1, path=tmp_path / "m.nc")
+    size = (tmp_path / "m.nc").stat().st_size
+    est9 = estimate(9, 300, 100, 1)
+    assert size < est9["file"]
+    periods = int(ds.transient_used.sum() + ds.record_used.sum())
+    measured = ds.attrs["values_seconds"] / periods      # seconds per value-relay-period here
+    assert 0.1 < estimate(1, 1, 0, 1)["seconds"] / measured < 20, measured
+
+
+def test_yes_runs_what_the_budget_refuses(monkeypatch, tmp_path, capsys):
+    import bifurc.commands._guards as guards
+    monkeypatch.setattr(guards, "available_memory", lambda: 1000.0)   # a machine with 1 kB free
+    argv = [*D, "--n", "1", "--from", "5", "--to", "5", "-o", str(tmp_path / "y.nc")]
+    assert main(argv) == 2 and "pass --yes" in capsys.readouterr().err
+    assert main([*argv, "--yes"]) == 0 and (tmp_path / "y.nc").exists()
+
