@@ -29,10 +29,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .classify import DECAY_RATE, lyapunov_threshold
-from .evidence import TORUS_K, exponent_estimate, halves_differ, rotation_number, zero_one_test
+from .evidence import QP_SAMPLES, TORUS_K, exponent_estimate, halves_differ, torus_evidence
 from .lyapunov import _student_t, exponent_interval
 
-__all__ = ["Value", "judge", "near_period", "BUDGET", "TRAJECTORIES", "DECORRELATE", "QP_SAMPLES", "ANYTIME_METHOD"]
+__all__ = ["Value", "judge", "BUDGET", "TRAJECTORIES", "DECORRELATE", "ANYTIME_METHOD"]
 
 #: default budget of a value [relay periods of its own trajectory, transient included]
 BUDGET = 3000
@@ -40,8 +40,6 @@ BUDGET = 3000
 TRAJECTORIES = 4
 #: periods a copy runs from its perturbed start before it is recorded (decorrelation)
 DECORRELATE = 100
-#: samples the torus test needs
-QP_SAMPLES = 400
 #: a value whose evidence asks for more than this many budgets is not extended further (it cannot decide)
 HOPELESS = 4
 #: relative size of the copies' perturbations (of each state's scale)
@@ -161,25 +159,13 @@ def _judge_exponent(v: Value, cls, own, stretch, more: int, observable, max_peri
         return
     lo_all, hi_all = min(e[1] for e in each), max(e[2] for e in each)
     if -thr <= lo_all and hi_all <= thr:
-        samples = observable(o)
-        if samples.shape[0] >= QP_SAMPLES:
-            v.zero_one = zero_one_test(samples @ np.linspace(1.0, 0.5, samples.shape[1]))
-            v.rotation, drift = rotation_number(samples)
-            near = near_period(samples, v.rotation, max_period)
-            if near:
-                why, need = near, 2 * o.n
-            elif v.zero_one < TORUS_K and drift < 1e-2:
-                v.cls = dict(cls, code=_code("quasi-periodic"), label="quasi-periodic", period=0,
-                             impacts_per_period=-1, reason="")
-                return
-            else:
-                why = (f"the exponent's interval [{lo:.3g}, {hi:.3g}] lies within +-{thr:.3g} but the record shows "
-                       f"no torus (0-1 test K = {v.zero_one:.2f}, rotation number drift {drift:.2g})")
-                need = 2 * o.n
-        else:
-            why = f"the exponent's interval [{lo:.3g}, {hi:.3g}] lies within +-{thr:.3g}: a torus test needs " \
-                  f"{QP_SAMPLES} samples"
-            need = max(QP_SAMPLES, 2 * o.n)
+        torus, why_not, v.zero_one, v.rotation = torus_evidence(observable(o), max_period)
+        if torus:
+            v.cls = dict(cls, code=_code("quasi-periodic"), label="quasi-periodic", period=0,
+                         impacts_per_period=-1, reason="")
+            return
+        why = f"the exponent's interval [{lo:.3g}, {hi:.3g}] lies within +-{thr:.3g} but {why_not}"
+        need = max(QP_SAMPLES, 2 * o.n)
     elif hi_all < -thr:
         why = f"contracting (exponent {mean:.3g}, interval [{lo:.3g}, {hi:.3g}]) yet no period up to the maximum"
         need = 2 * o.n
@@ -207,25 +193,6 @@ def mean_interval(each) -> tuple[float, float]:
     half_within = float(np.sqrt(np.mean([((e[2] - e[1]) / 2) ** 2 for e in each]))) / math.sqrt(k)
     half = max(half_between, half_within)
     return float(means.mean()) - half, float(means.mean()) + half
-
-
-def near_period(samples, rho: float, max_period: int) -> str:
-    """Why samples (N, d) with rotation number ``rho`` look like a periodic orbit still converging
-    rather than a torus ("": they do not): rho within 1e-4 of a fraction a/b with b <= max_period
-    and the samples recurring at lag b to 1 % of their extent."""
-    from fractions import Fraction
-    if not math.isfinite(rho):
-        return ""
-    f = Fraction(rho).limit_denominator(max(1, int(max_period)))
-    b = f.denominator
-    if abs(rho - f.numerator / b) > 1e-4 or samples.shape[0] <= 2 * b:
-        return ""
-    extent = float(np.max(np.ptp(samples, axis=0)))
-    lag = float(np.max(np.abs(samples[b:] - samples[:-b])))
-    if extent > 0 and lag <= 1e-2 * extent:
-        return (f"the rotation number {rho:.5f} is near {f.numerator}/{b} and the samples recur at lag {b} to "
-                f"{lag / extent:.2g} of their extent: a period-{b} orbit still converging, not a torus")
-    return ""
 
 
 def _undecided(cls, why: str) -> dict:

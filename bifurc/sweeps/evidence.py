@@ -22,13 +22,16 @@ import numpy as np
 
 from .lyapunov import _student_t, exponent_interval
 
-__all__ = ["halves_differ", "exponent_estimate", "zero_one_test", "rotation_number", "TORUS_K", "MIN_HALF"]
+__all__ = ["halves_differ", "exponent_estimate", "zero_one_test", "rotation_number", "near_period", "torus_evidence",
+           "TORUS_K", "MIN_HALF", "QP_SAMPLES"]
 
 #: 0-1 test statistic below which motion counts as regular (Gottwald and Melbourne report K < 0.1
 #: for regular and K > 0.9 for chaotic records of a few thousand samples; records here may be shorter)
 TORUS_K = 0.25
 #: fewest steps in each half for the halves to be compared
 MIN_HALF = 50
+#: samples the torus test needs
+QP_SAMPLES = 400
 
 
 def _disjoint(a, b) -> bool:
@@ -131,3 +134,40 @@ def rotation_number(points) -> tuple[float, float]:
     h = turn.size // 2
     rho = float(np.mean(turn)) % 1.0
     return min(rho, 1.0 - rho), abs(float(np.mean(turn[:h]) - np.mean(turn[h:])))
+
+
+def near_period(samples, rho: float, max_period: int) -> str:
+    """Why samples (N, d) with rotation number ``rho`` look like a periodic orbit still converging
+    rather than a torus ("": they do not): rho within 1e-4 of a fraction a/b with b <= max_period
+    and the samples recurring at lag b to 1 % of their extent."""
+    from fractions import Fraction
+    if not math.isfinite(rho):
+        return ""
+    f = Fraction(rho).limit_denominator(max(1, int(max_period)))
+    b = f.denominator
+    if abs(rho - f.numerator / b) > 1e-4 or samples.shape[0] <= 2 * b:
+        return ""
+    extent = float(np.max(np.ptp(samples, axis=0)))
+    lag = float(np.max(np.abs(samples[b:] - samples[:-b])))
+    if extent > 0 and lag <= 1e-2 * extent:
+        return (f"the rotation number {rho:.5f} is near {f.numerator}/{b} and the samples recur at lag {b} to "
+                f"{lag / extent:.2g} of their extent: a period-{b} orbit still converging, not a torus")
+    return ""
+
+
+def torus_evidence(samples, max_period: int = 100) -> tuple[bool, str, float, float]:
+    """(a torus?, why not, 0-1 test K, rotation number) of stroboscopic samples (N, d), each state
+    scaled: positive evidence of quasi-periodic motion needs at least ``QP_SAMPLES`` samples, the 0-1
+    test's K below ``TORUS_K`` (regular motion), a rotation number whose halves agree to 1e-2, and no
+    recurrence at the period a nearby fraction suggests (:func:`near_period`)."""
+    p = np.asarray(samples, dtype=float)
+    if p.shape[0] < QP_SAMPLES:
+        return False, f"a torus test needs {QP_SAMPLES} samples, the window has {p.shape[0]}", math.nan, math.nan
+    k01 = zero_one_test(p @ np.linspace(1.0, 0.5, p.shape[1]))
+    rho, drift = rotation_number(p)
+    near = near_period(p, rho, max_period)
+    if near:
+        return False, near, k01, rho
+    if not (k01 < TORUS_K and drift < 1e-2):
+        return False, f"no torus (0-1 test K = {k01:.2f}, rotation number drift {drift:.2g})", k01, rho
+    return True, "", k01, rho

@@ -60,7 +60,13 @@ def _label(points, imps, rtol, atol, max_period=16, lyapunov=math.nan):
     c = classify_orbit(p, np.asarray(imps), max_period=max_period, rtol=rtol, atol=atol,
                        scale=np.maximum(np.ptp(p, axis=0), atol), lyapunov=lyapunov,
                        lyap_tol=lyapunov_threshold(p.shape[0] - 1))
-    if c["label"] in ("chaotic", "quasi-periodic"):
+    if c["label"] == "quasi-periodic":      # positive evidence of a torus, as sweeps require
+        from bifurc.sweeps.evidence import torus_evidence
+        torus, why, k01, rho = torus_evidence(p / np.maximum(np.ptp(p, axis=0), atol), max_period)
+        if not torus:
+            return f"aperiodic (lambda {lyapunov:+.2f} near 0, but {why})", 0
+        return f"quasi-periodic (lambda {lyapunov:+.2f}, 0-1 K {k01:.2f}, rotation number {rho:.4f})", 0
+    if c["label"] == "chaotic":
         return f"{c['label']} (lambda {lyapunov:+.2f})", 0
     if c["label"] == "periodic":
         return f"period-{c['period']} ({c['impacts_per_period']} impact{'s' if c['impacts_per_period'] != 1 else ''})", \
