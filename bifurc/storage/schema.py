@@ -103,6 +103,8 @@ SWEEP = [
              "why the mechanical period differs from the full state's (empty: it does not)"),
     Variable("lyapunov_spread", V, float, np.nan, "1",
              "standard deviation of the exponent between its tangent trajectories, per relay period (NaN: one)"),
+    Variable("periods_integrated", V, np.int64, 0, "1",
+             "relay periods integrated for the value: transient, record, extensions and the exponent's copies"),
     Variable("lyapunov_trajectories", V, np.int16, 0, "1",
              "tangent trajectories on the same attractor the exponent and its interval come from (0: none)"),
     Variable("rotation_number", V, float, np.nan, "1",

@@ -63,6 +63,7 @@ class Value:
     start: int                       # sample index of orbit.points[0] (the transient used)
     seconds: float = 0.0
     steps: int = 0                   # Taylor steps, discarded parts included
+    periods: int = 0                 # strobe periods integrated, the copies' included
     copies: list = field(default_factory=list)   # MapOrbits of the perturbed copies (their recorded parts)
     copy_ends: list = field(default_factory=list)   # sample index of each copy's last point
     copy_stretch: list = field(default_factory=list)  # each copy's log stretch per recorded step

@@ -85,6 +85,7 @@ class ValueResult:
     rotation_number: float = math.nan       # a torus' rotation number per strobe period, in [0, 1/2] (NaN: none)
     zero_one_k: float = math.nan            # the 0-1 test's K on the window (NaN: not tested)
     budget_needed: int = 0                  # relay periods the evidence suggests (0: decided)
+    periods_integrated: int = 0             # relay periods integrated for the value, its copies' included
 
     @property
     def label(self) -> str:
@@ -221,7 +222,8 @@ class ValueJob:
         return smap.stretch([o.points], [params], k0=[k0], scales=[scale], method="scalar")[0]
 
     def _value(self, smap, value, params, q, o, seconds) -> Value:
-        v = Value(float(value), params, q, o, self.transient, seconds=seconds, steps=o.n_steps)
+        v = Value(float(value), params, q, o, self.transient, seconds=seconds, steps=o.n_steps,
+                  periods=self.transient + o.n)
         v.scale = self._scale(o)
         v.stretch = self._stretch(smap, o, params, self.transient, v.scale)
         return v
@@ -279,6 +281,7 @@ class ValueJob:
         new = self._orbits(smap, fresh, DECORRELATE, start, kw) if fresh else []
         for (v, c), o in zip(runs, ext):
             v.steps += o.n_steps
+            v.periods += o.n
             if c is None:
                 extra = self._stretch(smap, o, v.params, v.end, v.scale) if o.status == "ok" else None
                 v.orbit = v.orbit.then(o)
@@ -293,6 +296,7 @@ class ValueJob:
             v.copy_stretch[i] = np.concatenate([v.copy_stretch[i], extra])
         for v, o, job in zip(born, new, fresh):
             v.steps += o.n_steps
+            v.periods += DECORRELATE + o.n
             extra = self._stretch(smap, o, v.params, job[3] + DECORRELATE, v.scale) if o.status == "ok" else None
             if extra is not None:
                 v.copies.append(o)
@@ -345,7 +349,8 @@ class ValueJob:
             held_time=float(o.mode_time[keep - 1]) if o.mode_time is not None and len(o.mode_time) >= keep else math.nan,
             period_mechanical=mech[0], impacts_per_period_mechanical=mech[1], period_difference=mech[2],
             lyapunov_spread=v.spread, lyapunov_trajectories=v.trajectories if np.isfinite(lyap[0]) else 0,
-            rotation_number=v.rotation, zero_one_k=v.zero_one, budget_needed=v.budget_needed if not periodic and
+            rotation_number=v.rotation, zero_one_k=v.zero_one, periods_integrated=v.periods,
+            budget_needed=v.budget_needed if not periodic and
             ClassCode(cls["code"]) == ClassCode.NOT_CONVERGED else 0)
 
     # ----- many values at once: the map's ensemble method ----------------------------

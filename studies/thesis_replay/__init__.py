@@ -40,8 +40,8 @@ LAWS = ("listing", "fit", "measured")
 X0 = {"x": 0.0, "v": 0.0, "i": 0.1, "z": 0.0}
 T_THESIS = 3.0           # tf = 3 in the listings [s]
 SENSOR_MM = 5.0          # the thesis' displacement sensor spans +-5 mm
-LONG_PERIODS = 300
-LONG_WINDOW = 100        # relay periods classified at the end of the long run
+LONG_PERIODS = 1000         # the long run: enough for a 400-period window after a 600-period transient
+LONG_WINDOW = 400        # relay periods classified at the end of the long run (the torus test needs 400)
 DT = 1e-3                # sampling step of x for the spectrum and the figure [s]
 TOL = 1e-12
 FULL = dict(freqs=tuple(range(2, 11)), volts=(25.0, 90.0), long=LONG_PERIODS, window=LONG_WINDOW)
