@@ -4,9 +4,11 @@ summary of a regime map, time history, orbit, branch, work-precision study or st
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 
+from .storage.grid import OffGridWarning, nearest_index, need_kind
 from .sweeps.classify import CLASS_LABELS, describe
 
 __all__ = ["classification_report", "class_at", "report", "map_report", "history_report", "orbit_report",
@@ -14,10 +16,15 @@ __all__ = ["classification_report", "class_at", "report", "map_report", "history
 
 
 def class_at(ds, value, branch=None) -> dict:
-    """Class of the grid value nearest to ``value``: {value, text, code, period, impacts, lyapunov, ...}."""
+    """Class of the grid value nearest to ``value``: {value, text, code, period, impacts, lyapunov, ...}.
+
+    A value outside the grid is refused; one half a grid step or more from every grid value is
+    warned about (:func:`bifurc.storage.grid.nearest_index`)."""
+    need_kind(ds, "diagram", "class_at")
     par = ds.attrs["swept_parameter"]
     b = branch or str(ds.branch.values[0])
-    sub = ds.sel(branch=b).sel({par: value}, method="nearest")
+    i = nearest_index(ds[par].values, value, par, ds[par].attrs.get("units", ""))
+    sub = ds.sel(branch=b).isel({par: i})
     code = int(sub.class_code)
     return {"value": float(sub[par]), "branch": b, "code": code,
             "label": CLASS_LABELS[code] if code >= 0 else "missing",
@@ -44,6 +51,7 @@ def classification_report(ds, at=None) -> str:
 
     ``at``: parameter values to tabulate (default: the integers inside the grid).
     """
+    need_kind(ds, "diagram", "classification_report")
     a = ds.attrs
     par = a["swept_parameter"]
     units = ds[par].attrs.get("units", "")
@@ -77,6 +85,7 @@ def classification_report(ds, at=None) -> str:
         if any(counts):
             lines.append(f"| {label} | " + " | ".join(str(int(n)) for n in counts) + " |")
     lines.append("")
+    quiet = at is None      # the default values are the report's own choice: no warning when between grid values
     if at is None:
         at = [v for v in range(int(math.ceil(values.min())), int(math.floor(values.max())) + 1)]
     if len(at):
@@ -85,7 +94,10 @@ def classification_report(ds, at=None) -> str:
                   "recurrence | decay/period | forcing period |", "|---|---|---|---|---|---|---|---|"]
         for b in ds.branch.values:
             for v in at:
-                c = class_at(ds, v, str(b))
+                with warnings.catch_warnings():
+                    if quiet:
+                        warnings.simplefilter("ignore", OffGridWarning)
+                    c = class_at(ds, v, str(b))
                 lines.append(f"| {c['value']:g} | {b} | {c['text']} | {c['n_impacts']} | {c['lyapunov']:.3g} | "
                              f"{c['recurrence']:.3g} | {c['convergence_rate']:.3g} | {c['forcing_period']} |")
         lines.append("")

@@ -86,7 +86,7 @@ def regime_map(scene="thesis-1dof", param="relay_hz", values=None, param2="V", v
     cells = np.arange(values.size * values2.size, dtype=float)
     parts = Parts(path, manifest(job, cells, "map")) if path else None
     results, resumed, seconds, workers = run_values(job, cells, "independent", parts, workers, scheduler, chunk_size,
-                                                    progress, f"{pb.name} {param} x {param2}")
+                                                    progress, f"{pb.name} {param} x {param2}", unit="cells")
     from . import dataset as storage  # xarray: imported where the Dataset is built
     from ..storage.files import write_netcdf
     ds = storage.map_dataset(results["independent"], job)
