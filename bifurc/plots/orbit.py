@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..storage.files import check_figure_output, save_figure
+from ..storage.grid import need_kind
 
 __all__ = ["plot_orbit", "orbit_plane"]
 
@@ -32,6 +33,7 @@ def plot_orbit(ds, path=None, ax=None, overwrite=False):
     """
     if path is not None:
         check_figure_output(path, overwrite)
+    need_kind(ds, "orbit", "plot_orbit")
     own = ax is None
     if own:
         import matplotlib.pyplot as plt

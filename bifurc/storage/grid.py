@@ -14,7 +14,7 @@ from .load import kind_of
 
 __all__ = ["nearest_index", "need_kind", "OffGridWarning"]
 
-#: round-off allowed at the grid's ends and in "half a step", relative to the local step
+#: round-off allowed at the grid's ends and in "half a step", relative to the grid step
 SLACK = 1e-6
 
 
@@ -26,22 +26,20 @@ def nearest_index(grid, value, name: str, units: str = "") -> int:
     """Index of the grid value nearest to ``value`` (``name [units]`` in messages).
 
     Refuses (ParameterError) a value outside the grid's range; warns (:class:`OffGridWarning`) when the
-    nearest grid value is at least half the local grid step away: between two grid values, or a tie
-    (e.g. 8.5 Hz on a 0.2 Hz grid), where the value used is not the one asked for."""
+    nearest grid value is half the grid step (the median spacing) or more away: a hole in an uneven
+    grid, or a tie on an even one (8.5 Hz on a 0.2 Hz grid), where the value used is not the one asked for."""
     grid = np.asarray(grid, dtype=float).ravel()
     value = float(value)
-    step = float(np.min(np.abs(np.diff(np.sort(grid))))) if grid.size > 1 else 0.0
+    step = float(np.median(np.diff(np.unique(grid)))) if np.unique(grid).size > 1 else 0.0
     lo, hi, u = float(np.nanmin(grid)), float(np.nanmax(grid)), f" {units}" if units else ""
     if not lo - SLACK * step <= value <= hi + SLACK * step:
         raise ParameterError(f"{name} = {value:g}{u} is outside the grid ({grid.size} values from {lo:g} to "
                              f"{hi:g}{u}); choose a value in that range")
     i = int(np.nanargmin(np.abs(grid - value)))
     gap = abs(grid[i] - value)
-    if grid.size > 1:
-        local = float(np.min(np.abs(np.delete(grid, i) - grid[i])))   # the step next to the value used
-        if gap >= 0.5 * local * (1 - SLACK) and gap > SLACK * local:
-            warnings.warn(f"{name} = {value:g}{u} is not on the grid (step {local:g}{u}); using the nearest "
-                          f"grid value {grid[i]:g}{u}", OffGridWarning, stacklevel=3)
+    if step > 0 and gap >= 0.5 * step * (1 - SLACK):
+        warnings.warn(f"{name} = {value:g}{u} is not on the grid (step {step:g}{u}); using the nearest "
+                      f"grid value {grid[i]:g}{u}", OffGridWarning, stacklevel=3)
     return i
 
 
