@@ -130,7 +130,7 @@ class WorkerPool:
         if workers < 1:
             raise ParameterError(f"workers = {workers}: need at least 1")
         _refuse_unguarded_script()
-        self.job, self.workers = job, int(workers)
+        self.job, self.workers, self._seen = job, int(workers), {}
         self._pool = ProcessPoolExecutor(max_workers=self.workers, mp_context=mp.get_context(mp_context),
                                          initializer=_warm, initargs=(job,))
 
@@ -172,6 +172,7 @@ class WorkerPool:
             while pending and len(running) < 2 * self.workers:
                 a, b = pending.pop()
                 running[self.submit(_run_chunk, self.job, values[a:b])] = a
+                self._seen.update(getattr(self._pool, "_processes", None) or {})   # their exit codes, if the pool breaks
             finished, _ = wait(running, return_when=FIRST_COMPLETED)
             for fut in finished:
                 take(running.pop(fut), self._result(fut))
@@ -182,8 +183,9 @@ class WorkerPool:
         try:
             return fut.result()
         except BrokenProcessPool:
-            codes = [p.exitcode for p in (getattr(self._pool, "_processes", None) or {}).values()]
-            if GUARD_EXIT in codes:
+            for proc in self._seen.values():
+                proc.join(1)
+            if GUARD_EXIT in [proc.exitcode for proc in self._seen.values()]:
                 raise MainGuardError(_guard_message()) from None
             raise
 

@@ -327,5 +327,9 @@ class _NoBar:
 def _progress(total, progress, desc):
     if not progress or total == 0:
         return _NoBar()
-    from tqdm.auto import tqdm      # a widget in Jupyter, text on stderr elsewhere
+    try:                            # a widget in Jupyter (tqdm.auto needs ipywidgets for it), text elsewhere
+        import ipywidgets  # noqa: F401
+        from tqdm.auto import tqdm
+    except ImportError:             # without ipywidgets tqdm.auto would warn and print text anyway
+        from tqdm import tqdm
     return tqdm(total=total, desc=desc, unit="value", file=sys.stderr, smoothing=0.1)
