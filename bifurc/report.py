@@ -57,7 +57,6 @@ def classification_report(ds, at=None) -> str:
     units = ds[par].attrs.get("units", "")
     values = ds[par].values
     lines = [f"# Classification report (diagram): {a['scene']}, {par} sweep ({a['mode']})", ""]
-    keys = [k for k in sorted(a) if k.startswith("param_") and not k.endswith(("_units", "_source"))]
     lines += ["## Settings", "",
               f"- grid: {values.size} values of `{par}` from {values.min():g} to {values.max():g} {units}",
               f"- per value: {a['transient_periods']} transient + {a['recorded_periods']} recorded relay periods "
@@ -76,7 +75,7 @@ def classification_report(ds, at=None) -> str:
               f"{a.get('lyapunov_steps', '?')} periods decides chaotic (> {a.get('lyapunov_threshold', float('nan')):.3g}) "
               "vs quasi-periodic, unless its 95 % interval contains the threshold; undecided is *not-converged* "
               f"(`class_reason` says why); exponent by {a.get('lyapunov_method', 'companion (not recorded)')}",
-              "- parameters: " + ", ".join(f"{k[6:]} = {a[k]:g} {a.get(k + '_units', '')}" for k in keys), ""]
+              "- parameters: " + _params(a), ""]   # no unit shown for "1" (dc_scale = 1, not "1 1")
     codes = ds.class_code.values
     lines += ["## Class counts", "", "| class | " + " | ".join(map(str, ds.branch.values)) + " |",
               "|---|" + "---|" * ds.sizes["branch"]]
@@ -133,8 +132,8 @@ def _error_lines(ds) -> list[str]:
         lines.append(f"- error estimate (tol {a['error_estimate_tol']:g}): one relay period from the same recorded "
                      f"states differs by up to {a.get('error_map_step_rel', float('nan')):.2g} (relative to each "
                      f"state's scale); periodic values re-run whole: stroboscopic points differ by up to "
-                     f"{a['error_map_points_rel']:.2g}, contact times by up to {a['error_impact_time_s']:.2g} s "
-                     f"(nan: no periodic value sampled); contact counts differ at "
+                     f"{a['error_map_points_rel']:.2g}, contact times by up to {a['error_impact_time_s']:.2g} s"
+                     f"{' (nan: no periodic value sampled)' if a['error_impact_time_s'] != a['error_impact_time_s'] else ''}; contact counts differ at "
                      f"{a['error_impact_count_mismatches']} of the re-run values. On chaotic orbits the points are "
                      "not reproducible at any tolerance (sensitive dependence); the class is.")
     return lines

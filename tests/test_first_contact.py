@@ -157,3 +157,14 @@ def test_the_branch_plot_breaks_at_section_moves_spreads_its_labels_and_explains
         from bifurc.storage.schema import SPECIAL_KINDS
         assert any(text.startswith(SPECIAL_LABELS[SPECIAL_KINDS[kind]] + ":") for text in legend), legend
     plt.close(fig)
+
+
+def test_report_wording_and_the_table_gives_the_reason_of_not_converged(diagram):
+    """F24: "dc_scale = 1 1" (a value and the unit "1"); F1's remedy needs the reason where a user looks."""
+    text = diagram.bifurc.report()
+    assert "dc_scale = 1," in text and "dc_scale = 1 1" not in text
+    table = diagram.bifurc.table()
+    grey = table[table["class"] == "not-converged"]
+    assert len(grey) and (grey.class_reason.str.len() > 0).all()
+    from bifurc.storage.build import KINDS
+    assert KINDS["branch"].startswith("`bifurc continue`")

@@ -62,7 +62,7 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
     preset, params, x0, circuit, ac_sign, dc_law, soil, compaction : as in :func:`maps.problem`
         (not with a Problem, except ``params`` and ``x0``).
     param : str
-        Parameter name to sweep (MODEL.md section 6), e.g. "relay_hz", "V", "k".
+        Parameter name to sweep (docs/model.md section 6), e.g. "relay_hz", "V", "k".
     values : array
         The grid (ascending for follow mode).
     mode : "independent" or "follow" ("continuation": deprecated alias of "follow").
@@ -169,10 +169,10 @@ def run_values(job, values, mode, parts, workers, scheduler, chunk_size, progres
     bar = _progress(values.size * len(branches) - resumed, progress, desc)
 
     def keep(b, indices, chunk):
+        if parts:       # on disk first: an interrupt counts (Interrupted's message) only what was saved
+            parts.save(b, indices, chunk)
         for i, r in zip(indices, chunk):
             results[b][i] = r
-        if parts:
-            parts.save(b, indices, chunk)
         bar.update(len(chunk))
 
     clock = _time.perf_counter()
