@@ -64,8 +64,8 @@ def plot_branch(ds, path=None, state=None, node: int = 0, ax=None, diagram=None,
     _special_points(ax, ds, state, node)
     unit = ds[par].attrs.get("units", "")
     ax.set_xlabel(f"{par} [{unit}]")
-    where = "strobe node" if not moved else "strobe node (gaps: the strobe section moves there)"
-    ax.set_ylabel(f"{state} at {where} {node} [{ds[state].attrs.get('units', '')}]")
+    gaps = " (gaps: the strobe section moves there)" if moved else ""
+    ax.set_ylabel(f"{state} at strobe node {node} [{ds[state].attrs.get('units', '')}]{gaps}")
     ax.set_title(ds.attrs.get("title", ""), fontsize=10)
     ax.legend(fontsize=8, loc="best")
     _spread_labels(ax)
@@ -93,6 +93,7 @@ def _spread_labels(ax) -> None:
     labels = [t for t in ax.texts if t.get_gid() == "special-label"]
     if len(labels) < 2:
         return
+    ax.autoscale_view()             # the limits the labels will be drawn at
     renderer = ax.figure.canvas.get_renderer()
     placed = []
     for text in sorted(labels, key=lambda t: t.xy[0]):
