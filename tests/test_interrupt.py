@@ -32,8 +32,10 @@ def _interrupt(proc, when, group=True, timeout=120):
     (os.killpg if group else os.kill)(proc.pid, signal.SIGINT)
     try:
         err = proc.communicate(timeout=10)[1]
-    except subprocess.TimeoutExpired:
+    except subprocess.TimeoutExpired:     # show where it hangs (faulthandler), then end the whole group
         os.kill(proc.pid, signal.SIGABRT)
+        time.sleep(1)
+        os.killpg(proc.pid, signal.SIGKILL)
         print(proc.communicate()[1][-5000:])
         raise
     return time.monotonic() - sent, err

@@ -26,7 +26,7 @@ from ..storage.files import guarded_output
 from .job import ValueJob
 from .resume import Parts, manifest
 from ..storage.schema import CELL_VARIABLES
-from .sweep import _job, run_stats, run_values
+from .sweep import _job, deferred_interrupt, run_stats, run_values
 
 __all__ = ["regime_map", "CellJob", "CELL_VARIABLES"]
 
@@ -97,7 +97,8 @@ def regime_map(scene="thesis-1dof", param="relay_hz", values=None, param2="V", v
         ds = storage.add_error_estimate(ds, sample_values=[a for a, _ in sampled], **est)
         ds.attrs["error_estimate_values2"] = np.asarray([b for _, b in sampled] or [np.nan], float)
     if path:
-        write_netcdf(ds, path, overwrite=True)  # refused earlier unless overwrite (guarded_output)
-        parts.remove()
+        with deferred_interrupt():
+            write_netcdf(ds, path, overwrite=True)  # refused earlier unless overwrite (guarded_output)
+            parts.remove()
     return ds
 

@@ -22,7 +22,7 @@ from __future__ import annotations
 import sys
 import time as _time
 import warnings
-from contextlib import nullcontext
+from contextlib import contextmanager, nullcontext
 
 import numpy as np
 
@@ -128,8 +128,9 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
     if error_sample:
         ds = storage.add_error_estimate(ds, **estimate)
     if path:
-        write_netcdf(ds, path, overwrite=True)  # refused earlier unless overwrite (guarded_output)
-        parts.remove()
+        with deferred_interrupt():
+            write_netcdf(ds, path, overwrite=True)  # refused earlier unless overwrite (guarded_output)
+            parts.remove()
     return ds
 
 
@@ -169,10 +170,11 @@ def run_values(job, values, mode, parts, workers, scheduler, chunk_size, progres
     bar = _progress(values.size * len(branches) - resumed, progress, desc)
 
     def keep(b, indices, chunk):
-        if parts:       # on disk first: an interrupt counts (Interrupted's message) only what was saved
-            parts.save(b, indices, chunk)
-        for i, r in zip(indices, chunk):
-            results[b][i] = r
+        with deferred_interrupt():   # a part saved and counted whole, or not at all
+            if parts:
+                parts.save(b, indices, chunk)
+            for i, r in zip(indices, chunk):
+                results[b][i] = r
         bar.update(len(chunk))
 
     clock = _time.perf_counter()
@@ -187,6 +189,26 @@ def run_values(job, values, mode, parts, workers, scheduler, chunk_size, progres
     finally:
         bar.close()
     return results, resumed, _time.perf_counter() - clock, workers
+
+
+@contextmanager
+def deferred_interrupt():
+    """Ctrl-C (SIGINT) waits until the block ends, then acts as it would have: a KeyboardInterrupt
+    inside xarray's netCDF writer leaves its global lock held and the next write waits for it forever.
+    Only in the main thread (elsewhere: no change)."""
+    import signal
+    import threading
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    got = []
+    old = signal.signal(signal.SIGINT, lambda *sig: got.append(sig))
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, old)
+        if got and callable(old):
+            old(*got[0])
 
 
 class Interrupted(KeyboardInterrupt):
