@@ -104,9 +104,8 @@ def main(argv=None) -> int:
         return 141  # 128 + SIGPIPE, as a shell reports a writer stopped by a closed pipe
     except (UsageError, *USER_ERRORS) as exc:
         return _fail(exc)
-    except KeyboardInterrupt:
-        print("bifurc: interrupted; completed work is kept on disk where the command streams it",
-              file=sys.stderr)
+    except KeyboardInterrupt as exc:
+        print(f"bifurc: {exc}" if str(exc) else "bifurc: interrupted", file=sys.stderr)  # sweeps name what they kept
         return 130
 
 

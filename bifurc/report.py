@@ -4,9 +4,12 @@ summary of a regime map, time history, orbit, branch, work-precision study or st
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 
+from .storage.grid import OffGridWarning, nearest_index
+from .storage.load import require_kind
 from .sweeps.classify import CLASS_LABELS, describe
 
 __all__ = ["classification_report", "class_at", "undecided_summary", "report", "map_report", "history_report", "orbit_report",
@@ -14,10 +17,15 @@ __all__ = ["classification_report", "class_at", "undecided_summary", "report", "
 
 
 def class_at(ds, value, branch=None) -> dict:
-    """Class of the grid value nearest to ``value``: {value, text, code, period, impacts, lyapunov, ...}."""
+    """Class of the grid value nearest to ``value``: {value, text, code, period, impacts, lyapunov, ...}.
+
+    A value outside the grid is refused; one half a grid step or more from every grid value is
+    warned about (:func:`bifurc.storage.grid.nearest_index`)."""
+    require_kind(ds, "diagram", "class_at")
     par = ds.attrs["swept_parameter"]
     b = branch or str(ds.branch.values[0])
-    sub = ds.sel(branch=b).sel({par: value}, method="nearest")
+    i = nearest_index(ds[par].values, value, par, ds[par].attrs.get("units", ""))
+    sub = ds.sel(branch=b).isel({par: i})
     code = int(sub.class_code)
     return {"value": float(sub[par]), "branch": b, "code": code,
             "label": CLASS_LABELS[code] if code >= 0 else "missing",
@@ -79,14 +87,12 @@ def classification_report(ds, at=None) -> str:
 
     ``at``: parameter values to tabulate (default: the integers inside the grid).
     """
-    from .storage.load import require_kind
     require_kind(ds, "diagram", "classification_report")
     a = ds.attrs
     par = a["swept_parameter"]
     units = ds[par].attrs.get("units", "")
     values = ds[par].values
     lines = [f"# Classification report (diagram): {a['scene']}, {par} sweep ({a['mode']})", ""]
-    keys = [k for k in sorted(a) if k.startswith("param_") and not k.endswith(("_units", "_source"))]
     lines += ["## Settings", "",
               f"- grid: {values.size} values of `{par}` from {values.min():g} to {values.max():g} {units}",
               f"- per value: {a['transient_periods']} transient + {a['recorded_periods']} recorded relay periods "
@@ -108,7 +114,7 @@ def classification_report(ds, at=None) -> str:
               f"show a torus; else *not-converged* (`class_reason` says why, `budget_needed` what would decide it); "
               f"exponent by {a.get('lyapunov_method', 'companion (not recorded)')}",
               f"- period convention: {_convention(ds)}",
-              "- parameters: " + ", ".join(f"{k[6:]} = {a[k]:g} {a.get(k + '_units', '')}" for k in keys), ""]
+              "- parameters: " + _params(a), ""]   # no unit shown for "1" (dc_scale = 1, not "1 1")
     codes = ds.class_code.values
     lines += ["## Class counts", "", "| class | " + " | ".join(map(str, ds.branch.values)) + " |",
               "|---|" + "---|" * ds.sizes["branch"]]
@@ -120,6 +126,7 @@ def classification_report(ds, at=None) -> str:
     undecided = undecided_summary(ds)
     if undecided:
         lines += ["## Undecided values", ""] + [f"- {line.strip()}" for line in undecided] + [""]
+    quiet = at is None      # the default values are the report's own choice: no warning when between grid values
     if at is None:
         at = [v for v in range(int(math.ceil(values.min())), int(math.floor(values.max())) + 1)]
     if len(at):
@@ -128,7 +135,10 @@ def classification_report(ds, at=None) -> str:
                   "recurrence | decay/period | forcing period |", "|---|---|---|---|---|---|---|---|"]
         for b in ds.branch.values:
             for v in at:
-                c = class_at(ds, v, str(b))
+                with warnings.catch_warnings():
+                    if quiet:
+                        warnings.simplefilter("ignore", OffGridWarning)
+                    c = class_at(ds, v, str(b))
                 lines.append(f"| {c['value']:g} | {b} | {c['text']} | {c['n_impacts']} | {c['lyapunov']:.3g} | "
                              f"{c['recurrence']:.3g} | {c['convergence_rate']:.3g} | {c['forcing_period']} |")
         lines.append("")
@@ -175,8 +185,8 @@ def _error_lines(ds) -> list[str]:
         lines.append(f"- error estimate (tol {a['error_estimate_tol']:g}): one relay period from the same recorded "
                      f"states differs by up to {a.get('error_map_step_rel', float('nan')):.2g} (relative to each "
                      f"state's scale); periodic values re-run whole: stroboscopic points differ by up to "
-                     f"{a['error_map_points_rel']:.2g}, contact times by up to {a['error_impact_time_s']:.2g} s "
-                     f"(nan: no periodic value sampled); contact counts differ at "
+                     f"{a['error_map_points_rel']:.2g}, contact times by up to {a['error_impact_time_s']:.2g} s"
+                     f"{' (nan: no periodic value sampled)' if a['error_impact_time_s'] != a['error_impact_time_s'] else ''}; contact counts differ at "
                      f"{a['error_impact_count_mismatches']} of the re-run values. On chaotic orbits the points are "
                      "not reproducible at any tolerance (sensitive dependence); the class is.")
     return lines

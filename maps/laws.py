@@ -10,7 +10,7 @@ COMPACTION = ("resistance R(depth) = R0 (1 + depth / soil_depth_scale), R0 = soi
               "P_max (drift), depth = -x2 (coulomb: the rig below its start at x2 = 0) or -d (drift: the "
               "slider, the soil front)")
 
-#: the soil laws of the 2-DOF scenes (MODEL.md section 2): name -> provenance
+#: the soil laws of the 2-DOF scenes (docs/model.md section 2): name -> provenance
 SOIL_LAWS = {
     "viscous": "listings C.4-C.6: F_soil = -soil_c v2 on the rig",
     "coulomb": "dry friction with sticking, limit soil_friction (listing C.14's sign(x)*1000, with sticking added)",
@@ -19,7 +19,7 @@ SOIL_LAWS = {
              "position d is a state; modes no contact / elastic / progression",
 }
 
-#: the three DC-force laws found in the thesis (MODEL.md section 1): name -> provenance
+#: the three DC-force laws found in the thesis (docs/model.md section 1): name -> provenance
 DC_LAWS = {
     "listing": "listing C.9 as printed: F_dc = -a3 xa^3 + a2 xa^2 - a1 xa + m g (the cubic the thesis' "
                "simulations ran; it flips only the cubic term of eq 4.6)",

@@ -13,7 +13,7 @@ COMMON = {
     "g": (9.81, "listing C.1"),
     "e": (0.0, "clearance, listing C.1"),
     "f_mains": (50.0, "mains frequency, listing C.1"),
-    "d_dc": (0.0625, "DC solenoid centre above the stop: xa = x - 0.0625, listing C.9 and MODEL.md section 1 "
+    "d_dc": (0.0625, "DC solenoid centre above the stop: xa = x - 0.0625, listing C.9 and docs/model.md section 1 "
                      "(from y = 0.108, l_c = 0.141, l_s = 0.05 m, eq 4.5)"),
     "d_ac": (0.0455, "eq 4.9 (xb = x + 0.0455)"),
     "L0": (0.48, "inductance fit, eq 4.13 / listing C.11"),
@@ -49,7 +49,7 @@ DC_LAW_COEFFICIENTS = {
     "measured": {},
 }
 
-#: each preset's DC-force law (MODEL.md sections 1 and 4), with the reason
+#: each preset's DC-force law (docs/model.md sections 1 and 4), with the reason
 PRESET_DC_LAW = {
     "thesis-text": ("fit", "the text's law, eqs 4.6-4.7"),
     "matlab-listing": ("listing", "what the thesis' simulations ran, listing C.9"),
@@ -57,7 +57,7 @@ PRESET_DC_LAW = {
                                     "smaller) is a different model, not implemented"),
 }
 
-#: MODEL.md section 4's notes on each preset, stated in its provenance (dataset attribute
+#: docs/model.md section 4's notes on each preset, stated in its provenance (dataset attribute
 #: ``preset_notes``)
 PRESET_NOTES = {
     "thesis-text": "sections 4.2-4.3 simulate at 15 V DC: dc_scale = (15/20)^2 = 0.5625 under the linear-magnetics "
@@ -130,7 +130,7 @@ def preset_values(name: str, dc_law: str | None = None) -> dict:
 
 def preset_attrs(table: dict) -> dict:
     """Dataset attributes naming the preset behind a provenance table ({name: (value, source)}),
-    its DC-force law and MODEL.md section 4's notes on it (empty when no preset is named)."""
+    its DC-force law and docs/model.md section 4's notes on it (empty when no preset is named)."""
     counts: dict = {}
     for _, src in table.values():
         head = str(src).split(":")[0]

@@ -21,13 +21,13 @@ __all__ = ["simulate", "run_scene", "resolve", "dc_law_attrs", "soil_law_attrs"]
 
 
 def dc_law_attrs(options) -> dict:
-    """Dataset attributes naming the DC-force law and its provenance (MODEL.md section 1)."""
+    """Dataset attributes naming the DC-force law and its provenance (docs/model.md section 1)."""
     a = model_attrs(options)
     return {"dc_law": a["dc_law"], "dc_law_source": a["dc_law_source"]}
 
 
 def soil_law_attrs(options) -> dict:
-    """Dataset attributes naming the soil law of a 2-DOF scene, its provenance (MODEL.md section 2)
+    """Dataset attributes naming the soil law of a 2-DOF scene, its provenance (docs/model.md section 2)
     and its compaction (the resistance's growth with depth, or "none")."""
     a = model_attrs(options)
     return {k: a[k] for k in ("soil", "soil_source", "soil_compaction")}
@@ -102,9 +102,9 @@ def simulate(scene, *, periods=None, t_end=None, params=None, preset=None, x0=No
         Structural options ("thesis"/"kvl", "physical"/"listing").
     dc_law : str
         DC-force law: "listing" (listing C.9), "fit" (eqs 4.6-4.7) or "measured" (Table 4.1
-        only, zero beyond |xa| = 29 mm); default: the preset's (MODEL.md section 1).
+        only, zero beyond |xa| = 29 mm); default: the preset's (docs/model.md section 1).
     soil : str
-        2-DOF soil law: "viscous", "coulomb" or "drift" (MODEL.md section 2); default: the scene's.
+        2-DOF soil law: "viscous", "coulomb" or "drift" (docs/model.md section 2); default: the scene's.
     compaction : bool
         Coulomb and drift soils: the resistance grows with depth (``maps.model.COMPACTION``).
     transient : float

@@ -65,9 +65,9 @@ def test_accessor_class_at_report_and_plot(diagram):
         diagram.bifurc.class_at(7.0, branch="up")
     text = diagram.bifurc.report()
     assert text == bifurc.classification_report(diagram) and text._repr_markdown_().startswith("# Classification")
-    axes = diagram.bifurc.plot()  # Axes, not the Figure: Jupyter shows it once
-    assert all(isinstance(a, matplotlib.axes.Axes) for a in axes) and list(axes) == axes[0].figure.axes
-    plt.close(axes[0].figure)
+    ax = diagram.bifurc.plot()  # the main Axes, not the Figure: Jupyter shows it once
+    assert isinstance(ax, matplotlib.axes.Axes) and ax is ax.figure.axes[0] and len(ax.figure.axes) == 2
+    plt.close(ax.figure)
     history = maps.simulate("thesis-1dof", t_end=0.05, dt=1e-3, preset="matlab-listing")
     fig, ax = plt.subplots()
     assert history.bifurc.plot(ax=ax) is ax and ax.lines
@@ -83,14 +83,15 @@ def test_plot_diagram_draws_into_given_axes_and_returns_them(diagram):
     assert bifurc.plot_diagram(diagram, ax=ax) is ax
     assert ax.lines and not strip.patches  # one Axes: the diagram only
     pair = (ax, strip)
-    assert bifurc.plot_diagram(diagram, ax=pair) is pair
+    assert bifurc.plot_diagram(diagram, ax=pair) is ax     # the main Axes, the strip drawn too
     assert len(strip.patches) == 3  # one class cell per value
     plt.close(fig)
 
 
 def test_diagram_figure_labels_the_strip_by_its_content_and_says_the_error_in_words(diagram):
-    ax, strip = bifurc.plot_diagram(diagram)
+    ax = bifurc.plot_diagram(diagram)
     fig = ax.figure
+    strip = fig.axes[1]
     assert "class" in strip.get_ylabel()
     assert all("independent" not in t.get_text() for t in strip.get_yticklabels())
     title = fig._suptitle.get_text()

@@ -81,9 +81,9 @@ def test_time_history_figure_draws_the_dataset(reference):
     np.testing.assert_allclose(stop_marks.get_xdata(), reference.impact_time.values, rtol=0)
     assert "[mm]" in ax.get_ylabel()
     plt.close(fig)
-    axes = plot_time_history(reference)  # own figure: displacement, current, relay
-    full = axes[0].figure
-    assert list(axes) == full.axes
+    ax = plot_time_history(reference)  # own figure: displacement, current, relay; the first returned
+    full = ax.figure
+    assert ax is full.axes[0]
     labels = [a.get_ylabel() for a in full.axes]
     assert len(labels) == 3 and "[A]" in labels[1] and "V* = 90 V" in full._suptitle.get_text()
     plt.close(full)

@@ -93,8 +93,8 @@ def test_a_map_file_is_its_own_kind(local, tmp_path, capsys):
     import matplotlib.pyplot as plt
     assert local.bifurc.kind == "map"
     ax = local.bifurc.plot()
-    assert ax[0].get_title() == "regime"
-    plt.close(ax[0].figure)
+    assert ax.get_title() == "regime"
+    plt.close(ax.figure)
     path = tmp_path / "m.nc"
     local.to_netcdf(path)
     assert main(["report", str(path)]) == 2
@@ -189,7 +189,7 @@ def test_the_figure_names_every_regime_and_draws_given_curves(local, tmp_path):
     assert "escaped" in texts and "period-1, no impact" in texts
     ax = plot_regime_map(local, tmp_path / "m.png", curves=[(W, np.full(3, 100.0), "a curve")])
     assert (tmp_path / "m.png").stat().st_size > 20_000
-    assert [line.get_label() for line in ax[0].lines] == ["a curve"]
+    assert [line.get_label() for line in ax.lines] == ["a curve"]
 
 
 def test_periodic_categories_read_period_and_impacts(local):

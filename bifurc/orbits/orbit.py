@@ -21,6 +21,8 @@ from maps.poincare import StroboscopicMap
 from maps.problem import problem
 from maps.provenance import recorded
 
+from ..storage.grid import nearest_index
+from ..storage.load import require_kind
 from .dataset import orbit_dataset
 from .periodic import OrbitNotFound, find_periodic_orbit
 
@@ -30,11 +32,16 @@ __all__ = ["periodic_orbit", "sweep_point", "orbit_dataset", "first_guess", "mul
 def sweep_point(ds, value, *, sample: int = -1, branch=None):
     """``(HybridState, sample index k)`` of a stored sweep at the swept parameter's ``value``
     (nearest stored value), recorded sample ``sample`` (default: the last), ready to start a
-    step, a simulation or :func:`periodic_orbit` exactly there."""
+    step, a simulation or :func:`periodic_orbit` exactly there.  A value outside the grid is refused,
+    one half a grid step or more from every grid value warned about (:func:`bifurc.storage.grid.nearest_index`)."""
+    require_kind(ds, "diagram", "sweep_point")
     par = ds.attrs["swept_parameter"]
     d = ds.sel(branch=branch) if branch is not None else ds.isel(branch=0)
-    d = d.sel({par: value}, method="nearest")
-    k = int(np.arange(d.sizes["sample"])[sample])
+    d = d.isel({par: nearest_index(ds[par].values, value, par, ds[par].attrs.get("units", ""))})
+    n = d.sizes["sample"]
+    if not -n <= int(sample) < n:
+        raise ParameterError(f"sample = {sample}: the sweep recorded {n} samples per value; allowed {-n} to {n - 1}")
+    k = int(np.arange(n)[sample])
     states = [name for name in d.data_vars if d[name].dims == ("sample",) and not name.startswith("flag_")]
     y = np.array([float(d[s].values[k]) for s in states])
     flags = {n[5:]: float(d[n].values[k]) for n in d.data_vars if n.startswith("flag_")}
@@ -45,7 +52,7 @@ def sweep_point(ds, value, *, sample: int = -1, branch=None):
 
 @recorded("bifurc.periodic_orbit")
 def periodic_orbit(scene, *, params=None, preset=None, period: int | None = None, x0=None, start=None,
-                   k0: int | None = None, transient: int = 0, tol: float = 1e-12, newton_tol: float | None = None,
+                   k0: int | None = None, transient: int = 300, tol: float = 1e-12, newton_tol: float | None = None,
                    max_iter: int = 40, error: bool = True, circuit=None, ac_sign=None, dc_law=None,
                    soil=None, compaction=None):
     """A periodic orbit of ``scene`` (name, Scene, HybridSystem or :class:`maps.Problem`) as an xarray Dataset.
@@ -56,7 +63,8 @@ def periodic_orbit(scene, *, params=None, preset=None, period: int | None = None
         In strobe periods (relay periods for relay scenes); a multiple of the forcing period q
         (default: q).
     x0 : dict
-        Initial state; integrated ``transient`` strobe periods to the first guess.
+        Initial state; integrated ``transient`` strobe periods to the first guess (default 300, as
+        `bifurc orbit --transient` and :func:`bifurc.continue_orbit`).
     start : HybridState, or (HybridState, k) from :func:`sweep_point`
         The first guess itself (instead of x0 and transient), at sample ``k0``.
     tol, newton_tol : float

@@ -4,6 +4,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..storage.files import check_figure_output, save_figure
+from ..storage.load import require_kind
 from ..storage.schema import SPECIAL_KINDS
 
 __all__ = ["plot_branch", "plot_curves", "branch_curves", "SPECIAL_LABELS"]
@@ -15,6 +16,11 @@ SPECIAL_LABELS = {"fold": "LP", "period_doubling": "PD", "neimark_sacker": "NS",
 _MARKERS = {"fold": "s", "period_doubling": "D", "neimark_sacker": "h", "grazing": "v", "impact_lost": "^",
             "stick_onset": "X", "signature_change": "P", "cusp": "*", "fold_flip": "*", "grazing_fold": "*",
             "curve_crossing": "*", "resonance": "*"}
+#: legend text of each special point
+_MEANINGS = {"fold": "fold", "period_doubling": "period doubling", "neimark_sacker": "Neimark-Sacker",
+             "grazing": "grazing", "impact_lost": "impact lost", "stick_onset": "stick onset",
+             "signature_change": "event sequence changes", "cusp": "cusp", "fold_flip": "fold-flip",
+             "grazing_fold": "grazing-fold", "curve_crossing": "curves cross", "resonance": "resonance"}
 
 
 def plot_branch(ds, path=None, state=None, node: int = 0, ax=None, diagram=None, overwrite=False, label=None,
@@ -22,7 +28,9 @@ def plot_branch(ds, path=None, state=None, node: int = 0, ax=None, diagram=None,
     """The continuation parameter against ``state`` (default the first state) at strobe node
     ``node`` of each branch point: stable parts solid, unstable dashed, one colour per branch;
     special points marked and labelled (LP fold, PD period doubling, NS Neimark-Sacker, G grazing,
-    IL impact lost, ST stick onset) with their located values.
+    IL impact lost, ST stick onset) with their located values, labels never overlapping, each marker
+    in the legend.  Where the strobe section moves (``section_phase`` changes) the line is broken:
+    the state at another phase is not a continuation of the curve.
 
     ``diagram``: a sweep dataset (bifurc.sweep / ``bifurc diagram``) of the same parameter, drawn
     behind as grey dots (every recorded sample).  ``ax``: draw into this Axes.  ``path``: also save
@@ -30,7 +38,6 @@ def plot_branch(ds, path=None, state=None, node: int = 0, ax=None, diagram=None,
     ``colour``: the legend text and first palette index, to tell several datasets apart on one Axes.
     Returns the Axes (shown once in Jupyter).
     """
-    from ..storage.load import require_kind
     require_kind(ds, "branch", "plot_branch")
     if path is not None:
         check_figure_output(path, overwrite)
@@ -44,31 +51,62 @@ def plot_branch(ds, path=None, state=None, node: int = 0, ax=None, diagram=None,
         _draw_diagram(ax, diagram, par, state)
     colours = ["#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9"]
     labels = ds.attrs.get("branch_labels", "").split(" | ")
+    phase = ds.section_phase.values if "section_phase" in ds else np.zeros(ds.sizes["point"])
+    moved = False
     for b in np.unique(ds.branch_id.values):
         sel = ds.branch_id.values == b
         p, y, stable = ds[par].values[sel], ds[state].values[sel, node], ds.stable.values[sel] == 1
         tint = colours[(int(b) + colour) % len(colours)]
         name = labels[int(b)] if int(b) < len(labels) else f"branch {b}"
         name = name if label is None else f"{label}, {name}"
-        for k in range(len(p) - 1):       # segment by segment: solid where both ends are stable
+        same = np.isclose(phase[sel][1:], phase[sel][:-1], rtol=0, atol=1e-12) | np.isnan(phase[sel][1:])
+        moved |= not same.all()
+        for k in np.flatnonzero(same):    # segment by segment: solid where both ends are stable; none across a move
             ax.plot(p[k:k + 2], y[k:k + 2], color=tint, lw=1.8, ls="-" if stable[k] and stable[k + 1] else "--")
         ax.plot([], [], color=tint, lw=1.8, label=f"{name} (solid: stable, dashed: unstable)")
-    for i in range(ds.sizes.get("special", 0)):
-        kind = SPECIAL_KINDS[int(ds.special_kind.values[i])]
-        j = int(ds.special_point.values[i])
-        value = float(ds.special_value.values[i])
-        y = float(ds[state].values[j, node])
-        ax.plot([value], [y], marker=_MARKERS[kind], color="k", ms=7, ls="none")
-        ax.annotate(f"{SPECIAL_LABELS[kind]} {value:.6g}", (value, y), textcoords="offset points", xytext=(6, 6),
-                    fontsize=8)
+    _special_points(ax, ds, state, node)
     unit = ds[par].attrs.get("units", "")
     ax.set_xlabel(f"{par} [{unit}]")
-    ax.set_ylabel(f"{state} at strobe node {node} [{ds[state].attrs.get('units', '')}]")
+    gaps = " (gaps: the strobe section moves there)" if moved else ""
+    ax.set_ylabel(f"{state} at strobe node {node} [{ds[state].attrs.get('units', '')}]{gaps}")
     ax.set_title(ds.attrs.get("title", ""), fontsize=10)
     ax.legend(fontsize=8, loc="best")
+    _spread_labels(ax)
     if path is not None:
         save_figure(ax.figure, path, overwrite=overwrite, close=own)
     return ax
+
+
+def _special_points(ax, ds, state, node) -> None:
+    """Mark and label the special points (one legend entry per kind present)."""
+    shown = set()
+    for i in range(ds.sizes.get("special", 0)):
+        kind = SPECIAL_KINDS[int(ds.special_kind.values[i])]
+        value = float(ds.special_value.values[i])
+        y = float(ds[state].values[int(ds.special_point.values[i]), node])
+        ax.plot([value], [y], marker=_MARKERS[kind], color="k", ms=7, ls="none",
+                label=None if kind in shown else f"{SPECIAL_LABELS[kind]}: {_MEANINGS[kind]}")
+        shown.add(kind)
+        ax.annotate(f"{SPECIAL_LABELS[kind]} {value:.6g}", (value, y), textcoords="offset points", xytext=(6, 6),
+                    fontsize=8, gid="special-label")
+
+
+def _spread_labels(ax) -> None:
+    """Move the special points' labels up, one line at a time, until none overlaps another."""
+    labels = [t for t in ax.texts if t.get_gid() == "special-label"]
+    if len(labels) < 2:
+        return
+    ax.autoscale_view()             # the limits the labels will be drawn at
+    renderer = ax.figure.canvas.get_renderer()
+    placed = []
+    for text in sorted(labels, key=lambda t: t.xy[0]):
+        for _ in range(len(labels) + 1):
+            box = text.get_window_extent(renderer).expanded(1.02, 1.1)
+            if not any(box.overlaps(other) for other in placed):
+                break
+            x, y = text.get_position()
+            text.set_position((x, y + 11))
+        placed.append(text.get_window_extent(renderer))
 
 
 def _draw_diagram(ax, diagram, par, state):
@@ -103,6 +141,7 @@ def plot_curves(ds, path=None, ax=None, overwrite=False):
     regime map of the same parameters); ``path``: also save there.  Returns the Axes."""
     if path is not None:
         check_figure_output(path, overwrite)
+    require_kind(ds, "branch", "plot_curves")
     curves = branch_curves(ds)
     if not curves:
         from maps.parameters import ParameterError

@@ -5,6 +5,7 @@ import numpy as np
 
 from ..sweeps.classify import CLASS_LABELS
 from ..storage.files import check_figure_output, save_figure
+from ..storage.load import require_kind
 
 __all__ = ["plot_diagram", "CLASS_COLOURS"]
 
@@ -26,11 +27,10 @@ def plot_diagram(ds, path=None, state=None, branch=None, ax=None, overwrite=Fals
     ``ax``: draw into this Axes (the diagram only) or pair of Axes (diagram, class strip)
     instead of a new figure. ``path``: also save the figure there (format from the
     extension; an existing file is refused unless ``overwrite``) and close it.
-    Returns what it drew on: ``ax`` as given, else the new Axes as an array (diagram, class
-    strip; the figure is ``axes[0].figure``). Returning Axes, not the Figure, shows the figure
-    once in Jupyter (a returned Figure is displayed again by the inline backend).
+    Returns the diagram's Axes (the class strip is ``ax.figure.axes[1]`` in a new figure).
+    Returning Axes, not the Figure, shows the figure once in Jupyter (a returned Figure is
+    displayed again by the inline backend).
     """
-    from ..storage.load import require_kind
     require_kind(ds, "diagram", "plot_diagram")
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
@@ -41,12 +41,11 @@ def plot_diagram(ds, path=None, state=None, branch=None, ax=None, overwrite=Fals
     branches = [branch] if branch else [str(b) for b in ds.branch.values]
     if ax is None:
         import matplotlib.pyplot as plt
-        fig, drawn = plt.subplots(2, 1, sharex=True, figsize=(10, 6.5),
+        fig, (ax, strip) = plt.subplots(2, 1, sharex=True, figsize=(10, 6.5),
                                   gridspec_kw={"height_ratios": [5, 1 + 0.5 * (len(branches) - 1)]})
-        ax, strip = drawn
         own = True
     else:
-        drawn, own = ax, False
+        own = False
         ax, strip = (ax, None) if not np.iterable(ax) else tuple(ax)
         fig = ax.figure
     pvals = ds[par].values
@@ -107,7 +106,7 @@ def plot_diagram(ds, path=None, state=None, branch=None, ax=None, overwrite=Fals
         fig.tight_layout()
     if path is not None:
         save_figure(fig, path, overwrite=overwrite, dpi=130, close=own)
-    return drawn
+    return ax
 
 
 def _class_strip(ds, strip, branches, pvals, xlabel):

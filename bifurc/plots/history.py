@@ -7,6 +7,7 @@ from collections import Counter
 import numpy as np
 
 from ..storage.files import check_figure_output, save_figure
+from ..storage.load import require_kind
 
 __all__ = ["plot_time_history", "history_panels"]
 
@@ -51,12 +52,15 @@ def _draw_displacement(ax, ds):
     ax.plot(t, scale * r, lw=0.8, color="C0")
     if "param_e" in ds.attrs:
         ax.axhline(scale * e, color="k", lw=0.8, ls="--", label=f"stop (e = {e:g} {units})")
-    n_imp = ds.sizes.get("impact", 0)
+    ti = ds.impact_time.values if "impact_time" in ds else np.array([])
+    ti = ti[(ti >= t.min()) & (ti <= t.max())] if t.size else ti[:0]   # only the window drawn (a time slice
+    n_imp = ti.size                                                     # keeps every impact of the run)
     if n_imp:
-        ti = ds.impact_time.values
         ax.plot(ti, np.full_like(ti, scale * e), "v", color="C3", ms=5, label=f"impacts ({n_imp})")
-    elif "contact" in ds:  # the scene has a stop
+    elif "contact" in ds or "impact_time" in ds:  # the scene has a stop
         ax.plot([], [], "v", color="C3", ms=5, label="no impact")
+    if t.size > 1:
+        ax.set_xlim(t.min(), t.max())
     ax.set_ylabel(_ylabel(name, shown))
     if ax.get_legend_handles_labels()[0]:
         ax.legend(loc="lower right", bbox_to_anchor=(1.0, 1.0), ncol=2, frameon=False,
@@ -128,10 +132,9 @@ def plot_time_history(ds, path=None, ax=None, overwrite=False):
 
     Returns
     -------
-    What it drew on: ``ax`` as given, else the new Axes, one per panel, as an array (the figure
-    is ``axes[0].figure``; returning Axes shows the figure once in Jupyter).
+    The displacement panel's Axes (the others: ``ax.figure.axes``); returning Axes, not the Figure,
+    shows the figure once in Jupyter.  Only the impacts inside the plotted time window are marked.
     """
-    from ..storage.load import require_kind
     require_kind(ds, "history", "plot_time_history")
     if path is not None:
         check_figure_output(path, overwrite)
@@ -164,4 +167,4 @@ def plot_time_history(ds, path=None, ax=None, overwrite=False):
         fig.tight_layout()
     if path is not None:
         save_figure(fig, path, overwrite=overwrite, dpi=120, close=own)
-    return np.array(axes) if own else ax
+    return axes[0]

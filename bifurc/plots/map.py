@@ -13,6 +13,7 @@ import numpy as np
 from ..sweeps.classify import CLASS_LABELS, describe
 from ..codes import ClassCode
 from ..storage.files import check_figure_output, save_figure
+from ..storage.load import require_kind
 from .diagram import CLASS_COLOURS
 
 __all__ = ["plot_regime_map", "regime_categories", "PERIODIC_COLOURS", "OTHER_PERIODIC", "MISSING"]
@@ -22,6 +23,8 @@ PERIODIC_COLOURS = ("#0072B2", "#56B4E9", "#CC79A7", "#F0E442", "#332288", "#117
                     "#EECC66")
 OTHER_PERIODIC = ("periodic, other n:m", "#BBBBBB")
 MISSING = ("not computed", "#FFFFFF")
+#: hatching of cells where a panel's quantity was not computed (Lyapunov: periodic; impacts: not periodic)
+NOT_COMPUTED = "#999999"
 #: legend texts of the non-periodic classes
 _TEXT = {"not-converged": "not converged"}
 
@@ -73,9 +76,10 @@ def plot_regime_map(ds, path=None, ax=None, curves=None, overwrite=False):
     ``curves``: [(param values, param2 values, label), ...] drawn over every panel, e.g.
     two-parameter bifurcation curves from continuation.  ``ax``: three Axes to draw into
     instead of a new figure.  ``path``: also save the figure there (an existing file is
-    refused unless ``overwrite``) and close it.  Returns the Axes drawn on.
+    refused unless ``overwrite``) and close it.  Cells where a panel's quantity was not computed
+    (the exponent of periodic cells, impacts of non-periodic ones) are hatched, unlike any colour
+    of a colour bar (the exponent's white is lambda = 0).  Returns the regime panel's Axes (the others: ``ax.figure.axes``).
     """
-    from ..storage.load import require_kind
     require_kind(ds, "map", "plot_regime_map")
     from matplotlib.colors import BoundaryNorm, ListedColormap
     from matplotlib.patches import Patch
@@ -98,25 +102,39 @@ def plot_regime_map(ds, path=None, ax=None, curves=None, overwrite=False):
     span = float(np.nanmax(np.abs(ds.lyapunov.values))) if np.isfinite(ds.lyapunov.values).any() else 1.0
     im = ax[1].pcolormesh(x, y, lyap, cmap="PuOr_r", vmin=-span, vmax=span, shading="nearest")
     fig.colorbar(im, ax=ax[1], label="largest Lyapunov exponent [1/relay period]")
-    ax[1].set_title("Lyapunov exponent (blank: periodic, not computed)")
+    ax[1].set_title("Lyapunov exponent (hatched: not computed, periodic)")
     imp = np.ma.masked_less(ds.impacts_per_period.values.T.astype(float), 0)
     im = ax[2].pcolormesh(x, y, imp, cmap="cividis", shading="nearest")
     fig.colorbar(im, ax=ax[2], label="impacts per period")
-    ax[2].set_title("impacts per period (blank: not periodic)")
+    ax[2].set_title("impacts per period (hatched: not periodic)")
     for a in ax:
         a.set_xlabel(f"{par} [{ds[par].attrs.get('units', '')}]")
         a.set_ylabel(f"{par2} [{ds[par2].attrs.get('units', '')}]")
         a.set_facecolor("white")
         for cx, cy, label in curves or ():
             a.plot(cx, cy, color="black", lw=1.2, label=label)
-        a.set_xlim(x.min() - 0.5 * _step(x), x.max() + 0.5 * _step(x))
-        a.set_ylim(y.min() - 0.5 * _step(y), y.max() + 0.5 * _step(y))
+        a.set_xlim(*_edges(x))
+        a.set_ylim(*_edges(y))
+        if a is not ax[0]:
+            _hatch_missing(a, x, y)
     if curves:
         ax[1].legend(loc="upper right", fontsize=8)
     fig.suptitle(ds.attrs.get("title", ""))
     if path is not None:
         save_figure(fig, path, overwrite=overwrite)
-    return ax
+    return ax[0]
+
+
+def _hatch_missing(ax, x, y) -> None:
+    """Hatch the panel behind its cells: masked cells (not computed) show it."""
+    from matplotlib.patches import Rectangle
+    (x0, x1), (y0, y1) = _edges(x), _edges(y)
+    ax.add_patch(Rectangle((x0, y0), x1 - x0, y1 - y0, facecolor="white", edgecolor=NOT_COMPUTED, hatch="////",
+                           lw=0, zorder=0.5, label="not computed"))
+
+
+def _edges(v):
+    return v.min() - 0.5 * _step(v), v.max() + 0.5 * _step(v)
 
 
 def _step(v) -> float:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..storage.files import check_figure_output, save_figure
+from ..storage.load import require_kind
 
 __all__ = ["plot_orbit", "orbit_plane"]
 
@@ -30,7 +31,6 @@ def plot_orbit(ds, path=None, ax=None, overwrite=False):
     ``ax``: draw into this Axes, or a pair (plane, multipliers).  ``path``: also save there (an existing
     file is refused unless ``overwrite``) and close the figure.  Returns the plane's Axes.
     """
-    from ..storage.load import require_kind
     require_kind(ds, "orbit", "plot_orbit")
     if path is not None:
         check_figure_output(path, overwrite)

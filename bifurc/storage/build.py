@@ -19,7 +19,7 @@ KIND_ATTR = "bifurc_kind"
 #: dataset kinds and what writes them
 KINDS = {"diagram": "`bifurc diagram` or bifurc.sweep", "map": "`bifurc map` or bifurc.regime_map",
          "history": "`bifurc simulate` or maps.simulate", "orbit": "`bifurc orbit` or bifurc.periodic_orbit",
-         "branch": "`bifurc branch` or bifurc.continue_orbit", "stability": "`bifurc verify`",
+         "branch": "`bifurc continue` or bifurc.continue_orbit", "stability": "`bifurc verify`",
          "accuracy": "`bifurc accuracy`"}
 
 

@@ -25,7 +25,7 @@ import numpy as np
 
 from maps.parameters import ParameterError
 
-__all__ = ["map_values", "WorkerPool", "submit_all", "timed", "chunks_of", "guided_chunks", "available_cores",
+__all__ = ["map_values", "WorkerPool", "MainGuardError", "submit_all", "timed", "chunks_of", "guided_chunks", "available_cores",
            "default_workers", "MIN_VALUES_PER_WORKER"]
 
 #: a worker process pays its start and one compilation (~1-2 s) before it helps: below this many
@@ -46,11 +46,44 @@ def default_workers(n_values: int) -> int:
     return max(1, min(available_cores(), n_values // MIN_VALUES_PER_WORKER))
 
 
+#: exit code of a worker process that found itself re-running a script without a main guard
+GUARD_EXIT = 86
+
+
+class MainGuardError(RuntimeError):
+    """Worker processes could not start: the script that started them has no main guard."""
+
+
 def _warm(job):
-    """Process initializer: compile the job's integrator once in this process."""
+    """Process initializer: Ctrl-C is the parent's to handle (it stops the workers, see
+    :meth:`WorkerPool.terminate`); compile the job's integrator once in this process."""
+    import signal
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
     if job is not None and hasattr(job, "warm"):
         job.warm()
     return os.getpid()
+
+
+def _refuse_unguarded_script() -> None:
+    """In a worker process that is re-running the script which started it (a script without
+    ``if __name__ == "__main__":``, re-imported as ``__mp_main__`` by the spawn start method), exit at
+    once with :data:`GUARD_EXIT` instead of starting workers of its own; the parent then raises
+    :class:`MainGuardError`."""
+    import sys
+    if "__mp_main__" not in sys.modules:
+        return
+    frame = sys._getframe(1)
+    while frame is not None:
+        if frame.f_globals.get("__name__") == "__mp_main__" and frame.f_code.co_name == "<module>":
+            raise SystemExit(GUARD_EXIT)
+        frame = frame.f_back
+
+
+def _guard_message() -> str:
+    import sys
+    script = getattr(sys.modules.get("__main__"), "__file__", None) or "the script"
+    return (f"worker processes could not start: they re-import {script}, which starts a sweep at its top level; "
+            'put the script\'s code under `if __name__ == "__main__":`, or pass workers=1')
 
 
 def _run_chunk(job, values):
@@ -96,18 +129,32 @@ class WorkerPool:
         import multiprocessing as mp
         if workers < 1:
             raise ParameterError(f"workers = {workers}: need at least 1")
-        self.job, self.workers = job, int(workers)
+        _refuse_unguarded_script()
+        self.job, self.workers, self._seen = job, int(workers), {}
         self._pool = ProcessPoolExecutor(max_workers=self.workers, mp_context=mp.get_context(mp_context),
                                          initializer=_warm, initargs=(job,))
 
     def __enter__(self):
         return self
 
-    def __exit__(self, *exc):
-        self.close()
+    def __exit__(self, exc_type, *exc):
+        if exc_type is not None and issubclass(exc_type, KeyboardInterrupt):
+            self.terminate()
+        else:
+            self.close()
 
     def close(self) -> None:
         self._pool.shutdown(wait=True)
+
+    def terminate(self) -> None:
+        """Stop at once (Ctrl-C, a kernel interrupt): cancel the tasks not started and end the worker
+        processes with the chunks they are running (their results are lost; finished ones were kept)."""
+        procs = list((getattr(self._pool, "_processes", None) or {}).values())
+        self._pool.shutdown(wait=False, cancel_futures=True)
+        for proc in procs:
+            proc.terminate()
+        for proc in procs:
+            proc.join(1)
 
     def submit(self, fn, *args) -> Future:
         """Run ``fn(*args)`` on a worker (``fn`` and ``args`` picklable); returns its Future."""
@@ -125,9 +172,22 @@ class WorkerPool:
             while pending and len(running) < 2 * self.workers:
                 a, b = pending.pop()
                 running[self.submit(_run_chunk, self.job, values[a:b])] = a
+                self._seen.update(getattr(self._pool, "_processes", None) or {})   # their exit codes, if the pool breaks
             finished, _ = wait(running, return_when=FIRST_COMPLETED)
             for fut in finished:
-                take(running.pop(fut), fut.result())
+                take(running.pop(fut), self._result(fut))
+
+    def _result(self, fut):
+        """A chunk's results; a pool broken by workers that re-ran an unguarded script: :class:`MainGuardError`."""
+        from concurrent.futures.process import BrokenProcessPool
+        try:
+            return fut.result()
+        except BrokenProcessPool:
+            for proc in self._seen.values():
+                proc.join(1)
+            if GUARD_EXIT in [proc.exitcode for proc in self._seen.values()]:
+                raise MainGuardError(_guard_message()) from None
+            raise
 
 
 def timed(fn, *args):

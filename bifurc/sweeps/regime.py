@@ -26,7 +26,7 @@ from ..storage.files import guarded_output
 from .job import ValueJob
 from .resume import Parts, manifest
 from ..storage.schema import CELL_VARIABLES
-from .sweep import _job, run_stats, run_values
+from .sweep import _job, deferred_interrupt, run_stats, run_values
 
 __all__ = ["regime_map", "CellJob", "CELL_VARIABLES"]
 
@@ -87,7 +87,7 @@ def regime_map(scene="thesis-1dof", param="relay_hz", values=None, param2="V", v
     cells = np.arange(values.size * values2.size, dtype=float)
     parts = Parts(path, manifest(job, cells, "map")) if path else None
     results, resumed, seconds, workers = run_values(job, cells, "independent", parts, workers, scheduler, chunk_size,
-                                                    progress, f"{pb.name} {param} x {param2}")
+                                                    progress, f"{pb.name} {param} x {param2}", unit="cells")
     from . import dataset as storage  # xarray: imported where the Dataset is built
     from ..storage.files import write_netcdf
     ds = storage.map_dataset(results["independent"], job)
@@ -98,7 +98,8 @@ def regime_map(scene="thesis-1dof", param="relay_hz", values=None, param2="V", v
         ds = storage.add_error_estimate(ds, sample_values=[a for a, _ in sampled], **est)
         ds.attrs["error_estimate_values2"] = np.asarray([b for _, b in sampled] or [np.nan], float)
     if path:
-        write_netcdf(ds, path, overwrite=True)  # refused earlier unless overwrite (guarded_output)
-        parts.remove()
+        with deferred_interrupt():
+            write_netcdf(ds, path, overwrite=True)  # refused earlier unless overwrite (guarded_output)
+            parts.remove()
     return ds
 

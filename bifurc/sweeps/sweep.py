@@ -22,7 +22,7 @@ from __future__ import annotations
 import sys
 import time as _time
 import warnings
-from contextlib import nullcontext
+from contextlib import contextmanager, nullcontext
 
 import numpy as np
 
@@ -41,7 +41,7 @@ from .job import ValueJob
 from .lyapunov import METHODS
 from .resume import Parts, manifest
 
-__all__ = ["sweep", "MODES", "GRAZING_GAP", "GRAZING_SPEED"]
+__all__ = ["sweep", "Interrupted", "MODES", "GRAZING_GAP", "GRAZING_SPEED"]
 
 #: sweep modes and their branches
 MODES = {"independent": ("independent",), "follow": ("up", "down")}
@@ -63,7 +63,7 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
     preset, params, x0, circuit, ac_sign, dc_law, soil, compaction : as in :func:`maps.problem`
         (not with a Problem, except ``params`` and ``x0``).
     param : str
-        Parameter name to sweep (MODEL.md section 6), e.g. "relay_hz", "V", "k".
+        Parameter name to sweep (docs/model.md section 6), e.g. "relay_hz", "V", "k".
     values : array
         The grid (ascending for follow mode).
     mode : "independent" or "follow" ("continuation": deprecated alias of "follow").
@@ -114,19 +114,24 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
     with pool or nullcontext():     # open through the tail: its workers are warm
         results, resumed, seconds, workers = run_values(job, values, mode, parts, workers, scheduler, chunk_size,
                                                         progress, f"{job.problem.name} {param}", pool=pool)
-        warm = pool if resumed < values.size else None   # every value resumed: no worker started, the tail runs here
-        tail = _start_tail(results, values, job, MODES[mode][0], grazing, grazing_xtol, error_sample, warm)
-        from . import dataset as storage  # xarray: imported where the Dataset is built (worker processes start faster)
-        ds = storage.to_dataset(results, values, job, mode)
-        run_stats(ds, job, seconds, resumed, workers)
-        found, estimate = tail()
+        try:
+            warm = pool if resumed < values.size else None   # every value resumed: no worker started, the tail runs here
+            tail = _start_tail(results, values, job, MODES[mode][0], grazing, grazing_xtol, error_sample, warm)
+            from . import dataset as storage  # xarray: imported where the Dataset is built (worker processes start faster)
+            ds = storage.to_dataset(results, values, job, mode)
+            run_stats(ds, job, seconds, resumed, workers)
+            found, estimate = tail()
+        except KeyboardInterrupt:   # every value done: the grazing bisections or the error estimate were running
+            n = values.size * len(MODES[mode])
+            raise Interrupted(kept_message(parts, n, n) + " (grazing and error estimate: run again)") from None
     if grazing:
         ds = storage.add_grazing(ds, found)
     if error_sample:
         ds = storage.add_error_estimate(ds, **estimate)
     if path:
-        write_netcdf(ds, path, overwrite=True)  # refused earlier unless overwrite (guarded_output)
-        parts.remove()
+        with deferred_interrupt():
+            write_netcdf(ds, path, overwrite=True)  # refused earlier unless overwrite (guarded_output)
+            parts.remove()
     return ds
 
 
@@ -148,13 +153,14 @@ def _start_tail(results, values, job, branch, grazing, xtol, error_sample, pool)
     return finish
 
 
-def run_values(job, values, mode, parts, workers, scheduler, chunk_size, progress, desc, pool=None):
+def run_values(job, values, mode, parts, workers, scheduler, chunk_size, progress, desc, pool=None, unit="values"):
     """Every value of the grid through ``job``, resumed from and streamed to ``parts``
     (:class:`bifurc.sweeps.resume.Parts`, or None); independent values on ``pool`` (an open
     :class:`bifurc.sweeps.executor.WorkerPool` warmed with ``job``, ``workers`` processes) if given.
 
     Returns ({branch: [ValueResult per value]}, values resumed, wall seconds of this call,
-    worker processes used (0: a Dask cluster's)).  The grid driver of :func:`sweep` and
+    worker processes used (0: a Dask cluster's)); Ctrl-C raises :class:`Interrupted` naming what was
+    kept (``unit``: what a value is, in that message).  The grid driver of :func:`sweep` and
     :func:`bifurc.sweeps.regime.regime_map` (whose values are the flat indices of its cells)."""
     workers, chunk_size = _execution(job, values.size, workers, scheduler, chunk_size)
     branches = MODES[mode]
@@ -165,10 +171,11 @@ def run_values(job, values, mode, parts, workers, scheduler, chunk_size, progres
     bar = _progress(values.size * len(branches) - resumed, progress, desc)
 
     def keep(b, indices, chunk):
-        for i, r in zip(indices, chunk):
-            results[b][i] = r
-        if parts:
-            parts.save(b, indices, chunk)
+        with deferred_interrupt():   # a part saved and counted whole, or not at all
+            if parts:
+                parts.save(b, indices, chunk)
+            for i, r in zip(indices, chunk):
+                results[b][i] = r
         bar.update(len(chunk))
 
     clock = _time.perf_counter()
@@ -177,9 +184,47 @@ def run_values(job, values, mode, parts, workers, scheduler, chunk_size, progres
             _run_independent(job, values, results["independent"], keep, workers, scheduler, chunk_size, pool)
         else:
             _run_follow(job, values, results, keep)
+    except KeyboardInterrupt:
+        done = sum(r is not None for b in branches for r in results[b])
+        raise Interrupted(kept_message(parts, done, values.size * len(branches), unit)) from None
     finally:
         bar.close()
     return results, resumed, _time.perf_counter() - clock, workers
+
+
+@contextmanager
+def deferred_interrupt():
+    """Ctrl-C (SIGINT) waits until the block ends, then acts as it would have: a KeyboardInterrupt
+    inside xarray's netCDF writer leaves its global lock held and the next write waits for it forever.
+    Only in the main thread (elsewhere: no change)."""
+    import signal
+    import threading
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    got = []
+    old = signal.signal(signal.SIGINT, lambda *sig: got.append(sig))
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, old)
+        if got and callable(old):
+            old(*got[0])
+
+
+class Interrupted(KeyboardInterrupt):
+    """Ctrl-C or a kernel interrupt stopped a sweep; the message says what was kept."""
+
+
+def kept_message(parts, done: int, total: int, unit: str = "values") -> str:
+    """One line: what an interrupted grid kept (``done`` of ``total`` completed; ``parts``: its resume folder)."""
+    if parts is None:
+        return (f"interrupted after {done} of {total} {unit}; nothing kept (pass path= to keep completed {unit} "
+                "on disk and resume)")
+    if done == 0:
+        return f"interrupted: nothing completed yet, nothing kept in {parts.dir}"
+    return (f"interrupted: {done} of {total} {unit} kept in {parts.dir}; the same command (same arguments) "
+            "resumes from them")
 
 
 def run_stats(ds, job, seconds, resumed, workers) -> None:
@@ -306,5 +351,9 @@ class _NoBar:
 def _progress(total, progress, desc):
     if not progress or total == 0:
         return _NoBar()
-    from tqdm import tqdm
+    try:                            # a widget in Jupyter (tqdm.auto needs ipywidgets for it), text elsewhere
+        import ipywidgets  # noqa: F401
+        from tqdm.auto import tqdm
+    except ImportError:             # without ipywidgets tqdm.auto would warn and print text anyway
+        from tqdm import tqdm
     return tqdm(total=total, desc=desc, unit="value", file=sys.stderr, smoothing=0.1)

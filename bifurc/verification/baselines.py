@@ -1,6 +1,6 @@
 """Independent baselines for the 1-DOF scene: scipy ``solve_ivp`` and the thesis' RK4.
 
-The right-hand side here is written again from MODEL.md section 1 in plain
+The right-hand side here is written again from docs/model.md section 1 in plain
 Python floats (no heyoka): the thesis circuit (eq 4.16), physical AC sign, SSR
 relay.  Every baseline integrates the same hybrid problem as the toolkit:
 

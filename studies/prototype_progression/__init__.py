@@ -6,7 +6,7 @@ Nothing is tuned: the scene's own values (``prototype``: dynamics-listing number
 the listing C.9 DC law) and the drift law's assumed defaults (docs/model.md).
 
 Conventions this study assumes, stated in its report:
-- the thesis' AC voltages (40-110 V) are RMS: the source amplitude is V = sqrt(2) x RMS (MODEL.md 4);
+- the thesis' AC voltages (40-110 V) are RMS: the source amplitude is V = sqrt(2) x RMS (docs/model.md 4);
 - the thesis gives no actuator-voltage-to-force mapping: F_static = 3.11 N/V x actuator volts, i.e.
   proportional to the actuator's DC voltage and 31.1 N (listing C.14) at Table 5.5's 10 V;
 - the measured scatter: two runs at the same nominal settings (6 Hz, AC 90 V, actuator 10 V) gave
@@ -329,7 +329,7 @@ def report(m, size, quick, seconds) -> str:
              f"{size['transient']} relay periods discarded, rates over the next {size['record']} "
              f"(tol {TOL:g}); wall time {seconds:.0f} s.", "",
              "## Assumptions", "",
-             "- AC voltages are RMS: source amplitude V = sqrt(2) x RMS (MODEL.md section 4).",
+             "- AC voltages are RMS: source amplitude V = sqrt(2) x RMS (docs/model.md section 4).",
              f"- Actuator volts to static force: F_static = {ACTUATOR_N_PER_V} N/V x actuator volts (31.1 N of "
              "listing C.14 at Table 5.5's 10 V); the thesis gives no mapping.",
              f"- Scatter band: x {BAND[0]:.2f} to x {BAND[1]:.2f} of a measured rate (Tables 5.4 and 5.5 at the "

@@ -2,7 +2,7 @@
 
 Planes (thesis-1dof, matlab-listing numbers, every cell from the scene's start):
 (relay frequency 2-10 Hz, V 25-300 V) under each DC-force law (`listing`, `fit`, `measured`;
-MODEL.md section 1), and (V 25-300 V, dc_scale 0-3) at 5 Hz under the `listing` law.  Each cell
+docs/model.md section 1), and (V 25-300 V, dc_scale 0-3) at 5 Hz under the `listing` law.  Each cell
 is classified as a diagram value (`bifurc.regime_map`): periodic hammering is "period-1, 1 impact"
 (one impact per relay period, the same every period).  Nothing is tuned to agree with anything.
 """

@@ -1,7 +1,7 @@
 """Where does the 1-DOF thesis model hammer periodically?  Answered by continuation, not only by
 simulation.
 
-For each DC-force law (MODEL.md section 1: `listing`, `fit`, `measured`) and relay frequency 5 and
+For each DC-force law (docs/model.md section 1: `listing`, `fit`, `measured`) and relay frequency 5 and
 10 Hz (q = 1: the mains forcing repeats every relay period), periodic orbits are found by Newton's
 method from simulations started at several voltages (``seeds``; a simulation's end that Newton
 cannot correct is tried again after as many periods more; one on a stable branch already followed

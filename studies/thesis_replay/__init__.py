@@ -4,7 +4,7 @@ The thesis' conditions exactly: the matlab-listing numbers (Table C.1: R = 25 oh
 k = 1e5 N/m, c = 10 N s/m), the listing's AC sign (C.2 subtracts the signed force, which reverses
 it), the derivative ("thesis") circuit of eq 4.16, the listings' start on the stop at rest with
 i = 0.1 A, and tf = 3 s.  The listing never sets V, so both 25 V (the text's value) and 90 V (the
-experiments' upper end) run.  Relay 2, 3, ..., 10 Hz, under each DC law (MODEL.md section 1):
+experiments' upper end) run.  Relay 2, 3, ..., 10 Hz, under each DC law (docs/model.md section 1):
 `listing` (C.9 as printed, what the thesis ran), `fit` (eqs 4.6-4.7) and `measured` (Table 4.1
 only, zero beyond 29 mm).  Beside each 3 s run, the same run continued to 300 relay periods.
 Nothing is tuned to agree.
