@@ -63,7 +63,9 @@ def test_ctrl_c_stops_the_command_within_a_second_and_names_what_it_kept(tmp_pat
 def test_an_interrupt_before_the_first_chunk_says_nothing_was_kept(tmp_path):
     """A kernel interrupt (the process alone) during the workers' start: nothing completed yet; without
     ``path=`` the message says how to make a sweep resumable."""
-    script = ("import sys, numpy as np, bifurc\nprint('go', flush=True)\n"
+    script = ("import sys, numpy as np, bifurc\n"     # what the sweep imports, before the signal can come
+              "import bifurc.sweeps.sweep, bifurc.sweeps.executor, bifurc.sweeps.job, bifurc.sweeps.dataset\n"
+              "print('go', flush=True)\n"
               "bifurc.sweep('thesis-1dof', 'relay_hz', np.linspace(2, 10, 400), preset='matlab-listing', "
               "transient=100, record=30, workers=2, progress=False, path=sys.argv[1] or None)\n")
     for path, want in ((str(tmp_path / "a.nc"), "interrupted: nothing completed yet, nothing kept in "),

@@ -187,7 +187,7 @@ def test_decided_labels_are_stable_on_a_longer_record_from_another_start():
     d = bifurc.sweep("thesis-1dof", "relay_hz", values, preset="matlab-listing", params={"V": 90.0},
                      grazing=False, error_sample=0, progress=False, batch_size=1, workers=1)
     p = maps.problem("thesis-1dof", preset="matlab-listing", params={"V": 90.0})
-    job = ValueJob(p, "relay_hz", transient=100, record=400, tol=1e-10, budget=12_000)
+    job = ValueJob(p, "relay_hz", transient=100, record=400, tol=1e-10, budget=24_000)
     smap = job.warm()
     decided = same = 0
     for i, w in enumerate(values):

@@ -61,6 +61,8 @@ def test_every_python_block_runs_in_its_quick_form(path, tmp_path, monkeypatch):
         assert int(o.period) == 17 and int(o.impacts_per_period) == 12 and int(o.stable) == 1
         assert ns["p"].options.dc_law == "listing" and ns["p"].forcing_q() == 9
         assert abs(float(ns["ds"].special_value[0]) - (-0.039370255693)) < 1e-8   # the closed form the README cites
+        kinds, at = ns["fr"].special_kind.values, ns["fr"].special_value.values
+        assert any(abs(float(a) - 2.66319) < 1e-5 for a, k in zip(at, kinds) if k == 1)   # its period doubling
 
 
 @pytest.mark.slow

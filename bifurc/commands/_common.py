@@ -155,7 +155,7 @@ def add_grid_options(parser, what: str = "value") -> None:
                              f"extended up to --budget (its stored samples are the first --record of the judged window)")
     parser.add_argument("--budget", type=int, default=None,
                         help=f"relay periods per {what}, transient included, that an undecided {what} may be "
-                             f"extended to (default 3000); a {what} still undecided then is not-converged with its "
+                             f"extended to (default 6000); a {what} still undecided then is not-converged with its "
                              f"reason and the budget its evidence suggests")
     parser.add_argument("--max-record", type=int, default=None,
                         help=f"extend the record of a {what} whose forcing period q exceeds record/3 (q <= "

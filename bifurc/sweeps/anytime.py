@@ -35,11 +35,16 @@ from .lyapunov import _student_t, exponent_interval
 __all__ = ["Value", "judge", "BUDGET", "TRAJECTORIES", "DECORRELATE", "ANYTIME_METHOD"]
 
 #: default budget of a value [relay periods of its own trajectory, transient included]
-BUDGET = 3000
+BUDGET = 6000
 #: tangent trajectories the exponent's interval comes from (the value's own and its copies)
 TRAJECTORIES = 4
 #: periods a copy runs from its perturbed start before it is recorded (decorrelation)
 DECORRELATE = 100
+#: the shortest window on which a value is called chaotic or quasi-periodic [strobe periods] (the torus
+#: test's samples).  Chaotic transients of the thesis model last hundreds to thousands of periods: on
+#: the main job's grid 10 of 74 labels given on 200-400 periods changed on a 4x longer record from the
+#: same attractor, and 7 of about 60 with this minimum at 800 (18 values then undecided at the budget)
+MIN_WINDOW = 400
 #: a value whose evidence asks for more than this many budgets is not extended further (it cannot decide)
 HOPELESS = 4
 #: relative size of the copies' perturbations (of each state's scale)
@@ -153,13 +158,18 @@ def _judge_exponent(v: Value, cls, own, stretch, more: int, observable, max_peri
     v.lyap, v.spread, v.trajectories = (mean, lo, hi), spread, len(rows)
     thr = lyapunov_threshold(m)
     each = [exponent_interval(r) for r in rows]       # each trajectory's own batch-means interval
-    if all(e[1] > thr for e in each) or (all(e[0] > thr for e in each) and mean_interval(each)[0] > thr):
+    short = m < MIN_WINDOW and more > 0                # too short to call: extend first
+    if short:
+        pass
+    elif all(e[1] > thr for e in each) or (all(e[0] > thr for e in each) and mean_interval(each)[0] > thr):
         # every trajectory separates (whatever their spread), or every one's exponent is above the threshold
         # and so is the 95 % interval of their common mean: chaos
         v.cls = dict(cls, code=_code("chaotic"), label="chaotic", period=0, impacts_per_period=-1, reason="")
         return
     lo_all, hi_all = min(e[1] for e in each), max(e[2] for e in each)
-    if -thr <= lo_all and hi_all <= thr:
+    if short:
+        why, need = f"the window ({m} periods) is shorter than {MIN_WINDOW}", MIN_WINDOW
+    elif -thr <= lo_all and hi_all <= thr:
         torus, why_not, v.zero_one, v.rotation = torus_evidence(observable(o), max_period)
         if torus:
             v.cls = dict(cls, code=_code("quasi-periodic"), label="quasi-periodic", period=0,

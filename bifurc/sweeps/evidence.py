@@ -145,13 +145,20 @@ def near_period(samples, rho: float, max_period: int) -> str:
         return ""
     f = Fraction(rho).limit_denominator(max(1, int(max_period)))
     b = f.denominator
-    if abs(rho - f.numerator / b) > 1e-4 or samples.shape[0] <= 2 * b:
+    if abs(rho - f.numerator / b) > 1e-3 or samples.shape[0] <= 4 * b:
         return ""
     extent = float(np.max(np.ptp(samples, axis=0)))
-    lag = float(np.max(np.abs(samples[b:] - samples[:-b])))
-    if extent > 0 and lag <= 1e-2 * extent:
+    d = np.max(np.abs(samples[b:] - samples[:-b]), axis=1)
+    if extent > 0 and float(np.max(d)) <= 1e-2 * extent:
         return (f"the rotation number {rho:.5f} is near {f.numerator}/{b} and the samples recur at lag {b} to "
-                f"{lag / extent:.2g} of their extent: a period-{b} orbit still converging, not a torus")
+                f"{float(np.max(d)) / extent:.2g} of their extent: a period-{b} orbit still converging, not a torus")
+    k = np.arange(d.size)
+    ok = d > 0
+    if ok.sum() > 10:
+        rate = math.exp(np.polyfit(k[ok], np.log(d[ok]), 1)[0])
+        if rate < 0.999:
+            return (f"the rotation number {rho:.5f} is near {f.numerator}/{b} and the lag-{b} distance decays "
+                    f"({rate:.4f} per period): a period-{b} orbit still converging, not a torus")
     return ""
 
 

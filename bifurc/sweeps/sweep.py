@@ -186,6 +186,8 @@ def run_values(job, values, mode, parts, workers, scheduler, chunk_size, progres
             _run_follow(job, values, results, keep)
     except KeyboardInterrupt:
         done = sum(r is not None for b in branches for r in results[b])
+        if parts:       # a part saved by the collecting thread while the signal reached this one
+            done = max(done, len(parts.load()))
         raise Interrupted(kept_message(parts, done, values.size * len(branches), unit)) from None
     finally:
         bar.close()

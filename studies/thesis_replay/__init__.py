@@ -6,18 +6,20 @@ it), the derivative ("thesis") circuit of eq 4.16, the listings' start on the st
 i = 0.1 A, and tf = 3 s.  The listing never sets V, so both 25 V (the text's value) and 90 V (the
 experiments' upper end) run.  Relay 2, 3, ..., 10 Hz, under each DC law (docs/model.md section 1):
 `listing` (C.9 as printed, what the thesis ran), `fit` (eqs 4.6-4.7) and `measured` (Table 4.1
-only, zero beyond 29 mm).  Beside each 3 s run, the same run continued to 300 relay periods.
+only, zero beyond 29 mm).  Beside each 3 s run, the same run continued to 1000 relay periods.
 Nothing is tuned to agree.
 
 Labels are periods of the stroboscopic samples of (x, v) at the relay period (the displacement's
 period, which the thesis reads off its plots):
 - "3 s supports": samples 1..3W of the 3 s run (the first relay period dropped) recur with
   period n to 1 % of their range (a plot's resolution);
-- "300 periods": the last 100 of 300 relay periods recur to 1e-6 (the toolkit's tolerance).
+- "1000 periods": the last 400 of 1000 relay periods recur to 1e-6 (the toolkit's tolerance).
   A record without a period up to 16 gets the largest Lyapunov exponent of the relay-period map
   along it (Benettin, `bifurc.sweeps.lyapunov`, per relay period): "chaotic" above the window's
-  threshold 2 ln(100)/100 = 0.092, "quasi-periodic" within it, "aperiodic" where the exponent is
-  undetermined (a companion step failed).
+  threshold 2 ln(400)/400 = 0.030; within it "quasi-periodic" only with positive evidence of a
+  torus, as the sweeps require (`bifurc.sweeps.evidence.torus_evidence`: the 0-1 test's K below
+  0.25, a converged rotation number, no recurrence at a nearby fraction's period), else
+  "aperiodic" with the reason; "aperiodic" also where the exponent is undetermined.
 - "at rest on the stop": x never exceeded 0 over the whole run.
 """
 from __future__ import annotations
@@ -279,13 +281,22 @@ def figure(rows, V, path):
     fig.tight_layout()
     save_figure(fig, path, overwrite=True, dpi=110)   # the study refused an occupied folder before
 
+def _provenance(quick) -> str:
+    """The command, code version and date this report was made with."""
+    from datetime import datetime, timezone
+
+    from maps.provenance import git_commit
+    return (f"Made by `bifurc study {NAME}{' --quick' if quick else ''} -o DIR` at git {git_commit() or 'unknown'} "
+            f"on {datetime.now(timezone.utc):%Y-%m-%d %H:%M} UTC.")
+
+
 def report(rows, wells, quick, seconds, physical=()) -> str:
     size = QUICK if quick else FULL
     lines = [f"# {NAME}: the thesis' own runs, replayed", "", (__doc__ or "").strip(), "",
              f"Size: {'quick' if quick else 'full'}: relay {', '.join(f'{w:g}' for w in size['freqs'])} Hz, "
              f"V = {', '.join(f'{v:g}' for v in size['volts'])} V, laws {', '.join(LAWS)}; long runs "
              f"{size['long']} relay periods, the last {size['window']} classified; "
-             f"{len(rows)} runs in {seconds:.0f} s (heyoka tol {TOL:g}).", "",
+             f"{len(rows)} runs in {seconds:.0f} s (heyoka tol {TOL:g}).", "", _provenance(quick), "",
              "The DC well's own frequency (dc-only bar released at rest on the stop, FFT over 30 s): "
              + ", ".join(f"{law} {f:.2f} Hz" if math.isfinite(f) else f"{law}: no force at the stop"
                          for law, f in wells.items()) + ".", ""]
