@@ -112,9 +112,10 @@ def judge(v: Value, *, classify, stretch, budget: int, record: int, lyapunov: bo
         return
     half = o.n // 2
     if half >= max(3, record // 2):
-        late = classify(o.since(half))
-        if late["label"] in ("periodic", "periodic-no-impact"):
-            v.discard(half)
+        cut = min(half, max(0, o.n - record))     # the later part, at least a record long (the stored samples)
+        late = classify(o.since(cut)) if cut else cls
+        if cut and late["label"] in ("periodic", "periodic-no-impact"):
+            v.discard(cut)
             v.cls = late
             return
     left = budget - v.end
