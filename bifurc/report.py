@@ -9,7 +9,7 @@ import warnings
 import numpy as np
 
 from .storage.grid import OffGridWarning, nearest_index
-from .storage.load import require_kind
+from .storage.load import in_convention, require_kind
 from .sweeps.classify import CLASS_LABELS, describe
 
 __all__ = ["classification_report", "class_at", "undecided_summary", "report", "map_report", "history_report", "orbit_report",
@@ -82,12 +82,14 @@ def undecided_summary(ds) -> list[str]:
     return out
 
 
-def classification_report(ds, at=None) -> str:
+def classification_report(ds, at=None, period_of: str = "full") -> str:
     """Markdown: settings, class counts, classes at chosen values, intervals, grazing, errors.
 
-    ``at``: parameter values to tabulate (default: the integers inside the grid).
+    ``at``: parameter values to tabulate (default: the integers inside the grid); ``period_of``:
+    "full" (the whole state's period) or "mechanical" (the bar's alone, the thesis' period-n).
     """
     require_kind(ds, "diagram", "classification_report")
+    ds = in_convention(ds, period_of)
     a = ds.attrs
     par = a["swept_parameter"]
     units = ds[par].attrs.get("units", "")
@@ -162,13 +164,14 @@ def classification_report(ds, at=None) -> str:
 
 
 def _convention(ds) -> str:
-    """The two period conventions, and where they differ."""
+    """The two period conventions, the one this report reads, and where they differ."""
     if "period_mechanical" not in ds:
         return "full state (this file stores no mechanical period)"
-    full, mech = ds.period.values, ds.period_mechanical.values
-    differ = int(np.sum((full > 0) & (mech > 0) & (full != mech)))
-    return (f"`period`/`impacts_per_period` count the full state (electrical states included); "
-            f"`period_mechanical`/`impacts_per_period_mechanical` the mechanical states alone (the thesis' "
+    differ = int(np.sum(np.char.str_len(np.asarray(ds.period_difference.values, dtype=str)) > 0))
+    reads = ("this report reads the **mechanical** one" if ds.attrs.get("period_convention") == "mechanical"
+             else "this report reads the **full** one (`--period-of mechanical` for the thesis' convention)")
+    return (f"{reads}; the full convention counts the whole state (electrical states included); "
+            f"the mechanical one (`period_mechanical`, `impacts_per_period_mechanical`) the mechanical states alone (the thesis' "
             f"period-n); they differ at {differ} value(s) (`period_difference` says why)")
 
 

@@ -206,3 +206,24 @@ def test_decided_labels_are_stable_on_a_longer_record_from_another_start():
         same += ClassCode(int(job(w, start).class_code)) == code
     print(f"{same} of {decided} decided values keep their class")
     assert decided >= 70 and same >= 0.95 * decided
+
+
+def test_both_period_conventions_in_report_and_figure(tmp_path):
+    """4 Hz, 130 and 135 V: the report and the class strip read the full state's period (2:2) or the
+    mechanical one (1:1), and say which."""
+    import matplotlib
+    matplotlib.use("Agg")
+    from bifurc.storage.load import in_convention
+    d = bifurc.sweep("thesis-1dof", "V", [130.0, 135.0], preset="matlab-listing", params={"relay_hz": 4.0},
+                     grazing=False, error_sample=0, progress=False)
+    full, mech = bifurc.classification_report(d, at=[130]), bifurc.classification_report(d, at=[130],
+                                                                                         period_of="mechanical")
+    assert "period-2, 2 impacts" in full and "reads the **full** one" in full
+    assert "period-1, 1 impact" in mech and "reads the **mechanical** one" in mech
+    assert "differ at 2 value(s)" in full
+    ax = bifurc.plot_diagram(d, period_of="mechanical")
+    strip = ax.figure.axes[1]
+    assert "mechanical" in strip.get_ylabel() and any(t.get_text() == "1:1" for t in strip.texts)
+    assert list(in_convention(d, "mechanical").period.values[0]) == [1, 1]
+    with pytest.raises(maps.ParameterError, match="period_of"):
+        in_convention(d, "electrical")

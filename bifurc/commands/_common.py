@@ -153,6 +153,9 @@ def add_grid_options(parser, what: str = "value") -> None:
     parser.add_argument("--record", type=int, default=100,
                         help=f"relay periods recorded per {what} before it is first judged; an undecided {what} is "
                              f"extended up to --budget (its stored samples are the first --record of the judged window)")
+    parser.add_argument("--period-of", choices=("full", "mechanical"), default="full",
+                        help="the figure's period convention: full (the whole state) or mechanical (the bar "
+                             "alone: the thesis' period-n); the dataset stores both")
     parser.add_argument("--budget", type=int, default=None,
                         help=f"relay periods per {what}, transient included, that an undecided {what} may be "
                              f"extended to (default 6000); a {what} still undecided then is not-converged with its "

@@ -48,7 +48,7 @@ def run(args) -> int:
                **kw)
     if args.plot:
         from ..plots.diagram import plot_diagram
-        plot_diagram(ds, args.plot, overwrite=args.force)
+        plot_diagram(ds, args.plot, overwrite=args.force, period_of=args.period_of)
     codes = ds.class_code.values.ravel()
     counts = ", ".join(f"{CLASS_LABELS[c]} {int((codes == c).sum())}" for c in range(len(CLASS_LABELS))
                        if (codes == c).any())

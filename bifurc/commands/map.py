@@ -45,7 +45,7 @@ def run(args) -> int:
                     scheduler=args.scheduler, overwrite=args.force, **kw)
     if args.plot:
         from ..plots.map import plot_regime_map
-        plot_regime_map(ds, args.plot, overwrite=args.force)
+        plot_regime_map(ds, args.plot, overwrite=args.force, period_of=args.period_of)
     index, cats = regime_categories(ds)
     counts = ", ".join(f"{text} {int((index == i).sum())}" for i, (text, _) in enumerate(cats))
     a = ds.attrs

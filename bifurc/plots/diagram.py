@@ -5,7 +5,7 @@ import numpy as np
 
 from ..sweeps.classify import CLASS_LABELS
 from ..storage.files import check_figure_output, save_figure
-from ..storage.load import require_kind
+from ..storage.load import in_convention, require_kind
 
 __all__ = ["plot_diagram", "CLASS_COLOURS"]
 
@@ -16,7 +16,7 @@ CLASS_COLOURS = {"periodic": "#0072B2", "periodic-no-impact": "#56B4E9", "quasi-
 GRAZE = "#CC79A7"
 
 
-def plot_diagram(ds, path=None, state=None, branch=None, ax=None, overwrite=False):
+def plot_diagram(ds, path=None, state=None, branch=None, ax=None, overwrite=False, period_of="full"):
     """Parameter against the stroboscopic state ``state`` (default the bar position),
     points coloured by class; located grazing values (dotted lines) and orbits flagged
     as grazing (triangles) marked; a strip of classes with n:m (period-n, m impacts)
@@ -32,6 +32,7 @@ def plot_diagram(ds, path=None, state=None, branch=None, ax=None, overwrite=Fals
     displayed again by the inline backend).
     """
     require_kind(ds, "diagram", "plot_diagram")
+    ds = in_convention(ds, period_of)     # "mechanical": the strip's n:m of the bar alone (the thesis')
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
     if path is not None:
@@ -125,7 +126,8 @@ def _class_strip(ds, strip, branches, pvals, xlabel):
     strip.set_ylim(0, len(branches))
     rows = [f"swept {b}" for b in branches] if len(branches) > 1 else []
     strip.set_yticks(np.arange(len(branches)) + 0.45 if rows else [], rows, fontsize=8)
-    strip.set_ylabel("orbit class\n(n:m = period:impacts)", fontsize=8)
+    mech = ds.attrs.get("period_convention") == "mechanical"
+    strip.set_ylabel("orbit class\n(n:m = " + ("mechanical " if mech else "") + "period:impacts)", fontsize=8)
     strip.set_xlim(pvals.min() - width, pvals.max() + width)
     strip.set_xlabel(xlabel)
 

@@ -13,7 +13,7 @@ import numpy as np
 from ..sweeps.classify import CLASS_LABELS, describe
 from ..codes import ClassCode
 from ..storage.files import check_figure_output, save_figure
-from ..storage.load import require_kind
+from ..storage.load import in_convention, require_kind
 from .diagram import CLASS_COLOURS
 
 __all__ = ["plot_regime_map", "regime_categories", "PERIODIC_COLOURS", "OTHER_PERIODIC", "MISSING"]
@@ -69,7 +69,7 @@ def regime_categories(ds, colours=PERIODIC_COLOURS):
     return index, cats
 
 
-def plot_regime_map(ds, path=None, ax=None, curves=None, overwrite=False):
+def plot_regime_map(ds, path=None, ax=None, curves=None, overwrite=False, period_of="full"):
     """Three panels over (param, param2): the categories, the largest Lyapunov exponent [1/relay
     period] where computed, and impacts per period where periodic.
 
@@ -81,6 +81,7 @@ def plot_regime_map(ds, path=None, ax=None, curves=None, overwrite=False):
     of a colour bar (the exponent's white is lambda = 0).  Returns the regime panel's Axes (the others: ``ax.figure.axes``).
     """
     require_kind(ds, "map", "plot_regime_map")
+    ds = in_convention(ds, period_of)     # "mechanical": categories by the bar's period (the thesis')
     from matplotlib.colors import BoundaryNorm, ListedColormap
     from matplotlib.patches import Patch
     if path is not None:

@@ -11,7 +11,8 @@ from pathlib import Path
 from .build import KIND_ATTR, KINDS
 from .files import ELAPSED_ATTRS, STORED_AS, BadFileError
 
-__all__ = ["KINDS", "ALIASES", "RENAMED", "kind_of", "canonical_kind", "require_kind", "read", "load"]
+__all__ = ["KINDS", "ALIASES", "RENAMED", "PERIOD_CONVENTIONS", "kind_of", "canonical_kind", "require_kind",
+           "in_convention", "read", "load"]
 
 #: former kind names still accepted
 ALIASES = {"simulate": "history"}
@@ -107,3 +108,27 @@ def load(path, kind: str | None = None):
                 if found else "another kind of dataset")
         raise BadFileError(f"{path} holds {what}; this needs a {kind} dataset (from {KINDS[kind]})")
     return ds
+
+
+#: the two period conventions of a diagram or map: the full state's, the mechanical states' (the thesis')
+PERIOD_CONVENTIONS = ("full", "mechanical")
+
+
+def in_convention(ds, period_of: str = "full"):
+    """``ds`` with ``period`` and ``impacts_per_period`` read in the convention ``period_of``: "full"
+    (the whole state, as stored) or "mechanical" (the mechanical states alone, the thesis'
+    period-n: ``period_mechanical``, ``impacts_per_period_mechanical``); ``attrs["period_convention"]``
+    names it.  A file without the mechanical period is refused in one line for "mechanical"."""
+    from maps.parameters import ParameterError
+    if period_of not in PERIOD_CONVENTIONS:
+        raise ParameterError(f"period_of {period_of!r}; allowed: {', '.join(PERIOD_CONVENTIONS)}")
+    if period_of == "full":
+        return ds
+    if "period_mechanical" not in ds:
+        raise ParameterError("this dataset stores no mechanical period (written before it was computed): "
+                             "use period_of='full'")
+    out = ds.copy()
+    out["period"] = ds.period_mechanical
+    out["impacts_per_period"] = ds.impacts_per_period_mechanical
+    out.attrs["period_convention"] = "mechanical"
+    return out
