@@ -170,7 +170,11 @@ def _judge_exponent(v: Value, cls, own, stretch, more: int, observable, max_peri
     lo_all, hi_all = min(e[1] for e in each), max(e[2] for e in each)
     if short:
         why, need = f"the window ({m} periods) is shorter than {MIN_WINDOW}", MIN_WINDOW
-    elif -thr <= lo_all and hi_all <= thr:
+    elif -thr <= lo_all and hi_all <= thr and mean_interval(each)[1] < 0:
+        why = (f"contracting: the exponents' common mean lies below 0 (interval [{mean_interval(each)[0]:.3g}, "
+               f"{mean_interval(each)[1]:.3g}]), a periodic orbit still converging rather than a torus")
+        need = 2 * o.n
+    elif -thr <= lo_all and hi_all <= thr:         # a torus has exponent 0: evidence of one is needed
         torus, why_not, v.zero_one, v.rotation = torus_evidence(observable(o), max_period)
         if torus:
             v.cls = dict(cls, code=_code("quasi-periodic"), label="quasi-periodic", period=0,
