@@ -154,8 +154,9 @@ def _title(ds) -> str:
     err_txt = (f"; estimated numerical error of each point: {err:.1e} of the state's size"
                if err is not None and np.isfinite(err) else "")
     law = f", {a['dc_law']} DC law" if a.get("dc_law") not in (None, "none") else ""
+    budget = f" (undecided values extended up to {a['budget_periods']})" if "budget_periods" in a else ""
     return (f"{a['scene']} ({a['mode']}): {params}{law}\n{a['transient_periods']} transient + "
-            f"{a['recorded_periods']} recorded {per}, tol {a['tol']:g}{err_txt}")
+            f"{a['recorded_periods']} recorded {per}{budget}, tol {a['tol']:g}{err_txt}")
 
 
 def _unit(u: str) -> str:
