@@ -308,6 +308,8 @@ def _figure(case, path, overwrite):
     first = True
     for k, ds in enumerate(case["branches"]):
         V = ds.V.values
+        if V.size == 0:          # a seed whose orbit did not converge: a branch of no point
+            continue
         way = "lower" if V[min(1, V.size - 1)] < V[0] else "higher"
         plot_branch(ds, ax=ax, diagram=case["diagram"] if first else None, colour=k,
                     label=f"from {V[0]:g} V toward {way} V")
