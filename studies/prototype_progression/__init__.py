@@ -21,6 +21,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .. import provenance
+
 NAME = "prototype-progression"
 SCENE = "prototype"
 LAWS = ("viscous", "coulomb", "drift")
@@ -326,8 +328,9 @@ def report(m, size, quick, seconds) -> str:
     lines = [f"# Prototype progression against the thesis (Tables 5.2-5.5){' -- quick form' if quick else ''}", "",
              "Scene `prototype` (dynamics-listing numbers, dc_scale 1.44, antiphase relay), DC-force law "
              "`listing` (listing C.9, the preset's), every soil law; nothing tuned. Sweeps on the batch engine: "
-             f"{size['transient']} relay periods discarded, rates over the next {size['record']} "
-             f"(tol {TOL:g}); wall time {seconds:.0f} s.", "",
+             f"{size['transient']} relay periods discarded, rates over the first {size['record']} of the window each "
+             f"value is judged on (undecided values are extended, and a non-stationary first part discarded: "
+             f"`transient_used`) (tol {TOL:g}); wall time {seconds:.0f} s.", "", provenance(NAME, quick), "",
              "## Assumptions", "",
              "- AC voltages are RMS: source amplitude V = sqrt(2) x RMS (docs/model.md section 4).",
              f"- Actuator volts to static force: F_static = {ACTUATOR_N_PER_V} N/V x actuator volts (31.1 N of "

@@ -32,6 +32,8 @@ import numpy as np
 
 from maps.transitions import start_flags
 
+from .. import provenance
+
 NAME = "thesis-replay"
 SCENE = "thesis-1dof"
 PRESET = "matlab-listing"
@@ -281,22 +283,13 @@ def figure(rows, V, path):
     fig.tight_layout()
     save_figure(fig, path, overwrite=True, dpi=110)   # the study refused an occupied folder before
 
-def _provenance(quick) -> str:
-    """The command, code version and date this report was made with."""
-    from datetime import datetime, timezone
-
-    from maps.provenance import git_commit
-    return (f"Made by `bifurc study {NAME}{' --quick' if quick else ''} -o DIR` at git {git_commit() or 'unknown'} "
-            f"on {datetime.now(timezone.utc):%Y-%m-%d %H:%M} UTC.")
-
-
 def report(rows, wells, quick, seconds, physical=()) -> str:
     size = QUICK if quick else FULL
     lines = [f"# {NAME}: the thesis' own runs, replayed", "", (__doc__ or "").strip(), "",
              f"Size: {'quick' if quick else 'full'}: relay {', '.join(f'{w:g}' for w in size['freqs'])} Hz, "
              f"V = {', '.join(f'{v:g}' for v in size['volts'])} V, laws {', '.join(LAWS)}; long runs "
              f"{size['long']} relay periods, the last {size['window']} classified; "
-             f"{len(rows)} runs in {seconds:.0f} s (heyoka tol {TOL:g}).", "", _provenance(quick), "",
+             f"{len(rows)} runs in {seconds:.0f} s (heyoka tol {TOL:g}).", "", provenance(NAME, quick), "",
              "The DC well's own frequency (dc-only bar released at rest on the stop, FFT over 30 s): "
              + ", ".join(f"{law} {f:.2f} Hz" if math.isfinite(f) else f"{law}: no force at the stop"
                          for law, f in wells.items()) + ".", ""]
