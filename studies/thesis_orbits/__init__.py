@@ -22,6 +22,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .. import provenance
+
 NAME = "thesis-orbits"
 SCENE = "thesis-1dof"
 PRESET = "matlab-listing"
@@ -245,7 +247,8 @@ def report(cases, quick, seconds) -> str:
              f"Scene {SCENE}, preset {PRESET} (Table C.1), V over {V_RANGE[0]:g}-{V_RANGE[1]:g} V; relay frequency and "
              f"DC-force law per section.  Orbits are solved by Newton's method by multiple shooting with exact "
              f"Jacobians and followed by pseudo-arclength continuation (`bifurc.continue_orbit`); the classes "
-             f"beside them come from a brute-force sweep in V (`bifurc.sweep`).  Run time {seconds:.0f} s.", ""]
+             f"beside them come from a brute-force sweep in V (`bifurc.sweep`).  Run time {seconds:.0f} s.", "",
+             provenance(NAME, quick), ""]
     hammering = []
     for c in cases:
         law, hz, diagram = c["law"], c["hz"], c["diagram"]
@@ -254,6 +257,9 @@ def report(cases, quick, seconds) -> str:
             lines.append("No periodic orbit was found from any seed.")
         for ds in c["branches"]:
             V = ds.V.values
+            if V.size == 0:       # the seed's orbit did not converge: its reason, no points
+                lines.append(f"- a seed's branch has no point: {ds.attrs['branch_stop_reasons']}")
+                continue
             lines.append(f"- branch from V = {V[0]:g} V: {ds.sizes['point']} points over {V.min():.4g}-{V.max():.4g} V; "
                          f"{ds.attrs['branch_stop_reasons']}")
             if "flag_stuck_bar" in ds and np.all(ds.flag_stuck_bar.values[:, 0] == 1):
