@@ -209,7 +209,29 @@ def settle_may_act(system, flags, y=None, params=None) -> bool:
 
 
 class HybridSystem:
-    """A piecewise-smooth system: states, parameters, flags, rhs, guards, switches."""
+    """A piecewise-smooth system: states, parameters, flags, rhs, guards, switches; the whole
+    declaration is the constructor's arguments (nothing is assigned afterwards).  Keyword-only:
+
+    - ``settle_events``: ``{flag: {value: event name}}``: a ``settle`` that sets the flag to the
+      value is logged as an event of that name (e.g. ``{"stuck_bar": {1.0: "stick"}}``).
+    - ``settle_if``: ``((flag, value), ...)``: ``settle`` can act only while one of these flags has
+      that value (it is not called elsewhere); or a cheap callable ``(flags, y, params) -> bool``,
+      never False where ``settle`` could act; None: always.
+    - ``projections``: ``{name: f(sym, flags) -> list of expressions}``: the state projection of the
+      settle transition (or ``then`` callable) named ``name``, for exact Jacobians.
+    - ``mode_projections``: ``{(flag, value): name}``: a mode whose states lie on a set reached by
+      ``projections[name]`` (a bar stuck on its stop); an exact Jacobian started in that mode first
+      projects its perturbations onto the set.
+    - ``translation``: ``{state: coefficient}``: a direction along which the flow is invariant (the
+      2-DOF scenes: bar and rig shifted together); orbits are solved in reduced coordinates.
+    - ``strobe_period``: ``f(params) -> T`` [s], the stroboscopic period; by default the period of the
+      first periodic switch (1 / its frequency), else of the first forcing frequency.
+    - ``forcing``: the forcing frequencies [Hz] in absolute time, as parameter names or
+      ``f(params) -> frequencies``: with the switches they give the map's forcing period q.
+    - ``options``: the structural options the system was built from (a model's), or None.
+    - ``mechanical``: the mechanical states' names (default: all), whose period is reported beside
+      the full state's (the thesis model: x and v, not the coil's current and charge).
+    """
 
     def __init__(self, name: str, states: Sequence[State], parameters: Sequence[Parameter],
                  rhs: Callable, flags: Mapping[str, float] | None = None,
@@ -237,11 +259,10 @@ class HybridSystem:
         to the stop is a decrease (``direction=-1``: the surface itself; ``+1``: its negative),
         and its rate along the flow in the default mode (with the surface's own time derivative);
         without an impact guard there is no gap.
-        ``mode_rule(y, params, flags, given) -> dict`` gives the flags that follow from the
-        state at a start (e.g. in contact when it starts inside the stop; the region of a
-        piecewise force law); ``flags`` are those so far, ``given`` the names the caller set
-        (the rule leaves them alone).  By default: beyond an impact surface whose guard sets
-        flags, those flags.  It can also be set later as ``system.mode_rule``.
+        ``mode_rule(y, params, flags, given) -> dict`` gives the flags that follow from the state
+        at a start (e.g. in contact inside the stop); ``given``: names the caller set (left alone).
+        By default: beyond an impact surface whose guard sets flags, those flags.  The keyword-only
+        declarations: the class docstring.
         """
         self.name = name
         self.states = tuple(states)

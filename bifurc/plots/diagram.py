@@ -71,6 +71,29 @@ def plot_diagram(ds, path=None, state=None, branch=None, ax=None, overwrite=Fals
     if len(branches) > 1:
         for b in branches:
             handles.append(Line2D([], [], ls="none", color="0.3", label=f"branch {b}", **style[b]))
+    handles += _grazing_marks(ds, ax, strip, branches, pvals)
+    unit = "mm" if y_scale == 1e3 else ds[state].attrs.get("units", "")
+    ax.set_ylabel(f"{ds[state].attrs.get('long_name', state)} [{unit}]")
+    ax.legend(handles=handles, fontsize=8, loc="best", framealpha=0.85)
+    ax.grid(alpha=0.3)
+    xlabel = f"{ds[par].attrs.get('long_name', par)} {par} [{ds[par].attrs.get('units', '')}]"
+    if strip is None:
+        ax.set_xlabel(xlabel)
+    else:
+        _class_strip(ds, strip, branches, pvals, xlabel)
+    if own:
+        fig.suptitle(_title(ds), fontsize=9)
+        fig.tight_layout()
+    if path is not None:
+        save_figure(fig, path, overwrite=overwrite, dpi=130, close=own)
+    return ax
+
+
+def _grazing_marks(ds, ax, strip, branches, pvals) -> list:
+    """Orbits flagged as grazing (triangles on top), located grazing values (dotted lines; dashed where
+    the impact count jumps without a graze), diamonds on the class strip; returns their legend handles."""
+    from matplotlib.lines import Line2D
+    handles = []
     ylo, yhi = ax.get_ylim()
     if "grazing_flag" in ds:
         flagged = (ds.grazing_flag.sel(branch=branches) == 1).any("branch").values
@@ -93,21 +116,7 @@ def plot_diagram(ds, path=None, state=None, branch=None, ax=None, overwrite=Fals
             handles.append(Line2D([], [], ls=":", color=GRAZE, label=f"grazing located ({n_ok}, bisection)"))
         if n_jump:
             handles.append(Line2D([], [], ls="--", color="0.45", label=f"impact count jumps, no graze ({n_jump})"))
-    unit = "mm" if y_scale == 1e3 else ds[state].attrs.get("units", "")
-    ax.set_ylabel(f"{ds[state].attrs.get('long_name', state)} [{unit}]")
-    ax.legend(handles=handles, fontsize=8, loc="best", framealpha=0.85)
-    ax.grid(alpha=0.3)
-    xlabel = f"{ds[par].attrs.get('long_name', par)} {par} [{ds[par].attrs.get('units', '')}]"
-    if strip is None:
-        ax.set_xlabel(xlabel)
-    else:
-        _class_strip(ds, strip, branches, pvals, xlabel)
-    if own:
-        fig.suptitle(_title(ds), fontsize=9)
-        fig.tight_layout()
-    if path is not None:
-        save_figure(fig, path, overwrite=overwrite, dpi=130, close=own)
-    return ax
+    return handles
 
 
 def _class_strip(ds, strip, branches, pvals, xlabel):

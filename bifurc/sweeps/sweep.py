@@ -70,38 +70,34 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
     transient, record : int
         Relay periods discarded, then recorded, per value.
     max_record : int
-        Where the record holds fewer than three forcing periods q (q <= max_period), it is
-        extended to 3 q relay periods, never beyond ``max_record`` (default 3 x record); the
-        length used is stored per value (``record_used``), the stored samples are its first ``record``.
-    max_transient : int
-        Where a value is not-converged with a geometrically decaying recurrence, integrate on
-        (doubling the transient) up to this many relay periods; the transient used is stored.
+        A first record holding fewer than three forcing periods q (q <= max_period) is extended to
+        3 q, at most ``max_record`` (default 3 x record); the stored samples are its first ``record``.
+    budget : int
+        Relay periods per value, transient included, an undecided value may be extended to (anytime
+        classification, :mod:`bifurc.sweeps.anytime`; default 6000; ``max_transient`` raises it).
     tol : float
         heyoka tolerance; ``error_sample`` values are re-run at tol/100 for the error estimate.
-    max_period, rtol, atol : classification (bifurc.sweeps.classify); periods are searched among the
-        multiples of the forcing period q up to ``max_period`` relay periods (default 100), each
-        needing two whole periods in the record (q = 0: the forcing never repeats, no period).
+    max_period, rtol, atol : classification (bifurc.sweeps.classify): periods are multiples of the
+        forcing period q up to ``max_period`` relay periods (default 100), two in the window.
     lyapunov : bool
         Compute the largest Lyapunov exponent where the orbit is not periodic.
-    lyapunov_method : "tangent" (default) or "companion"
-        How the exponent is integrated (:data:`bifurc.sweeps.lyapunov.METHODS`, stored as an attribute).
+    lyapunov_method : "tangent" (default) or "companion" (:data:`bifurc.sweeps.lyapunov.METHODS`).
     grazing : bool
-        Locate grazing values between neighbours where the orbit changes between
-        impacting and not impacting, by bisection to ``grazing_xtol``.
+        Locate grazing values where neighbours change between impacting and not, to ``grazing_xtol``.
     path : str
         netCDF output; completed values are kept in ``<path>.parts/`` for resuming.  An existing
         file is refused unless ``overwrite``; a second sweep into the same path at once is refused
         (``<path>.lock``, POSIX only; see :mod:`bifurc.storage.files`).
     workers : int
-        Worker processes of an independent sweep (default: every available core, with at
-        least 16 values per worker; a bare HybridSystem runs in this process).
+        Worker processes (default: every core, 16 values per worker at least; a problem that does not
+        pickle runs here).
     scheduler : Dask scheduler address or Client (then ``workers`` is ignored).
     batch_size : int
         Values integrated together in heyoka's batch mode (SIMD lanes); 1: one value at a
         time.  Results agree to round-off, amplified by chaotic dynamics.
     chunk_size : int
-        Values per task (default: 8 x batch_size, or 1 without batch mode, in this process;
-        automatic on workers); with ``path``, an interruption loses at most the chunks in flight.
+        Values per task (default 8 x batch_size here, automatic on workers); with ``path``, an
+        interruption loses at most the chunks in flight.
     """
     mode = _mode(mode)
     values = np.asarray(values, dtype=float).ravel()
