@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
+import bifurc
 import maps
 from bifurc.storage import files, load as storage
 from bifurc.sweeps.classify import CLASS_LABELS
@@ -449,3 +450,16 @@ def test_record_extended_to_three_forcing_periods_up_to_max_record():
         assert ClassCode(int(short.class_code)) != ClassCode.PERIODIC
     with pytest.raises(maps.parameters.ParameterError, match="max_record"):
         sweep("thesis-1dof", "relay_hz", np.array([8.9]), max_record=50, **kw)
+
+
+def test_grids_and_period_counts_are_refused_in_one_line_not_reshaped():
+    """Newcomer review, API corpus: a string grid, a 2-D grid and a fractional transient were accepted
+    (flattened, truncated) or ended in a raw ValueError."""
+    kw = dict(progress=False, grazing=False, error_sample=0)
+    for bad, match in (("abc", "values must be numbers"), (np.ones((2, 2)), "1-D"), ([5.0, "x"], "values must be")):
+        with pytest.raises(maps.ParameterError, match=match):
+            sweep("thesis-1dof", "relay_hz", bad, **kw)
+    with pytest.raises(maps.ParameterError, match="transient = 10.5: a whole number"):
+        sweep("thesis-1dof", "relay_hz", [5.0], transient=10.5, **kw)
+    with pytest.raises(maps.ParameterError, match="values2 must be a 1-D"):
+        bifurc.regime_map("thesis-1dof", "relay_hz", [5.0], "V", np.ones((2, 2)), progress=False, error_sample=0)

@@ -26,7 +26,7 @@ from ..storage.files import guarded_output
 from .job import ValueJob
 from .resume import Parts, manifest
 from ..storage.schema import CELL_VARIABLES
-from .sweep import _job, deferred_interrupt, run_stats, run_values
+from .sweep import _grid, _job, deferred_interrupt, run_stats, run_values
 
 __all__ = ["regime_map", "CellJob", "CELL_VARIABLES"]
 
@@ -68,8 +68,8 @@ def regime_map(scene="thesis-1dof", param="relay_hz", values=None, param2="V", v
     arguments resumes); ``workers``: local processes (default every available core);
     ``scheduler``: a Dask scheduler address or Client; ``error_sample``: cells re-run at tol/100.
     """
-    values = np.asarray(values if values is not None else [], dtype=float).ravel()
-    values2 = np.asarray(values2 if values2 is not None else [], dtype=float).ravel()
+    values = _grid(values if values is not None else [], "values")
+    values2 = _grid(values2 if values2 is not None else [], "values2")
     if not isinstance(param2, str) or param2 == param:
         raise ParameterError(f"param2 {param2!r}: must be a parameter name other than param ({param!r})")
     if values2.size == 0 or not np.all(np.isfinite(values2)):

@@ -100,7 +100,7 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
         interruption loses at most the chunks in flight.
     """
     mode = _mode(mode)
-    values = np.asarray(values, dtype=float).ravel()
+    values = _grid(values, "values")
     job = _job(scene, param, values, transient, record, preset, params, x0, tol, max_period, rtol, atol,
                lyapunov, circuit, ac_sign, dc_law, max_transient, batch_size, max_record, soil, compaction,
                lyapunov_method, budget)
@@ -236,6 +236,27 @@ def run_stats(ds, job, seconds, resumed, workers) -> None:
     ds.attrs["compile_seconds"] = job.warm().compile_seconds  # this process's scalar compile (workers compile their own)
 
 
+def _grid(values, name: str) -> np.ndarray:
+    """A 1-D array of numbers, or one line naming ``name`` (no silent flattening of a 2-D grid)."""
+    try:
+        if isinstance(values, str) or any(isinstance(v, (str, bytes)) for v in np.ravel(np.asarray(values, object))):
+            raise ValueError("text")
+        out = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        raise ParameterError(f"{name} must be numbers (a 1-D array or list), got {values!r:.60}") from None
+    if out.ndim > 1:
+        raise ParameterError(f"{name} must be a 1-D array of numbers, got shape {out.shape}")
+    return out.ravel()
+
+
+def _whole(name: str, value, low, high) -> int:
+    """A whole number of periods in [low, high], or one line naming ``name`` (10.5 is refused, not truncated)."""
+    v = validate_value(name, value, low, high)
+    if v != int(v):
+        raise ParameterError(f"{name} = {value!r}: a whole number of periods is needed")
+    return int(v)
+
+
 def _mode(mode: str) -> str:
     """The sweep mode, checked ("continuation": the deprecated name of "follow")."""
     if mode == "continuation":
@@ -259,8 +280,8 @@ def _job(scene, param, values, transient, record, preset, params, x0, tol, max_p
     pb.system.parameter(param)  # raises for an unknown name
     for v in values:  # every value must be valid before anything runs
         pb.with_values(**{param: v})
-    transient = int(validate_value("transient", transient, 0, 1e7))
-    record = int(validate_value("record", record, 3, 1e7))
+    transient = _whole("transient", transient, 0, 1e7)
+    record = _whole("record", record, 3, 1e7)
     if max_record is not None:
         max_record = int(validate_value("max_record", max_record, record, 1e7))
     if max_transient is not None:

@@ -144,8 +144,7 @@ CLI = [
     ("X14", ["report", "{d}/diagram.nc", "--at", "50"], 2, E, "part A"),
 ]
 
-#: API rows not here: A05, A06, A13, A59 (values and transient types accepted by bifurc.sweep: the sweep's
-#: own validation, not part B), A07 (accepted, as the review found right), A22, A23 (corrupt and truncated
+#: API rows not here: A07 (accepted, as the review found right), A22, A23 (corrupt and truncated
 #: files: the CLI rows C55, C56), A32, A57 (orbit solver answers, bifurc/orbits), A40 (every kind has a
 #: report since the kinds' accessor), A43, A44 (lookups off the grid: part A), A45 (sweep_point's sample
 #: index, bifurc/orbits), A53 (an existing path: the CLI row C53)
@@ -158,11 +157,16 @@ API = [
     ("A02", "bifurc.sweep('thesis-1dof', 'nope', [5.0], " + SMALL + ")", "ParameterError"),
     ("A03", "bifurc.sweep('thesis-1dof', 'relay_hz', [], " + SMALL + ")", "ParameterError"),
     ("A04", "bifurc.sweep('thesis-1dof', 'relay_hz', [2, np.nan], " + SMALL + ")", "ParameterError"),
+    ("A05", "bifurc.sweep('thesis-1dof', 'relay_hz', 'abc', " + SMALL + ")", "ParameterError"),
+    ("A06", "bifurc.sweep('thesis-1dof', 'relay_hz', np.ones((2, 2)) * 5, " + SMALL + ")", "ParameterError"),
     ("A08", "bifurc.sweep('thesis-1dof', 'relay_hz', [5.0], params={'V': 'abc'}, " + SMALL + ")", "ParameterError"),
     ("A09", "bifurc.sweep('thesis-1dof', 'relay_hz', [5.0], params={'V': -1}, " + SMALL + ")", "ParameterError"),
     ("A10", "bifurc.sweep('thesis-1dof', 'relay_hz', [5.0], params={'Vv': 1}, " + SMALL + ")", "ParameterError"),
     ("A11", "bifurc.sweep('thesis-1dof', 'relay_hz', [5.0], preset='nope', transient=10, record=10, progress=False)",
      "ParameterError"),
+    ("A13", "bifurc.sweep('thesis-1dof', 'relay_hz', [5.0], preset='matlab-listing', transient=10.5, record=10, "
+            "progress=False, workers=1)", "ParameterError"),
+    ("A59", "bifurc.sweep('thesis-1dof', 'relay_hz', ['2', '5'], " + SMALL + ")", "ParameterError"),
     ("A12", "bifurc.sweep('thesis-1dof', 'relay_hz', [5.0], preset='matlab-listing', transient=-1, progress=False)",
      "ParameterError"),
     ("A14", "bifurc.sweep('thesis-1dof', 'relay_hz', [5.0], preset='matlab-listing', workers=0, progress=False)",
