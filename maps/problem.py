@@ -25,10 +25,7 @@ from .presets import preset_attrs
 from .registry import get_scene
 from .scenes import ParameterValues, Scene
 
-__all__ = ["Problem", "problem", "OPTION_NAMES", "model_attrs"]
-
-#: the structural options a scene of the thesis model takes (``ModelOptions`` fields set by users)
-OPTION_NAMES = ("circuit", "ac_sign", "energy", "dc_law", "soil", "compaction")
+__all__ = ["Problem", "problem", "model_attrs"]
 
 
 @dataclass(frozen=True, eq=False)

@@ -28,6 +28,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..codes import ClassCode
 from .classify import DECAY_RATE, lyapunov_threshold
 from .evidence import QP_SAMPLES, TORUS_K, exponent_estimate, halves_differ, torus_evidence
 from .lyapunov import _student_t, exponent_interval
@@ -159,26 +160,24 @@ def _judge_exponent(v: Value, cls, own, stretch, more: int, observable, max_peri
     v.lyap, v.spread, v.trajectories = (mean, lo, hi), spread, len(rows)
     thr = lyapunov_threshold(m)
     each = [exponent_interval(r) for r in rows]       # each trajectory's own batch-means interval
+    common = mean_interval(each)                       # the 95 % interval of their common mean
+    lo_all, hi_all = min(e[1] for e in each), max(e[2] for e in each)
     short = m < MIN_WINDOW and more > 0                # too short to call: extend first
-    if short:
-        pass
-    elif all(e[1] > thr for e in each) or (all(e[0] > thr for e in each) and mean_interval(each)[0] > thr):
+    if not short and (all(e[1] > thr for e in each) or (all(e[0] > thr for e in each) and common[0] > thr)):
         # every trajectory separates (whatever their spread), or every one's exponent is above the threshold
         # and so is the 95 % interval of their common mean: chaos
-        v.cls = dict(cls, code=_code("chaotic"), label="chaotic", period=0, impacts_per_period=-1, reason="")
+        v.cls = _labelled(cls, "chaotic")
         return
-    lo_all, hi_all = min(e[1] for e in each), max(e[2] for e in each)
     if short:
         why, need = f"the window ({m} periods) is shorter than {MIN_WINDOW}", MIN_WINDOW
-    elif -thr <= lo_all and hi_all <= thr and mean_interval(each)[1] < 0:
-        why = (f"contracting: the exponents' common mean lies below 0 (interval [{mean_interval(each)[0]:.3g}, "
-               f"{mean_interval(each)[1]:.3g}]), a periodic orbit still converging rather than a torus")
+    elif -thr <= lo_all and hi_all <= thr and common[1] < 0:
+        why = (f"contracting: the exponents' common mean lies below 0 (interval [{common[0]:.3g}, "
+               f"{common[1]:.3g}]), a periodic orbit still converging rather than a torus")
         need = 2 * o.n
     elif -thr <= lo_all and hi_all <= thr:         # a torus has exponent 0: evidence of one is needed
         torus, why_not, v.zero_one, v.rotation = torus_evidence(observable(o), max_period)
         if torus:
-            v.cls = dict(cls, code=_code("quasi-periodic"), label="quasi-periodic", period=0,
-                         impacts_per_period=-1, reason="")
+            v.cls = _labelled(cls, "quasi-periodic")
             return
         why = f"the exponent's interval [{lo:.3g}, {hi:.3g}] lies within +-{thr:.3g} but {why_not}"
         need = max(QP_SAMPLES, 2 * o.n)
@@ -212,10 +211,9 @@ def mean_interval(each) -> tuple[float, float]:
 
 
 def _undecided(cls, why: str) -> dict:
-    return dict(cls, code=_code("not-converged"), label="not-converged", period=cls["period"], impacts_per_period=-1,
-                reason=why)
+    return dict(cls, code=ClassCode.NOT_CONVERGED, label="not-converged", impacts_per_period=-1, reason=why)
 
 
-def _code(label: str):
-    from ..codes import ClassCode
-    return ClassCode.of(label)
+def _labelled(cls, label: str) -> dict:
+    """``cls`` relabelled as a non-periodic class decided by the exponent."""
+    return dict(cls, code=ClassCode.of(label), label=label, period=0, impacts_per_period=-1, reason="")
