@@ -152,9 +152,6 @@ def test_same_dataset_on_any_number_of_workers(tmp_path):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(reason="issue 27's coverage is not met at every window: 19 of 20 inside on a 400-period window "
-                          "(b336edc), 17 of 20 on the 800-period window of 2026-11-26 (e84c7f9): four trajectories "
-                          "underestimate the spread of this intermittent attractor", strict=False)
 def test_the_stored_interval_covers_other_trajectories_of_the_same_attractor():
     """9 Hz, 90 V, matlab-listing: chaotic with intermittency (two trajectories of 4000 periods gave 0.073
     and 0.099).  20 trajectories from other starts, on the scalar engine, each measured over the stored

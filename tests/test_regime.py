@@ -226,7 +226,7 @@ def _check_study(out, size):
         ds = xr.open_dataset(out / f"{case}.nc").load()
         assert ds.class_code.shape == (size["n"], size["n2"]) and ds.attrs["dc_law"] == law
         hammer = int(study.hammering(ds).sum())   # the report's answer is the cells' count
-        assert (f"Periodic hammering (period-1, 1 impact per relay period) at {hammer} of" in text) == bool(hammer)
+        assert (f"Periodic hammering (mechanical period-1, 1 impact per relay period) at {hammer} of" in text) == bool(hammer)
     return text
 
 

@@ -160,6 +160,10 @@ def add_grid_options(parser, what: str = "value") -> None:
                         help=f"relay periods per {what}, transient included, that an undecided {what} may be "
                              f"extended to (default 6000); a {what} still undecided then is not-converged with its "
                              f"reason and the budget its evidence suggests")
+    parser.add_argument("--time-budget", type=float, default=None, metavar="SECONDS",
+                        help=f"wall-clock seconds for the whole job (default: no limit); once spent no {what} is "
+                             f"extended further and those still undecided are not-converged with that reason (the "
+                             f"one option whose result depends on the machine)")
     parser.add_argument("--max-record", type=int, default=None,
                         help=f"extend the record of a {what} whose forcing period q exceeds record/3 (q <= "
                              f"--max-period) to 3 q relay periods, at most this many (default 3 x --record)")

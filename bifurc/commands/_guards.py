@@ -6,7 +6,8 @@ would otherwise allocate 8 GB for the values alone):
 - memory: the bytes of one value's results (the sweep schema's rows, :func:`bytes_per_value`)
   held about :data:`MEMORY_COPIES` times (results, dataset, file buffer), times the values;
 - run time: (transient + record) relay periods per value at :data:`SECONDS_PER_PERIOD`, shared
-  by the workers.
+  by the workers (the planned work); at most the budget times the tangent trajectories per value
+  (every value extended to its budget: ``seconds_max``, stated in the refusal).
 
 A job over the machine's available memory or over :data:`MAX_HOURS` is refused with its
 estimate unless ``--yes``.
@@ -66,13 +67,17 @@ def available_memory() -> float:
         return float("inf")
 
 
-def estimate(n_values: int, transient: int, record: int, workers) -> dict:
-    """{"values", "memory" [bytes], "file" [bytes], "seconds"} of a grid of ``n_values``."""
+def estimate(n_values: int, transient: int, record: int, workers, budget: int | None = None) -> dict:
+    """{"values", "memory" [bytes], "file" [bytes], "seconds", "seconds_max"} of a grid of ``n_values``
+    (seconds: the planned work; seconds_max: every value extended to ``budget`` relay periods with its
+    tangent copies)."""
+    from ..sweeps.anytime import BUDGET, TRAJECTORIES
     per_value = bytes_per_value(max(int(record), 1))
     workers = max(1, int(workers or os.cpu_count() or 1))
     return {"values": n_values, "memory": n_values * (MEMORY_COPIES * per_value + 32),
             "file": n_values * per_value + FILE_OVERHEAD,
-            "seconds": n_values * (max(transient, 0) + max(record, 0)) * SECONDS_PER_PERIOD / workers}
+            "seconds": n_values * (max(transient, 0) + max(record, 0)) * SECONDS_PER_PERIOD / workers,
+            "seconds_max": n_values * (budget or BUDGET) * TRAJECTORIES * SECONDS_PER_PERIOD / workers}
 
 
 def _duration(s: float) -> str:
@@ -83,13 +88,14 @@ def check_budget(args, n_values: int, what: str = "values") -> dict:
     """Refuse (one line) a job whose estimated memory exceeds the available memory or whose run time
     exceeds MAX_HOURS, unless ``args.yes``; returns the estimate."""
     from ..storage.files import size_text
-    est = estimate(n_values, args.transient, args.record, args.workers)
+    est = estimate(n_values, args.transient, args.record, args.workers, getattr(args, "budget", None))
     free = available_memory()
     over = []
     if est["memory"] > free:
         over.append(f"about {size_text(est['memory'])} of memory, {size_text(free)} available")
     if est["seconds"] > MAX_HOURS * 3600:
-        over.append(f"about {_duration(est['seconds'])} of computation, over the {MAX_HOURS:g} h limit")
+        over.append(f"about {_duration(est['seconds'])} of computation (up to {_duration(est['seconds_max'])} if "
+                    f"every {what[:-1]} runs to its budget; --time-budget bounds it), over the {MAX_HOURS:g} h limit")
     if over and not getattr(args, "yes", False):
         raise ParameterError(f"{n_values:,} {what} need {' and '.join(over)} (estimate); reduce --n"
                              f"{'/--n2' if what == 'cells' else ''}, --transient or --record, or pass --yes to run it")

@@ -41,7 +41,7 @@ def run(args) -> int:
     ds = regime_map(args.scene, args.param, np.linspace(args.start, args.stop, args.n), args.param2,
                     np.linspace(args.start2, args.stop2, args.n2), transient=args.transient, record=args.record,
                     max_record=args.max_record, max_period=args.max_period, lyapunov=not args.no_lyapunov, path=args.output,
-                    batch_size=args.batch_size, progress=not args.quiet, workers=args.workers, budget=args.budget,
+                    batch_size=args.batch_size, progress=not args.quiet, workers=args.workers, budget=args.budget, time_budget=args.time_budget,
                     scheduler=args.scheduler, overwrite=args.force, **kw)
     if args.plot:
         from ..plots.map import plot_regime_map

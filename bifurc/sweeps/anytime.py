@@ -10,7 +10,7 @@ stationary part of its record; undecided values are extended together, on the ma
 3. the window's halves differ (:func:`~bifurc.sweeps.evidence.halves_differ`): the first half is
    a transient or an intermittent burst: discard it, extend;
 4. the exponent from K tangent trajectories (the value's own and K - 1 perturbed copies of its
-   state, decorrelated over ``DECORRELATE`` periods; :func:`~bifurc.sweeps.evidence.exponent_estimate`):
+   state, decorrelated over :attr:`Value.decorrelate` periods; :func:`~bifurc.sweeps.evidence.exponent_estimate`):
    an interval above the threshold: **chaotic**; within +-threshold with positive evidence of a
    torus (the 0-1 test's K below ``TORUS_K`` and a rotation number whose halves agree):
    **quasi-periodic**; below -threshold (contracting without a period up to ``max_period``) or
@@ -39,8 +39,10 @@ __all__ = ["Value", "judge", "BUDGET", "TRAJECTORIES", "DECORRELATE", "ANYTIME_M
 BUDGET = 6000
 #: tangent trajectories the exponent's interval comes from (the value's own and its copies)
 TRAJECTORIES = 4
-#: periods a copy runs from its perturbed start before it is recorded (decorrelation)
+#: fewest periods a copy runs from its perturbed start before it is recorded (decorrelation)
 DECORRELATE = 100
+#: most periods a copy runs before it is recorded
+MAX_DECORRELATE = 400
 #: the shortest window on which a value is called chaotic or quasi-periodic [strobe periods] (the torus
 #: test's samples).  Chaotic transients of the thesis model last hundreds to thousands of periods: on
 #: the main job's grid 10 of 74 labels given on 200-400 periods changed on a 4x longer record from the
@@ -48,8 +50,12 @@ DECORRELATE = 100
 MIN_WINDOW = 400
 #: a value whose evidence asks for more than this many budgets is not extended further (it cannot decide)
 HOPELESS = 4
-#: relative size of the copies' perturbations (of each state's scale)
-PERTURBATION = 1e-6
+#: relative size of the copies' perturbations (of each state's scale).  A copy is another start on the
+#: same attractor, not an infinitesimal one: it must have forgotten its origin before it is recorded, or
+#: the copies share the value's intermittent phase and their spread underestimates the between-trajectory
+#: one (9 Hz, 90 V, matlab-listing, 800-period window: copies perturbed by 1e-6 and run 100 periods gave a
+#: spread of 0.0086 per period against 0.019 for 20 trajectories from other starts; by 1e-2, 0.017)
+PERTURBATION = 1e-3
 #: how values are classified (stored with every sweep)
 ANYTIME_METHOD = ("anytime: judged on a stationary window (halves compared, a non-stationary first half discarded); "
                   "periodic by recurrence; otherwise extended, doubling, up to the budget with "
@@ -83,6 +89,15 @@ class Value:
     zero_one: float = math.nan
     budget_needed: int = 0
     action: tuple | None = None      # ("extend", periods, copies wanted) or None (decided, or out of budget)
+
+    @property
+    def decorrelate(self) -> int:
+        """Periods a new copy runs before it is recorded: twice the time its perturbation takes to grow
+        to the state's scale at the value's own exponent, within [DECORRELATE, MAX_DECORRELATE]."""
+        rate = self.lyap[0]
+        if not (math.isfinite(rate) and rate > 0):
+            return DECORRELATE
+        return int(min(MAX_DECORRELATE, max(DECORRELATE, math.ceil(2 * math.log(1 / PERTURBATION) / rate))))
 
     @property
     def end(self) -> int:
@@ -152,7 +167,7 @@ def _judge_exponent(v: Value, cls, own, stretch, more: int, observable, max_peri
         v.cls = _undecided(cls, "the exponent needs other trajectories on the same attractor (out of budget "
                                 "before they could run)" if more <= 0 else "the exponent needs other trajectories")
         v.action = ("extend", more, TRAJECTORIES) if more > 0 else None
-        v.budget_needed = 0 if more > 0 else v.end + 2 * DECORRELATE
+        v.budget_needed = 0 if more > 0 else v.end + 2 * v.decorrelate
         return
     m = min([c.n for c in v.copies] + [o.n])
     rows = [own[-m:]] + [stretch(c)[-m:] for c in v.copies]

@@ -155,6 +155,7 @@ def run_attrs(job, history, skip=()) -> dict:
                             f"value is then extended (doubling its window) up to budget_periods, its non-stationary "
                             f"first halves discarded (transient_used); it is judged on that window (record_used)",
         "budget_periods": job.spent,
+        **({"time_budget_deadline": _iso(job.deadline)} if getattr(job, "deadline", None) else {}),
         "classification_method": ANYTIME_METHOD,
         "tol": job.tol, "max_period": job.max_period,
         "max_transient_periods": job.max_transient if job.max_transient is not None else job.transient,
@@ -216,3 +217,9 @@ def add_error_estimate(ds, sample_values, point_err, time_err, counts_differ, se
                                  "error_periodic_not_robust and counted with the sensitive ones",
     })
     return ds
+
+
+def _iso(seconds: float) -> str:
+    """A time.time() instant as ISO 8601 UTC text (the time budget's deadline)."""
+    import datetime
+    return datetime.datetime.fromtimestamp(seconds, datetime.timezone.utc).isoformat(timespec="seconds")

@@ -122,6 +122,7 @@ class ValueJob:
     max_record: int | None = None   # cap of the record extension [relay periods] (None: RECORD_FACTOR x record)
     lyapunov_method: str = "tangent"  # "tangent": a tangent vector with the batch engine's record; "companion"
     budget: int = BUDGET              # relay periods per value, transient included (anytime classification)
+    deadline: float | None = None     # wall-clock time (time.time(), s) after which no value is extended
 
     @property
     def params(self) -> dict:
@@ -247,6 +248,10 @@ class ValueJob:
             todo = [v for v in vs if v.action is not None]
             if not todo:
                 return
+            if self.deadline is not None and _time.time() >= self.deadline:
+                for v in todo:
+                    _cut(v)
+                return
             clock = _time.perf_counter()
             self._extend(smap, todo, method)
             share = (_time.perf_counter() - clock) / len(todo)
@@ -258,7 +263,7 @@ class ValueJob:
         """One round: each value's own trajectory and its copies on by the periods it asked for; new
         copies start from its state perturbed, decorrelate, then record as much."""
         from maps.tangent import start_direction
-        from .anytime import DECORRELATE, PERTURBATION
+        from .anytime import PERTURBATION
         d = len(smap.system.states)
         start = start_direction(d, translation_basis(smap.system))
         kw = dict(method=method, batch_size=self.batch_size, tangent=self._tangent)
@@ -278,7 +283,7 @@ class ValueJob:
                 y = v.orbit.final.y + PERTURBATION * v.scale * u / np.linalg.norm(u)
                 fresh.append((v.params, HybridState(y, dict(v.orbit.final_flags)), v.action[1], v.end, start))
                 born.append(v)
-        new = self._orbits(smap, fresh, DECORRELATE, start, kw) if fresh else []
+        new = self._copies(smap, fresh, born, start, kw)
         for (v, c), o in zip(runs, ext):
             v.steps += o.n_steps
             v.periods += o.n
@@ -296,12 +301,22 @@ class ValueJob:
             v.copy_stretch[i] = np.concatenate([v.copy_stretch[i], extra])
         for v, o, job in zip(born, new, fresh):
             v.steps += o.n_steps
-            v.periods += DECORRELATE + o.n
-            extra = self._stretch(smap, o, v.params, job[3] + DECORRELATE, v.scale) if o.status == "ok" else None
+            v.periods += v.decorrelate + o.n
+            extra = self._stretch(smap, o, v.params, job[3] + v.decorrelate, v.scale) if o.status == "ok" else None
             if extra is not None:
                 v.copies.append(o)
-                v.copy_ends.append(job[3] + DECORRELATE + o.n)
+                v.copy_ends.append(job[3] + v.decorrelate + o.n)
                 v.copy_stretch.append(extra)
+
+    def _copies(self, smap, fresh: list, born: list, start, kw) -> list:
+        """The new copies' orbits, each decorrelated over its value's periods before it is recorded
+        (runs grouped by that length, results in the order of ``fresh``)."""
+        out = [None] * len(fresh)
+        for n in sorted({v.decorrelate for v in born}):
+            idx = [i for i, v in enumerate(born) if v.decorrelate == n]
+            for i, o in zip(idx, self._orbits(smap, [fresh[i] for i in idx], n, start, kw)):
+                out[i] = o
+        return out
 
     def _orbits(self, smap, jobs, transient: int, start, kw) -> list:
         """Orbits of ``jobs`` (params, hybrid start, steps, sample index, tangent direction or None)."""
@@ -377,3 +392,12 @@ class ValueJob:
             smap.set_params(**v.params)
             out.append(self._pack(smap, v))
         return out
+
+
+def _cut(v) -> None:
+    """A value the sweep's time budget stops before its evidence decides: not-converged, with why."""
+    from .anytime import _undecided
+    why = (v.cls or {}).get("reason") or "undecided"
+    v.cls = _undecided(v.cls or {}, f"cut by the sweep's time budget (--time-budget) at {v.end} relay periods: {why}")
+    v.budget_needed = max(v.budget_needed, v.end + v.action[1])
+    v.action = None

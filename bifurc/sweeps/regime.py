@@ -26,7 +26,7 @@ from ..storage.files import guarded_output
 from .job import ValueJob
 from .resume import Parts, manifest
 from ..storage.schema import CELL_VARIABLES
-from .sweep import _grid, _job, deferred_interrupt, run_stats, run_values
+from .sweep import _grid, _job, deferred_interrupt, run_stats, run_values, with_time_budget
 
 __all__ = ["regime_map", "CellJob", "CELL_VARIABLES"]
 
@@ -56,7 +56,7 @@ def regime_map(scene="thesis-1dof", param="relay_hz", values=None, param2="V", v
                record=100, preset=None, params=None, x0=None, tol=1e-10, max_period=100, rtol=1e-6, atol=1e-9,
                lyapunov=True, circuit=None, ac_sign=None, dc_law=None, soil=None, compaction=None, max_record=None,
                path=None, progress=True, workers=None, scheduler=None, error_sample=3, max_transient=None,
-               batch_size=4, chunk_size=None, overwrite=False, budget=None):
+               batch_size=4, chunk_size=None, overwrite=False, budget=None, time_budget=None):
     """Classify every cell of the grid ``values`` (of ``param``) x ``values2`` (of ``param2``);
     returns an xarray Dataset with dimensions (param, param2).
 
@@ -65,7 +65,8 @@ def regime_map(scene="thesis-1dof", param="relay_hz", values=None, param2="V", v
     period m, Lyapunov exponent [1/relay period] with its 95 % interval where not periodic,
     minimum clearance [m], status.  Arguments as in :func:`bifurc.sweeps.sweep.sweep`; ``path``:
     netCDF output, streamed to ``<path>.parts/`` chunk by chunk (a rerun with the same
-    arguments resumes); ``workers``: local processes (default every available core);
+    arguments resumes); ``time_budget``: wall-clock seconds after which no cell is extended (as in
+    :func:`~bifurc.sweeps.sweep.sweep`); ``workers``: local processes (default every available core);
     ``scheduler``: a Dask scheduler address or Client; ``error_sample``: cells re-run at tol/100.
     """
     values = _grid(values if values is not None else [], "values")
@@ -84,6 +85,7 @@ def regime_map(scene="thesis-1dof", param="relay_hz", values=None, param2="V", v
         pb.with_values(**{param: float(values[0]), param2: float(v)})
     job = CellJob(**{f.name: getattr(job, f.name) for f in fields(ValueJob)}, param2=param2,
                   values=tuple(float(v) for v in values), values2=tuple(float(v) for v in values2))
+    job = with_time_budget(job, time_budget)
     cells = np.arange(values.size * values2.size, dtype=float)
     parts = Parts(path, manifest(job, cells, "map")) if path else None
     results, resumed, seconds, workers = run_values(job, cells, "independent", parts, workers, scheduler, chunk_size,

@@ -31,9 +31,10 @@ _CODES = {"class_code": ClassCode, "status": Status}
 
 
 def manifest(job, values, mode) -> dict:
-    """What identifies a sweep's results: the job's fields (not ``batch_size``: no effect on results),
+    """What identifies a sweep's results: the job's fields (not ``batch_size``: no effect on results; not
+    the time budget's ``deadline``: values it cut are kept as they were stored),
     the grid, the mode and the parts' format version."""
-    args = {f.name: getattr(job, f.name) for f in fields(job) if f.name not in ("batch_size", "problem")}
+    args = {f.name: getattr(job, f.name) for f in fields(job) if f.name not in ("batch_size", "problem", "deadline")}
     pb = job.problem
     b = pb.scene.builder
     builder = None if b is None else (f"{b.__module__}.{b.__qualname__}" if hasattr(b, "__qualname__")

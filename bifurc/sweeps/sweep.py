@@ -54,7 +54,7 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
           atol=1e-9, lyapunov=True, lyapunov_method="tangent", grazing=True, grazing_xtol=None, circuit=None,
           ac_sign=None, dc_law=None, soil=None, compaction=None, path=None,
           progress=True, workers=None, scheduler=None, error_sample=3, max_transient=None, batch_size=4,
-          chunk_size=None, overwrite=False, budget=None):
+          chunk_size=None, overwrite=False, budget=None, time_budget=None):
     """Sweep ``param`` over ``values``; returns an xarray Dataset (see bifurc.sweeps.dataset).
 
     Parameters
@@ -75,6 +75,10 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
     budget : int
         Relay periods per value, transient included, an undecided value may be extended to (anytime
         classification, :mod:`bifurc.sweeps.anytime`; default 6000; ``max_transient`` raises it).
+    time_budget : float
+        Wall-clock seconds for the whole sweep (default None: no limit).  When they are spent no value
+        is extended further: values still undecided are not-converged with that reason (a value's first
+        transient and record always run).  The only option whose result depends on the machine.
     tol : float
         heyoka tolerance; ``error_sample`` values are re-run at tol/100 for the error estimate.
     max_period, rtol, atol : classification (bifurc.sweeps.classify): periods are multiples of the
@@ -104,6 +108,7 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
     job = _job(scene, param, values, transient, record, preset, params, x0, tol, max_period, rtol, atol,
                lyapunov, circuit, ac_sign, dc_law, max_transient, batch_size, max_record, soil, compaction,
                lyapunov_method, budget)
+    job = with_time_budget(job, time_budget)
     parts = Parts(path, manifest(job, values, mode)) if path else None
     workers, chunk_size = _execution(job, values.size, workers, scheduler, chunk_size)
     pool = WorkerPool(job, workers) if mode == "independent" and workers > 1 else None
@@ -164,7 +169,7 @@ def run_values(job, values, mode, parts, workers, scheduler, chunk_size, progres
     for (b, i), r in (parts.load() if parts else {}).items():
         results[b][i] = r
     resumed = sum(r is not None for b in branches for r in results[b])
-    bar = _progress(values.size * len(branches) - resumed, progress, desc)
+    bar = _progress(values.size * len(branches) - resumed, job.transient + job.record, progress, desc, unit)
 
     def keep(b, indices, chunk):
         with deferred_interrupt():   # a part saved and counted whole, or not at all
@@ -172,7 +177,7 @@ def run_values(job, values, mode, parts, workers, scheduler, chunk_size, progres
                 parts.save(b, indices, chunk)
             for i, r in zip(indices, chunk):
                 results[b][i] = r
-        bar.update(len(chunk))
+        bar.done(chunk)
 
     clock = _time.perf_counter()
     try:
@@ -295,6 +300,14 @@ def _job(scene, param, values, transient, record, preset, params, x0, tol, max_p
                     lyapunov_method=lyapunov_method, budget=budget)
 
 
+def with_time_budget(job, seconds):
+    """``job`` with the deadline ``seconds`` of wall-clock time from now (None: unchanged)."""
+    if seconds is None:
+        return job
+    from dataclasses import replace
+    return replace(job, deadline=_time.time() + validate_value("time_budget", seconds, 1e-3, 1e9))
+
+
 def travels(pb) -> bool:
     """True when the problem pickles, so worker processes can rebuild it (a scene by name, address
     or module-level builder; not a bare HybridSystem whose declaration holds closures)."""
@@ -360,19 +373,42 @@ def _warm_xarray():
 
 
 class _NoBar:
-    def update(self, n=1):
+    def done(self, chunk):
         pass
 
     def close(self):
         pass
 
 
-def _progress(total, progress, desc):
-    if not progress or total == 0:
+class _PeriodBar:
+    """Progress in relay periods integrated (copies included): the total is the planned work, each value's
+    first transient and record, and grows as values are extended (anytime classification); the values
+    done are shown beside it."""
+
+    def __init__(self, bar, values: int, planned: int, unit: str):
+        self.bar, self.values, self.planned, self.unit, self.count = bar, values, planned, unit, 0
+
+    def done(self, chunk):
+        used = sum(max(int(getattr(r, "periods_integrated", 0)), 0) or self.planned for r in chunk)
+        grown = used - self.planned * len(chunk)
+        if grown > 0:
+            self.bar.total += grown
+        self.count += len(chunk)
+        self.bar.set_postfix_str(f"{self.count}/{self.values} {self.unit}", refresh=False)
+        self.bar.update(used)
+
+    def close(self):
+        self.bar.close()
+
+
+def _progress(values, planned, progress, desc, unit="values"):
+    """A bar over ``values`` values of ``planned`` relay periods each (planned work), or one that shows nothing."""
+    if not progress or values == 0:
         return _NoBar()
     try:                            # a widget in Jupyter (tqdm.auto needs ipywidgets for it), text elsewhere
         import ipywidgets  # noqa: F401
         from tqdm.auto import tqdm
     except ImportError:             # without ipywidgets tqdm.auto would warn and print text anyway
         from tqdm import tqdm
-    return tqdm(total=total, desc=desc, unit="value", file=sys.stderr, smoothing=0.1)
+    bar = tqdm(total=values * planned, desc=desc, unit="period", unit_scale=True, file=sys.stderr, smoothing=0.1)
+    return _PeriodBar(bar, values, planned, unit)

@@ -4,7 +4,9 @@ Planes (thesis-1dof, matlab-listing numbers, every cell from the scene's start):
 (relay frequency 2-10 Hz, V 25-300 V) under each DC-force law (`listing`, `fit`, `measured`;
 docs/model.md section 1), and (V 25-300 V, dc_scale 0-3) at 5 Hz under the `listing` law.  Each cell
 is classified as a diagram value (`bifurc.regime_map`): periodic hammering is "period-1, 1 impact"
-(one impact per relay period, the same every period).  Nothing is tuned to agree with anything.
+(one impact per relay period, the same every period) in the mechanical convention (the bar's position
+and speed repeat every relay period; the thesis' period-1), whatever the coil current does: the full
+state's count is given beside it.  Nothing is tuned to agree with anything.
 """
 from __future__ import annotations
 
@@ -51,9 +53,12 @@ def run(out, quick=False, progress=True, overwrite=False) -> dict:
     return results
 
 
-def hammering(ds):
-    """Boolean (param, param2) mask of the cells that hammer periodically: period-1, 1 impact."""
+def hammering(ds, period_of: str = "mechanical"):
+    """Boolean (param, param2) mask of the cells that hammer periodically: period-1, 1 impact, in the
+    convention ``period_of`` ("mechanical": the bar's; "full": the whole state's)."""
     from bifurc.codes import ClassCode
+    from bifurc.storage.load import in_convention
+    ds = in_convention(ds, period_of)
     return (ds.class_code == ClassCode.PERIODIC) & (ds.period == 1) & (ds.impacts_per_period == 1)
 
 
@@ -79,13 +84,17 @@ def _finding(ds) -> str:
     h = hammering(ds)
     n = int(h.sum())
     volt = "V"
+    full = int(hammering(ds, "full").sum())
     if n:
         lowest = float(ds[volt].where(h).min())
-        return (f"Periodic hammering (period-1, 1 impact per relay period) at {n} of {h.size} cells; the lowest "
-                f"voltage that gives it on this grid is {lowest:.4g} V. Where: {_where(ds, h)}.")
-    periodic = ds.class_code == ClassCode.PERIODIC
-    once = periodic & (ds.impacts_per_period == ds.period)
-    text = "No cell of this grid hammers periodically with one impact per relay period (period-1, 1 impact)."
+        return (f"Periodic hammering (mechanical period-1, 1 impact per relay period) at {n} of {h.size} cells "
+                f"({full} of them period-1 in the full state too); the lowest voltage that gives it on this grid "
+                f"is {lowest:.4g} V. Where: {_where(ds, h)}.")
+    from bifurc.storage.load import in_convention
+    dm = in_convention(ds, "mechanical")
+    once = (dm.class_code == ClassCode.PERIODIC) & (dm.impacts_per_period == dm.period)
+    text = ("No cell of this grid hammers periodically with one impact per relay period (mechanical period-1, "
+            "1 impact).")
     if int(once.sum()):
         text += (f" {int(once.sum())} cell(s) are period-n with n impacts (one impact per relay period on "
                  f"average, repeating only every n periods): {_where(ds, once)}.")
@@ -100,7 +109,8 @@ def _counts(ds):
     """(regime, cells) rows: every n:m on at least RARE cells (and period-1, 1 impact always), the
     rarer ones in one row, then the other classes."""
     from bifurc.plots.map import regime_categories
-    index, cats = regime_categories(ds, colours=None)   # every n:m its own category
+    from bifurc.storage.load import in_convention
+    index, cats = regime_categories(in_convention(ds, "mechanical"), colours=None)   # every n:m its own category
     rows = [(text, int((index == i).sum())) for i, (text, _) in enumerate(cats)]
     keep = lambda t, n: not t.startswith("period-") or n >= RARE or t == "period-1, 1 impact"  # noqa: E731
     rare = [(t, n) for t, n in rows if not keep(t, n)]
@@ -123,7 +133,7 @@ def report(results, quick, seconds) -> str:
                           if f"param_{k}" in a)
         lines += [f"## {case}: {a['swept_parameter']} x {a['swept_parameter2']}, dc_law {a['dc_law']}"
                   + (f", {fixed}" if fixed else ""), "", f"![{case}]({case}.png)", "", _finding(ds), "",
-                  "| regime | cells |", "|---|---|"]
+                  "| regime (mechanical period) | cells |", "|---|---|"]
         lines += [f"| {text} | {n} |" for text, n in _counts(ds)]
         nc = ds.class_code == ClassCode.NOT_CONVERGED
         if int(nc.sum()):

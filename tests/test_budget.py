@@ -1,0 +1,54 @@
+"""The sweep's budgets: the time budget cuts extensions (and says so), the progress bar counts the relay
+periods integrated and grows as values are extended."""
+import numpy as np
+
+import bifurc
+from bifurc.codes import ClassCode
+from bifurc.report import undecided_summary
+from bifurc.sweeps.sweep import _PeriodBar
+
+
+def test_a_spent_time_budget_leaves_undecided_values_not_converged_with_that_reason():
+    """7.3, 7.5 and 9 Hz at 90 V (matlab-listing) are undecided after their first record (100 transient +
+    100 recorded periods, extended to three forcing periods where q is long): with a time budget already
+    spent they are not extended further, and each says it was cut; without it they are extended."""
+    kw = dict(preset="matlab-listing", params={"V": 90.0}, transient=100, record=100, grazing=False,
+              error_sample=0, progress=False, workers=1)
+    values = [7.3, 7.5, 9.0]
+    cut = bifurc.sweep("thesis-1dof", "relay_hz", values, time_budget=1e-3, **kw).isel(branch=0)
+    free = bifurc.sweep("thesis-1dof", "relay_hz", values, budget=1000, **kw).isel(branch=0)
+    for i in range(len(values)):
+        assert ClassCode(int(cut.class_code[i])) == ClassCode.NOT_CONVERGED
+        assert "cut by the sweep's time budget" in str(cut.class_reason.values[i])
+        assert int(cut.periods_integrated[i]) <= 320 < int(free.periods_integrated[i])
+    assert "time_budget_deadline" in cut.attrs and "time_budget_deadline" not in free.attrs
+    lines = undecided_summary(cut)
+    assert any("time budget" in line and "raise --time-budget" in line for line in lines), lines
+
+
+class _Bar:
+    def __init__(self, total):
+        self.total, self.n, self.postfix = total, 0, ""
+
+    def update(self, n):
+        self.n += n
+
+    def set_postfix_str(self, text, refresh=True):
+        self.postfix = text
+
+
+class _R:
+    def __init__(self, periods):
+        self.periods_integrated = periods
+
+
+def test_the_progress_bar_grows_with_the_planned_work():
+    """Three values of 400 planned periods: the first chunk used 400 and 2000 (an extension), so the
+    total grows by 1600 and the count by 2400; the last value's 400 completes it."""
+    bar = _Bar(3 * 400)
+    p = _PeriodBar(bar, 3, 400, "values")
+    p.done([_R(400), _R(2000)])
+    assert (bar.total, bar.n, bar.postfix) == (2800, 2400, "2/3 values")
+    p.done([_R(400)])
+    assert (bar.total, bar.n, bar.postfix) == (2800, 2800, "3/3 values")
+    assert np.isclose(bar.n / bar.total, 1.0)
