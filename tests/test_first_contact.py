@@ -168,3 +168,13 @@ def test_report_wording_and_the_table_gives_the_reason_of_not_converged(diagram)
     assert len(grey) and (grey.class_reason.str.len() > 0).all()
     from bifurc.storage.build import KINDS
     assert KINDS["branch"].startswith("`bifurc continue`")
+
+
+def test_located_points_print_signed_multipliers():
+    """F24: a period doubling's critical multiplier reads -1 and a fold's +1 (moduli alone cannot tell
+    them apart); a complex pair is printed once, as modulus and argument."""
+    import math
+    from bifurc.commands.branch import multipliers_text
+    assert multipliers_text([1.0, 0.381106], [math.pi, -math.pi]) == "-1, -0.381106"
+    assert multipliers_text([1.0, 0.25, float("nan")], [0.0, 0.0, float("nan")]) == "+1, +0.25"
+    assert multipliers_text([0.98, 0.98], [1.2345, -1.2345]) == "0.98 e^(+-1.234 i)"

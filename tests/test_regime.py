@@ -200,7 +200,7 @@ def test_periodic_categories_read_period_and_impacts(local):
     ds["impacts_per_period"][:] = [[1, 1, 2], [1, 2, 2], [1, 1, 1]]
     ds["class_code"][2, 2] = ClassCode.NOT_CONVERGED
     index, cats = regime_categories(ds)
-    assert [t for t, _ in cats] == ["period-1, 1 impact", "period-2, 2 impacts", "not converged"]
+    assert [t for t, _ in cats] == ["period-1, 1 impact", "period-2, 2 impacts", "not-converged"]
     assert np.bincount(index.ravel()).tolist() == [5, 3, 1]
 
 

@@ -83,8 +83,8 @@ def run(args) -> int:
         tol = float(ds.special_tolerance[i])
         err = float(ds.special_multiplier_error[i])
         print(f"  {kind} at {par} = {float(ds.special_value[i]):.12g}"
-              f"{'' if tol != tol else f' (+- {tol:.2g})'}; multipliers |mu| "
-              + ", ".join(f"{m:.6g}" for m in ds.special_multiplier_abs.values[i])
+              f"{'' if tol != tol else f' (+- {tol:.2g})'}; multipliers "
+              + multipliers_text(ds.special_multiplier_abs.values[i], ds.special_multiplier_arg.values[i])
               + ("" if err != err else f"; multiplier error {err:.2g}")
               + (f"; {ds.special_note.values[i]}" if str(ds.special_note.values[i]) else ""))
     for c in range(ds.sizes.get("curve", 0)):
@@ -103,3 +103,20 @@ def run(args) -> int:
         plot_curves(ds, args.plot2, overwrite=args.force)
         print(f"  wrote {args.plot2}")
     return 0
+
+
+def multipliers_text(moduli, args) -> str:
+    """Floquet multipliers as text: real ones signed (+1 at a fold, -1 at a period doubling), complex
+    pairs as modulus and argument [rad] ("0.98 e^(+-1.23 i)"), NaN padding left out."""
+    import math
+    out, seen = [], set()
+    for m, a in zip(moduli, args):
+        if m != m:
+            continue
+        a = 0.0 if a != a else float(a)
+        if abs(a) < 1e-9 or abs(abs(a) - math.pi) < 1e-9:
+            out.append(f"{m * (1 if abs(a) < 1e-9 else -1):+.6g}")
+        elif (round(m, 9), round(abs(a), 9)) not in seen:
+            seen.add((round(m, 9), round(abs(a), 9)))
+            out.append(f"{m:.6g} e^(+-{abs(a):.4g} i)")
+    return ", ".join(out)

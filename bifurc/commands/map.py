@@ -47,7 +47,7 @@ def run(args) -> int:
         from ..plots.map import plot_regime_map
         plot_regime_map(ds, args.plot, overwrite=args.force, period_of=args.period_of)
     index, cats = regime_categories(ds)
-    counts = ", ".join(f"{text} {int((index == i).sum())}" for i, (text, _) in enumerate(cats))
+    counts = "; ".join(f"{text}: {int((index == i).sum())}" for i, (text, _) in enumerate(cats))
     a = ds.attrs
     resumed = f", {a['resumed_values']} resumed" if a["resumed_values"] else ""
     print(f"{a['scene']}: {args.param} {args.start:g}..{args.stop:g} x {args.param2} {args.start2:g}..{args.stop2:g} "

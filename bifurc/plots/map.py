@@ -1,7 +1,7 @@
 """Regime-map figure: the cells' classes as categories, the Lyapunov exponent, impacts per period.
 
 The categories read "period-1, 1 impact", "period-2, 2 impacts", ..., "period-1, no impact",
-quasi-periodic, chaotic, not converged, escaped, failed.  Colours: Okabe & Ito's and Paul Tol's
+quasi-periodic, chaotic, not-converged, escaped, failed.  Colours: Okabe & Ito's and Paul Tol's
 colour-blind-safe palettes (the non-periodic classes keep the diagram's colours,
 :data:`bifurc.plots.diagram.CLASS_COLOURS`); tests/test_regime.py checks every pair under
 simulated colour blindness.
@@ -25,8 +25,6 @@ OTHER_PERIODIC = ("periodic, other n:m", "#BBBBBB")
 MISSING = ("not computed", "#FFFFFF")
 #: hatching of cells where a panel's quantity was not computed (Lyapunov: periodic; impacts: not periodic)
 NOT_COMPUTED = "#999999"
-#: legend texts of the non-periodic classes
-_TEXT = {"not-converged": "not converged"}
 
 
 def _periodic_text(code, n, m) -> str:
@@ -62,7 +60,7 @@ def regime_categories(ds, colours=PERIODIC_COLOURS):
     for c in ClassCode:
         if not c.periodic and (code == c).any():
             index[code == c] = len(cats)
-            cats.append((_TEXT.get(c.label, c.label), CLASS_COLOURS[CLASS_LABELS[c]] if colours is not None else None))
+            cats.append((c.label, CLASS_COLOURS[CLASS_LABELS[c]] if colours is not None else None))
     if (index < 0).any():
         index[index < 0] = len(cats)
         cats.append(MISSING)
