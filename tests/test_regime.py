@@ -263,3 +263,17 @@ def test_periodic_hammering_keeps_its_own_colour_when_rare(local):
     assert OTHER_PERIODIC in cats and len(cats) == len(PERIODIC_COLOURS) + 1
     _, every = regime_categories(ds, colours=None)
     assert len(every) == 11 and all(c is None for _, c in every)
+
+
+def test_the_map_summary_reads_label_colon_count(tmp_path, capsys):
+    """F24: the summary's counts are 'label: count' separated by '; ' (a label such as 'period-2, 2
+    impacts' holds a comma and a number of its own), and they add up to the cells."""
+    import re
+    argv = ["map", "--preset", "matlab-listing", "--from", "3", "--to", "5", "--n", "2", "--from2", "60", "--to2",
+            "90", "--n2", "2", "--transient", "20", "--record", "10", "--no-lyapunov", "--workers", "1", "--quiet",
+            "-o", str(tmp_path / "s.nc")]
+    assert main(argv) == 0
+    line = capsys.readouterr().out.splitlines()[0]
+    counts = line.split("): ", 1)[1].split("; ")
+    assert all(re.fullmatch(r"[a-z0-9 ,-]+: \d+", c) for c in counts), line
+    assert sum(int(c.rsplit(": ", 1)[1]) for c in counts) == 4

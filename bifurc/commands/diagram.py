@@ -43,7 +43,8 @@ def run(args) -> int:
     values = np.linspace(args.start, args.stop, args.n)
     ds = sweep(args.scene, args.param, values, mode=args.mode, transient=args.transient, record=args.record,
                max_record=args.max_record, max_period=args.max_period, lyapunov=not args.no_lyapunov, path=args.output,
-               max_transient=args.max_transient, batch_size=args.batch_size, budget=args.budget, time_budget=args.time_budget,
+               max_transient=args.max_transient, batch_size=args.batch_size, budget=args.budget,
+               time_budget=args.time_budget,
                progress=not args.quiet, workers=args.workers, scheduler=args.scheduler, overwrite=args.force,
                **kw)
     if args.plot:

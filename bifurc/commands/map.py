@@ -41,8 +41,8 @@ def run(args) -> int:
     ds = regime_map(args.scene, args.param, np.linspace(args.start, args.stop, args.n), args.param2,
                     np.linspace(args.start2, args.stop2, args.n2), transient=args.transient, record=args.record,
                     max_record=args.max_record, max_period=args.max_period, lyapunov=not args.no_lyapunov, path=args.output,
-                    batch_size=args.batch_size, progress=not args.quiet, workers=args.workers, budget=args.budget, time_budget=args.time_budget,
-                    scheduler=args.scheduler, overwrite=args.force, **kw)
+                    batch_size=args.batch_size, progress=not args.quiet, workers=args.workers, budget=args.budget,
+                    time_budget=args.time_budget, scheduler=args.scheduler, overwrite=args.force, **kw)
     if args.plot:
         from ..plots.map import plot_regime_map
         plot_regime_map(ds, args.plot, overwrite=args.force, period_of=args.period_of)
@@ -53,5 +53,8 @@ def run(args) -> int:
     print(f"{a['scene']}: {args.param} {args.start:g}..{args.stop:g} x {args.param2} {args.start2:g}..{args.stop2:g} "
           f"({args.n} x {args.n2} cells) in {a['values_seconds']:.1f} s of computation ({a['sweep_seconds']:.1f} s "
           f"wall this run{resumed}): {counts}")
+    from ..report import undecided_summary
+    for line in undecided_summary(ds):
+        print("  " + line)
     print(f"  wrote {args.output}" + (f" and {args.plot}" if args.plot else ""))
     return 0
