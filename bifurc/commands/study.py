@@ -53,7 +53,42 @@ def run_study(name, out, quick=False, progress=True, overwrite=False, hint="pass
     _check_cases(name, study, options.get("cases"))
     from ..storage.files import check_writable
     check_writable(out / "report.md")   # the folder takes files (read-only, missing rights: one line now)
-    return study.run(out, quick=quick, progress=progress, overwrite=overwrite, **options)
+    results = study.run(out, quick=quick, progress=progress, overwrite=overwrite, **options)
+    if hasattr(study, "findings") and not options.get("cases"):
+        from ..findings import table
+        main = out / report_name(study)
+        made_by = f"bifurc study {name}{' --quick' if quick else ''} -o DIR"
+        main.write_text(main.read_text().rstrip() + "\n\n" + table(study.findings(results, quick),
+                                                                    "quick" if quick else "full", made_by))
+    return results
+
+
+def report_name(study) -> str:
+    """The file name of a study's main report in its output folder (``REPORT``, default report.md)."""
+    return getattr(study, "REPORT", "report.md")
+
+
+def committed_report(study, quick: bool) -> Path:
+    """The report committed beside a study's module for a form: report.md (full), report-quick.md."""
+    return Path(study.__file__).parent / ("report-quick.md" if quick else "report.md")
+
+
+def check_study(name, out, quick=False, progress=True) -> list[str]:
+    """Re-run study ``name``'s form into ``out`` and compare its findings with those its committed
+    report states (:mod:`bifurc.findings`); returns the lines of the findings that do not hold."""
+    from maps.parameters import ParameterError
+    from ..findings import compare, parse
+    study = load_study(name)
+    form = "quick" if quick else "full"
+    ref = committed_report(study, quick)
+    if not hasattr(study, "findings"):
+        raise ParameterError(f"study {name} states no findings to check")
+    stated_form, stated = parse(ref.read_text()) if ref.is_file() else (None, {})
+    if not stated or stated_form != form:
+        raise ParameterError(f"{ref} states no {form}-form findings; run `bifurc study {name}"
+                             f"{' --quick' if quick else ''}` and commit its {report_name(study)} there")
+    results = run_study(name, out, quick=quick, progress=progress, overwrite=True)
+    return compare(stated, study.findings(results, quick))
 
 
 def case_names(study) -> list:
@@ -83,6 +118,9 @@ def register(subparsers):
     p.add_argument("--quick", action="store_true", help="reduced size")
     p.add_argument("-o", "--output", default="out/study", help="output folder")
     p.add_argument("--case", action="append", default=None, help="run only this case (repeatable)")
+    p.add_argument("--check", action="store_true",
+                   help="re-run the form (with --quick: the quick one) and check the findings its committed report "
+                        "(studies/NAME/report.md, report-quick.md) states; exit 1 when one does not hold")
     add_force_option(p)
     p.set_defaults(func=run)
     plain = p.format_help
@@ -93,6 +131,15 @@ def register(subparsers):
 
 
 def run(args) -> int:
+    if args.check:
+        import tempfile
+        with tempfile.TemporaryDirectory(prefix="bifurc-check-") as tmp:
+            bad = check_study(args.name, tmp, quick=args.quick)
+        if bad:
+            print(f"{len(bad)} stated finding(s) of {args.name} do not hold:\n  " + "\n  ".join(bad))
+            return 1
+        print(f"every stated finding of {args.name} ({'quick' if args.quick else 'full'} form) holds")
+        return 0
     options = {"cases": args.case} if args.case else {}
     run_study(args.name, args.output, quick=args.quick, overwrite=args.force, hint="use --force", **options)
     print(written(args.name, args.output))

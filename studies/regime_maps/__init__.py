@@ -147,3 +147,27 @@ def report(results, quick, seconds) -> str:
                       f"{a['values_seconds']:.0f} s of cell time ({a['sweep_seconds']:.0f} s wall, "
                       f"{a['workers']} worker processes).", ""]
     return "\n".join(lines)
+
+
+def findings(results, quick) -> list:
+    """What the report states, per map: the cells that hammer (mechanical period-1, 1 impact; +-1 cell),
+    those that are period-1 in the full state too (+-1), the chaotic and not-converged cells (+-2 and 5 %
+    of the map: chaotic labels near the threshold may move with round-off), the lowest hammering voltage
+    (+- one grid step; NaN: none)."""
+    from bifurc.codes import ClassCode
+    from bifurc.findings import Finding
+    out = []
+    for case, ds in results.items():
+        h = hammering(ds)
+        size = int(h.size)
+        volts = ds["V"].values
+        step = float(np.diff(volts).max()) if volts.size > 1 else 0.0
+        lowest = float(ds["V"].where(h).min()) if int(h.sum()) else math.nan
+        loose = 2 + 0.05 * size
+        out += [Finding(f"{case}: hammering cells (mechanical period-1, 1 impact)", int(h.sum()), 1, "cells"),
+                Finding(f"{case}: of them period-1 in the full state", int(hammering(ds, "full").sum()), 1, "cells"),
+                Finding(f"{case}: chaotic cells", int((ds.class_code == ClassCode.CHAOTIC).sum()), loose, "cells"),
+                Finding(f"{case}: not-converged cells", int((ds.class_code == ClassCode.NOT_CONVERGED).sum()), loose,
+                        "cells"),
+                Finding(f"{case}: lowest hammering voltage", lowest, step, "V")]
+    return out

@@ -138,3 +138,26 @@ def comparison(results, quick) -> str:
                   f"relative, contact times {ds.attrs.get('error_impact_time_s', math.nan):.2g} s; sweep "
                   f"{ds.attrs.get('sweep_seconds', math.nan):.0f} s.", ""]
     return "\n".join(lines)
+
+
+#: the report whose findings `bifurc study thesis-1dof-relay --check` compares
+REPORT = "comparison.md"
+
+
+def findings(results, quick) -> list:
+    """What the comparison states, per case: the class at each integer relay frequency in the mechanical
+    convention (text, exact) and how many agree with the thesis' numerical period (exact)."""
+    from bifurc.findings import Finding
+    from bifurc.report import class_at
+    from bifurc.storage.load import in_convention
+    out = []
+    for case, ds in results.items():
+        dm = in_convention(ds, "mechanical")
+        agree = 0
+        for w in AT:
+            c = class_at(dm, w)
+            agree += c["label"] == "periodic" and c["period"] == THESIS_NUMERICAL[w]
+            out.append(Finding(f"{case}: class at {w} Hz (mechanical period)", c["text"]))
+        out.append(Finding(f"{case}: integer frequencies agreeing with the thesis' numerical period", agree, 0,
+                           "of 9"))
+    return out
