@@ -83,6 +83,9 @@ def register(subparsers):
     p.add_argument("--quick", action="store_true", help="reduced size")
     p.add_argument("-o", "--output", default="out/study", help="output folder")
     p.add_argument("--case", action="append", default=None, help="run only this case (repeatable)")
+    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help="Dask scheduler address (studies that take it: sensitivity)")
+    p.add_argument("--workers", type=int, default=None, help="local worker processes (studies that take it)")
     add_force_option(p)
     p.set_defaults(func=run)
     plain = p.format_help
@@ -94,6 +97,10 @@ def register(subparsers):
 
 def run(args) -> int:
     options = {"cases": args.case} if args.case else {}
+    if args.scheduler is not None:
+        options["scheduler"] = args.scheduler
+    if args.workers is not None:
+        options["workers"] = args.workers
     run_study(args.name, args.output, quick=args.quick, overwrite=args.force, hint="use --force", **options)
     print(written(args.name, args.output))
     return 0
