@@ -76,6 +76,12 @@ class BifurcAccessor:
                                  f"{', '.join(KINDS)} datasets")
         return Markdown(report(self._ds, kind, **({"at": at} if kind == "diagram" else {})))
 
+    def spectrum(self, var: str = "x", t_from=None, n_peaks: int = 5):
+        """Amplitude spectrum of a time history's ``var`` with its largest peaks listed
+        (:func:`bifurc.spectrum.spectrum`)."""
+        from .spectrum import spectrum
+        return spectrum(self._ds, var, t_from, n_peaks)
+
     def class_at(self, value, branch=None) -> dict:
         """Class of the grid value nearest to ``value`` (see :func:`bifurc.class_at`)."""
         from .report import class_at

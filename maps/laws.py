@@ -3,7 +3,7 @@
 A light module (no heyoka, no numpy) so that the command line lists the choices without
 loading the integrator; :mod:`maps.model` implements the laws named here.
 """
-__all__ = ["DC_LAWS", "SOIL_LAWS", "COMPACTION"]
+__all__ = ["DC_LAWS", "SOIL_LAWS", "COMPACTION", "ELEMENTS"]
 
 #: the form of the compaction option (a resistance growing with depth; docs/model.md)
 COMPACTION = ("resistance R(depth) = R0 (1 + depth / soil_depth_scale), R0 = soil_friction (coulomb) or "
@@ -19,7 +19,8 @@ SOIL_LAWS = {
              "position d is a state; modes no contact / elastic / progression",
 }
 
-#: the three DC-force laws found in the thesis (docs/model.md section 1): name -> provenance
+#: the DC-force laws (docs/model.md section 1): the three found in the thesis, and "catalogue" (a
+#: saturating law anchored on Table 4.1 and the solenoid's catalogue): name -> provenance
 DC_LAWS = {
     "listing": "listing C.9 as printed: F_dc = -a3 xa^3 + a2 xa^2 - a1 xa + m g (the cubic the thesis' "
                "simulations ran; it flips only the cubic term of eq 4.6)",
@@ -28,4 +29,19 @@ DC_LAWS = {
     "measured": "Table 4.1 only: monotone piecewise cubic (PCHIP, Fritsch-Carlson) through the 20 V table, "
                 "odd in xa, zero for |xa| > 0.029 m (section 4.2: no effect beyond the measured range); "
                 "no weight offset",
+    "catalogue": "saturating: F_dc = -F_dc_sat/2 [tanh((xa - u_dc)/(2 s_dc)) + tanh((xa + u_dc)/(2 s_dc))], "
+                 "odd in xa, plateau F_dc_sat = the catalogue's 750 g at 24 V DC (Table 3.1) times (20/24)^2; "
+                 "u_dc, s_dc least squares on Table 4.1 (maps/data/fit_dc_catalogue.py, output "
+                 "maps/data/dc_catalogue_fit.json); no weight offset",
+}
+
+#: optional physical elements (docs/model.md section 1b), off by default (today's model); setting
+#: the parameter named here switches the element on: option -> (parameter, what it adds)
+ELEMENTS = {
+    "air_damping": ("c_air", "free-flight damping: F = -c_air (dr/dt) on the bar (2-DOF: bar against the rig's "
+                             "tube, reaction on the rig)"),
+    "rear_stop": ("e_rear", "the prototype's rear stop (housing): a Kelvin-Voigt contact with the stop's k, c "
+                            "for r > e_rear"),
+    "dc_delay": ("tau_dc", "the DC coil's switching delay (antiphase relay): normalised current j_dc, "
+                           "dj_dc/dt = (gate - j_dc)/tau_dc, tau_dc = L/R; the DC force scales with j_dc^2"),
 }

@@ -55,6 +55,12 @@ PARAMETERS = {p.name: p for p in [
     Parameter("P_max", "N", "drift soil: threshold force of the plastic slider", 0, 1e7),
     Parameter("soil_depth_scale", "m", "compaction: depth over which the soil's resistance grows by its "
                                        "surface value", 0, 1e6, low_open=True),
+    Parameter("F_dc_sat", "N", "catalogue DC law: plateau pull at 20 V DC", 0, 1e3, low_open=True),
+    Parameter("u_dc", "m", "catalogue DC law: |xa| of the pull's steep rise", 0, 0.5, low_open=True),
+    Parameter("s_dc", "m", "catalogue DC law: width of the pull's rise", 0, 0.5, low_open=True),
+    Parameter("c_air", "N s m-1", "free-flight damping of the bar (air and guide friction)", 0, 1e4),
+    Parameter("e_rear", "m", "rear stop (housing): bar position r where it begins", 0, 0.5, low_open=True),
+    Parameter("tau_dc", "s", "DC coil time constant L/R (switching delay)", 0, 10, low_open=True),
 ]}
 
 #: the bar is "escaped" beyond d_dc + ESCAPE_MARGIN above the stop, or deeper
@@ -87,6 +93,9 @@ class ModelOptions:
                                  # (Table 4.1 only, zero beyond 29 mm); see DC_LAWS
     soil: str = "viscous"        # 2-DOF: "viscous", "coulomb" or "drift" (SOIL_LAWS)
     compaction: bool = False     # coulomb and drift: the resistance grows with depth (COMPACTION)
+    air_damping: bool = False    # free-flight damping -c_air dr/dt (ELEMENTS; c_air = 0: the same motion)
+    rear_stop: bool = False      # rear stop (housing) at r = e_rear, contact law of the stop (ELEMENTS)
+    dc_delay: bool = False       # antiphase relay: DC coil current with time constant tau_dc (ELEMENTS)
     energy: bool = False         # add quadrature states for the energy audit (1-DOF: source,
                                  # resistance, stop damping; 2-DOF drift soil: the soil's damper and slider)
     stick_speed: float = 1e-4    # [m/s] a contact onset slower than this while the net
@@ -107,14 +116,21 @@ class ModelOptions:
             if getattr(self, name) not in values:
                 raise ParameterError(f"option {name!r} = {getattr(self, name)!r}; "
                                      f"allowed: {', '.join(map(str, values))}")
-        for name in ("dc", "ac", "stop", "energy", "compaction"):
+        for name in ("dc", "ac", "stop", "energy", "compaction", "air_damping", "rear_stop", "dc_delay"):
             if not isinstance(getattr(self, name), bool):
                 raise ParameterError(f"option {name!r} = {getattr(self, name)!r}; allowed: True, False")
         from .parameters import validate_value
         validate_value("stick_speed", self.stick_speed, 0.0, 1.0, unit="m s-1")
         validate_value("unstick_force", self.unstick_force, 0.0, 1e3, unit="N")
+        if self.energy and (self.air_damping or self.rear_stop):
+            raise ParameterError("option 'energy' does not audit air damping or the rear stop: switch them off")
         if self.compaction and not (self.dof == 2 and self.soil in ("coulomb", "drift")):
             raise ParameterError("option 'compaction' needs dof=2 and soil 'coulomb' or 'drift'")
+        if self.rear_stop and not self.stop:
+            raise ParameterError("option 'rear_stop' needs the stop (stop=True): it shares the stop's k and c")
+        if self.dc_delay and not (self.dc and self.relay == "antiphase"):
+            raise ParameterError("option 'dc_delay' needs the DC solenoid switched by the antiphase relay "
+                                 "(scene prototype)")
         if self.relay != "none" and not self.ac:
             raise ParameterError("option 'relay' needs the AC solenoid (ac=True)")
         if self.energy and not (self.dof == 2 and self.soil == "drift") and (
@@ -129,8 +145,13 @@ class ModelOptions:
             names += ["soil_depth_scale"]
         if self.stop:
             names += ["k", "c", "e"]
+        if self.rear_stop:
+            names += ["e_rear"]
+        if self.air_damping:
+            names += ["c_air"]
         if self.dc:
-            names += (["a1", "a2", "a3"] if self.dc_law != "measured" else []) + ["d_dc", "dc_scale"]
+            law = {"measured": [], "catalogue": ["F_dc_sat", "u_dc", "s_dc"]}.get(self.dc_law, ["a1", "a2", "a3"])
+            names += law + ["d_dc", "dc_scale"] + (["tau_dc"] if self.dc_delay else [])
         if self.ac:
             names += ["R", "C", "V", "f_mains", "d_ac", "L0", "A", "B"]
         if self.relay != "none":
@@ -149,6 +170,8 @@ class ModelOptions:
                 st += [State("i", "A", "AC solenoid current"), State("z", "A s-1", "current rate di/dt")]
             else:
                 st += [State("q", "C", "capacitor charge"), State("i", "A", "AC solenoid current")]
+        if self.dc_delay:
+            st += [State("j_dc", "1", "DC coil current over its steady value (switching delay)")]
         if self.drift:
             st += [State("d", "m", "soil slider position (the soil front; drift law)")]
         if self.energy and self.dof == 1:
@@ -311,6 +334,13 @@ def _forces(o: ModelOptions, s):
             # U = dc_u0 - integral of F from dc_lo: continuous across every knot and the edge
             U = (s.dc_u0 - (((sl * s.dc_c3 * 0.25 + s.dc_c2 / 3.0) * sl + s.dc_c1 * 0.5) * sl + s.dc_c0) * sl) \
                 * s.dc_scale
+        elif o.dc_law == "catalogue":
+            # -F_dc_sat/2 [tanh(a) + tanh(b)], a, b = (xa -+ u_dc)/(2 s_dc); U = F_dc_sat s_dc [ln cosh a
+            # + ln cosh b] (dU/dxa = -F), offset so that U(0) = 0 (energy output only)
+            a, b = (xa - s.u_dc) / s.s_dc * 0.5, (xa + s.u_dc) / s.s_dc * 0.5
+            cubic = (hy.tanh(a) + hy.tanh(b)) * s.F_dc_sat * (-0.5) * s.dc_scale
+            U0 = hy.log(hy.cosh(s.u_dc / s.s_dc * 0.5)) * 2.0
+            U = (hy.log(hy.cosh(a)) + hy.log(hy.cosh(b)) - U0) * s.F_dc_sat * s.s_dc * s.dc_scale
         elif o.dc_law == "fit":
             xa2 = xa**2
             # dc_scale * (-a3 xa^3 - a2 xa^2 + a1 xa)  (eq 4.7 without its weight offset)
@@ -321,8 +351,11 @@ def _forces(o: ModelOptions, s):
             # dc_scale * (-a3 xa^3 + a2 xa^2 - a1 xa)  (listing C.9 without its weight offset)
             cubic = (xa * s.a2 - xa2 * s.a3 - s.a1) * xa * s.dc_scale
             U = (xa2 * s.a3 * 0.25 - xa * s.a2 / 3.0 + s.a1 * 0.5) * xa2 * s.dc_scale
-        f["F_dc"] = cubic - cubic * P if o.relay == "antiphase" else cubic       # gate (1 - P)
-        f["U_dc"] = U - U * P if o.relay == "antiphase" else U
+        if o.dc_delay:          # the coil's current j_dc lags the gate (1 - P); force ~ current^2
+            f["F_dc"], f["U_dc"] = cubic * s.j_dc**2, U * s.j_dc**2
+        else:
+            f["F_dc"] = cubic - cubic * P if o.relay == "antiphase" else cubic       # gate (1 - P)
+            f["U_dc"] = U - U * P if o.relay == "antiphase" else U
     else:
         f["F_dc"] = zero
     if o.ac:
@@ -343,13 +376,20 @@ def _forces(o: ModelOptions, s):
         f["F_c"] = -((r - s.e) * s.k + rdot * s.c) * s.contact
     else:
         f["F_c"] = zero
+    f["F_air"] = -rdot * s.c_air if o.air_damping else zero        # free-flight damping (ELEMENTS)
+    if o.rear_stop:         # the housing: the stop's contact law beyond r = e_rear (flag "rear")
+        f["F_rear"] = -((r - s.e_rear) * s.k + rdot * s.c) * s.rear
     f["F_bar"] = f["F_dc"] + f["F_ac"] + f["F_c"]  # magnetic + contact force on the bar
+    if o.air_damping:
+        f["F_bar"] = f["F_bar"] + f["F_air"]
+    if o.rear_stop:
+        f["F_bar"] = f["F_bar"] + f["F_rear"]
     if o.dof == 2:
         # stuck_bar = 1: the bar rides the stop, bar and rig move as one body of mass m1 + m2
         # under the static force and the soil; stuck_bar = 0 gives the free equations exactly.
         sb = s.stuck_bar if o.stop else 0.0
         free, mass = 1.0 - sb, s.m2 + sb * s.m1
-        F_mag = f["F_dc"] + f["F_ac"]
+        F_mag = f["F_dc"] + f["F_ac"] + f["F_air"] if o.air_damping else f["F_dc"] + f["F_ac"]
         N_rig_free = -free * F_mag - s.F_static  # without the contact force
         f["N_rig"] = -free * f["F_bar"] - s.F_static  # net force on the rig (bar+rig if stuck) before the soil
         if o.soil != "viscous":     # the resistance (COMPACTION: growing with depth)
@@ -378,11 +418,15 @@ def _forces(o: ModelOptions, s):
     else:
         # listing C.9 and eq 4.7: F_dc carries +m g, which cancels the weight; the measured law
         # (Table 4.1) has no weight offset: the weight acts as it is
-        cancels = o.dc and o.dc_law != "measured"
+        cancels = o.dc and o.dc_law not in ("measured", "catalogue")
         if cancels:
             f["N_bar"] = f["F_dc"] + f["F_ac"]                   # net force without the stop
         else:
             f["N_bar"] = (f["F_dc"] + f["F_ac"] if o.dc else f["F_ac"]) - s.m * s.g
+        if o.air_damping:
+            f["N_bar"] = f["N_bar"] + f["F_air"]
+        if o.rear_stop:
+            f["N_bar"] = f["N_bar"] + f["F_rear"]
         acc = (f["N_bar"] + f["F_c"]) / s.m
         f["a1"] = acc - acc * s.stuck_bar if o.stop else acc        # (1 - stuck_bar) * acc
         f["rddot"] = f["a1"]
@@ -402,6 +446,8 @@ def _rhs(o: ModelOptions, s):
                           - ((ddL * rdot**2 + dL * f["rddot"]) * i + i / s.C)) / L]
         else:  # d(L i)/dt + R i + q/C = u
             out += [i, (f["u"] - i * s.R - s.q / s.C - dL * rdot * i) / L]
+    if o.dc_delay:
+        out += [(1.0 - s.P - s.j_dc) / s.tau_dc]      # dj/dt = (gate - j)/tau, gate 1 - P (DC on, AC off)
     if o.drift:
         out += [f["d_rate"]]
     if o.energy and o.drift:
@@ -449,6 +495,10 @@ def _guards(o: ModelOptions, s, owner: dict):
     else:
         centre = -s.d_ac if o.ac else 0.0
         gs += [Guard("escape", (r - centre) ** 2 - (0.2) ** 2, +1, then={"escaped": 1}, role="escape")]
+    if o.rear_stop:     # the housing (role "other": not the impacts of the stop)
+        rear = r - s.e_rear
+        gs += [Guard("rear_contact", rear, +1, when={"rear": 0}, then={"rear": 1}, role="other"),
+               Guard("rear_release", rear, -1, when={"rear": 1}, then={"rear": 0}, role="other")]
     if o.dc and o.dc_law == "measured":
         # region changes of the measured DC law: two surfaces whose bounds are flags (each
         # heyoka event costs ~5 % of a step), one guard per region on each; xa in metres
@@ -545,7 +595,7 @@ def _outputs(o: ModelOptions, s):
         E = 0.5 * s.m * s.v**2 + 0.5 * s.contact * s.k * (s.x - s.e) ** 2 if o.stop else 0.5 * s.m * s.v**2
         if o.dc:
             E = E + f["U_dc"]
-        if not o.dc or o.dc_law == "measured":   # the weight's potential (cancelled by the cubics' + m g)
+        if not o.dc or o.dc_law in ("measured", "catalogue"):   # the weight's potential (cancelled by the cubics' + m g)
             E = E + s.m * s.g * s.x
         if o.ac:
             E = E + 0.5 * f["L"] * s.i**2 + 0.5 * s.q**2 / s.C
@@ -716,6 +766,9 @@ def start_flags(system: HybridSystem, o: ModelOptions, y, params, flags, given=(
     y = np.asarray(y, dtype=float)
     out = dc_region_flags(o, y, params)
     out.update(soil_flags(o, y, params))
+    if o.rear_stop:     # in the housing's contact where the bar starts beyond e_rear
+        r = y[0] if o.dof == 1 else y[0] - y[2]
+        out["rear"] = 1.0 if r > params["e_rear"] else 0.0
     if o.stop and "stuck_bar" not in given and flags.get("contact") != 1.0:
         gap, rate = system.gap(y, params)
         if gap < 0 or (gap == 0 and rate < 0):
@@ -741,6 +794,8 @@ def build_system(options: ModelOptions | None = None, **kw) -> HybridSystem:
     if o.stop:
         flags["stuck_bar"] = 0.0
     flags["escaped"] = 0.0
+    if o.rear_stop:
+        flags["rear"] = 0.0
     if o.dof == 2 and o.soil == "coulomb":
         flags.update(stuck=0.0, slip_dir=1.0)
     if o.drift:     # drift soil: elastic contact / progression (both 0: clear of the soil front)
@@ -774,7 +829,7 @@ def build_system(options: ModelOptions | None = None, **kw) -> HybridSystem:
         halt_flags=("escaped",), gap=_gap(o), settle=settle,
         mode_rule=lambda y, params, flags, given=(): start_flags(owner["system"], o, y, params, flags, given),
         translation=translation, forcing=("f_mains",) if o.ac else None, options=o,
-        mechanical=[st.name for st in o.state_list() if st.name not in ("i", "z", "q")], **stick_decl)
+        mechanical=[st.name for st in o.state_list() if st.name not in ("i", "z", "q", "j_dc")], **stick_decl)
     owner["system"] = system
     _SYSTEMS[o.key()] = system
     return system

@@ -29,10 +29,29 @@ COMMON = {
                    "c_s / (2 sqrt(k_s m2)) = 0.19 for the rig on the element"),
     "P_max": (60.0, "ASSUMPTION (the thesis gives none): slider threshold 60 N, about twice F_static = 31.1 N, "
                     "so that the static force alone holds the rig and only the impacts make it progress"),
+    "c_air": (0.0, "free-flight damping: 0 = the thesis' model (no damping in flight); docs/model.md section 1b "
+                   "estimates 0.01-0.5 N s/m for a steel bar in a guide tube (air drag, bearing friction)"),
+    "e_rear": (0.0625 + 0.05, "ASSUMPTION (the housing's drawings, thesis Figs F.1-F.3, are not in the text): the "
+                              "rear stop 50 mm beyond the DC solenoid's centre; documented range 0.0875-0.1625 m "
+                              "(the coil's far face to the escape bound d_dc + 0.1 m)"),
+    "tau_dc": (1.0 / 48.0, "DC coil L/R: R = (24 V)^2 / 12 W = 48 ohm (catalogue, Table 3.1), L = 1.0 H (Table 4.2: "
+                           "0.55-1.46 H for the same solenoid model); documented range 0.011-0.030 s"),
     "soil_depth_scale": (0.9 / (4.3 / 0.65 - 1), "compaction (coulomb, drift): FITTED to the two numbers of thesis "
                          "Fig 5.22 (4.3 mm/s at the surface falling to 0.65 mm/s at 0.9 m) assuming the progression "
                          "rate inversely proportional to the resistance (an assumption): 1 + 0.9 m / L = 4.3 / 0.65"),
 }
+
+def _catalogue_fit() -> dict:
+    """The catalogue law's coefficients as fitted by maps/data/fit_dc_catalogue.py (its committed output)."""
+    import json
+    from importlib import resources
+    fit = json.loads(resources.files("maps").joinpath("data", "dc_catalogue_fit.json").read_text())
+    src = (f"dc_law catalogue: maps/data/dc_catalogue_fit.json ({fit['produced_by']}, commit {fit['commit']}, "
+           f"{fit['date']}): ")
+    return {"F_dc_sat": (fit["F_dc_sat"], src + fit["anchors"]["F_dc_sat"]),
+            "u_dc": (fit["u_dc"], src + fit["anchors"]["u_dc, s_dc"]),
+            "s_dc": (fit["s_dc"], src + fit["anchors"]["u_dc, s_dc"])}
+
 
 #: the DC-force cubic's coefficients of each law (``dc_law``; "measured" has none): name -> (value, provenance)
 DC_LAW_COEFFICIENTS = {
@@ -47,6 +66,7 @@ DC_LAW_COEFFICIENTS = {
         "a3": (1.473e5, "dc_law fit: eq 4.7 as printed (-1.473e5 x_a^3; eq 4.6: the least-squares odd cubic of Table 4.1)"),
     },
     "measured": {},
+    "catalogue": _catalogue_fit(),
 }
 
 #: each preset's DC-force law (docs/model.md sections 1 and 4), with the reason

@@ -175,7 +175,7 @@ def problem(scene, preset: str | None = None, params: Mapping | None = None, x0:
             raise ParameterError(f"option 'soil' = {opts['soil']!r} needs a 2-DOF scene (bar and rig); scene "
                                  f"{sc.name!r} has no soil (soil laws: {', '.join(SOIL_LAWS)})")
         sc = sc.with_options(**opts)
-    sc = sc.for_preset(preset)
+    sc = sc.for_preset(preset).with_elements(params or {})   # c_air, e_rear, tau_dc switch their element on
     table = sc.parameters_with_provenance(preset, **dict(params or {}))
     if carried is not None:   # keep the provenance the values came with where they are unchanged
         table = {k: (v, carried.provenance.get(k, src) if k in carried and carried[k] == v else src)

@@ -101,10 +101,20 @@ class Scene:
                                  f"{', '.join(f.name for f in fields(self.options))}")
         return replace(self, options=replace(self.options, **kw), chosen=self.chosen | frozenset(kw))
 
+    def with_elements(self, names) -> "Scene":
+        """This scene with the optional elements (:data:`maps.laws.ELEMENTS`) whose parameter is
+        among ``names`` switched on: setting ``c_air``, ``e_rear`` or ``tau_dc`` adds its element."""
+        from .laws import ELEMENTS
+        if self.options is None:
+            return self
+        on = {opt: True for opt, (par, _) in ELEMENTS.items() if par in names and not getattr(self.options, opt)}
+        return self.with_options(**on) if on else self
+
     def parameters(self, preset: str | None = None, **overrides) -> ParameterValues:
         """Validated values of this scene's parameters: preset, scene defaults, then overrides;
-        they carry the scene under that preset (its DC-force law, :meth:`for_preset`)."""
-        sc = self.for_preset(preset)
+        they carry the scene under that preset (its DC-force law, :meth:`for_preset`).  Setting the
+        parameter of an optional element (``c_air``, ``e_rear``, ``tau_dc``) switches it on."""
+        sc = self.for_preset(preset).with_elements(overrides)
         table = sc.parameters_with_provenance(preset, **overrides)
         return ParameterValues({k: v for k, (v, _) in table.items()}, sc, preset,
                                {k: src for k, (_, src) in table.items()})

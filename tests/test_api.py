@@ -210,7 +210,10 @@ def test_python_m_bifurc_and_version():
 
 def test_params_lists_every_parameter_with_value_unit_range_and_provenance(capsys):
     assert main(["params", "--scene", "thesis-2dof", "--preset", "dynamics-listing", "--set", "V=90"]) == 0
-    lines = capsys.readouterr().out.strip().splitlines()
+    out = capsys.readouterr().out
+    main_table, _, optional = out.partition("\noptional elements, off (today's model):")
+    assert "c_air" in optional and "e_rear" in optional and "tau_dc" not in optional   # no antiphase relay
+    lines = main_table.strip().splitlines()
     sc = maps.get_scene("thesis-2dof")
     table = sc.parameters_with_provenance("dynamics-listing", V=90)
     assert len(lines) == 1 + len(table)

@@ -35,9 +35,12 @@ def add_scene_options(parser: argparse.ArgumentParser, default_scene: str = "the
     g.add_argument("--ac-sign", choices=("physical", "listing"), default=None,
                    help="AC force sign: physical (default) or as in listing C.2")
     g.add_argument("--dc-law", choices=tuple(DC_LAWS), default=None,
-                   help="DC-force law: listing (listing C.9), fit (eqs 4.6-4.7) or measured (Table 4.1 "
-                        "only, zero beyond 29 mm); default: the preset's (matlab-listing: listing, "
-                        "thesis-text: fit)")
+                   help="DC-force law: listing (listing C.9), fit (eqs 4.6-4.7), measured (Table 4.1 "
+                        "only, zero beyond 29 mm) or catalogue (saturating: Table 4.1 and the catalogue's 7.4 N "
+                        "at 24 V, about 5.1 N at the stop at 20 V); default: the preset's (matlab-listing: "
+                        "listing, thesis-text: fit). Optional elements switch on when their parameter is set: "
+                        "--set c_air=... (free-flight damping), e_rear=... (prototype rear stop), tau_dc=... "
+                        "(DC coil L/R delay, antiphase relay); see bifurc params")
     g.add_argument("--soil", choices=tuple(SOIL_LAWS), default=None,
                    help="2-DOF soil law: viscous (listings C.4-C.6), coulomb (dry friction with sticking) or "
                         "drift (visco-elastic element and plastic slider, Pavlovskaia et al. 2001); "

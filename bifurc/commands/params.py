@@ -1,4 +1,6 @@
 """`bifurc params`: every parameter of a scene with its value, unit, allowed range and provenance."""
+from maps.laws import DC_LAWS
+
 from ._common import add_parameter_options, parse_sets
 
 
@@ -9,15 +11,17 @@ def register(subparsers):
     g = add_parameter_options(p)
     g.add_argument("--soil", choices=("viscous", "coulomb", "drift"), default=None,
                    help="2-DOF soil law (default: the scene's); drift adds k_s, c_s and P_max")
+    g.add_argument("--dc-law", choices=tuple(DC_LAWS), default=None,
+                   help="DC-force law (default: the preset's); catalogue adds F_dc_sat, u_dc and s_dc")
     g.add_argument("--compaction", action="store_true", default=None,
                    help="coulomb and drift soils: the resistance grows with depth (adds soil_depth_scale)")
     p.set_defaults(func=run)
 
 
-def rows(scene, preset=None, params=None, soil=None, compaction=None) -> list[tuple]:
+def rows(scene, preset=None, params=None, soil=None, compaction=None, dc_law=None) -> list[tuple]:
     """(name, value, unit, allowed range, long name, provenance) for each parameter of ``scene``."""
     from maps.simulate import resolve
-    sc, table = resolve(scene, params, preset, soil=soil, compaction=compaction)
+    sc, table = resolve(scene, params, preset, soil=soil, compaction=compaction, dc_law=dc_law)
     system = sc.system
     out = []
     for name, (value, source) in table.items():
@@ -26,10 +30,37 @@ def rows(scene, preset=None, params=None, soil=None, compaction=None) -> list[tu
     return out
 
 
+def optional_rows(scene, preset=None, params=None, soil=None, compaction=None, dc_law=None) -> list[tuple]:
+    """(name, value if set, unit, allowed range, long name, what it adds) for the optional elements
+    (maps.laws.ELEMENTS) the scene can take and does not use: ``--set NAME=VALUE`` switches one on."""
+    from maps.laws import ELEMENTS
+    from maps.model import PARAMETERS
+    from maps.presets import COMMON
+    from maps.problem import problem
+    pb = problem(scene, preset, params, soil=soil, compaction=compaction, dc_law=dc_law)
+    o = pb.scene.options
+    if o is None:
+        return []
+    usable = {"air_damping": True, "rear_stop": o.stop, "dc_delay": o.dc and o.relay == "antiphase"}
+    out = []
+    for opt, (name, what) in ELEMENTS.items():
+        if usable[opt] and not getattr(o, opt):
+            p = PARAMETERS[name]
+            out.append((name, f"{COMMON[name][0]:g}", p.unit, p.range_text(), p.long_name,
+                        f"OFF (--set {name}=VALUE switches it on): {what}; default value: {COMMON[name][1]}"))
+    return out
+
+
 def run(args) -> int:
-    table = rows(args.scene, args.preset, parse_sets(args.sets), args.soil, args.compaction)
+    sets = parse_sets(args.sets)
+    table = rows(args.scene, args.preset, sets, args.soil, args.compaction, args.dc_law)
+    extra = optional_rows(args.scene, args.preset, sets, args.soil, args.compaction, args.dc_law)
     head = ("name", "value", "unit", "allowed range", "meaning", "provenance")
-    widths = [max(len(r[j]) for r in table + [head]) for j in range(len(head) - 1)]
+    widths = [max(len(r[j]) for r in table + extra + [head]) for j in range(len(head) - 1)]
     for r in [head] + table:
         print("  ".join(f"{c:<{w}}" for c, w in zip(r, widths)) + "  " + r[-1])
+    if extra:
+        print("\noptional elements, off (today's model):")
+        for r in extra:
+            print("  ".join(f"{c:<{w}}" for c, w in zip(r, widths)) + "  " + r[-1])
     return 0

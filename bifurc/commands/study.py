@@ -121,6 +121,9 @@ def register(subparsers):
     p.add_argument("--check", action="store_true",
                    help="re-run the form (with --quick: the quick one) and check the findings its committed report "
                         "(studies/NAME/report.md, report-quick.md) states; exit 1 when one does not hold")
+    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help="Dask scheduler address (studies that take it: sensitivity)")
+    p.add_argument("--workers", type=int, default=None, help="local worker processes (studies that take it)")
     add_force_option(p)
     p.set_defaults(func=run)
     plain = p.format_help
@@ -141,6 +144,10 @@ def run(args) -> int:
         print(f"every stated finding of {args.name} ({'quick' if args.quick else 'full'} form) holds")
         return 0
     options = {"cases": args.case} if args.case else {}
+    if args.scheduler is not None:
+        options["scheduler"] = args.scheduler
+    if args.workers is not None:
+        options["workers"] = args.workers
     run_study(args.name, args.output, quick=args.quick, overwrite=args.force, hint="use --force", **options)
     print(written(args.name, args.output))
     return 0

@@ -1,0 +1,242 @@
+"""Sensitivity of the thesis model's hammering to its unknowns: one-at-a-time (tornado) and Sobol indices.
+
+Base model: thesis-1dof with listing C.1's numbers (preset matlab-listing) under the `catalogue` DC law
+(docs/model.md section 1: a pull credible at the stop), every cell from the scene's start.  Each sample
+(one value of every input inside its documented range) gives four scalars:
+
+- `share_p1`: the share of a (relay 2-10 Hz x V 25-90 V) grid whose mechanical states are period-1 with
+  one impact per relay period (`period_mechanical` = 1, `impacts_per_period_mechanical` = 1, periodic);
+- `energy_mJ`, `stroke_mm`: mean impact energy (m v^2 / 2 at the impact) and bar stroke (x range over the
+  last relay period) on those cells (NaN where none);
+- `rate_mm_s`: the 2-DOF prototype's progression rate (drift soil, 6 Hz, 90 V read as `v_factor` x 90 V,
+  dc_scale 1.44) over the second half of its run.
+
+Method: SALib's Saltelli sampling and Sobol estimator (first-order S1 and total ST with 95 % confidence
+intervals; N base samples, N (D + 2) runs), and one-at-a-time runs (each input at its low and high end,
+the others at mid-range).  Nothing is tuned to agree with the thesis.
+"""
+from __future__ import annotations
+
+import json
+import math
+import time as _time
+from pathlib import Path
+
+import numpy as np
+
+NAME = "sensitivity"
+SCENE, PRESET, LAW = "thesis-1dof", "matlab-listing", "catalogue"
+RELAY, VOLTS = (2.0, 10.0), (25.0, 90.0)
+#: input -> (low, high, unit, documented range's source)
+INPUTS = {
+    "F_dc_sat": (3.6, 7.4, "N", "catalogue law's plateau: from Table 4.1's last point (3.6 N at 29 mm: the pull "
+                                "cannot be lower at the stop) to the catalogue's 7.4 N at 24 V"),
+    "c_air": (0.0, 0.5, "N s m-1", "free-flight damping: none (the thesis' model) to 0.5 (docs/model.md 1b)"),
+    "v_factor": (1.0, math.sqrt(2.0), "1", "AC amplitude convention: the volts read as amplitude (1) or RMS (sqrt 2)"),
+    "dc_scale": (0.5625, 1.44, "1", "DC supply 15-24 V under the (V/20)^2 rule (sections 4.2-4.3, 5.2)"),
+    "R": (25.0, 30.0, "ohm", "listing C.1 (25) to sections 4.5-4.6 (30)"),
+    "C": (2.8e-4, 3.0e-4, "F", "listing C.1 (2.8e-4) to sections 4.5-4.6 (3e-4)"),
+    "k": (1e5, 1e6, "N m-1", "listing C.1 (1e5) to C.14 (1e6)"),
+    "c": (10.0, 500.0, "N s m-1", "listing C.1 (10) to C.14 (500)"),
+    "P_max": (40.0, 120.0, "N", "2-DOF drift soil threshold (an assumption; README: 55-130 N put the rate in range)"),
+}
+QUICK = dict(inputs=("F_dc_sat", "c_air", "v_factor"), N=4, n=3, transient=40, record=20, periods_2dof=30)
+FULL = dict(inputs=tuple(INPUTS), N=256, n=9, transient=200, record=60, periods_2dof=120)
+OUTPUTS = {"share_p1": "share of cells P1-1 (mechanical)", "energy_mJ": "mean impact energy on them [mJ]",
+           "stroke_mm": "mean stroke on them [mm]", "rate_mm_s": "2-DOF progression rate [mm/s]"}
+
+
+def problem_spec(size):
+    names = list(size["inputs"])
+    return {"num_vars": len(names), "names": names, "bounds": [list(INPUTS[k][:2]) for k in names]}
+
+
+def design(size) -> tuple[np.ndarray, int]:
+    """(samples, n_oat): the one-at-a-time rows (mid, then each input low and high), then Saltelli's."""
+    from SALib.sample import sobol as sobol_sample
+    spec = problem_spec(size)
+    lo, hi = np.array(spec["bounds"]).T
+    mid = (lo + hi) / 2
+    oat = [mid]
+    for j in range(len(mid)):
+        for end in (lo[j], hi[j]):
+            row = mid.copy()
+            row[j] = end
+            oat.append(row)
+    sob = sobol_sample.sample(spec, size["N"], calc_second_order=False, seed=1)
+    return np.vstack([np.array(oat), sob]), len(oat)
+
+
+class SampleJob:
+    """job(i): the four outputs of sample row i (picklable, for bifurc's executor)."""
+
+    batch_size = 1
+
+    def __init__(self, rows, names, size):
+        self.rows, self.names, self.size = np.asarray(rows), list(names), dict(size)
+
+    def __call__(self, i):
+        return evaluate(dict(zip(self.names, map(float, self.rows[int(i)]))), self.size)
+
+
+def _values(sample: dict, keys) -> dict:
+    return {k: sample[k] for k in keys if k in sample}
+
+
+def evaluate(sample: dict, size: dict) -> dict:
+    """The four outputs of one sample (inputs not in ``sample`` take the model's defaults)."""
+    import maps
+    from bifurc.sweeps.regime import regime_map
+    n, vf = size["n"], sample.get("v_factor", 1.0)
+    params = _values(sample, ("F_dc_sat", "c_air", "dc_scale", "R", "C", "k", "c"))
+    params.setdefault("c_air", 0.0)
+    relays, volts = np.linspace(*RELAY, n), np.linspace(*VOLTS, n) * vf
+    ds = regime_map(SCENE, "relay_hz", relays, "V", volts, preset=PRESET, dc_law=LAW, params=params,
+                    transient=size["transient"], record=size["record"], workers=1, progress=False,
+                    error_sample=0, lyapunov=False)
+    from bifurc.codes import ClassCode
+    hit = ((ds.period_mechanical == 1) & (ds.impacts_per_period_mechanical == 1)
+           & (ds.class_code == ClassCode.PERIODIC)).values
+    m = float(ds.attrs.get("param_m", 0.155))
+    energies, strokes = [], []
+    for i, j in zip(*np.nonzero(hit)):
+        energies.append(0.5 * m * float(ds.min_impact_speed.values[i, j]) ** 2 * 1e3)
+        p = dict(params, relay_hz=float(relays[i]), V=float(volts[j]))
+        total = size["transient"] + size["record"]
+        h = maps.simulate(SCENE, periods=total, preset=PRESET, dc_law=LAW, params=p,
+                          dt=1e-3 / float(relays[i]))
+        last = h.time.values >= (total - 1) / float(relays[i])
+        strokes.append(float(np.ptp(h.x.values[last])) * 1e3)
+    p2 = dict(_values(sample, ("F_dc_sat", "c_air", "P_max")), V=90.0 * vf,
+              relay_hz=6.0)
+    p2["dc_scale"] = 1.44 * sample.get("dc_scale", 1.0)
+    p2["dc_scale"] = min(p2["dc_scale"], 100.0)
+    h2 = maps.simulate("prototype", periods=size["periods_2dof"], dc_law=LAW, soil="drift", params=p2)
+    return {"share_p1": float(hit.mean()), "energy_mJ": float(np.mean(energies)) if energies else math.nan,
+            "stroke_mm": float(np.mean(strokes)) if strokes else math.nan,
+            "rate_mm_s": float(h2.progression_rate) * 1e3}
+
+
+def run(out, quick=False, progress=True, overwrite=False, workers=None, scheduler=None) -> dict:
+    """Run every sample into ``out`` (each result kept in ``out/samples.parts/``: a rerun resumes),
+    then write ``report.md`` and ``samples.json``; returns the report's tables as a dict."""
+    from bifurc.storage.files import write_text
+    from bifurc.sweeps.executor import available_cores, map_values
+    from tqdm.auto import tqdm
+    size = QUICK if quick else FULL
+    out = Path(out)
+    parts = out / "samples.parts"
+    parts.mkdir(parents=True, exist_ok=True)
+    rows, n_oat = design(size)
+    names = list(size["inputs"])
+    key = json.dumps({"size": size, "names": names}, sort_keys=True)
+    done = {}
+    for f in parts.glob("*.json"):
+        rec = json.loads(f.read_text())
+        if rec.get("key") == key:
+            done[int(rec["i"])] = rec["out"]
+    todo = [i for i in range(len(rows)) if i not in done]
+    clock = _time.perf_counter()
+    bar = tqdm(total=len(rows), initial=len(done), desc=NAME, disable=not progress)
+
+    def take(start, results):
+        for k, res in enumerate(results):
+            i = todo[start + k]
+            done[i] = res
+            (parts / f"{i:06d}.json").write_text(json.dumps({"key": key, "i": i, "out": res}))
+            bar.update(1)
+
+    if todo:
+        w = workers or min(available_cores(), len(todo))
+        map_values(SampleJob(rows, names, size), np.array(todo, dtype=float), workers=w, scheduler=scheduler, chunk_size=1,
+                   on_chunk=take, collect=False)
+    bar.close()
+    seconds = _time.perf_counter() - clock
+    Y = {o: np.array([done[i][o] for i in range(len(rows))]) for o in OUTPUTS}
+    result = analyse(rows, n_oat, Y, size)
+    write_text(out / "samples.json", json.dumps({"inputs": names, "rows": rows.tolist(),
+                                                 "outputs": {o: Y[o].tolist() for o in Y}}), overwrite=True)
+    write_text(out / "report.md", report(result, size, quick, seconds, len(rows), len(todo)), overwrite=True)
+    return result
+
+
+def analyse(rows, n_oat, Y, size) -> dict:
+    """Tornado (output at each input's low/high end) and Sobol S1/ST with 95 % intervals per output."""
+    from SALib.analyze import sobol
+    spec = problem_spec(size)
+    out = {"tornado": {}, "sobol": {}, "base": {o: float(Y[o][0]) for o in Y}}
+    for j, name in enumerate(spec["names"]):
+        out["tornado"][name] = {o: (float(Y[o][1 + 2 * j]), float(Y[o][2 + 2 * j])) for o in Y}
+    for o in Y:
+        y = Y[o][n_oat:].copy()
+        finite = np.isfinite(y)
+        if finite.sum() < 0.5 * y.size or np.nanstd(y) == 0:
+            out["sobol"][o] = None          # too few finite or all equal: no indices
+            continue
+        y[~finite] = np.nanmean(y)          # cells without hammering: the mean (stated in the report)
+        si = sobol.analyze(spec, y, calc_second_order=False, seed=1)
+        out["sobol"][o] = {name: {k: float(si[k][j]) for k in ("S1", "S1_conf", "ST", "ST_conf")}
+                           for j, name in enumerate(spec["names"])}
+    return out
+
+
+def _f(v, fmt=".3g"):
+    return "n/a" if v is None or (isinstance(v, float) and not math.isfinite(v)) else format(v, fmt)
+
+
+def _commit() -> str:
+    import subprocess
+    try:
+        return subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=Path(__file__).parent, capture_output=True,
+                              text=True, check=True).stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        return "unknown"
+
+
+def report(result, size, quick, seconds, n_rows, n_run) -> str:
+    import datetime
+    from maps._version import __version__
+    lines = [f"# {NAME}: what the thesis model's unknowns decide", "",
+             f"Produced by `bifurc study {NAME}{' --quick' if quick else ''} -o DIR` at commit {_commit()} on "
+             f"{datetime.date.today().isoformat()}.", "", (__doc__ or "").strip(), "",
+             f"Form: {'quick' if quick else 'full'}: inputs {', '.join(size['inputs'])}; N = {size['N']}; "
+             f"{size['n']} x {size['n']} cells per sample ({size['transient']} transient + {size['record']} "
+             f"recorded relay periods); prototype {size['periods_2dof']} relay periods.  {n_rows} samples "
+             f"({n_run} run now) in {seconds:.0f} s wall.  Toolkit {__version__}.", "",
+             "## Inputs and their documented ranges", "", "| input | low | high | unit | source |", "|---|---|---|---|---|"]
+    lines += [f"| {k} | {INPUTS[k][0]:g} | {INPUTS[k][1]:g} | {INPUTS[k][2]} | {INPUTS[k][3]} |" for k in size["inputs"]]
+    lines += ["", "## One at a time (tornado): each output at the input's low / high end, others mid-range", "",
+              "| input | " + " | ".join(OUTPUTS) + " |", "|---|" + "---|" * len(OUTPUTS)]
+    lines += ["| (all mid) | " + " | ".join(_f(result["base"][o]) for o in OUTPUTS) + " |"]
+    for k, row in result["tornado"].items():
+        lines.append(f"| {k} | " + " | ".join(f"{_f(a)} / {_f(b)}" for a, b in (row[o] for o in OUTPUTS)) + " |")
+    lines += ["", "## Sobol indices", "",
+              "First-order S1 and total ST with 95 % confidence half-widths (SALib, Saltelli sampling).  Where an "
+              "output is NaN for a sample (no hammering cell), it takes the outputs' mean; n/a: too few finite "
+              "values or no variation.", "",
+              "| output | input | S1 | S1 95 % | ST | ST 95 % |", "|---|---|---|---|---|---|"]
+    for o in OUTPUTS:
+        s = result["sobol"][o]
+        if s is None:
+            lines.append(f"| {o} | (all) | n/a | | n/a | |")
+            continue
+        lines += [f"| {o} | {k} | {_f(v['S1'], '.2f')} | ±{_f(v['S1_conf'], '.2f')} | {_f(v['ST'], '.2f')} | "
+                  f"±{_f(v['ST_conf'], '.2f')} |" for k, v in s.items()]
+    lines += ["", "## Finding", "", finding(result, size), ""]
+    return "\n".join(lines)
+
+
+def finding(result, size) -> str:
+    """What decides the period-1 regime, as found (from the tornado and Sobol tables)."""
+    s = result["sobol"].get("share_p1")
+    swing = {k: abs(v["share_p1"][1] - v["share_p1"][0]) for k, v in result["tornado"].items()}
+    top = max(swing, key=swing.get)
+    text = (f"Share of P1-1 cells at mid-range: {_f(result['base']['share_p1'])}.  Largest one-at-a-time swing of "
+            f"that share: {top} ({_f(swing[top])}).")
+    if s is not None:
+        st = max(s, key=lambda k: s[k]["ST"])
+        text += (f"  Largest total Sobol index: {st} (ST {_f(s[st]['ST'], '.2f')} ± {_f(s[st]['ST_conf'], '.2f')}); "
+                 "intervals this wide (small N) rank the inputs only where they do not overlap.")
+    else:
+        text += "  The share does not vary over the samples: no Sobol index for it."
+    return text
