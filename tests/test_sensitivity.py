@@ -3,6 +3,7 @@ import json
 import math
 
 import numpy as np
+import pytest
 
 from bifurc.commands.study import run_study
 
@@ -23,3 +24,17 @@ def test_quick_sensitivity_writes_sobol_table_and_resumes(tmp_path):
     again = run_study("sensitivity", out, quick=True, progress=False, overwrite=True)
     assert "(0 run now)" in (out / "report.md").read_text()
     assert again["base"]["rate_mm_s"] == res["base"]["rate_mm_s"] or math.isnan(res["base"]["rate_mm_s"])
+
+
+def test_stroke_equals_the_range_of_maps_simulate_time_history():
+    """The stroke's cheap path (a bare scalar run sampled in the last relay period only) against the x range
+    of maps.simulate's full time history at tol 1e-12 (another tolerance, another path) on a hammering cell."""
+    import maps
+    from studies.sensitivity import LAW, PRESET, SCENE, stroke
+    p = {"F_dc_sat": 4.9459, "c_air": 0.0075478, "dc_scale": 1.15118, "R": 28.1337, "C": 2.8914e-4,
+         "k": 858606.1, "c": 473.709, "relay_hz": 4.0, "V": 62.283}    # a P1-1 cell of the full design's row 65
+    total = 100
+    h = maps.simulate(SCENE, periods=total, preset=PRESET, dc_law=LAW, params=p, dt=1e-3 / 4.0)
+    ref = float(np.ptp(h.x.values[h.time.values >= (total - 1) / 4.0]))
+    assert h.sizes["impact"] > 10 and ref > 1e-3                     # it hammers: a stroke of millimetres
+    assert stroke(p, total) == pytest.approx(ref, abs=1e-7)

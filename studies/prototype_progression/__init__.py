@@ -40,10 +40,11 @@ FULL = dict(freqs=tuple(np.round(np.arange(4.0, 8.81, 0.2), 1)), volts=tuple(ran
             map_force=tuple(np.round(np.geomspace(10, 1000, 9), 1)),
             map_threshold={"coulomb": tuple(np.round(np.geomspace(30, 1000, 9), 1)),
                            "drift": tuple(np.round(np.geomspace(10, 300, 9), 1))},
-            map_freqs=tuple(np.round(np.arange(4.0, 8.81, 0.6), 1)), map_volts=(40, 60, 80, 100))
+            map_freqs=tuple(np.round(np.arange(4.0, 8.81, 0.6), 1)), map_volts=(40, 60, 80, 100),
+            depth_freqs=(4.0, 6.0, 8.0), depth_t_max=90.0, fig_5_22_t_max=1500.0)
 QUICK = dict(freqs=(5.2, 6.0, 8.0), volts=(50, 90), actuator=(6, 20), ac_levels=(90,), transient=10, record=10,
              map_force=(31.1, 300.0), map_threshold={"coulomb": (100.0, 1000.0), "drift": (30.0, 100.0)},
-             map_freqs=(5.0, 7.0), map_volts=(50, 90))
+             map_freqs=(5.0, 7.0), map_volts=(50, 90), depth_freqs=(6.0,), depth_t_max=15.0, fig_5_22_t_max=None)
 
 
 def _sweep(param, values, law, size, dc_law=None, **params):
@@ -86,6 +87,8 @@ def measure(size, progress=True) -> dict:
         say(f"{law}: maps in {_time.perf_counter() - clock:.1f} s", flush=True)
     for law in LAWS:
         out.setdefault("reference", {})[law] = {V: reference(law, size, V) for V in (REF["ac_rms"], 0.0)}
+    from . import depth
+    out["depth"] = depth.measure(size, RMS_TO_AMPLITUDE * REF["ac_rms"], ACTUATOR_N_PER_V * REF["actuator"], say)
     out["table55"] = load_table("progression_vs_frequency")
     out["tables52_54"] = load_table("progression_vs_static")
     return out
@@ -379,7 +382,10 @@ def report(m, size, quick, seconds) -> str:
             said.append(f"under `{dc_law}` {cell}" + (f" mm/s ({100 * (float(sw['rate'][0]) / base - 1):+.3g} %)"
                                                         if cell[0].isdigit() and base > 0 else ""))
         lines.append(f"- {law}: {_fmt(base)} mm/s under `listing`; " + ", ".join(said) + ".")
-    lines += ["", "## What it would take (maps.png)", "",
+    from . import depth
+    steady = {(law, f): float(m["freq"][law]["rate"][i]) for law in LAWS for i, f in enumerate(size["freqs"])}
+    lines += [""] + depth.report_lines(m["depth"], size, t55, steady)
+    lines += ["## What it would take (maps.png)", "",
               "Progression-rate maps over (F_static, soil threshold) at 6 Hz and 90 V RMS, and over (relay "
               "frequency, AC voltage) at F_static 31.1 N, for the coulomb and drift laws; white contours mark "
               "the measured range. This is analysis, not tuning: no preset changes.", ""]
@@ -415,3 +421,20 @@ def run(out, quick=False, progress=True, overwrite=False) -> dict:
     figures(m, size, out)
     write_text(out / "report.md", report(m, size, quick, seconds), overwrite=True)
     return {"measured": m, "seconds": seconds}
+
+
+def findings(results, quick) -> list:
+    """The steady rate at the reference condition (6 Hz, AC 90 V RMS, actuator 10 V) per soil law (+-10 %,
+    at least 0.05 mm/s) and the thesis' measure (0.2 m / t) and the 0.9 m runs (depth.findings)."""
+    from bifurc.findings import Finding
+
+    from . import depth
+    m = results["measured"]
+    size = QUICK if quick else FULL
+    i6 = int(np.argmin(np.abs(np.asarray(size["freqs"]) - REF["relay_hz"])))
+    out = []
+    for law in LAWS:
+        r = float(m["freq"][law]["rate"][i6])
+        out.append(Finding(f"steady rate, {law}, 6 Hz", round(r, 4), round(max(0.1 * abs(r), 0.05), 4), "mm s-1"))
+    return out + depth.findings(m["depth"])
+

@@ -42,6 +42,9 @@ INPUTS = {
 }
 QUICK = dict(inputs=("F_dc_sat", "c_air", "v_factor"), N=4, n=3, transient=40, record=20, periods_2dof=30)
 FULL = dict(inputs=tuple(INPUTS), N=256, n=9, transient=200, record=60, periods_2dof=120)
+#: the full form's samples at N = 8 (107 samples of the 2835): its wall time per sample measures the full form's
+#: (benchmarks/sensitivity.py); not a form of the command
+MEDIUM = dict(FULL, N=8)
 OUTPUTS = {"share_p1": "share of cells P1-1 (mechanical)", "energy_mJ": "mean impact energy on them [mJ]",
            "stroke_mm": "mean stroke on them [mm]", "rate_mm_s": "2-DOF progression rate [mm/s]"}
 
@@ -99,14 +102,10 @@ def evaluate(sample: dict, size: dict) -> dict:
            & (ds.class_code == ClassCode.PERIODIC)).values
     m = float(ds.attrs.get("param_m", 0.155))
     energies, strokes = [], []
+    total = size["transient"] + size["record"]
     for i, j in zip(*np.nonzero(hit)):
         energies.append(0.5 * m * float(ds.min_impact_speed.values[i, j]) ** 2 * 1e3)
-        p = dict(params, relay_hz=float(relays[i]), V=float(volts[j]))
-        total = size["transient"] + size["record"]
-        h = maps.simulate(SCENE, periods=total, preset=PRESET, dc_law=LAW, params=p,
-                          dt=1e-3 / float(relays[i]))
-        last = h.time.values >= (total - 1) / float(relays[i])
-        strokes.append(float(np.ptp(h.x.values[last])) * 1e3)
+        strokes.append(stroke(dict(params, relay_hz=float(relays[i]), V=float(volts[j])), total) * 1e3)
     p2 = dict(_values(sample, ("F_dc_sat", "c_air", "P_max")), V=90.0 * vf,
               relay_hz=6.0)
     p2["dc_scale"] = 1.44 * sample.get("dc_scale", 1.0)
@@ -117,13 +116,40 @@ def evaluate(sample: dict, size: dict) -> dict:
             "rate_mm_s": float(h2.progression_rate) * 1e3}
 
 
-def run(out, quick=False, progress=True, overwrite=False, workers=None, scheduler=None) -> dict:
+def stroke(params: dict, periods: int, samples: int = 1000) -> float:
+    """Bar stroke [m]: the range of x over the last of ``periods`` relay periods from the scene's start,
+    sampled ``samples`` times in it.  A bare scalar run at tol 1e-10 without stops at observation-only
+    guards (as the map's transients; the motion is the same): about 40 times cheaper than
+    ``maps.simulate``'s full time history at the same samples (benchmarks/sensitivity.py)."""
+    from maps.engines.scalar import HybridRun
+    from maps.problem import problem
+    pb = problem(SCENE, PRESET, params, dc_law=LAW)
+    period = 1.0 / float(params["relay_hz"])
+    times = np.linspace((periods - 1) * period, periods * period, samples + 1)
+    ix = [s.name for s in pb.system.states].index("x")
+    xs = []
+
+    def on_segment(c_out, ta, tb):
+        sel = times[(times >= ta) & (times <= tb)]
+        if sel.size:
+            xs.append(np.asarray(c_out(sel))[:, ix])
+
+    run = HybridRun(pb.system, dict(pb.values), dict(pb.x0), tol=1e-10, observations=False)
+    if pb.flags0 is not None:
+        run.reset(0.0, pb.state_vector(), pb.system.initial_flags(0.0, pb.values, pb.flags0))
+    run.advance(times[0])
+    run.advance(times[-1], on_segment=on_segment)
+    return float(np.ptp(np.concatenate(xs))) if xs else math.nan
+
+
+def run(out, quick=False, progress=True, overwrite=False, workers=None, scheduler=None, size=None) -> dict:
     """Run every sample into ``out`` (each result kept in ``out/samples.parts/``: a rerun resumes),
-    then write ``report.md`` and ``samples.json``; returns the report's tables as a dict."""
+    then write ``report.md`` and ``samples.json``; returns the report's tables as a dict (with the
+    form's size, the wall time and the samples run).  ``size``: another form's dict (e.g. MEDIUM)."""
     from bifurc.storage.files import write_text
     from bifurc.sweeps.executor import available_cores, map_values
     from tqdm.auto import tqdm
-    size = QUICK if quick else FULL
+    size = size or (QUICK if quick else FULL)
     out = Path(out)
     parts = out / "samples.parts"
     parts.mkdir(parents=True, exist_ok=True)
@@ -154,6 +180,7 @@ def run(out, quick=False, progress=True, overwrite=False, workers=None, schedule
     seconds = _time.perf_counter() - clock
     Y = {o: np.array([done[i][o] for i in range(len(rows))]) for o in OUTPUTS}
     result = analyse(rows, n_oat, Y, size)
+    result.update(size=dict(size), seconds=seconds, n_samples=len(rows), n_run=len(todo), outputs_per_sample=Y)
     write_text(out / "samples.json", json.dumps({"inputs": names, "rows": rows.tolist(),
                                                  "outputs": {o: Y[o].tolist() for o in Y}}), overwrite=True)
     write_text(out / "report.md", report(result, size, quick, seconds, len(rows), len(todo)), overwrite=True)
@@ -196,10 +223,13 @@ def _commit() -> str:
 def report(result, size, quick, seconds, n_rows, n_run) -> str:
     import datetime
     from maps._version import __version__
+    form = "quick" if quick else "full" if size == FULL else f"medium (the full form's inputs and cells, N = {size['N']})"
+    made_by = f"bifurc study {NAME}{' --quick' if quick else ''} -o DIR" if form in ("quick", "full") else \
+        "python benchmarks/sensitivity.py"
     lines = [f"# {NAME}: what the thesis model's unknowns decide", "",
-             f"Produced by `bifurc study {NAME}{' --quick' if quick else ''} -o DIR` at commit {_commit()} on "
+             f"Produced by `{made_by}` at commit {_commit()} on "
              f"{datetime.date.today().isoformat()}.", "", (__doc__ or "").strip(), "",
-             f"Form: {'quick' if quick else 'full'}: inputs {', '.join(size['inputs'])}; N = {size['N']}; "
+             f"Form: {form}: inputs {', '.join(size['inputs'])}; N = {size['N']}; "
              f"{size['n']} x {size['n']} cells per sample ({size['transient']} transient + {size['record']} "
              f"recorded relay periods); prototype {size['periods_2dof']} relay periods.  {n_rows} samples "
              f"({n_run} run now) in {seconds:.0f} s wall.  Toolkit {__version__}.", "",
@@ -240,3 +270,23 @@ def finding(result, size) -> str:
     else:
         text += "  The share does not vary over the samples: no Sobol index for it."
     return text
+
+
+def findings(results, quick) -> list:
+    """What the report states: the share of P1-1 cells at mid-range and over all samples (+-1 cell of
+    one sample's grid), the mid-range progression rate (+-0.05 mm/s) and the input of the largest
+    one-at-a-time swing of each output (exact; "none" where no output moves)."""
+    from bifurc.findings import Finding
+    size = results.get("size", QUICK if quick else FULL)
+    cell = 1.0 / size["n"] ** 2
+    Y = results["outputs_per_sample"]
+    out = [Finding("share_p1 at mid-range", round(results["base"]["share_p1"], 6), cell, "1"),
+           Finding("share_p1 mean over samples", round(float(np.mean(Y["share_p1"])), 6), cell, "1"),
+           Finding("samples with a P1-1 cell", int(np.sum(np.asarray(Y["share_p1"]) > 0)), 1, "samples"),
+           Finding("rate_mm_s at mid-range", round(results["base"]["rate_mm_s"], 4), 0.05, "mm s-1")]
+    for o in ("share_p1", "rate_mm_s"):
+        swing = {k: abs(v[o][1] - v[o][0]) for k, v in results["tornado"].items() if np.all(np.isfinite(v[o]))}
+        top = max(swing, key=swing.get) if swing and max(swing.values()) > 0 else "none"
+        out.append(Finding(f"largest one-at-a-time swing of {o}", top))
+    return out
+
