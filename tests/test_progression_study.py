@@ -8,7 +8,7 @@ from studies import prototype_progression as study
 
 TINY = dict(freqs=(6.0,), volts=(50, 90), actuator=(6, 20), ac_levels=(90,), transient=4, record=4,
             map_force=(31.1, 300.0), map_threshold={"coulomb": (100.0, 1000.0), "drift": (30.0, 100.0)},
-            map_freqs=(5.0, 7.0), map_volts=(50, 90), depth_freqs=(6.0,), depth_t_max=1.5, fig_5_22_t_max=None)
+            map_freqs=(5.0, 7.0), map_volts=(50, 90), depth_freqs=(6.0,), depth_t_max=1.0, fig_5_22_t_max=None)
 
 
 def _check(text, path):
@@ -31,7 +31,7 @@ def test_tiny_study_report_names_every_law_and_a_cause_per_disagreement(tmp_path
     _check((tmp_path / "report.md").read_text(), tmp_path)
     ref = out["measured"]["reference"]["viscous"][90.0]
     assert ref["rate"] == pytest.approx(31.1 / 135 * 1e3, rel=0.01)   # F_static / soil_c [mm/s]
-    # the thesis' measure beside the steady rate; viscous: 0.2 m reached in under 1.5 s (F_static / soil_c)
+    # the thesis' measure beside the steady rate; viscous: 0.2 m reached in under 1 s (F_static / soil_c)
     text = (tmp_path / "report.md").read_text()
     assert "## The thesis' measure: 0.2 m over the time to reach it" in text
     t02 = out["measured"]["depth"]["to_depth"][("viscous", False, 6.0)]["times"][0]
