@@ -82,6 +82,13 @@ class BifurcAccessor:
         from .spectrum import spectrum
         return spectrum(self._ds, var, t_from, n_peaks)
 
+    def phase(self, x: str = "x", t_from=None, path=None, ax=None, overwrite=False):
+        """Phase portrait of a time history: the velocity against position ``x`` ("x", "x1", "x2" or "r" =
+        x1 - x2), from ``t_from`` [s], stop and impacts marked; returns the Axes
+        (:func:`bifurc.plots.phase.plot_phase`)."""
+        from .plots.phase import plot_phase
+        return plot_phase(self._ds, x, t_from=t_from, path=path, ax=ax, overwrite=overwrite)
+
     def class_at(self, value, branch=None) -> dict:
         """Class of the grid value nearest to ``value`` (see :func:`bifurc.class_at`)."""
         from .report import class_at

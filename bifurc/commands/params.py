@@ -1,7 +1,7 @@
 """`bifurc params`: every parameter of a scene with its value, unit, allowed range and provenance."""
 from maps.laws import DC_LAWS
 
-from ._common import add_parameter_options, parse_sets
+from ._common import add_force_option, add_parameter_options, parse_sets
 
 
 def register(subparsers):
@@ -15,6 +15,11 @@ def register(subparsers):
                    help="DC-force law (default: the preset's); catalogue adds F_dc_sat, u_dc and s_dc")
     g.add_argument("--compaction", action="store_true", default=None,
                    help="coulomb and drift soils: the resistance grows with depth (adds soil_depth_scale)")
+    p.add_argument("--plot", metavar="FILE", default=None,
+                   help="also draw the force laws as the thesis plots them (Figs 4.5, 4.6, 4.10-4.12, 4.26: DC force "
+                        "of every DC law with Table 4.1, inductance and its derivatives with Table 4.2, AC force "
+                        "over the run's start) into FILE (.png, .pdf, .svg)")
+    add_force_option(p)
     p.set_defaults(func=run)
 
 
@@ -53,6 +58,9 @@ def optional_rows(scene, preset=None, params=None, soil=None, compaction=None, d
 
 def run(args) -> int:
     sets = parse_sets(args.sets)
+    if args.plot is not None:
+        from ..storage.files import check_figure_output
+        check_figure_output(args.plot, args.force, what="--plot")
     table = rows(args.scene, args.preset, sets, args.soil, args.compaction, args.dc_law)
     extra = optional_rows(args.scene, args.preset, sets, args.soil, args.compaction, args.dc_law)
     head = ("name", "value", "unit", "allowed range", "meaning", "provenance")
@@ -63,4 +71,8 @@ def run(args) -> int:
         print("\noptional elements, off (today's model):")
         for r in extra:
             print("  ".join(f"{c:<{w}}" for c, w in zip(r, widths)) + "  " + r[-1])
+    if args.plot is not None:
+        from ..plots.laws import plot_force_laws
+        plot_force_laws(args.scene, args.preset, sets, args.dc_law, path=args.plot, overwrite=args.force)
+        print(f"wrote {args.plot}")
     return 0
