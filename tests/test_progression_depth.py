@@ -23,6 +23,9 @@ def test_first_time_and_gradients_on_closed_forms():
     assert g["deepest_m"] == pytest.approx(0.9) and g["seconds"] == pytest.approx(525.0, abs=1e-6)
     assert g["initial"] == pytest.approx(4.0, rel=1e-6) and g["final"] == pytest.approx(1.0, rel=1e-6)
     assert g["overall"] == pytest.approx(1e3 * 0.9 / 525.0, rel=1e-6)
+    g = depth.gradients({"t": tt, "depth": dd}, target=0.5)        # a run past its target: measured to it
+    assert g["deepest_m"] == 0.5 and g["seconds"] == pytest.approx(125.0, abs=1e-6)
+    assert g["final"] == pytest.approx(4.0, rel=1e-6) and g["overall"] == pytest.approx(4.0, rel=1e-6)
 
 
 def test_the_time_to_02_m_agrees_with_maps_simulate():
