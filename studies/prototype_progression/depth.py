@@ -119,7 +119,8 @@ def report_lines(d, size, table55, steady) -> list[str]:
     """The report's sections on the thesis' measure; ``steady``: {(law, relay_hz): steady rate [mm/s]}."""
     fmt = (lambda x: "not reached" if not math.isfinite(x) else f"{x:.3g}")
     lines = ["## The thesis' measure: 0.2 m over the time to reach it (Table 5.5's conditions)", "",
-             f"One run from the rig's start per condition (AC 90 V RMS, actuator 10 V), up to {size['depth_t_max']:g} s "
+             "One run from the rig's start per condition (AC 90 V RMS, actuator 10 V), up to "
+             f"{size['depth_t_max']:g} s "
              "(src: studies/prototype_progression/depth.py); `0.2 m / t` [mm/s] beside the steady rate of the sweeps "
              "above (no compaction; the compaction runs have no steady rate: their resistance grows with depth).", "",
              "| relay [Hz] | thesis 0.2 m / t [mm/s] | " +
@@ -141,7 +142,8 @@ def report_lines(d, size, table55, steady) -> list[str]:
         lines += ["## The 0.9 m run of Fig 5.22 (6 Hz, AC 90 V RMS, actuator 10 V)", "",
                   f"Thesis: 0.9 m in {FIG_5_22['seconds']} s; first gradient {FIG_5_22['initial']} mm/s, last "
                   f"{FIG_5_22['final']} mm/s, overall {FIG_5_22['overall']} mm/s.  Model: gradients over the first "
-                  f"0.2 m and the last 0.2 m before 0.9 m (or before the deepest point reached), up to {size['fig_5_22_t_max']:g} s.  The compaction depth scale "
+                  "0.2 m and the last 0.2 m before 0.9 m (or before the deepest point reached), up to "
+                  f"{size['fig_5_22_t_max']:g} s.  The compaction depth scale "
                   "is fitted to the thesis' first and last gradients (docs/model.md), so only the time and the "
                   "gradients' shape are a comparison.", "",
                   "| run | deepest [m] | time [s] | first 0.2 m [mm/s] | last 0.2 m [mm/s] | overall [mm/s] |",

@@ -223,7 +223,8 @@ def _commit() -> str:
 def report(result, size, quick, seconds, n_rows, n_run) -> str:
     import datetime
     from maps._version import __version__
-    form = "quick" if quick else "full" if size == FULL else f"medium (the full form's inputs and cells, N = {size['N']})"
+    form = ("quick" if quick else "full" if size == FULL
+            else f"medium (the full form's inputs and cells, N = {size['N']})")
     made_by = f"bifurc study {NAME}{' --quick' if quick else ''} -o DIR" if form in ("quick", "full") else \
         "python benchmarks/sensitivity.py"
     lines = [f"# {NAME}: what the thesis model's unknowns decide", "",

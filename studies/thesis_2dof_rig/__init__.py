@@ -108,7 +108,8 @@ def report(m, size, quick, seconds) -> str:
         n, of = adv[key]
         best = float(np.nanmax(r["rate"][on])) if np.isfinite(r["rate"][on]).any() else math.nan
         lines.append(f"- {key[0]} soil, DC law {key[1]}: {'yes' if n else 'no'}, in {n} of {of} cells (fastest "
-                     f"{best:.3g} mm/s against {r['static']:.3g} mm/s from the static force alone; impacts per relay period up to "
+                     f"{best:.3g} mm/s against {r['static']:.3g} mm/s from the static force alone; impacts per "
+                     f"relay period up to "
                      f"{float(np.nanmax(r['impacts'][on])):.3g}).")
     return "\n".join(lines) + "\n"
 
