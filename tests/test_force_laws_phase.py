@@ -56,6 +56,9 @@ def test_params_plot_writes_the_figure_and_refuses_to_overwrite(tmp_path, capsys
     assert out.stat().st_size > 20_000 and "wrote" in capsys.readouterr().out
     assert main(["params", "--scene", "thesis-1dof", "--plot", str(out)]) == 2
     assert "bifurc: error:" in capsys.readouterr().err
+    assert main(["params", "--scene", "impact-oscillator", "--plot", str(tmp_path / "none.png")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "has no solenoid force law" in err[0] and not (tmp_path / "none.png").exists()
 
 
 def test_phase_portrait_of_a_free_oscillator_is_its_ellipse():

@@ -24,6 +24,12 @@ def test_quick_sensitivity_writes_sobol_table_and_resumes(tmp_path):
     again = run_study("sensitivity", out, quick=True, progress=False, overwrite=True)
     assert "(0 run now)" in (out / "report.md").read_text()
     assert again["base"]["rate_mm_s"] == res["base"]["rate_mm_s"] or math.isnan(res["base"]["rate_mm_s"])
+    # the findings the quick report states: shares within one cell of the 3 x 3 grid, labels exact
+    from studies.sensitivity import findings
+    stated = {f.name: f for f in findings(res, True)}
+    assert stated["share_p1 at mid-range"].tolerance == pytest.approx(1 / 9)
+    assert stated["share_p1 mean over samples"].value == pytest.approx(float(np.mean(share)), abs=1e-6)
+    assert stated["largest one-at-a-time swing of rate_mm_s"].value in ("F_dc_sat", "c_air", "v_factor", "none")
 
 
 def test_stroke_equals_the_range_of_maps_simulate_time_history():

@@ -61,6 +61,8 @@ def run(args) -> int:
     if args.plot is not None:
         from ..storage.files import check_figure_output
         check_figure_output(args.plot, args.force, what="--plot")
+        from ..plots.laws import check_force_laws
+        check_force_laws(args.scene, args.preset, sets)
     table = rows(args.scene, args.preset, sets, args.soil, args.compaction, args.dc_law)
     extra = optional_rows(args.scene, args.preset, sets, args.soil, args.compaction, args.dc_law)
     head = ("name", "value", "unit", "allowed range", "meaning", "provenance")

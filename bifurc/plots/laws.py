@@ -13,7 +13,17 @@ from maps.laws import DC_LAWS
 
 from ..storage.files import check_figure_output, save_figure
 
-__all__ = ["law_curves", "plot_force_laws"]
+__all__ = ["law_curves", "plot_force_laws", "check_force_laws"]
+
+
+def check_force_laws(scene, preset=None, params=None) -> None:
+    """Raise a ParameterError when ``scene`` has neither solenoid (no DC or AC force law to draw)."""
+    from maps.parameters import ParameterError
+    from maps.problem import problem
+    values = dict(problem(scene, preset, params).values)
+    if "d_dc" not in values and "d_ac" not in values:
+        raise ParameterError(f"--plot: scene {scene!r} has no solenoid force law to draw (scenes with one: "
+                             "thesis-1dof, thesis-2dof, prototype, dc-only, ac-only, ac-stop)")
 
 
 def _evaluate(pb, names, r, flags=None, state=None):
