@@ -381,19 +381,20 @@ class _NoBar:
 
 
 class _PeriodBar:
-    """Progress in relay periods integrated (copies included): the total is the planned work, each value's
-    first transient and record, and grows as values are extended (anytime classification); the values
+    """Progress in relay periods integrated (copies included).  The total is the planned work: each
+    value's first transient and record at the start, then what the values done used plus, for each
+    value to come, the mean they used (never less than its first transient and record); the values
     done are shown beside it."""
 
     def __init__(self, bar, values: int, planned: int, unit: str):
-        self.bar, self.values, self.planned, self.unit, self.count = bar, values, planned, unit, 0
+        self.bar, self.values, self.planned, self.unit = bar, values, planned, unit
+        self.count = self.used = 0
 
     def done(self, chunk):
         used = sum(max(int(getattr(r, "periods_integrated", 0)), 0) or self.planned for r in chunk)
-        grown = used - self.planned * len(chunk)
-        if grown > 0:
-            self.bar.total += grown
         self.count += len(chunk)
+        self.used += used
+        self.bar.total = self.used + (self.values - self.count) * max(self.planned, self.used / self.count)
         self.bar.set_postfix_str(f"{self.count}/{self.values} {self.unit}", refresh=False)
         self.bar.update(used)
 
