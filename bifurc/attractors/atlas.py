@@ -73,13 +73,14 @@ def attractors(problem_or_scene="thesis-1dof", param: str = "V", values=None, *,
                  max_periods=int(max_periods), max_period=int(max_period), batch_size=int(batch_size))
     smap = StroboscopicMap(pb.with_values(**{param: float(values[0])}), tol=tol)
     bar = _bar(progress, len(values) * len(st))
-    per_value, outcomes, events, prev, n_ids = [], [], {}, {}, 0
+    per_value, outcomes, events, prev, n_ids, periods = [], [], {}, {}, 0, []
     for i, v in enumerate(values):
         smap.set_params(**{param: float(v)})
         seeds = [representative(a) for a in prev.values()]
-        out, found = census_at(smap, list(st.points) + seeds, grid, s,
+        out, found, spent = census_at(smap, list(st.points) + seeds, grid, s,
                                k0=[0] * len(st) + [a.k0 for a in prev.values()],
                                progress=(lambda k: bar.update(0)) if bar else None)
+        periods.extend(spent[:len(st)])
         if bar:
             bar.update(len(st))
         ids, n_ids = _assign(prev, found, grid, smap.forcing_period_steps, match_threshold, n_ids)
@@ -95,6 +96,7 @@ def attractors(problem_or_scene="thesis-1dof", param: str = "V", values=None, *,
     attrs = {"cells_per_side": int(cells), "grid_cell_widths": grid.width.tolist(), "fresh_starts": len(st),
              "census_settings": repr(s), "match_threshold_cells": float(match_threshold), "tol": tol,
              "census_seconds": _time.perf_counter() - clock,
+             "periods_per_start_mean": float(np.mean(periods)), "periods_per_start_max": int(np.max(periods)),
              "method": "recurrence on a state-space grid (after Attractors.jl's AttractorsViaRecurrences) on the "
                        "batch engine, early landing on known attractors' cells; periodic attractors polished by "
                        "Newton (exact multipliers); seeding with the previous value's attractors and matching by "

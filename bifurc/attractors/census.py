@@ -79,10 +79,11 @@ def _step_cells(t: Track, keys: list, owner: dict, s: Settings) -> str:
 
 
 def census_at(smap, starts: list, grid: Grid, settings: Settings, *, k0=0,
-              known: list | None = None, progress=None) -> tuple[list, list[Attractor]]:
+              known: list | None = None, progress=None) -> tuple[list, list[Attractor], list]:
     """Follow ``starts`` (states or HybridStates, from sample ``k0``: an int or one per start) under
     ``smap``'s parameters; returns (outcome per start: an attractor's index in
-    the list returned, or an :data:`OUTCOMES` id; the attractors found)."""
+    the list returned, or an :data:`OUTCOMES` id; the attractors found; the strobe periods each start was
+    integrated)."""
     s = settings
     ks = k0 if isinstance(k0, (list, tuple)) else [k0] * len(starts)
     tracks = [Track(st, int(k)) for st, k in zip(starts, ks)]
@@ -112,7 +113,7 @@ def census_at(smap, starts: list, grid: Grid, settings: Settings, *, k0=0,
         if progress is not None and done:
             progress(len(done))
         active = [i for i in active if tracks[i].outcome is None]
-    return [t.outcome for t in tracks], found
+    return [t.outcome for t in tracks], found, [t.periods for t in tracks]
 
 
 def _identify_candidates(smap, tracks, candidates, grid, s: Settings, found: list, owner: dict) -> None:
