@@ -31,9 +31,10 @@ class Grid:
 
     @classmethod
     def over(cls, box: dict, system, cells: int, base: np.ndarray) -> "Grid":
-        """``cells`` per box side; states outside the box get the width of ``base``'s magnitude / cells (floor 1e-9)."""
+        """``cells`` per box side; the states outside the box are not discretised (width inf: one cell), so
+        attractors are told apart and matched by the box's states (for the thesis scenes, the bar's)."""
         low = np.asarray(base, dtype=float).copy()
-        width = np.maximum(np.abs(low), 1e-9) / cells
+        width = np.full(low.shape, np.inf)
         for k, (lo, hi) in box.items():
             j = system.state_names.index(k)
             low[j], width[j] = lo, (hi - lo) / cells
