@@ -401,6 +401,10 @@ def findings(results, quick) -> list:
 
 
 def _plain(label: str) -> str:
-    """A label without its numbers' noise: the class words and integers kept, decimals dropped."""
+    """A label without its numbers' noise: a period's text with decimals dropped ("period-1 (20 impacts)"),
+    any other class by its words alone ("aperiodic", "chaotic", "quasi-periodic")."""
     import re
-    return re.sub(r"[-+]?\d+\.\d+(e[-+]?\d+)?", "#", str(label)).replace("|", "/")
+    text = str(label).replace("|", "/")
+    if text.startswith("period"):
+        return re.sub(r"[-+]?\d+\.\d+(e[-+]?\d+)?", "#", text)
+    return text.split(" (")[0]
