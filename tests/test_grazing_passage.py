@@ -55,7 +55,7 @@ def test_grazing_located_at_the_closed_form_amplitude_and_passed(ds):
     assert np.all(ipp[:i + 1] == 0) and np.all(ipp[i + 1:] == 1)
     assert F[i] <= F_GRAZE + 1e-8 < F[i + 1] < F_GRAZE + 1e-4
     assert F[-1] >= 0.5 and len(set(ds.branch_id.values)) == 1
-    assert "continued past it" in ds.attrs["branch_stop_reasons"]
+    assert "continued from" in ds.attrs["branch_stop_reasons"]
     assert "Nordmark" in str(ds.special_note.values[g])
 
 

@@ -25,7 +25,7 @@ def continue_branch(problem: ContinuationProblem, orbit, p_start: float, p_end: 
     impact lost or stick onset that stops a piece (at most ``max_passages``): continuation restarts on
     the other side with the new transition signature (:func:`bifurc.orbits.passage.restart`) and the
     pieces are joined into one branch, the located event between them (its note holds Nordmark's
-    prediction at a grazing).  Where no orbit persists on the other side, the branch ends there and
+    prediction at a grazing); each piece scales its unknowns by its own orbit's magnitude.  Where no orbit persists on the other side, the branch ends there and
     its ``stop_reason`` says so."""
     clock = _time.perf_counter()
     lo, hi = sorted(bounds) if bounds is not None else (min(p_start, p_end), max(p_start, p_end))
@@ -37,28 +37,30 @@ def continue_branch(problem: ContinuationProblem, orbit, p_start: float, p_end: 
         if (sp is None or sp.kind not in PASSABLE or sp.index != len(branch.points) - 1
                 or not branch.stop_reason.startswith("stopped after") or len(branch.points) >= max_points):
             break
-        start, p, note = restart(problem, sp, branch.points[-1], lo, hi)
+        start, p, direction, note = restart(problem, sp, branch.points[-1], lo, hi)
         if note:
             sp.note = f"{sp.note}; {note}" if sp.note else note
         if start is None:
             branch.stop_reason += f"; the branch ends there: {p}"
             break
-        direction = math.copysign(1.0, branch.points[-1].tangent[-1])
+        problem = ContinuationProblem(problem.smap, problem.param, problem.n, problem.k0, scale=start.scale,
+                                      p_scale=problem.p_scale, p_ref=problem.p_ref, tol=problem.tol)
         piece = continue_piece(problem, start, p, p_end, max_points=max_points - len(branch.points),
                                bounds=(lo, hi), locate=locate, direction=direction, **options)
-        _join(branch, piece, problem.param, p)
+        _join(branch, piece, problem.param, p, direction)
     branch.seconds = _time.perf_counter() - clock
     return branch
 
 
-def _join(branch, piece, param: str, p: float) -> None:
+def _join(branch, piece, param: str, p: float, direction: float) -> None:
     """Append the piece restarted at ``param`` = ``p`` past the event that stopped ``branch``."""
     offset = len(branch.points)
     for sp in piece.special:
         sp.index += offset
     first = piece.points[0] if piece.points else None
     what = (f"{first.impacts} impact{'' if first.impacts == 1 else 's'} per period" if first is not None else "")
-    branch.stop_reason += f"; continued past it from {param} = {p:.10g} ({what}): {piece.stop_reason}"
+    way = "increasing" if direction > 0 else "decreasing"
+    branch.stop_reason += f"; continued from {param} = {p:.10g} toward {way} {param} ({what}): {piece.stop_reason}"
     branch.points += piece.points
     branch.special += piece.special
     branch.newton_iterations += piece.newton_iterations

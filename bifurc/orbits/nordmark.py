@@ -37,7 +37,8 @@ class GrazingPrediction:
     """The normal form of a grazing: gap acceleration ``a``, the jump direction ``b`` (state units per
     unit impact speed), ``sigma`` = d h_min / dp, the feedback ``K``, the monodromy ``M`` at t_g, the
     gap gradient ``n``, the state ``y_g`` at t_g, the side ``direction`` (+1 or -1) of p where the
-    orbit impacts, and the ``outcome`` ("persistence", "period-adding" or "chaos") with its period."""
+    non-impacting orbit would penetrate, ``side`` where the small impacting orbit exists (``direction``
+    for K > 0; the same side as the non-impacting orbit for K < 0: the branch turns at the grazing), and the ``outcome`` ("persistence", "period-adding" or "chaos") with its period."""
 
     a: float
     b: np.ndarray
@@ -53,6 +54,10 @@ class GrazingPrediction:
     Phi: np.ndarray | None = None       # d y(t_g) / d (node): carries the jump back to the node
 
     @property
+    def side(self) -> float:
+        return self.direction if self.K >= 0 else -self.direction
+
+    @property
     def root_coefficient(self) -> float:
         """|b| sqrt(2 a): the square-root coefficient of the discontinuity map (state jump per
         sqrt(penetration depth))."""
@@ -63,18 +68,23 @@ class GrazingPrediction:
         return np.linalg.solve(np.eye(self.M.shape[0]) - self.M, self.M @ self.b) * s
 
     def describe(self) -> str:
+        small = (f"s ~ {abs(self.sigma / self.K):.6g} |dp| for small dp" if self.K != 0 else
+                 f"s = {math.sqrt(2 * self.a * abs(self.sigma)):.6g} sqrt(|dp|)")
         law = (f"impact speed s^2 + 2 a K s + 2 a sigma dp = 0 (a = {self.a:.6g}, K = {self.K:.6g}, "
-               f"sigma = {self.sigma:.6g}: s ~ {abs(self.sigma / self.K):.6g} |dp| for small dp)" if self.K > 0 else
-               f"no small impacting orbit of this period beyond the grazing (K = {self.K:.6g} <= 0)")
+               f"sigma = {self.sigma:.6g}: {small}"
+               f"{'' if self.K >= 0 else '; no small impacting orbit beyond the grazing: it lies on the non-impacting side, the branch turns there'})")
         return (f"Nordmark: square-root coefficient {self.root_coefficient:.6g}; {law}; normal form predicts "
                 f"{self.outcome}{f' (period {self.outcome_period})' if self.outcome_period else ''}")
 
 
 def impact_speed(pred: GrazingPrediction, dp: float) -> float:
-    """The predicted impact speed of the impacting orbit at p_g + dp (NaN where none)."""
-    c = 2 * pred.a * pred.sigma * dp
-    disc = (pred.a * pred.K) ** 2 - c
-    s = -pred.a * pred.K + math.sqrt(disc) if disc >= 0 else math.nan
+    """The predicted impact speed of the small impacting orbit at p_g + dp: the root of
+    s^2 + 2 a K s + 2 a sigma dp = 0 that vanishes with dp (NaN where it is not positive: no small
+    impacting orbit on that side)."""
+    disc = (pred.a * pred.K) ** 2 - 2 * pred.a * pred.sigma * dp
+    if disc < 0:
+        return math.nan
+    s = -pred.a * pred.K + math.copysign(math.sqrt(disc), pred.K)
     return s if s > 0 else math.nan
 
 

@@ -32,8 +32,10 @@ LADDER = (1e-5, 1e-4, 1e-3, 1e-2)
 
 
 def restart(problem, sp, last, lo: float, hi: float):
-    """(start, p, prediction note) of the piece past the event ``sp`` that stopped after branch point
-    ``last``, or (None, reason, note).  ``start`` has ``nodes`` at p, in the problem's section."""
+    """(start, p, direction, prediction note) of the piece past the event ``sp`` that stopped after branch
+    point ``last``, or (None, reason, 0, note).  ``start`` has ``nodes`` at p, in the problem's section, and their ``scale``;
+    ``direction`` the sign of the parameter's change along the new piece (at a grazing whose small
+    impacting orbit lies on the non-impacting side, Nordmark's K < 0, the branch turns back there)."""
     ref = sp.point if sp.point is not None else last
     p_e = sp.p if math.isfinite(sp.p) else last.p
     direction = math.copysign(1.0, last.tangent[-1]) if last.tangent[-1] != 0 else 1.0
@@ -44,6 +46,8 @@ def restart(problem, sp, last, lo: float, hi: float):
         except (IntegrationFailure, ParameterError, np.linalg.LinAlgError, ZeroDivisionError):
             pred = None
         note = pred.describe() if pred is not None else ""
+        if pred is not None:
+            direction = pred.side
     old = transition_signature(last.signatures)
     tried = []
     for frac in LADDER:
@@ -59,10 +63,10 @@ def restart(problem, sp, last, lo: float, hi: float):
             tried.append(f"{p:.10g} ({exc})")
             continue
         if transition_signature(orbit.signatures) != old:
-            return SimpleNamespace(nodes=orbit.nodes), p, note
+            return SimpleNamespace(nodes=orbit.nodes, scale=orbit.scale), p, direction, note
         tried.append(f"{p:.10g} (converged to the same signature)")
     return None, ("no periodic orbit of period {} with another transition signature past the event: Newton "
-                  "from the event's orbit at {} = {}".format(problem.n, problem.param, "; ".join(tried))), note
+                  "from the event's orbit at {} = {}".format(problem.n, problem.param, "; ".join(tried))), 0.0, note
 
 
 def _guess(problem, ref, dp: float, pred) -> list:
