@@ -29,7 +29,7 @@ F_GRAZE = abs(P["e"]) * math.hypot(P["w0"] ** 2 - P["Omega"] ** 2, 2 * P["zeta"]
 @pytest.fixture(scope="module")
 def ds():
     return bifurc.continue_orbit("impact-oscillator", "F", (0.15, 0.5), params=P, x0={"x": 0.0, "v": 0.0},
-                                 transient=200, error=False)
+                                 transient=200)
 
 
 @pytest.fixture(scope="module")
@@ -130,3 +130,23 @@ def test_impact_speed_near_grazing_follows_nordmarks_prediction(branch):
     rel = np.abs(rows[:, 1] - rows[:, 2]) / rows[:, 1]
     assert np.all(rel < 20 * rows[:, 0] + 1e-3)                          # agreement to O(dF)
     assert abs(rows[0, 1] / rows[0, 0] - abs(pred.sigma / pred.K)) < 1e-3 * abs(pred.sigma / pred.K) + 1e-2
+
+
+def test_stated_tolerances_bound_the_real_error_within_100x(ds):
+    """Each located point's tolerance is measured (a re-location at tol/100): never below its real error
+    against the closed form, at most 100 times it (the grazing here; the frequency response's period
+    doubling against its closed form, tests/test_frequency_response.py)."""
+    from scipy.optimize import brentq
+    from test_frequency_response import P as P_FR, _nearest
+    g = _kinds(ds).index("grazing")
+    err, tol = abs(float(ds.special_value.values[g]) - F_GRAZE), float(ds.special_tolerance.values[g])
+    assert err <= tol <= 100 * max(err, 1e-16 * F_GRAZE)             # measured: 5.4e-15 <= 2.4e-14
+    fr = bifurc.continue_orbit("impact-oscillator", "Omega", (2.5, 3.5), params=P_FR)
+    i = int(fr.special_point[0])
+    y = np.array([float(fr.x[i, 0]), float(fr.v[i, 0])])
+
+    def f(Om):
+        return float(np.real(np.prod(_nearest(dict(P_FR, Omega=Om), float(fr.section_phase[i]), y)[1] + 1.0)))
+    pd = brentq(f, float(fr.Omega[i]) - 0.02, float(fr.Omega[i + 1]) + 0.02, xtol=1e-15, rtol=1e-15)
+    err, tol = abs(float(fr.special_value[0]) - pd), float(fr.special_tolerance[0])
+    assert err <= tol <= 100 * err                                     # measured: 2.5e-12 <= 4.1e-12
