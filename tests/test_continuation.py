@@ -155,9 +155,15 @@ def test_grazing_of_the_non_impacting_orbit_and_the_hysteresis_fold():
     loud = bifurc.continue_orbit("impact-oscillator", "F", (0.3, 0.0), params=dict(p, F=0.3), error=False)
     folds = specials(loud, "fold")
     assert len(folds) == 1 and abs(folds[0] - F_fold) < 1e-8
-    # past the fold the unstable impacting orbit returns toward the grazing, its impact slowing to 0
-    assert abs(float(loud.F[-1]) - F_graze) < 1e-5
+    # past the fold the unstable impacting orbit returns toward the grazing, its impact slowing to 0 until
+    # the corrector stalls; the grazing is located there by the augmented system (from the orbit less that
+    # impact), and the branch goes on along the non-impacting orbits
     assert "grazing" in loud.attrs["branch_stop_reasons"]
+    g = specials(loud, "grazing")
+    assert abs(g[0] - F_graze) < 1e-8 and "impacting side" in str(loud.special_note.values[1])
+    i = int(loud.special_point.values[1])
+    assert abs(float(loud.F[i]) - F_graze) < 1e-5 and int(loud.impacts_per_period[i]) == 1
+    assert np.all(loud.impacts_per_period[i + 1:] == 0) and float(loud.F[-1]) < 0.01
 
 
 def _negatively_damped_oscillator():

@@ -35,6 +35,7 @@ def continue_branch(problem: ContinuationProblem, orbit, p_start: float, p_end: 
     for _ in range(max_passages if locate else 0):
         sp = branch.special[-1] if branch.special else None
         if (sp is None or sp.kind not in PASSABLE or sp.index != len(branch.points) - 1
+                or (sp.kind == "grazing" and sp.point is None)         # a grazing not located: no orbit to start from
                 or not branch.stop_reason.startswith("stopped after") or len(branch.points) >= max_points):
             break
         start, p, direction, note = restart(problem, sp, branch.points[-1], lo, hi)
