@@ -194,6 +194,19 @@ def test_neimark_sacker_where_the_damping_changes_sign():
     assert bool(ds.stable[i]) and not bool(ds.stable[i + 1])
 
 
+def test_two_parameter_neimark_sacker_curve_is_the_closed_form():
+    """The Neimark-Sacker point of the negatively damped oscillator continued in (zeta, Omega): the pair
+    exp((-zeta w0 +- i w0 sqrt(1 - zeta^2)) T) is on the unit circle exactly where zeta = 0, for every Omega."""
+    params = dict(w0=1.0, zeta=0.05, F=0.5, Omega=2.5)
+    D = (1 - 2.5 ** 2) ** 2 + (2 * 0.05 * 2.5) ** 2
+    a, b = 0.5 * (1 - 2.5 ** 2) / D, 0.5 * 2 * 0.05 * 2.5 / D
+    ds = bifurc.continue_orbit(_negatively_damped_oscillator(), "zeta", (0.05, -0.05), params=params,
+                               start=np.array([a, 2.5 * b]), k0=0, error=False, param2="Omega", span2=(2.5, 2.0))
+    assert [bifurc.storage.schema.SPECIAL_KINDS[int(k)] for k in ds.curve_kind.values] == ["neimark_sacker"]
+    assert ds.curve_Omega.size >= 10 and float(ds.curve_Omega.min()) < 2.01      # measured: 18 points to 1.984
+    assert float(np.max(np.abs(ds.curve_zeta.values))) < 1e-6                    # measured: 1.1e-12
+
+
 def test_refusals_are_one_line_naming_the_parameter():
     with pytest.raises(ParameterError, match="relay_hz cannot be continued") as err:
         bifurc.continue_orbit("thesis-1dof", "relay_hz", (5, 6), preset="matlab-listing")

@@ -90,7 +90,7 @@ def continue_orbit(scene, param: str, span, *, params=None, preset=None, period:
         Called with a one-line description of each new point.
     param2, span2 : str, (float, float)
         A second parameter: the branch is computed at ``param2 = span2[0]`` and each located fold,
-        period doubling and grazing is continued in (param, param2) toward ``span2[1]``
+        period doubling, Neimark-Sacker point and grazing is continued in (param, param2) toward ``span2[1]``
         (:mod:`bifurc.orbits.curves`), staying within ``span`` for ``param``; the curves are stored along
         ``curve_point``.
     """
@@ -139,13 +139,14 @@ def continue_orbit(scene, param: str, span, *, params=None, preset=None, period:
 
 
 def _curves(problem, branches, param2, span2, span, max_points, progress):
-    """Each located fold, period doubling and grazing of the branches, continued in (param, param2)."""
+    """Each located fold, period doubling, Neimark-Sacker point and grazing of the branches, continued in
+    (param, param2)."""
     from .curves import CurveProblem, follow_curve
     out, index = [], 0
     for br in branches:
         for sp in br.special:
             index += 1
-            if sp.kind not in ("fold", "period_doubling", "grazing") or sp.point is None:
+            if sp.kind not in ("fold", "period_doubling", "neimark_sacker", "grazing") or sp.point is None:
                 continue
             base = problem if br.period == problem.n else ContinuationProblem(
                 problem.smap, problem.param, br.period, br.k0, scale=problem.scale, p_scale=problem.p_scale,
@@ -153,7 +154,8 @@ def _curves(problem, branches, param2, span2, span, max_points, progress):
             with in_section(base, sp.point):
                 cp = CurveProblem(base, sp.kind, param2, span2[0], abs(span2[1] - span2[0]),
                                   node=sp.data.get("node", 0))
-                w0 = cp.pack(sp.point.nodes, sp.p, span2[0], sp.data.get("t_g"))
+                w0 = cp.pack(sp.point.nodes, sp.p, span2[0], _angle(sp) if sp.kind == "neimark_sacker"
+                             else sp.data.get("t_g"))
                 curve = follow_curve(cp, w0, flags_of(sp.point), span2[1], span, max_points=max_points)
                 problem.smap.set_params(**{param2: span2[0]})
             curve.start = index - 1
@@ -162,6 +164,13 @@ def _curves(problem, branches, param2, span2, span, max_points, progress):
                 progress(f"{sp.kind} curve from {problem.param} = {sp.p:.8g}: {len(curve.p1)} points; "
                          f"{curve.stop_reason}")
     return out
+
+
+def _angle(sp) -> float:
+    """The argument in (0, pi) of the located Neimark-Sacker point's multiplier pair nearest the unit circle."""
+    mu = np.asarray(sp.point.multipliers)
+    mu = mu[mu.imag > 0] if np.any(mu.imag > 0) else mu
+    return float(abs(np.angle(mu[np.argmin(np.abs(np.abs(mu) - 1.0))])))
 
 
 def _steps(max_points, step, max_step):

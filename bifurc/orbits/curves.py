@@ -11,6 +11,8 @@ magnitude, each parameter by its span, t_g by the strobe period); equations:
   in BifurcationKit.jl);
 - period doubling: the same with A the shooting matrix whose wrap-around block is +I instead of -I
   (singular exactly when a multiplier is -1);
+- Neimark-Sacker: the same with A complex, its wrap-around block -exp(i theta) I (singular exactly
+  when exp(i theta) is a multiplier), sigma complex (Re and Im = 0) and theta an unknown;
 - grazing: F = 0 and, at t_g in the period of one node, the gap h = 0 and its rate dh/dt = 0
   (:func:`bifurc.orbits.grazing_orbit.grazing_rows`, exact derivatives).
 
@@ -66,16 +68,23 @@ class CurveProblem:
     def values(self, w) -> np.ndarray:
         return self.p_refs + w[self.N:self.N + 2] * self.p_scales
 
-    def pack(self, nodes, p1, p2, t_g=None) -> np.ndarray:
+    def pack(self, nodes, p1, p2, extra=None) -> np.ndarray:
+        """The unknowns at ``nodes``, (p1, p2) and ``extra``: t_g [s] for a grazing, the multiplier's
+        angle theta [rad] for a Neimark-Sacker point."""
         u = self.base.pack(nodes, p1)[:-1]
         w = np.concatenate([u, (np.array([p1, p2]) - self.p_refs) / self.p_scales])
-        return np.append(w, t_g / self.base.smap.period) if self.kind == "grazing" else w
+        if self.kind == "grazing":
+            return np.append(w, extra / self.base.smap.period)
+        return np.append(w, extra) if self.kind == "neimark_sacker" else w
 
-    def _matrix(self, M):
+    def _matrix(self, M, w=None):
         A = M.copy()
+        d = self.base.d
         if self.kind == "period_doubling":       # the wrap-around block: +I (a multiplier -1)
-            d = self.base.d
             A[self.N - d:, :d] += 2 * np.eye(d)
+        elif self.kind == "neimark_sacker":      # -exp(i theta) I (a multiplier exp(i theta))
+            A = A.astype(complex)
+            A[self.N - d:, :d] += (1.0 - np.exp(1j * w[-1])) * np.eye(d)
         return A
 
     def _shoot(self, w, flags):
@@ -93,18 +102,20 @@ class CurveProblem:
     def refresh_bordering(self, w, flags):
         """b, c: the left and right singular vectors of A's smallest singular value at w."""
         _, _, M, _, _ = self._shoot(w, flags)
-        U, _, Vt = np.linalg.svd(self._matrix(M))
+        U, _, Vt = np.linalg.svd(self._matrix(M, w))
         self.b, self.c = U[:, -1], Vt[-1]
 
-    def _sigma(self, M) -> float:
-        A = self._matrix(M)
+    def _sigma(self, M, w=None):
+        """The test function: real, or complex (Neimark-Sacker)."""
+        A = self._matrix(M, w)
         K = np.block([[A, self.b[:, None]], [self.c[None, :], np.zeros((1, 1))]])
-        rhs = np.zeros(K.shape[0])
+        rhs = np.zeros(K.shape[0], dtype=K.dtype)
         rhs[-1] = 1.0
         try:
-            return float(np.linalg.solve(K, rhs)[-1])
+            out = np.linalg.solve(K, rhs)[-1]
         except np.linalg.LinAlgError:
             raise NoConvergence("singular bordered matrix of the test function") from None
+        return complex(out) if self.kind == "neimark_sacker" else float(np.real(out))
 
     def evaluate(self, w, flags):
         """(G, DG, linearizations): the defining system and its Jacobian (len(w) - 1 rows)."""
@@ -125,14 +136,19 @@ class CurveProblem:
                 B[:, self.N + i] += rows[:, -1] * w[-1] * self.base.smap.period_derivative(name) \
                     * self.p_scales[i] / self.base.smap.period
             return np.concatenate([F, G2]), np.vstack([np.column_stack([top, np.zeros(top.shape[0])]), B]), lins
-        sigma = self._sigma(M)
-        grad = np.zeros(w.size)
+        sigma = self._sigma(M, w)
+        grad = np.zeros(w.size, dtype=complex)
         eps = 1e-7
         for i in range(w.size):           # sigma's gradient: forward differences of sigma (steers Newton only)
             dw = np.zeros(w.size)
             dw[i] = eps
-            grad[i] = (self._sigma(self._shoot(w + dw, flags)[2]) - sigma) / eps
-        return np.append(F, sigma), np.vstack([top, grad]), lins
+            M_i = M if i == w.size - 1 and self.kind == "neimark_sacker" else self._shoot(w + dw, flags)[2]
+            grad[i] = (self._sigma(M_i, w + dw) - sigma) / eps
+        if self.kind == "neimark_sacker":
+            top = np.column_stack([top, np.zeros(top.shape[0])])
+            return (np.concatenate([F, [sigma.real, sigma.imag]]),
+                    np.vstack([top, grad.real, grad.imag]), lins)
+        return np.append(F, sigma.real), np.vstack([top, grad.real]), lins
 
 
 def _correct(problem, w_pred, normal, flags, tol, max_move=None):
