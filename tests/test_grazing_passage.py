@@ -114,6 +114,13 @@ def test_impact_speed_near_grazing_follows_nordmarks_prediction(branch):
     sp = [s for s in br.special if s.kind == "grazing"][0]
     pred = predict(cp, sp)
     assert pred.outcome in ("persistence", "period-adding", "chaos") and pred.K > 0
+    # closed form of the feedback: the linear flow's monodromy E = exp(A T) at any section, n = (1, 0),
+    # b = (0, 1 + r): K = (1 + r) [(I - E)^-1 E]_01; sigma = d(min gap)/dF = -1 / sqrt(D) (amplitude F / sqrt(D))
+    from scipy.linalg import expm
+    E = expm(np.array([[0.0, 1.0], [-P["w0"] ** 2, -2 * P["zeta"] * P["w0"]]]) * 2 * math.pi / P["Omega"])
+    assert abs(pred.K - (1 + P["r"]) * np.linalg.solve(np.eye(2) - E, E)[0, 1]) < 1e-8
+    assert abs(pred.sigma + abs(P["e"]) / F_GRAZE) < 1e-8
+    assert abs(pred.a - P["Omega"] ** 2 * abs(P["e"])) < 1e-8          # the gap's acceleration at the touch
     # independent: the impacting orbit at F_g + dF by Newton from a first guess off the branch
     rows = []
     for pt in br.points:

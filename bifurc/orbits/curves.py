@@ -32,8 +32,9 @@ from maps.hybrid import IntegrationFailure
 from maps.parameters import ParameterError
 
 from ..storage.schema import CURVE_KINDS
-from .continuation import NoConvergence, bordered_newton, next_step, unit_tangent
+from .continuation import NoConvergence, bordered_newton, impact_count, next_step, unit_tangent
 from .grazing_orbit import grazing_rows
+from .nordmark import normal_form
 
 __all__ = ["Curve", "CurveProblem", "follow_curve", "CURVE_KINDS"]
 
@@ -49,6 +50,7 @@ class Curve:
     residual: list = field(default_factory=list)
     stop_reason: str = ""
     start: int = -1            # index of the special point of the branch it starts from
+    special: list = field(default_factory=list)   # codimension-two points on it: (kind, p1, p2, tolerance)
 
 
 class CurveProblem:
@@ -185,6 +187,7 @@ def follow_curve(problem: CurveProblem, w0, flags, p2_end: float, bounds1, *, st
     curve.p2.append(float(problem.values(w)[1]))
     curve.residual.append(norm)
     h = step
+    K = _feedback(problem, w, flags) if problem.kind == "grazing" else math.nan
     while len(curve.p1) < max_points:
         try:
             w_new, G, DG, flags_new, norm, its = _correct(problem, w + h * t, t, flags, tol, max_move=h)
@@ -195,6 +198,7 @@ def follow_curve(problem: CurveProblem, w0, flags, p2_end: float, bounds1, *, st
                 continue
             curve.stop_reason = f"stopped after ({curve.p1[-1]:.10g}, {curve.p2[-1]:.10g}): {exc} at the smallest step"
             break
+        w_prev, t_prev, flags_prev = w, t, flags
         w, t, flags = w_new, t_new, flags_new
         p1, p2 = problem.values(w)
         curve.p1.append(float(p1))
@@ -205,6 +209,10 @@ def follow_curve(problem: CurveProblem, w0, flags, p2_end: float, bounds1, *, st
                 problem.refresh_bordering(w, flags)
             except NoConvergence:
                 pass
+        if problem.kind == "grazing":
+            K_prev, K = K, _feedback(problem, w, flags)
+            if K_prev * K < 0:
+                _grazing_fold(problem, curve, w_prev, t_prev, flags_prev, K_prev, K, float(t_prev @ (w - w_prev)))
         if not (lo2 - 1e-12 <= p2 <= hi2 + 1e-12 and lo1 - 1e-12 <= p1 <= hi1 + 1e-12):
             curve.stop_reason = f"left the parameter box at ({p1:.10g}, {p2:.10g})"
             break
@@ -212,3 +220,76 @@ def follow_curve(problem: CurveProblem, w0, flags, p2_end: float, bounds1, *, st
     else:
         curve.stop_reason = f"reached max_points = {max_points}"
     return curve
+
+
+def _feedback(problem, w, flags, shift: float = 1e-9) -> float:
+    """Nordmark's feedback K at the grazing-curve point w (:func:`bifurc.orbits.nordmark.normal_form`); NaN
+    where it cannot be evaluated.  The Jacobians are those of the flow missing the stop: p1 moved by
+    ``shift`` (scaled) to the side with fewer impacts (at the exact grazing, rounding may count the touch
+    as an impact of speed ~0, whose saltation is not the smooth flow's)."""
+    co, best = problem.base.co, None
+    for sign in (1.0, -1.0):
+        w2 = np.array(w, dtype=float)
+        w2[problem.N] += sign * shift
+        try:
+            nodes, _, _, _, lins = problem._shoot(w2, flags)
+        except NoConvergence:
+            continue
+        if best is None or impact_count(lins) < best[0]:
+            best = (impact_count(lins), nodes, lins, w2)
+    if best is None:
+        return math.nan
+    _, nodes, lins, w2 = best
+    problem.base.smap.set_params(**dict(zip(problem.names, problem.values(w2))))
+    try:
+        Js = [co.R @ L.J @ co.E for L in lins]
+        return normal_form(problem.base, nodes, Js, problem.node, float(w[-1]) * problem.base.smap.period)[-1]
+    except (IntegrationFailure, ZeroDivisionError, ParameterError, np.linalg.LinAlgError):
+        return math.nan
+
+
+def _grazing_fold(problem, curve, w_a, t_a, flags, K_a, K_b, s_b, max_iter: int = 40) -> None:
+    """Locate where K changes sign between the grazing-curve points w_a and w_a + s_b t_a (Illinois false
+    position on the arclength, each evaluation a corrected curve point): a grazing-fold, where the
+    impacting orbits' fold meets the grazing (K through 0; a sign change through a pole is not one)."""
+    s_lo, s_hi, f_lo, f_hi, side, w = 0.0, s_b, K_a, K_b, 0, w_a
+    K, p_lo, p_hi = K_a, problem.values(w_a), problem.values(w_a + s_b * t_a)
+    for _ in range(max_iter):
+        s = (s_lo * f_hi - s_hi * f_lo) / (f_hi - f_lo)
+        if not s_lo < s < s_hi:
+            s = 0.5 * (s_lo + s_hi)
+        w, s = _correct_near(problem, w_a, t_a, flags, s, s_lo, s_hi)
+        if w is None:
+            return
+        K = _feedback(problem, w, flags)
+        if not math.isfinite(K):
+            return
+        if (K < 0) == (f_lo < 0):
+            s_lo, f_lo, p_lo = s, K, problem.values(w)
+            f_hi = f_hi / 2 if side == -1 else f_hi
+            side = -1
+        else:
+            s_hi, f_hi, p_hi = s, K, problem.values(w)
+            f_lo = f_lo / 2 if side == 1 else f_lo
+            side = 1
+        if K == 0.0 or s_hi - s_lo < 1e-12:
+            break
+    if abs(K) > 1e-6 * min(abs(K_a), abs(K_b)):
+        return                                   # a pole of K, not a zero
+    p1, p2 = problem.values(w)
+    curve.special.append(("grazing_fold", float(p1), float(p2), float(np.max(np.abs(np.asarray(p_hi) - p_lo)))))
+
+
+def _correct_near(problem, w_a, t_a, flags, s: float, s_lo: float, s_hi: float):
+    """(the grazing-curve point on the hyperplane at arclength s from w_a along t_a, s), or, where Newton
+    stalls there (a touch counted as an impact), at s moved 2 %, 4 %, 6 % of the way to the bracket's
+    middle; (None, s)."""
+    mid = 0.5 * (s_lo + s_hi)
+    for k in range(4):
+        s_k = s + 0.02 * k * (mid - s)
+        try:
+            w, *_ = _correct(problem, w_a + s_k * t_a, t_a, flags, problem.base.tol)
+            return w, s_k
+        except NoConvergence:
+            continue
+    return None, s

@@ -106,24 +106,34 @@ def predict(problem, sp, *, dp_probe: float = 1e-6, max_period: int = 64) -> Gra
     pt = sp.point
     if pt is None or problem.co.a is not None or "t_g" not in sp.data:
         return None
-    smap, system, param = problem.smap, problem.smap.system, problem.param
+    smap, param = problem.smap, problem.param
     j, t_g = sp.data["node"], sp.data["t_g"]
     smap.set_params(**{param: pt.p})
-    L = smap.linearize(pt.nodes[j], problem.k0 + j, params=(param,), until=t_g)
-    pars = np.asarray(system.par_vector(smap.params, L.state.flags), float)
-    h, r, a, gh, gr, hp, rp = gap_derivatives(system, (param,))(t_g, L.state.y, pars)
-    rotated = list(pt.jacobians[j:]) + list(pt.jacobians[:j])
-    M = L.J @ monodromy(rotated) @ np.linalg.inv(L.J)
-    R_y = _reset_jacobian(system, t_g, L.state.y, pars)
-    b = -(R_y - np.eye(len(gr))) @ gr / float(gr @ gr)
+    L, a, gh, hp, M, b, K = normal_form(problem, pt.nodes, pt.jacobians, j, t_g, (param,))
     t = pt.tangent
     dz = t[j * problem.d:(j + 1) * problem.d] * problem.scale / (t[-1] * problem.p_scale)
     sigma = float(gh @ (L.J @ dz + L.J_p[:, 0]) + hp[0])
-    K = float(gh @ np.linalg.solve(np.eye(M.shape[0]) - M, M @ b))
     pred = GrazingPrediction(float(a), b, sigma, K, M, np.asarray(gh, float), np.asarray(L.state.y, float),
                              -math.copysign(1.0, sigma), node=j, Phi=np.asarray(L.J, float))
     pred.outcome, pred.outcome_period = _classify(pred, dp_probe * problem.p_scale * pred.direction, max_period)
     return pred
+
+
+def normal_form(problem, nodes, jacobians, j: int, t_g: float, params: tuple = ()):
+    """(linearization to t_g, gap acceleration a, grad h, dh/d params, monodromy M at t_g, jump direction b,
+    feedback K) of the grazing orbit ``nodes`` (reduced one-period ``jacobians``) touching at t_g in the
+    period of node j, under the map's current parameters.  K = 0: a grazing-fold (the impacting orbits'
+    fold reaches the grazing)."""
+    smap, system = problem.smap, problem.smap.system
+    L = smap.linearize(nodes[j], problem.k0 + j, params=tuple(params), until=t_g)
+    pars = np.asarray(system.par_vector(smap.params, L.state.flags), float)
+    h, r, a, gh, gr, hp, rp = gap_derivatives(system, tuple(params))(t_g, L.state.y, pars)
+    rotated = list(jacobians[j:]) + list(jacobians[:j])
+    M = L.J @ monodromy(rotated) @ np.linalg.inv(L.J)
+    R_y = _reset_jacobian(system, t_g, L.state.y, pars)
+    b = -(R_y - np.eye(len(gr))) @ gr / float(gr @ gr)
+    K = float(gh @ np.linalg.solve(np.eye(M.shape[0]) - M, M @ b))
+    return L, float(a), np.asarray(gh, float), hp, M, b, K
 
 
 def _classify(pred, dp: float, max_period: int, iterates: int = 4000):
