@@ -84,8 +84,7 @@ def continue_orbit(scene, param: str, span, *, params=None, preset=None, period:
         Follow the doubled branch from each located period doubling.
     error : bool
         At each special point, solve the orbit again at tol/100 and store the multipliers' change, and
-        locate the point again at tol/100: its stated tolerance is the larger of the two locations'
-        brackets (or last Newton updates) and their difference.
+        locate the point again at tol/100: its stated tolerance is then a measured bound.
     progress : callable(str), optional
         Called with a one-line description of each new point.
     param2, span2 : str, (float, float)
@@ -130,10 +129,7 @@ def continue_orbit(scene, param: str, span, *, params=None, preset=None, period:
     if param2 is not None:
         curves = _curves(cont, branches, param2, (a2, b2), (a, b), max_points, progress)
     if error:
-        for br in branches:
-            for sp in br.special:
-                sp.multiplier_error = _multiplier_error(system, values, param, sp, br, tol, newton_tol)
-                _measure_tolerance(system, values, param, sp, br, cont, tol, newton_tol)
+        _errors(system, values, param, branches, cont, tol, newton_tol)
     clear = [_clearances(system, dict(values, **{param: pt.p}), pt) for br in branches for pt in br.points]
     return branch_dataset(branches, cont, pb, clearances=clear, curves=curves, seconds=_time.perf_counter() - clock)
 
@@ -222,6 +218,14 @@ def _switch(smap, problem, sp, span, step, max_step, max_points, say):
 #: the relative resolution of a located value computed through integrations in double precision (a grazing
 #: located at tol 1e-12 and 1e-14 is 3e-14 relative off its closed form both times: tests/test_grazing_passage.py)
 RESOLUTION = 1e-13
+
+
+def _errors(system, values, param, branches, cont, tol, newton_tol) -> None:
+    """Each special point's multiplier error and measured tolerance (both from tol/100 re-runs)."""
+    for br in branches:
+        for sp in br.special:
+            sp.multiplier_error = _multiplier_error(system, values, param, sp, br, tol, newton_tol)
+            _measure_tolerance(system, values, param, sp, br, cont, tol, newton_tol)
 
 
 def _measure_tolerance(system, values, param, sp, br, cont, tol, newton_tol) -> None:
