@@ -162,7 +162,7 @@ def _stop(branch, problem, prev, pt, why: str, u_pred, locate: bool) -> None:
         if probe is not None and probe.transitions != prev.transitions:
             why, pt = "signature", probe
     branch.stop_reason = event_reason(prev, pt, why, problem)
-    if locate and (pt is None or why == "signature"):
+    if locate and (pt is None or why == "signature") and "outside its allowed range" not in why:
         sp = discontinuity(problem, prev, pt, branch.points[-2] if len(branch.points) > 1 else None)
         if sp is not None:
             sp.index = len(branch.points) - 1

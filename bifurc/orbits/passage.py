@@ -127,7 +127,7 @@ def _graze(problem, sp, nodes, p: float, back: float, what: str) -> None:
     if at is None or not math.isfinite(tol):
         sp.note += f"; the grazing was not located from {what}: {why}"
         return
-    sp.kind, sp.p, sp.tolerance, sp.point, sp.data = "grazing", value, tol, at, data
+    sp.kind, sp.p, sp.tolerance, sp.point, sp.data = "grazing", value, tol, at, dict(data, from_impacting_side=True)
     sp.test_function, sp.test_value = "gap h(t_g) and its rate dh/dt(t_g) at the closest free-flight minimum", gap
     sp.note += f", located by the augmented system from {what}; {why}"
 

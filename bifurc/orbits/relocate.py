@@ -11,8 +11,9 @@ import numpy as np
 
 from maps.poincare import StroboscopicMap
 
-from .continuation import ContinuationProblem, NoConvergence, flags_of
+from .continuation import ContinuationProblem, NoConvergence, SpecialPoint, flags_of
 from .grazing_orbit import FAILURES, locate_grazing
+from .passage import _graze_virtual
 from .periodic import _scale
 from .special_points import TESTS, _false_position
 
@@ -29,6 +30,8 @@ def relocate(system, values, param, sp, br, problem, tol: float, newton_tol: flo
     cp = ContinuationProblem(tight, param, br.period, a.k0, scale=_scale([n.y for n in a.nodes], 1e-9),
                              p_scale=problem.p_scale, p_ref=problem.p_ref, tol=newton_tol / 100)
     try:
+        if sp.kind == "grazing" and sp.data.get("from_impacting_side"):
+            return _from_impacting_side(cp, a)
         a2 = _recorrect(cp, a)
         if sp.kind == "grazing":
             p, width, *_ = locate_grazing(cp, a2)
@@ -44,6 +47,16 @@ def relocate(system, values, param, sp, br, problem, tol: float, newton_tol: flo
         return (math.nan, math.nan) if pt is None else (pt.p, width)
     except (NoConvergence, *FAILURES):
         return math.nan, math.nan
+
+
+def _from_impacting_side(cp, a):
+    """A grazing approached from the impacting side located again (:func:`bifurc.orbits.passage._graze_virtual`)
+    from the branch's last point ``a`` as it is (its corrector stalled there), on ``cp``."""
+    F, DF, lins = cp.evaluate(cp.pack(a.nodes, a.p), flags_of(a))
+    pt = cp.point(cp.pack(a.nodes, a.p), F, DF, lins, flags_of(a), 0, a.tangent)
+    again = SpecialPoint("impact_lost", a.p, math.nan, "", math.nan, pt, data={"from_impacting_side": True})
+    _graze_virtual(cp, again, pt)
+    return (again.p, again.tolerance) if again.kind == "grazing" else (math.nan, math.nan)
 
 
 def _recorrect(cp, pt):
