@@ -239,8 +239,9 @@ SPECIAL = [
               ("flag_meanings", " ".join(SPECIAL_KINDS)))),
     Variable("special_value", SP, float, np.nan, PARAM, "located value of {param}"),
     Variable("special_tolerance", SP, float, np.nan, PARAM,
-             "uncertainty of the value (final bracket width or last Newton update; for an event not located, "
-             "the bracket between the branch's last point and the next; NaN: none)"),
+             "uncertainty of the value (with error estimates: a bound measured by re-locating it at tol/100; "
+             "else the final bracket width or Newton update; for an event not located, the bracket between the "
+             "branch's last point and the next; NaN: none)"),
     Variable("special_test_function", SP, str, "", "1", "test function whose zero locates the point"),
     Variable("special_test_value", SP, float, np.nan, "1", "the test function at the located point"),
     Variable("special_point", SP, np.int32, -1, "1", "index of the branch point after which it lies"),
