@@ -125,9 +125,16 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
         except KeyboardInterrupt:   # every value done: the grazing bisections or the error estimate were running
             n = values.size * len(MODES[mode])
             raise Interrupted(kept_message(parts, n, n) + " (grazing and error estimate: run again)") from None
-    if grazing:
+    return _finish(ds, found if grazing else None, estimate if error_sample else None, path, parts)
+
+
+def _finish(ds, found, estimate, path, parts):
+    """The sweep's Dataset with its located grazings and error estimate (None: not computed), written to
+    ``path`` (the resume parts then removed)."""
+    from . import dataset as storage
+    if found is not None:
         ds = storage.add_grazing(ds, found)
-    if error_sample:
+    if estimate is not None:
         ds = storage.add_error_estimate(ds, **estimate)
     if path:
         with deferred_interrupt():
