@@ -23,13 +23,21 @@ _LAZY = {
     "plot_branch": "plots.branch", "plot_curves": "plots.branch", "plot_diagram": "plots.diagram",
     "plot_time_history": "plots.history", "plot_regime_map": "plots.map", "plot_orbit": "plots.orbit",
     "regime_map": "sweeps.regime", "class_at": "report", "classification_report": "report", "sweep": "sweeps.sweep",
+    "plot_basins": "attractors.plots",
 }
 
 register_accessor_with_xarray()  # ds.bifurc, without importing xarray in worker processes
 
 __all__ = ["__version__", "sweep", "load", "plot_diagram", "plot_time_history", "regime_map", "plot_regime_map",
            "classification_report", "class_at", "periodic_orbit", "continue_orbit", "plot_branch", "plot_curves", "plot_orbit",
-           "sweep_point", "find_periodic_orbit", "OrbitNotFound"]
+           "sweep_point", "find_periodic_orbit", "OrbitNotFound", "attractors", "plot_basins"]
 
 
-__getattr__, __dir__ = lazy_exports(__name__, _LAZY, globals())
+_lazy_getattr, __dir__ = lazy_exports(__name__, _LAZY, globals())
+
+
+def __getattr__(name):
+    if name == "attractors":    # the subpackage, callable: bifurc.attractors(scene, param, values, ...)
+        import importlib
+        return importlib.import_module(".attractors", __name__)
+    return _lazy_getattr(name)

@@ -16,7 +16,8 @@ __all__ = ["BifurcAccessor", "Markdown", "PLOTS"]
 #: the plot function of each dataset kind that has a figure: (module, function)
 PLOTS = {"diagram": ("plots.diagram", "plot_diagram"), "map": ("plots.map", "plot_regime_map"),
          "history": ("plots.history", "plot_time_history"), "orbit": ("plots.orbit", "plot_orbit"),
-         "branch": ("plots.branch", "plot_branch"), "accuracy": ("verification.accuracy", "plot_work_precision")}
+         "branch": ("plots.branch", "plot_branch"), "accuracy": ("verification.accuracy", "plot_work_precision"),
+         "attractors": ("attractors.plots", "plot_attractors")}
 
 
 def _plotter(kind):

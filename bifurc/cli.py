@@ -23,7 +23,8 @@ from .storage.files import BadFileError
 __all__ = ["COMMANDS", "UsageError", "build_parser", "main"]
 
 #: subcommand modules in bifurc.commands, each with register(subparsers); missing ones are skipped
-COMMANDS = ["scenes", "params", "simulate", "diagram", "map", "orbit", "branch", "report", "accuracy", "verify", "study"]
+COMMANDS = ["scenes", "params", "simulate", "diagram", "map", "orbit", "branch", "report", "accuracy", "verify", "study",
+            "attractors"]
 
 #: user-facing failures: one line on stderr, exit code 2 (any OSError: a file system refusing a file)
 USER_ERRORS = (ParameterError, BadFileError, FileNotFoundError, FileExistsError, IsADirectoryError,

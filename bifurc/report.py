@@ -304,8 +304,30 @@ def stability_report(ds) -> str:
     return "\n".join(lines) + "\n"
 
 
+def attractors_report(ds) -> str:
+    """The attractor census: per value, each attractor present with its basin fraction and 95 % interval."""
+    from .sweeps.classify import describe
+    par = ds.attrs["swept_parameter"]
+    lines = [f"# Attractor census (attractors): {ds.attrs.get('scene', '')}, {ds.sizes[par]} values of {par} x "
+             f"{ds.sizes['start']} starts", "", f"| {par} | attractor | class | basin fraction | 95 % interval | event |",
+             "|---|---|---|---|---|---|"]
+    events = ds.event.attrs["flag_meanings"].split()
+    for i, v in enumerate(ds[par].values):
+        for j, label in enumerate(ds.attractor_label.values):
+            if ds.basin_fraction.values[i, j] > 0 or ds.present.values[i, j] or ds.event.values[i, j]:
+                code = int(ds.class_code.values[i, j])
+                what = describe(code, int(ds.period.values[i, j]), int(ds.impacts_per_period.values[i, j])) \
+                    if code >= 0 else "absent"
+                ev = int(ds.event.values[i, j])
+                ev_text = f"{events[ev]} ({ds.event_link.values[i, j]})" if ev else ""
+                lines.append(f"| {v:g} | {label} | {what} | {ds.basin_fraction.values[i, j]:.3f} | "
+                             f"[{ds.basin_fraction_low.values[i, j]:.3f}, {ds.basin_fraction_high.values[i, j]:.3f}] "
+                             f"| {ev_text} |")
+    return "\n".join(lines) + "\n"
+
+
 #: the report of each dataset kind
-REPORTS = {"diagram": classification_report, "map": map_report, "history": history_report, "orbit": orbit_report,
+REPORTS = {"attractors": attractors_report, "diagram": classification_report, "map": map_report, "history": history_report, "orbit": orbit_report,
            "branch": branch_report, "accuracy": accuracy_report, "stability": stability_report}
 
 

@@ -305,85 +305,40 @@ def dc_region_flags(o: ModelOptions, y, params) -> dict:
     return _region_flags(max(k, 0))
 
 
-def _forces(o: ModelOptions, s):
-    """Symbolic forces and geometry shared by the rhs, guards and outputs.
+def _dc_law(o: ModelOptions, s, xa):
+    """The DC pull of the law ``o.dc_law`` at xa = r - d_dc [m]: (force [N], its potential U [J]), dc_scale applied."""
+    # products, not xa**3 (heyoka's general pow recurrence divides by xa: NaN at xa = 0)
+    if o.dc_law == "measured":
+        # the region's cubic in the local coordinate sl = xa - dc_lo [m]; its coefficients are
+        # flags set at every region change (guards "dc_down"/"dc_up", dc_region_flags at a start)
+        sl = xa - s.dc_lo
+        cubic = (((sl * s.dc_c3 + s.dc_c2) * sl + s.dc_c1) * sl + s.dc_c0) * s.dc_scale
+        # U = dc_u0 - integral of F from dc_lo: continuous across every knot and the edge
+        U = (s.dc_u0 - (((sl * s.dc_c3 * 0.25 + s.dc_c2 / 3.0) * sl + s.dc_c1 * 0.5) * sl + s.dc_c0) * sl) \
+            * s.dc_scale
+    elif o.dc_law == "catalogue":
+        # -F_dc_sat/2 [tanh(a) + tanh(b)], a, b = (xa -+ u_dc)/(2 s_dc); U = F_dc_sat s_dc [ln cosh a
+        # + ln cosh b] (dU/dxa = -F), offset so that U(0) = 0 (energy output only)
+        a, b = (xa - s.u_dc) / s.s_dc * 0.5, (xa + s.u_dc) / s.s_dc * 0.5
+        cubic = (hy.tanh(a) + hy.tanh(b)) * s.F_dc_sat * (-0.5) * s.dc_scale
+        U0 = hy.log(hy.cosh(s.u_dc / s.s_dc * 0.5)) * 2.0
+        U = (hy.log(hy.cosh(a)) + hy.log(hy.cosh(b)) - U0) * s.F_dc_sat * s.s_dc * s.dc_scale
+    elif o.dc_law == "fit":
+        xa2 = xa**2
+        # dc_scale * (-a3 xa^3 - a2 xa^2 + a1 xa)  (eq 4.7 without its weight offset)
+        cubic = (s.a1 - xa * s.a2 - xa2 * s.a3) * xa * s.dc_scale
+        U = (xa2 * s.a3 * 0.25 + xa * s.a2 / 3.0 - s.a1 * 0.5) * xa2 * s.dc_scale
+    else:
+        xa2 = xa**2
+        # dc_scale * (-a3 xa^3 + a2 xa^2 - a1 xa)  (listing C.9 without its weight offset)
+        cubic = (xa * s.a2 - xa2 * s.a3 - s.a1) * xa * s.dc_scale
+        U = (xa2 * s.a3 * 0.25 - xa * s.a2 / 3.0 + s.a1 * 0.5) * xa2 * s.dc_scale
+    return cubic, U
 
-    Written for heyoka's Taylor recurrences: a parameter only ever multiplies, divides or offsets
-    an expression of the state or time (``(x - d) * a2``, ``acc * stuck_bar``), never another
-    parameter.  A parameter-only subexpression (``m*g``, ``1 - stuck_bar``, ``-a3``, ``2*pi*f``)
-    is a separate Taylor variable, and its product with a state expression costs a full
-    convolution at every order instead of one multiplication (about 1.6x the step cost here).
-    """
-    f = {}
-    if o.dof == 1:
-        r, rdot = s.x, s.v
-    else:
-        r, rdot = s.x1 - s.x2, s.v1 - s.v2
-    f["r"], f["rdot"] = r, rdot
-    zero = hy.expression(0.0)
-    P = s.P if o.ac else None
-    if o.dc:
-        xa = r - s.d_dc
-        f["xa"] = xa
-        # products, not xa**3 (heyoka's general pow recurrence divides by xa: NaN at xa = 0)
-        if o.dc_law == "measured":
-            # the region's cubic in the local coordinate sl = xa - dc_lo [m]; its coefficients are
-            # flags set at every region change (guards "dc_down"/"dc_up", dc_region_flags at a start)
-            sl = xa - s.dc_lo
-            cubic = (((sl * s.dc_c3 + s.dc_c2) * sl + s.dc_c1) * sl + s.dc_c0) * s.dc_scale
-            # U = dc_u0 - integral of F from dc_lo: continuous across every knot and the edge
-            U = (s.dc_u0 - (((sl * s.dc_c3 * 0.25 + s.dc_c2 / 3.0) * sl + s.dc_c1 * 0.5) * sl + s.dc_c0) * sl) \
-                * s.dc_scale
-        elif o.dc_law == "catalogue":
-            # -F_dc_sat/2 [tanh(a) + tanh(b)], a, b = (xa -+ u_dc)/(2 s_dc); U = F_dc_sat s_dc [ln cosh a
-            # + ln cosh b] (dU/dxa = -F), offset so that U(0) = 0 (energy output only)
-            a, b = (xa - s.u_dc) / s.s_dc * 0.5, (xa + s.u_dc) / s.s_dc * 0.5
-            cubic = (hy.tanh(a) + hy.tanh(b)) * s.F_dc_sat * (-0.5) * s.dc_scale
-            U0 = hy.log(hy.cosh(s.u_dc / s.s_dc * 0.5)) * 2.0
-            U = (hy.log(hy.cosh(a)) + hy.log(hy.cosh(b)) - U0) * s.F_dc_sat * s.s_dc * s.dc_scale
-        elif o.dc_law == "fit":
-            xa2 = xa**2
-            # dc_scale * (-a3 xa^3 - a2 xa^2 + a1 xa)  (eq 4.7 without its weight offset)
-            cubic = (s.a1 - xa * s.a2 - xa2 * s.a3) * xa * s.dc_scale
-            U = (xa2 * s.a3 * 0.25 + xa * s.a2 / 3.0 - s.a1 * 0.5) * xa2 * s.dc_scale
-        else:
-            xa2 = xa**2
-            # dc_scale * (-a3 xa^3 + a2 xa^2 - a1 xa)  (listing C.9 without its weight offset)
-            cubic = (xa * s.a2 - xa2 * s.a3 - s.a1) * xa * s.dc_scale
-            U = (xa2 * s.a3 * 0.25 - xa * s.a2 / 3.0 + s.a1 * 0.5) * xa2 * s.dc_scale
-        if o.dc_delay:          # the coil's current j_dc lags the gate (1 - P); force ~ current^2
-            f["F_dc"], f["U_dc"] = cubic * s.j_dc**2, U * s.j_dc**2
-        else:
-            f["F_dc"] = cubic - cubic * P if o.relay == "antiphase" else cubic       # gate (1 - P)
-            f["U_dc"] = U - U * P if o.relay == "antiphase" else U
-    else:
-        f["F_dc"] = zero
-    if o.ac:
-        q = (r + s.d_ac) / s.B                             # xb / B
-        gA = hy.exp(-2.0 * q**2) * s.A / s.B               # (A / B) exp(-2 (xb/B)^2)
-        c0 = 1.0 / math.sqrt(math.pi / 2)
-        f["L"] = gA * c0 + s.L0
-        f["dL"] = gA * q / s.B * (-4.0 * c0)
-        f["ddL"] = gA * (1.0 - 4.0 * q**2) / s.B / s.B * (-4.0 * c0)
-        sign = 1.0 if o.ac_sign == "physical" else -1.0
-        f["F_ac"] = f["dL"] * s.i**2 * (0.5 * sign)
-        phase = s.t * s.f_mains * (2.0 * math.pi)
-        f["u"] = hy.sin(phase) * s.V * P
-        f["du"] = hy.cos(phase) * s.V * s.f_mains * P * (2.0 * math.pi)
-    else:
-        f["F_ac"] = zero
-    if o.stop:
-        f["F_c"] = -((r - s.e) * s.k + rdot * s.c) * s.contact
-    else:
-        f["F_c"] = zero
-    f["F_air"] = -rdot * s.c_air if o.air_damping else zero        # free-flight damping (ELEMENTS)
-    if o.rear_stop:         # the housing: the stop's contact law beyond r = e_rear (flag "rear")
-        f["F_rear"] = -((r - s.e_rear) * s.k + rdot * s.c) * s.rear
-    f["F_bar"] = f["F_dc"] + f["F_ac"] + f["F_c"]  # magnetic + contact force on the bar
-    if o.air_damping:
-        f["F_bar"] = f["F_bar"] + f["F_air"]
-    if o.rear_stop:
-        f["F_bar"] = f["F_bar"] + f["F_rear"]
+
+def _accelerations(o: ModelOptions, s, f: dict) -> None:
+    """The accelerations from the forces in ``f`` (added to it): the bar's and, for 2 DOF, the rig's
+    under the soil's law [m s-2]."""
     if o.dof == 2:
         # stuck_bar = 1: the bar rides the stop, bar and rig move as one body of mass m1 + m2
         # under the static force and the soil; stuck_bar = 0 gives the free equations exactly.
@@ -430,6 +385,63 @@ def _forces(o: ModelOptions, s):
         acc = (f["N_bar"] + f["F_c"]) / s.m
         f["a1"] = acc - acc * s.stuck_bar if o.stop else acc        # (1 - stuck_bar) * acc
         f["rddot"] = f["a1"]
+
+
+def _forces(o: ModelOptions, s):
+    """Symbolic forces and geometry shared by the rhs, guards and outputs.
+
+    Written for heyoka's Taylor recurrences: a parameter only ever multiplies, divides or offsets
+    an expression of the state or time (``(x - d) * a2``, ``acc * stuck_bar``), never another
+    parameter.  A parameter-only subexpression (``m*g``, ``1 - stuck_bar``, ``-a3``, ``2*pi*f``)
+    is a separate Taylor variable, and its product with a state expression costs a full
+    convolution at every order instead of one multiplication (about 1.6x the step cost here).
+    """
+    f = {}
+    if o.dof == 1:
+        r, rdot = s.x, s.v
+    else:
+        r, rdot = s.x1 - s.x2, s.v1 - s.v2
+    f["r"], f["rdot"] = r, rdot
+    zero = hy.expression(0.0)
+    P = s.P if o.ac else None
+    if o.dc:
+        xa = r - s.d_dc
+        f["xa"] = xa
+        cubic, U = _dc_law(o, s, xa)
+        if o.dc_delay:          # the coil's current j_dc lags the gate (1 - P); force ~ current^2
+            f["F_dc"], f["U_dc"] = cubic * s.j_dc**2, U * s.j_dc**2
+        else:
+            f["F_dc"] = cubic - cubic * P if o.relay == "antiphase" else cubic       # gate (1 - P)
+            f["U_dc"] = U - U * P if o.relay == "antiphase" else U
+    else:
+        f["F_dc"] = zero
+    if o.ac:
+        q = (r + s.d_ac) / s.B                             # xb / B
+        gA = hy.exp(-2.0 * q**2) * s.A / s.B               # (A / B) exp(-2 (xb/B)^2)
+        c0 = 1.0 / math.sqrt(math.pi / 2)
+        f["L"] = gA * c0 + s.L0
+        f["dL"] = gA * q / s.B * (-4.0 * c0)
+        f["ddL"] = gA * (1.0 - 4.0 * q**2) / s.B / s.B * (-4.0 * c0)
+        sign = 1.0 if o.ac_sign == "physical" else -1.0
+        f["F_ac"] = f["dL"] * s.i**2 * (0.5 * sign)
+        phase = s.t * s.f_mains * (2.0 * math.pi)
+        f["u"] = hy.sin(phase) * s.V * P
+        f["du"] = hy.cos(phase) * s.V * s.f_mains * P * (2.0 * math.pi)
+    else:
+        f["F_ac"] = zero
+    if o.stop:
+        f["F_c"] = -((r - s.e) * s.k + rdot * s.c) * s.contact
+    else:
+        f["F_c"] = zero
+    f["F_air"] = -rdot * s.c_air if o.air_damping else zero        # free-flight damping (ELEMENTS)
+    if o.rear_stop:         # the housing: the stop's contact law beyond r = e_rear (flag "rear")
+        f["F_rear"] = -((r - s.e_rear) * s.k + rdot * s.c) * s.rear
+    f["F_bar"] = f["F_dc"] + f["F_ac"] + f["F_c"]  # magnetic + contact force on the bar
+    if o.air_damping:
+        f["F_bar"] = f["F_bar"] + f["F_air"]
+    if o.rear_stop:
+        f["F_bar"] = f["F_bar"] + f["F_rear"]
+    _accelerations(o, s, f)
     return f
 
 

@@ -69,6 +69,8 @@ class Scene:
     builder: object = None
     chosen: frozenset = frozenset()                 # options set by with_options (a preset leaves them)
     address: str | None = None                      # "package.module:NAME" it was loaded from (maps.registry)
+    box: dict = field(default_factory=dict)         # state -> (low, high) [SI]: the attractor census' default box
+    switch_on: dict = field(default_factory=dict)   # state -> (low, high) [SI]: the "switch-on" start distribution
 
     @property
     def system(self):
@@ -160,6 +162,9 @@ class Scene:
 
 _OSC = "the forced impact oscillator of maps.examples (a stable and an unstable 1:1 orbit coexist here)"
 _ABOVE = {"x": 1e-3}
+#: switched on: the bar at rest on the stop (x = 0), the circuit at rest (i = z = 0), spread by 0.1 mm in x and
+#: 1 mm/s in v (a declared spread, not a measured one)
+_SWITCH_ON_1DOF = {"x": (0.0, 1e-4), "v": (-1e-3, 1e-3), "i": (0.0, 0.0), "z": (0.0, 0.0)}
 SCENES = {s.name: s for s in [
     Scene("dc-only", "bar under DC force and weight on the stop, 2 states (thesis Fig 4.7)",
           ModelOptions(dof=1, dc=True, ac=False, stop=True, relay="none", dc_law="fit"), x0={"x": 0.0}),
@@ -168,7 +173,8 @@ SCENES = {s.name: s for s in [
     Scene("ac-stop", "AC solenoid always on, weight and the stop (Fig 4.26)",
           ModelOptions(dof=1, dc=False, ac=True, stop=True, relay="none"), x0=_ABOVE),
     Scene("thesis-1dof", "vertical bar, DC solenoid, relay-switched AC solenoid, stop (Fig 4.27)",
-          ModelOptions(dof=1, dc_law="fit"), x0=_ABOVE),
+          ModelOptions(dof=1, dc_law="fit"), x0=_ABOVE, box={"x": (0.0, 0.03), "v": (-1.5, 1.5)},
+          switch_on=_SWITCH_ON_1DOF),
     Scene("thesis-2dof", "horizontal bar and rig, viscous soil (section 4.7, listing C.4)",
           ModelOptions(dof=2, soil="viscous"), preset="matlab-listing", x0={"x1": 1e-3}),
     Scene("prototype", "2-DOF prototype, antiphase relay, dry-friction soil (Chapter 5)",
@@ -180,5 +186,5 @@ SCENES = {s.name: s for s in [
           None, preset=None, builder=forced_oscillator_with_stop,
           overrides={"w0": (1.0, _OSC), "zeta": (0.05, _OSC), "F": (0.5, _OSC), "Omega": (2.5, _OSC),
                      "e": (0.2, _OSC), "r": (0.7, _OSC)},
-          x0={"x": 0.5}),
+          x0={"x": 0.5}, box={"x": (-1.0, 2.0), "v": (-2.0, 2.0)}),
 ]}

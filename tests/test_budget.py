@@ -44,11 +44,11 @@ class _R:
 
 def test_the_progress_bar_grows_with_the_planned_work():
     """Three values of 400 planned periods: the first chunk used 400 and 2000 (an extension), so the
-    total grows by 1600 and the count by 2400; the last value's 400 completes it."""
+    value to come is planned at their mean, 1200 (total 3600); when it uses 400 the bar ends at 2800."""
     bar = _Bar(3 * 400)
     p = _PeriodBar(bar, 3, 400, "values")
     p.done([_R(400), _R(2000)])
-    assert (bar.total, bar.n, bar.postfix) == (2800, 2400, "2/3 values")
+    assert (bar.total, bar.n, bar.postfix) == (3600, 2400, "2/3 values")
     p.done([_R(400)])
     assert (bar.total, bar.n, bar.postfix) == (2800, 2800, "3/3 values")
     assert np.isclose(bar.n / bar.total, 1.0)

@@ -137,20 +137,33 @@ def test_grazing_of_the_non_impacting_orbit_and_the_hysteresis_fold():
     p = dict(BASE, Omega=1.5, e=-0.05)
     D = (1 - 1.5 ** 2) ** 2 + (2 * 0.05 * 1.5) ** 2
     F_graze = 0.05 * math.sqrt(D)
-    quiet = bifurc.continue_orbit("impact-oscillator", "F", (0.02, 0.3), params=p, x0={"x": 0.0}, error=False)
+    quiet = bifurc.continue_orbit("impact-oscillator", "F", (0.02, 0.3), params=p, x0={"x": 0.0}, error=False,
+                                  max_points=600)
     grazes = specials(quiet, "grazing")
     assert len(grazes) == 1 and abs(grazes[0] - F_graze) < 1e-8
-    assert int(quiet.impacts_per_period.max()) == 0
+    g = int(quiet.special_point.values[0])
+    assert int(quiet.impacts_per_period[:g + 1].max()) == 0
     assert abs(float(quiet.special_test_value[0])) < 1e-10
     value, mult = one_to_one_family(**{k: p[k] for k in ("w0", "zeta", "F", "Omega", "r", "e")}, free="F")
     F_fold = fold_of(value, np.linspace(0, 2 * math.pi, 4001), -1, mult)
     assert F_fold < F_graze
+    # past the grazing the branch turns back (Nordmark's K < 0: the small impacting orbit lies on the
+    # non-impacting side), along the unstable impacting orbits to their fold, then up the stable ones
+    assert "no small impacting orbit beyond the grazing" in str(quiet.special_note.values[0])
+    assert np.all(quiet.impacts_per_period[g + 1:] == 1) and float(quiet.F[g + 1]) < F_graze
+    assert abs(specials(quiet, "fold")[0] - F_fold) < 1e-8 and float(quiet.F[-1]) >= 0.3
     loud = bifurc.continue_orbit("impact-oscillator", "F", (0.3, 0.0), params=dict(p, F=0.3), error=False)
     folds = specials(loud, "fold")
     assert len(folds) == 1 and abs(folds[0] - F_fold) < 1e-8
-    # past the fold the unstable impacting orbit returns toward the grazing, its impact slowing to 0
-    assert abs(float(loud.F[-1]) - F_graze) < 1e-5
+    # past the fold the unstable impacting orbit returns toward the grazing, its impact slowing to 0 until
+    # the corrector stalls; the grazing is located there by the augmented system (from the orbit less that
+    # impact), and the branch goes on along the non-impacting orbits
     assert "grazing" in loud.attrs["branch_stop_reasons"]
+    g = specials(loud, "grazing")
+    assert abs(g[0] - F_graze) < 1e-8 and "impacting side" in str(loud.special_note.values[1])
+    i = int(loud.special_point.values[1])
+    assert abs(float(loud.F[i]) - F_graze) < 1e-5 and int(loud.impacts_per_period[i]) == 1
+    assert np.all(loud.impacts_per_period[i + 1:] == 0) and float(loud.F[-1]) < 0.01
 
 
 def _negatively_damped_oscillator():
@@ -179,6 +192,19 @@ def test_neimark_sacker_where_the_damping_changes_sign():
     i = int(ds.special_point[0])
     assert float(ds.multiplier_abs[0, 0]) == pytest.approx(math.exp(-0.05 * T), rel=1e-9)
     assert bool(ds.stable[i]) and not bool(ds.stable[i + 1])
+
+
+def test_two_parameter_neimark_sacker_curve_is_the_closed_form():
+    """The Neimark-Sacker point of the negatively damped oscillator continued in (zeta, Omega): the pair
+    exp((-zeta w0 +- i w0 sqrt(1 - zeta^2)) T) is on the unit circle exactly where zeta = 0, for every Omega."""
+    params = dict(w0=1.0, zeta=0.05, F=0.5, Omega=2.5)
+    D = (1 - 2.5 ** 2) ** 2 + (2 * 0.05 * 2.5) ** 2
+    a, b = 0.5 * (1 - 2.5 ** 2) / D, 0.5 * 2 * 0.05 * 2.5 / D
+    ds = bifurc.continue_orbit(_negatively_damped_oscillator(), "zeta", (0.05, -0.05), params=params,
+                               start=np.array([a, 2.5 * b]), k0=0, error=False, param2="Omega", span2=(2.5, 2.0))
+    assert [bifurc.storage.schema.SPECIAL_KINDS[int(k)] for k in ds.curve_kind.values] == ["neimark_sacker"]
+    assert ds.curve_Omega.size >= 10 and float(ds.curve_Omega.min()) < 2.01      # measured: 18 points to 1.984
+    assert float(np.max(np.abs(ds.curve_zeta.values))) < 1e-6                    # measured: 1.1e-12
 
 
 def test_refusals_are_one_line_naming_the_parameter():
@@ -309,8 +335,10 @@ def test_two_parameter_fold_period_doubling_and_grazing_curves_equal_the_closed_
     p = dict(BASE, Omega=1.5, e=-0.05)
     g = bifurc.continue_orbit("impact-oscillator", "F", (0.02, 0.3), params=p, x0={"x": 0.0}, error=False,
                               param2="zeta", span2=(0.05, 0.3))
-    assert [bifurc.storage.schema.SPECIAL_KINDS[int(k)] for k in g.curve_kind.values] == ["grazing"]
-    F, zeta = g.curve_F.values, g.curve_zeta.values
+    # the branch passes the grazing and turns back to the impacting orbits' fold: both are continued
+    assert [bifurc.storage.schema.SPECIAL_KINDS[int(k)] for k in g.curve_kind.values] == ["grazing", "fold"]
+    on = g.curve_id.values == 0
+    F, zeta = g.curve_F.values[on], g.curve_zeta.values[on]
     assert F.size >= 10 and zeta.max() > 0.25
     for i in (1, F.size // 2, F.size - 2):
         D = (1 - 1.5 ** 2) ** 2 + (2 * zeta[i] * 1.5) ** 2
@@ -360,8 +388,10 @@ def test_an_impact_born_on_the_unstable_branch_is_a_grazing_located_by_the_augme
         return x(s) - e
     ds = bifurc.continue_orbit("impact-oscillator", "e", (0.15, 0.6), error=False)
     grazes = specials(ds, "grazing")
-    assert len(grazes) == 1 and ds.sizes["special"] == 2            # the fold, then the grazing
-    i = ds.sizes["point"] - 1                      # the unstable orbit just before the grazing
+    kinds = [bifurc.storage.schema.SPECIAL_KINDS[int(k)] for k in ds.special_kind.values]
+    assert kinds[:2] == ["fold", "grazing"]         # the fold, then the grazing (then the 1:2 branch past it)
+    i = int(ds.special_point.values[1])             # the unstable orbit just before the grazing
+    assert int(ds.impacts_per_period[i]) == 1 and int(ds.impacts_per_period[i + 1]) == 2
     ths = np.linspace(0, 2 * math.pi, 401)
     near = [t for t in ths if mult(t)[1] < 0 and abs(value(t) - float(ds.e[i])) < 0.01
             and np.max(np.abs(mult(t)[0])) > 1]
@@ -415,8 +445,9 @@ def test_a_branch_that_runs_into_sticking_says_so():
                                period=1, error=False)
     assert "sticking sets in" in ds.attrs["branch_stop_reasons"]
     code = bifurc.storage.schema.SPECIAL_KINDS.index("stick_onset")
-    assert [int(k) for k in ds.special_kind.values] == [code]
-    last = ds.sizes["point"] - 1
+    assert int(ds.special_kind.values[0]) == code
+    last = int(ds.special_point.values[0])      # the last point before the stick; the branch goes on past it
+    assert ds.sizes["point"] > last + 1 and ds.signature.values[last + 1] != ds.signature.values[last]
     V_last = float(ds.V.values[last])
     node = HybridState(np.array([float(ds[v].values[last, 0]) for v in ("x", "v", "i", "z")]),
                        {k[5:]: float(ds[k].values[last, 0]) for k in ds.data_vars if k.startswith("flag_")})
@@ -441,8 +472,9 @@ def test_a_corrector_that_lands_on_another_branch_is_refused():
     reason = ds.attrs["branch_stop_reasons"]
     assert "impact is lost" not in reason and "sticking sets in" in reason
     code = bifurc.storage.schema.SPECIAL_KINDS.index("stick_onset")
-    assert [int(k) for k in ds.special_kind.values] == [code]
-    last = ds.sizes["point"] - 1
+    assert int(ds.special_kind.values[0]) == code
+    last = int(ds.special_point.values[0])      # the last point before the stick; the branch goes on past it
+    assert ds.sizes["point"] > last + 1 and ds.signature.values[last + 1] != ds.signature.values[last]
     V_last = float(ds.V.values[last])
     assert abs(V_last - 101.61992) < 1e-4
     assert "predicted point" in str(ds.special_note.values[0])
@@ -512,11 +544,12 @@ def test_an_impact_lost_is_extrapolated_where_its_speed_vanishes():
                                dc_law="listing", params={"relay_hz": 5.0}, max_points=60,
                                start=(HybridState(y, flags), 400), period=3, error=False)
     assert "an impact is lost" in ds.attrs["branch_stop_reasons"]
-    assert [bifurc.storage.schema.SPECIAL_KINDS[int(k)] for k in ds.special_kind.values] == ["impact_lost"]
+    assert bifurc.storage.schema.SPECIAL_KINDS[int(ds.special_kind.values[0])] == "impact_lost"
     V_lost, tol = float(ds.special_value[0]), float(ds.special_tolerance[0])
     assert 0 < tol < 1e-5 and abs(V_lost - 100.11027) < 1e-4
     sc = maps.get_scene("thesis-1dof").with_options(dc_law="listing")
-    last = ds.sizes["point"] - 1
+    last = int(ds.special_point.values[0])     # the last point before the loss (the branch goes on past it)
+    assert int(ds.impacts_per_period[last + 1]) < int(ds.impacts_per_period[last])
     k0 = int(ds.section_k0.values[last])
     node = HybridState(np.array([float(ds[v].values[last, 0]) for v in ("x", "v", "i", "z")]), flags)
 

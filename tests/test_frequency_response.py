@@ -2,6 +2,7 @@
 closed-form 1:1 orbits of the restitution oscillator (:func:`test_periodic.closed_form_1_1`, derived there
 by hand): the sample instants t_k = (k + phase) 2 pi / Omega move with Omega."""
 import math
+import re
 
 import numpy as np
 import pytest
@@ -73,7 +74,9 @@ def test_the_grazing_curve_in_f_and_omega_equals_the_closed_form():
     p = dict(P, Omega=1.5, e=-0.05)
     ds = bifurc.continue_orbit("impact-oscillator", "F", (0.02, 0.3), params=p, x0={"x": 0.0}, error=False,
                                param2="Omega", span2=(1.5, 1.2))
-    F, Om = ds.curve_F.values, ds.curve_Omega.values
+    on = ds.curve_id.values == 0                # the grazing's curve (the branch goes on past it to a fold)
+    assert bifurc.storage.schema.SPECIAL_KINDS[int(ds.curve_kind.values[0])] == "grazing"
+    F, Om = ds.curve_F.values[on], ds.curve_Omega.values[on]
     D = (1 - Om ** 2) ** 2 + (2 * 0.05 * Om) ** 2
     assert F.size >= 20 and Om.min() < 1.25
     assert np.max(np.abs(F - 0.05 * np.sqrt(D))) < 1e-9
@@ -106,3 +109,24 @@ def test_branch_switching_at_the_period_doubling_in_omega_at_default_settings():
                            transient=3000, t0=t0)
     np.testing.assert_allclose(np.sort(simulated.impact_velocity), np.sort(on_branch.impact_velocity), rtol=0,
                                atol=1e-9)
+
+
+def test_the_grazing_fold_on_the_grazing_curve_equals_the_closed_form():
+    """Along the grazing curve in (F, Omega) (e = -0.05), Nordmark's feedback K = (1 + r) [(I - E)^-1 E]_01,
+    E = exp(A T) the linear flow over a period (n = grad h = (1, 0), b = (0, 1 + r)), changes sign where the
+    impacting orbits' fold meets the grazing (a grazing-fold): the zero of that closed form near Omega = 2,
+    at F = 0.05 sqrt(D(Omega)).  Both to 1e-6 (measured 4e-12 and 3e-13)."""
+    from scipy.linalg import expm
+    Al = np.array([[0.0, 1.0], [-1.0, -0.1]])
+
+    def K(Om):
+        E = expm(Al * 2 * math.pi / Om)
+        return 1.7 * np.linalg.solve(np.eye(2) - E, E)[0, 1]
+    Om = brentq(K, 1.9, 2.1, xtol=1e-14)
+    F = 0.05 * math.sqrt((1 - Om ** 2) ** 2 + (0.1 * Om) ** 2)
+    p = dict(P, Omega=1.5, e=-0.05)
+    ds = bifurc.continue_orbit("impact-oscillator", "F", (0.02, 0.3), params=p, x0={"x": 0.0}, error=False,
+                               param2="Omega", span2=(1.5, 2.3))
+    found = re.findall(r"grazing_fold on curve 0: \(F, Omega\) = \(([-\d.e]+), ([-\d.e]+)\)", ds.attrs["curve_codim2"])
+    assert len(found) == 1
+    assert abs(float(found[0][1]) - Om) < 1e-6 and abs(float(found[0][0]) - F) < 1e-6

@@ -18,7 +18,8 @@ from conftest import completed_values
 ROOT = Path(__file__).resolve().parents[1]
 ENV = dict(os.environ, PYTHONPATH=str(ROOT))
 GRID = ["--scene", "thesis-1dof", "--preset", "matlab-listing", "--set", "V=90", "--from", "2", "--to", "10",
-        "--transient", "100", "--record", "30", "--quiet", "--workers", "2"]
+        "--transient", "100", "--record", "30", "--budget", "1000", "--quiet", "--workers", "2"]
+# (a budget of 1000 relay periods keeps each chunk short: these tests are about interrupts, not labels)
 
 
 def _interrupt(proc, when, group=True, timeout=120):

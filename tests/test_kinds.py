@@ -43,7 +43,9 @@ def _stability():
 
 BUILD = {"diagram": _diagram, "map": _map, "history": lambda: maps.simulate("impact-oscillator", periods=3),
          "orbit": _orbit, "branch": lambda: bifurc.continue_orbit("impact-oscillator", "e", (0.2, 0.1), max_points=10),
-         "accuracy": _accuracy, "stability": _stability}
+         "accuracy": _accuracy, "stability": _stability,
+         "attractors": lambda: bifurc.attractors("impact-oscillator", "Omega", [1.3], n_starts=4, progress=False,
+                                                 params=dict(F=0.3, e=-1.0, r=0.8, Omega=1.3), link=False)}
 
 
 @pytest.fixture(scope="module")

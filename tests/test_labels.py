@@ -178,10 +178,11 @@ def test_the_stored_interval_covers_other_trajectories_of_the_same_attractor():
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(reason="issue 27's 95 % is not met: measured 69 of 76 decided values (91 %) on 2026-11-26 "
-                          "(budget 6000); the changes are chaotic transients of thousands of relay periods that end "
-                          "on periodic orbits (2.6, 5.8, 8.3 Hz), periodic orbits left for a chaotic set (2.8 Hz), "
-                          "and weakly chaotic values that a longer record leaves undecided", strict=False)
+@pytest.mark.xfail(reason="issue 27's 95 % is not met: 68 of 75 decided values (91 %) on 2026-11-26 (budget 6000, "
+                          "restarted from a stored sample of the judged window); every periodic label holds; 4 chaotic "
+                          "labels become periodic on the 24000-period re-run (chaotic transients of about 10^4 relay "
+                          "periods: at 3.4 Hz the scene's start lands on a period-34 orbit after 20,500 periods; 2.9 and "
+                          "3.5 Hz on none within 24,000) and 3 weakly chaotic ones become undecided", strict=False)
 def test_decided_labels_are_stable_on_a_longer_record_from_another_start():
     """The main job's grid: every decided value re-run from a stored sample of its judged window
     perturbed by 1e-7 (another start on the attractor its label describes; a state recomputed from the

@@ -134,6 +134,10 @@ def test_every_notebook_executes_quickly_without_errors_or_stderr(path, tmp_path
         if cell.cell_type == "code":
             assert sum("image/png" in o.get("data", {}) for o in cell.get("outputs", [])) <= 1, cell.source
     assert sum("image/png" in o.get("data", {}) for o in outputs) >= 1
+    if path.name == "orbits.ipynb":                 # a frequency response, a branch through a grazing
+        text = "".join(o.get("text", "") for o in outputs)
+        assert "period_doubling  Omega = 2.6631899" in text and "grazing          F = 0.1843908891" in text
+        assert "Nordmark" in text and sum("image/png" in o.get("data", {}) for o in outputs) == 2
     if path.name == "explore_thesis_1dof.ipynb":     # the diagram, the table, the classes, the time history
         text = "".join(o.get("text", "") for o in outputs)
         assert "toolkit" in text and " 6 " in text and "in the last 10 relay periods" in text

@@ -13,16 +13,65 @@ from maps.hybrid import IntegrationFailure
 from maps.parameters import ParameterError
 
 from .continuation import SMOOTH_ROLES, Branch, ContinuationProblem, NoConvergence, flags_of, next_step
+from .passage import PASSABLE, restart
 from .special_points import TESTS, detect, discontinuity, event_at_section, event_reason
 
-__all__ = ["continue_branch"]
+__all__ = ["continue_branch", "continue_piece"]
 
 
-def continue_branch(problem: ContinuationProblem, orbit, p_start: float, p_end: float, *,
-                    step: float = 0.02, max_step: float = 0.1, min_step: float = 1e-7, max_points: int = 200,
-                    max_turn: float = 0.3, tangent=None, label: str = "main", progress=None,
-                    locate: bool = True, bounds=None, section_margin: float = 0.02,
-                    max_resections: int = 50) -> Branch:
+def continue_branch(problem: ContinuationProblem, orbit, p_start: float, p_end: float, *, max_points: int = 200,
+                    bounds=None, locate: bool = True, max_passages: int = 20, **options) -> Branch:
+    """Follow ``orbit`` (at p_start) toward p_end as :func:`continue_piece` does, and past each grazing,
+    impact lost or stick onset that stops a piece (at most ``max_passages``): continuation restarts on
+    the other side with the new transition signature (:func:`bifurc.orbits.passage.restart`) and the
+    pieces are joined into one branch, the located event between them (its note holds Nordmark's
+    prediction at a grazing); each piece scales its unknowns by its own orbit's magnitude.  Where no orbit persists on the other side, the branch ends there and
+    its ``stop_reason`` says so."""
+    clock = _time.perf_counter()
+    lo, hi = sorted(bounds) if bounds is not None else (min(p_start, p_end), max(p_start, p_end))
+    branch = continue_piece(problem, orbit, p_start, p_end, max_points=max_points, bounds=(lo, hi), locate=locate,
+                            **options)
+    options.pop("tangent", None)
+    for _ in range(max_passages if locate else 0):
+        sp = branch.special[-1] if branch.special else None
+        if (sp is None or sp.kind not in PASSABLE or sp.index != len(branch.points) - 1
+                or (sp.kind == "grazing" and sp.point is None)         # a grazing not located: no orbit to start from
+                or not branch.stop_reason.startswith("stopped after") or len(branch.points) >= max_points):
+            break
+        start, p, direction, note = restart(problem, sp, branch.points[-1], lo, hi)
+        if note:
+            sp.note = f"{sp.note}; {note}" if sp.note else note
+        if start is None:
+            branch.stop_reason += f"; the branch ends there: {p}"
+            break
+        problem = ContinuationProblem(problem.smap, problem.param, problem.n, problem.k0, scale=start.scale,
+                                      p_scale=problem.p_scale, p_ref=problem.p_ref, tol=problem.tol)
+        piece = continue_piece(problem, start, p, p_end, max_points=max_points - len(branch.points),
+                               bounds=(lo, hi), locate=locate, direction=direction, **options)
+        _join(branch, piece, problem.param, p, direction)
+    branch.seconds = _time.perf_counter() - clock
+    return branch
+
+
+def _join(branch, piece, param: str, p: float, direction: float) -> None:
+    """Append the piece restarted at ``param`` = ``p`` past the event that stopped ``branch``."""
+    offset = len(branch.points)
+    for sp in piece.special:
+        sp.index += offset
+    first = piece.points[0] if piece.points else None
+    what = (f"{first.impacts} impact{'' if first.impacts == 1 else 's'} per period" if first is not None else "")
+    way = "increasing" if direction > 0 else "decreasing"
+    branch.stop_reason += f"; continued from {param} = {p:.10g} toward {way} {param} ({what}): {piece.stop_reason}"
+    branch.points += piece.points
+    branch.special += piece.special
+    branch.newton_iterations += piece.newton_iterations
+
+
+def continue_piece(problem: ContinuationProblem, orbit, p_start: float, p_end: float, *,
+                   step: float = 0.02, max_step: float = 0.1, min_step: float = 1e-7, max_points: int = 200,
+                   max_turn: float = 0.3, tangent=None, label: str = "main", progress=None,
+                   locate: bool = True, bounds=None, section_margin: float = 0.02,
+                   max_resections: int = 50, direction: float | None = None) -> Branch:
     """Follow ``orbit`` (at p_start) toward p_end until it leaves [p_start, p_end] (or the interval
     of the two), ``max_points`` points are taken, or a non-smooth event or a corrector failure at
     ``min_step`` stops it (``Branch.stop_reason`` says which).  When a state-changing event comes
@@ -36,7 +85,8 @@ def continue_branch(problem: ContinuationProblem, orbit, p_start: float, p_end: 
     branch = Branch(problem.param, problem.n, problem.k0, label=label)
     flags = flags_of(orbit)
     u0 = problem.pack(orbit.nodes, p_start)
-    direction = math.copysign(1.0, p_end - p_start) if p_end != p_start else 1.0
+    if direction is None:       # a restarted piece goes on in the parameter's direction at the event
+        direction = math.copysign(1.0, p_end - p_start) if p_end != p_start else 1.0
     e_p = np.zeros(u0.size)
     e_p[-1] = direction
     reference = e_p if tangent is None else np.asarray(tangent, float)
@@ -112,7 +162,7 @@ def _stop(branch, problem, prev, pt, why: str, u_pred, locate: bool) -> None:
         if probe is not None and probe.transitions != prev.transitions:
             why, pt = "signature", probe
     branch.stop_reason = event_reason(prev, pt, why, problem)
-    if locate and (pt is None or why == "signature"):
+    if locate and (pt is None or why == "signature") and "outside its allowed range" not in why:
         sp = discontinuity(problem, prev, pt, branch.points[-2] if len(branch.points) > 1 else None)
         if sp is not None:
             sp.index = len(branch.points) - 1

@@ -29,6 +29,7 @@ from .continuation import ContinuationProblem, flags_of, in_section
 from .dataset import branch_dataset
 from .orbit import first_guess, multiplier_change
 from .periodic import OrbitNotFound, find_periodic_orbit, monodromy
+from .relocate import relocate
 from .special_points import LOCATED_KINDS
 
 __all__ = ["continue_orbit", "branch_dataset"]
@@ -82,12 +83,13 @@ def continue_orbit(scene, param: str, span, *, params=None, preset=None, period:
     branch_switch : bool
         Follow the doubled branch from each located period doubling.
     error : bool
-        At each special point, solve the orbit again at tol/100 and store the multipliers' change.
+        At each special point, solve the orbit again at tol/100 and store the multipliers' change, and
+        locate the point again at tol/100: its stated tolerance is then a measured bound.
     progress : callable(str), optional
         Called with a one-line description of each new point.
     param2, span2 : str, (float, float)
         A second parameter: the branch is computed at ``param2 = span2[0]`` and each located fold,
-        period doubling and grazing is continued in (param, param2) toward ``span2[1]``
+        period doubling, Neimark-Sacker point and grazing is continued in (param, param2) toward ``span2[1]``
         (:mod:`bifurc.orbits.curves`), staying within ``span`` for ``param``; the curves are stored along
         ``curve_point``.
     """
@@ -127,21 +129,20 @@ def continue_orbit(scene, param: str, span, *, params=None, preset=None, period:
     if param2 is not None:
         curves = _curves(cont, branches, param2, (a2, b2), (a, b), max_points, progress)
     if error:
-        for br in branches:
-            for sp in br.special:
-                sp.multiplier_error = _multiplier_error(system, values, param, sp, br, tol, newton_tol)
+        _errors(system, values, param, branches, cont, tol, newton_tol)
     clear = [_clearances(system, dict(values, **{param: pt.p}), pt) for br in branches for pt in br.points]
     return branch_dataset(branches, cont, pb, clearances=clear, curves=curves, seconds=_time.perf_counter() - clock)
 
 
 def _curves(problem, branches, param2, span2, span, max_points, progress):
-    """Each located fold, period doubling and grazing of the branches, continued in (param, param2)."""
+    """Each located fold, period doubling, Neimark-Sacker point and grazing of the branches, continued in
+    (param, param2)."""
     from .curves import CurveProblem, follow_curve
     out, index = [], 0
     for br in branches:
         for sp in br.special:
             index += 1
-            if sp.kind not in ("fold", "period_doubling", "grazing") or sp.point is None:
+            if sp.kind not in ("fold", "period_doubling", "neimark_sacker", "grazing") or sp.point is None:
                 continue
             base = problem if br.period == problem.n else ContinuationProblem(
                 problem.smap, problem.param, br.period, br.k0, scale=problem.scale, p_scale=problem.p_scale,
@@ -149,7 +150,8 @@ def _curves(problem, branches, param2, span2, span, max_points, progress):
             with in_section(base, sp.point):
                 cp = CurveProblem(base, sp.kind, param2, span2[0], abs(span2[1] - span2[0]),
                                   node=sp.data.get("node", 0))
-                w0 = cp.pack(sp.point.nodes, sp.p, span2[0], sp.data.get("t_g"))
+                w0 = cp.pack(sp.point.nodes, sp.p, span2[0], _angle(sp) if sp.kind == "neimark_sacker"
+                             else sp.data.get("t_g"))
                 curve = follow_curve(cp, w0, flags_of(sp.point), span2[1], span, max_points=max_points)
                 problem.smap.set_params(**{param2: span2[0]})
             curve.start = index - 1
@@ -158,6 +160,13 @@ def _curves(problem, branches, param2, span2, span, max_points, progress):
                 progress(f"{sp.kind} curve from {problem.param} = {sp.p:.8g}: {len(curve.p1)} points; "
                          f"{curve.stop_reason}")
     return out
+
+
+def _angle(sp) -> float:
+    """The argument in (0, pi) of the located Neimark-Sacker point's multiplier pair nearest the unit circle."""
+    mu = np.asarray(sp.point.multipliers)
+    mu = mu[mu.imag > 0] if np.any(mu.imag > 0) else mu
+    return float(abs(np.angle(mu[np.argmin(np.abs(np.abs(mu) - 1.0))])))
 
 
 def _steps(max_points, step, max_step):
@@ -204,6 +213,34 @@ def _switch(smap, problem, sp, span, step, max_step, max_points, say):
                          max_points=max_points, bounds=span, label=label,
                          progress=(lambda q: say(q, f"period-{2 * problem.n}")) if say else None)
     return br
+
+
+#: the relative resolution of a located value computed through integrations in double precision (a grazing
+#: located at tol 1e-12 and 1e-14 is 3e-14 relative off its closed form both times: tests/test_grazing_passage.py)
+RESOLUTION = 1e-13
+
+
+def _errors(system, values, param, branches, cont, tol, newton_tol) -> None:
+    """Each special point's multiplier error and measured tolerance (both from tol/100 re-runs)."""
+    for br in branches:
+        for sp in br.special:
+            sp.multiplier_error = _multiplier_error(system, values, param, sp, br, tol, newton_tol)
+            _measure_tolerance(system, values, param, sp, br, cont, tol, newton_tol)
+
+
+def _measure_tolerance(system, values, param, sp, br, cont, tol, newton_tol) -> None:
+    """A located point's tolerance as a measured bound: the larger of its own bracket (or Newton update) and
+    |p - p2| + the re-location's bracket, p2 located again with the integration and Newton at tol/100 (the
+    re-location's bracket at least RESOLUTION |p2|)."""
+    if sp.kind not in LOCATED_KINDS or not math.isfinite(sp.tolerance):
+        return
+    p2, width2 = relocate(system, values, param, sp, br, cont, tol, newton_tol)
+    if not math.isfinite(p2):
+        sp.note = (sp.note + "; " if sp.note else "") + "tolerance not measured: the re-location at tol/100 failed"
+        return
+    own = max(width2 if math.isfinite(width2) else 0.0, RESOLUTION * abs(p2))
+    sp.tolerance = max(sp.tolerance, abs(sp.p - p2) + own)
+    sp.note = (sp.note + "; " if sp.note else "") + f"re-located at tol/100: {p2:.15g}"
 
 
 def _multiplier_error(system, values, param, sp, br, tol, newton_tol) -> float:

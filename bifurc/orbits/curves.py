@@ -11,6 +11,8 @@ magnitude, each parameter by its span, t_g by the strobe period); equations:
   in BifurcationKit.jl);
 - period doubling: the same with A the shooting matrix whose wrap-around block is +I instead of -I
   (singular exactly when a multiplier is -1);
+- Neimark-Sacker: the same with A complex, its wrap-around block -exp(i theta) I (singular exactly
+  when exp(i theta) is a multiplier), sigma complex (Re and Im = 0) and theta an unknown;
 - grazing: F = 0 and, at t_g in the period of one node, the gap h = 0 and its rate dh/dt = 0
   (:func:`bifurc.orbits.grazing_orbit.grazing_rows`, exact derivatives).
 
@@ -30,8 +32,9 @@ from maps.hybrid import IntegrationFailure
 from maps.parameters import ParameterError
 
 from ..storage.schema import CURVE_KINDS
-from .continuation import NoConvergence, bordered_newton, next_step, unit_tangent
+from .continuation import NoConvergence, bordered_newton, impact_count, next_step, unit_tangent
 from .grazing_orbit import grazing_rows
+from .nordmark import normal_form
 
 __all__ = ["Curve", "CurveProblem", "follow_curve", "CURVE_KINDS"]
 
@@ -47,6 +50,7 @@ class Curve:
     residual: list = field(default_factory=list)
     stop_reason: str = ""
     start: int = -1            # index of the special point of the branch it starts from
+    special: list = field(default_factory=list)   # codimension-two points on it: (kind, p1, p2, tolerance)
 
 
 class CurveProblem:
@@ -66,16 +70,23 @@ class CurveProblem:
     def values(self, w) -> np.ndarray:
         return self.p_refs + w[self.N:self.N + 2] * self.p_scales
 
-    def pack(self, nodes, p1, p2, t_g=None) -> np.ndarray:
+    def pack(self, nodes, p1, p2, extra=None) -> np.ndarray:
+        """The unknowns at ``nodes``, (p1, p2) and ``extra``: t_g [s] for a grazing, the multiplier's
+        angle theta [rad] for a Neimark-Sacker point."""
         u = self.base.pack(nodes, p1)[:-1]
         w = np.concatenate([u, (np.array([p1, p2]) - self.p_refs) / self.p_scales])
-        return np.append(w, t_g / self.base.smap.period) if self.kind == "grazing" else w
+        if self.kind == "grazing":
+            return np.append(w, extra / self.base.smap.period)
+        return np.append(w, extra) if self.kind == "neimark_sacker" else w
 
-    def _matrix(self, M):
+    def _matrix(self, M, w=None):
         A = M.copy()
+        d = self.base.d
         if self.kind == "period_doubling":       # the wrap-around block: +I (a multiplier -1)
-            d = self.base.d
             A[self.N - d:, :d] += 2 * np.eye(d)
+        elif self.kind == "neimark_sacker":      # -exp(i theta) I (a multiplier exp(i theta))
+            A = A.astype(complex)
+            A[self.N - d:, :d] += (1.0 - np.exp(1j * w[-1])) * np.eye(d)
         return A
 
     def _shoot(self, w, flags):
@@ -93,18 +104,20 @@ class CurveProblem:
     def refresh_bordering(self, w, flags):
         """b, c: the left and right singular vectors of A's smallest singular value at w."""
         _, _, M, _, _ = self._shoot(w, flags)
-        U, _, Vt = np.linalg.svd(self._matrix(M))
+        U, _, Vt = np.linalg.svd(self._matrix(M, w))
         self.b, self.c = U[:, -1], Vt[-1]
 
-    def _sigma(self, M) -> float:
-        A = self._matrix(M)
+    def _sigma(self, M, w=None):
+        """The test function: real, or complex (Neimark-Sacker)."""
+        A = self._matrix(M, w)
         K = np.block([[A, self.b[:, None]], [self.c[None, :], np.zeros((1, 1))]])
-        rhs = np.zeros(K.shape[0])
+        rhs = np.zeros(K.shape[0], dtype=K.dtype)
         rhs[-1] = 1.0
         try:
-            return float(np.linalg.solve(K, rhs)[-1])
+            out = np.linalg.solve(K, rhs)[-1]
         except np.linalg.LinAlgError:
             raise NoConvergence("singular bordered matrix of the test function") from None
+        return complex(out) if self.kind == "neimark_sacker" else float(np.real(out))
 
     def evaluate(self, w, flags):
         """(G, DG, linearizations): the defining system and its Jacobian (len(w) - 1 rows)."""
@@ -125,14 +138,19 @@ class CurveProblem:
                 B[:, self.N + i] += rows[:, -1] * w[-1] * self.base.smap.period_derivative(name) \
                     * self.p_scales[i] / self.base.smap.period
             return np.concatenate([F, G2]), np.vstack([np.column_stack([top, np.zeros(top.shape[0])]), B]), lins
-        sigma = self._sigma(M)
-        grad = np.zeros(w.size)
+        sigma = self._sigma(M, w)
+        grad = np.zeros(w.size, dtype=complex)
         eps = 1e-7
         for i in range(w.size):           # sigma's gradient: forward differences of sigma (steers Newton only)
             dw = np.zeros(w.size)
             dw[i] = eps
-            grad[i] = (self._sigma(self._shoot(w + dw, flags)[2]) - sigma) / eps
-        return np.append(F, sigma), np.vstack([top, grad]), lins
+            M_i = M if i == w.size - 1 and self.kind == "neimark_sacker" else self._shoot(w + dw, flags)[2]
+            grad[i] = (self._sigma(M_i, w + dw) - sigma) / eps
+        if self.kind == "neimark_sacker":
+            top = np.column_stack([top, np.zeros(top.shape[0])])
+            return (np.concatenate([F, [sigma.real, sigma.imag]]),
+                    np.vstack([top, grad.real, grad.imag]), lins)
+        return np.append(F, sigma.real), np.vstack([top, grad.real]), lins
 
 
 def _correct(problem, w_pred, normal, flags, tol, max_move=None):
@@ -169,6 +187,7 @@ def follow_curve(problem: CurveProblem, w0, flags, p2_end: float, bounds1, *, st
     curve.p2.append(float(problem.values(w)[1]))
     curve.residual.append(norm)
     h = step
+    K = _feedback(problem, w, flags) if problem.kind == "grazing" else math.nan
     while len(curve.p1) < max_points:
         try:
             w_new, G, DG, flags_new, norm, its = _correct(problem, w + h * t, t, flags, tol, max_move=h)
@@ -179,6 +198,7 @@ def follow_curve(problem: CurveProblem, w0, flags, p2_end: float, bounds1, *, st
                 continue
             curve.stop_reason = f"stopped after ({curve.p1[-1]:.10g}, {curve.p2[-1]:.10g}): {exc} at the smallest step"
             break
+        w_prev, t_prev, flags_prev = w, t, flags
         w, t, flags = w_new, t_new, flags_new
         p1, p2 = problem.values(w)
         curve.p1.append(float(p1))
@@ -189,6 +209,10 @@ def follow_curve(problem: CurveProblem, w0, flags, p2_end: float, bounds1, *, st
                 problem.refresh_bordering(w, flags)
             except NoConvergence:
                 pass
+        if problem.kind == "grazing":
+            K_prev, K = K, _feedback(problem, w, flags)
+            if K_prev * K < 0:
+                _grazing_fold(problem, curve, w_prev, t_prev, flags_prev, K_prev, K, float(t_prev @ (w - w_prev)))
         if not (lo2 - 1e-12 <= p2 <= hi2 + 1e-12 and lo1 - 1e-12 <= p1 <= hi1 + 1e-12):
             curve.stop_reason = f"left the parameter box at ({p1:.10g}, {p2:.10g})"
             break
@@ -196,3 +220,76 @@ def follow_curve(problem: CurveProblem, w0, flags, p2_end: float, bounds1, *, st
     else:
         curve.stop_reason = f"reached max_points = {max_points}"
     return curve
+
+
+def _feedback(problem, w, flags, shift: float = 1e-9) -> float:
+    """Nordmark's feedback K at the grazing-curve point w (:func:`bifurc.orbits.nordmark.normal_form`); NaN
+    where it cannot be evaluated.  The Jacobians are those of the flow missing the stop: p1 moved by
+    ``shift`` (scaled) to the side with fewer impacts (at the exact grazing, rounding may count the touch
+    as an impact of speed ~0, whose saltation is not the smooth flow's)."""
+    co, best = problem.base.co, None
+    for sign in (1.0, -1.0):
+        w2 = np.array(w, dtype=float)
+        w2[problem.N] += sign * shift
+        try:
+            nodes, _, _, _, lins = problem._shoot(w2, flags)
+        except NoConvergence:
+            continue
+        if best is None or impact_count(lins) < best[0]:
+            best = (impact_count(lins), nodes, lins, w2)
+    if best is None:
+        return math.nan
+    _, nodes, lins, w2 = best
+    problem.base.smap.set_params(**dict(zip(problem.names, problem.values(w2))))
+    try:
+        Js = [co.R @ L.J @ co.E for L in lins]
+        return normal_form(problem.base, nodes, Js, problem.node, float(w[-1]) * problem.base.smap.period)[-1]
+    except (IntegrationFailure, ZeroDivisionError, ParameterError, np.linalg.LinAlgError):
+        return math.nan
+
+
+def _grazing_fold(problem, curve, w_a, t_a, flags, K_a, K_b, s_b, max_iter: int = 40) -> None:
+    """Locate where K changes sign between the grazing-curve points w_a and w_a + s_b t_a (Illinois false
+    position on the arclength, each evaluation a corrected curve point): a grazing-fold, where the
+    impacting orbits' fold meets the grazing (K through 0; a sign change through a pole is not one)."""
+    s_lo, s_hi, f_lo, f_hi, side, w = 0.0, s_b, K_a, K_b, 0, w_a
+    K, p_lo, p_hi = K_a, problem.values(w_a), problem.values(w_a + s_b * t_a)
+    for _ in range(max_iter):
+        s = (s_lo * f_hi - s_hi * f_lo) / (f_hi - f_lo)
+        if not s_lo < s < s_hi:
+            s = 0.5 * (s_lo + s_hi)
+        w, s = _correct_near(problem, w_a, t_a, flags, s, s_lo, s_hi)
+        if w is None:
+            return
+        K = _feedback(problem, w, flags)
+        if not math.isfinite(K):
+            return
+        if (K < 0) == (f_lo < 0):
+            s_lo, f_lo, p_lo = s, K, problem.values(w)
+            f_hi = f_hi / 2 if side == -1 else f_hi
+            side = -1
+        else:
+            s_hi, f_hi, p_hi = s, K, problem.values(w)
+            f_lo = f_lo / 2 if side == 1 else f_lo
+            side = 1
+        if K == 0.0 or s_hi - s_lo < 1e-12:
+            break
+    if abs(K) > 1e-6 * min(abs(K_a), abs(K_b)):
+        return                                   # a pole of K, not a zero
+    p1, p2 = problem.values(w)
+    curve.special.append(("grazing_fold", float(p1), float(p2), float(np.max(np.abs(np.asarray(p_hi) - p_lo)))))
+
+
+def _correct_near(problem, w_a, t_a, flags, s: float, s_lo: float, s_hi: float):
+    """(the grazing-curve point on the hyperplane at arclength s from w_a along t_a, s), or, where Newton
+    stalls there (a touch counted as an impact), at s moved 2 %, 4 %, 6 % of the way to the bracket's
+    middle; (None, s)."""
+    mid = 0.5 * (s_lo + s_hi)
+    for k in range(4):
+        s_k = s + 0.02 * k * (mid - s)
+        try:
+            w, *_ = _correct(problem, w_a + s_k * t_a, t_a, flags, problem.base.tol)
+            return w, s_k
+        except NoConvergence:
+            continue
+    return None, s

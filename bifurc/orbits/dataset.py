@@ -186,3 +186,5 @@ def _put_curves(ds, curves, system) -> None:
     for name in ("curve_residual", "curve_kind", "curve_special", "curve_stop_reason"):
         put(ds, _ROWS[name], columns[name])
     ds.attrs["curve_parameters"] = f"{p1} {p2}"
+    ds.attrs["curve_codim2"] = "; ".join(f"{kind} on curve {i}: ({p1}, {p2}) = ({a:.12g}, {b:.12g}) +- {tol:.2g}"
+                                         for i, c in enumerate(curves) for kind, a, b, tol in c.special)

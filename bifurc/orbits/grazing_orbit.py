@@ -132,10 +132,6 @@ def locate_grazing(problem, prev, *, max_iter: int = 30, radius: float = 0.1):
             pt = problem.point(u, F, DF, lins, flags, it, prev.tangent)
             return (pt.p, abs(last) * problem.p_scale, h, pt, f"t_g = {t_g:.12g} s in the period of node {j}",
                     {"t_g": t_g, "node": j})
-        if norm < problem.tol and impact_count(lins) == impacts:
-            return converged(last_step)
-        if it == max_iter:
-            break
         B = np.zeros((2, u.size + 1))
         B[:, j * problem.d:(j + 1) * problem.d] = rows[:, :problem.d]
         B[:, -2:] = rows[:, problem.d:]
@@ -143,6 +139,10 @@ def locate_grazing(problem, prev, *, max_iter: int = 30, radius: float = 0.1):
         try:
             step = np.linalg.solve(A, -np.concatenate([F, G]))
         except np.linalg.LinAlgError:
+            break
+        if norm < problem.tol and impact_count(lins) == impacts:
+            return converged(step[-2])      # the update still asked for: the error left (Newton converges quadratically)
+        if it == max_iter:
             break
         update = float(np.max(np.abs(step[:-1])))
         stalled = it >= 2 and update > 0.9 * last_update     # at the residual's noise floor: the update stopped shrinking

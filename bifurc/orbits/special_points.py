@@ -230,7 +230,11 @@ def discontinuity(problem, prev: BranchPoint, pt: BranchPoint | None, earlier: B
     squared, linear in the parameter near a grazing from the impacting side, extrapolates to zero
     from ``earlier`` and ``prev`` inside the bracket; else the bracket [prev, pt]."""
     if pt is None and _impact_slowing(problem, prev):
-        return None    # an impact slowing to 0: a grazing from the impacting side, not a free-flight minimum's
+        # an impact slowing to 0: a grazing from the impacting side, located past it (bifurc.orbits.passage)
+        speed = _slowest_impact(problem, prev)
+        return SpecialPoint("impact_lost", prev.p, math.nan, "slowest impact speed squared", speed * speed, prev,
+                            note=f"the slowest impact slows to {speed:.3g} (gap rate) where the corrector stalls: "
+                                 f"a grazing from the impacting side", data={"from_impacting_side": True})
     born = pt is not None and pt.impacts > prev.impacts
     if closest_flight_minimum(problem, prev) is not None and (born or pt is None):
         with in_section(problem, prev):

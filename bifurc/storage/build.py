@@ -20,7 +20,7 @@ KIND_ATTR = "bifurc_kind"
 KINDS = {"diagram": "`bifurc diagram` or bifurc.sweep", "map": "`bifurc map` or bifurc.regime_map",
          "history": "`bifurc simulate` or maps.simulate", "orbit": "`bifurc orbit` or bifurc.periodic_orbit",
          "branch": "`bifurc continue` or bifurc.continue_orbit", "stability": "`bifurc verify`",
-         "accuracy": "`bifurc accuracy`"}
+         "accuracy": "`bifurc accuracy`", "attractors": "`bifurc attractors` or bifurc.attractors"}
 
 
 def dataset(kind: str, coords=None, attrs=None):

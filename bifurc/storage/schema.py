@@ -18,7 +18,8 @@ from ..codes import ClassCode, Status, flag_attrs
 
 __all__ = ["Variable", "PARAM", "GRAZING_GAP", "GRAZING_SPEED", "grazing_flag", "GRAZING_FLAG", "CURVE_KINDS",
            "CURVE_COORDS", "CURVE", "CELL_VARIABLES", "curve_parameter", "advance_variable", "SWEEP", "SWEEP_COORDS", "GRAZING", "HISTORY", "PROGRESSION", "param_attrs",
-           "state_variable", "flag_variable", "ORBIT", "ORBIT_SCALARS", "BRANCH", "SPECIAL", "SPECIAL_KINDS"]
+           "state_variable", "flag_variable", "ORBIT", "ORBIT_SCALARS", "BRANCH", "SPECIAL", "SPECIAL_KINDS",
+           "ATTRACTOR", "ATTRACTOR_COORDS", "ATTRACTOR_EVENTS"]
 
 #: placeholder for the swept parameter's dimension
 PARAM = "<param>"
@@ -238,8 +239,9 @@ SPECIAL = [
               ("flag_meanings", " ".join(SPECIAL_KINDS)))),
     Variable("special_value", SP, float, np.nan, PARAM, "located value of {param}"),
     Variable("special_tolerance", SP, float, np.nan, PARAM,
-             "uncertainty of the value (final bracket width or last Newton update; for an event not located, "
-             "the bracket between the branch's last point and the next; NaN: none)"),
+             "uncertainty of the value (with error estimates: a bound measured by re-locating it at tol/100; "
+             "else the final bracket width or Newton update; for an event not located, the bracket between the "
+             "branch's last point and the next; NaN: none)"),
     Variable("special_test_function", SP, str, "", "1", "test function whose zero locates the point"),
     Variable("special_test_value", SP, float, np.nan, "1", "the test function at the located point"),
     Variable("special_point", SP, np.int32, -1, "1", "index of the branch point after which it lies"),
@@ -280,6 +282,45 @@ def advance_variable(state, dims) -> Variable:
     return Variable("advance_per_period", dims, float, np.nan, state.unit,
                     f"shift of {state.name} along the system's translation over one period of the orbit")
 
+
+PA, A_ = (PARAM, "attractor"), ("attractor",)
+#: what became of an attractor between the previous value and this one (attractors dataset: bifurc.attractors)
+ATTRACTOR_EVENTS = ("none", "appeared", "disappeared")
+#: the attractor census (bifurc.attractors): one row per (value, attractor); every outcome is an attractor entry
+#: (escaped, not_converged, failed too), so basin_fraction sums to 1 at every value
+ATTRACTOR = [
+    Variable("basin_fraction", PA, float, np.nan, "1", "fraction of the fresh starts that reach the attractor"),
+    Variable("basin_fraction_low", PA, float, np.nan, "1", "lower end of the 95 % Wilson interval of basin_fraction"),
+    Variable("basin_fraction_high", PA, float, np.nan, "1", "upper end of the 95 % Wilson interval of basin_fraction"),
+    Variable("basin_count", PA, np.int32, 0, "1", "fresh starts that reach the attractor"),
+    Variable("present", PA, np.int8, 0, "1", "the attractor exists at this value", _yes_no("absent present")),
+    Variable("class_code", PA, np.int8, -1, "1", "class of the attractor (-1: absent)", _flags(ClassCode)),
+    Variable("period", PA, np.int16, -1, "1", "period in strobe periods (0: not periodic, -1: absent)"),
+    Variable("period_mechanical", PA, np.int16, -1, "1", "period of the mechanical states alone in strobe periods"),
+    Variable("impacts_per_period", PA, np.int16, -1, "1", "contacts in one period (-1: not periodic or absent)"),
+    Variable("impacts_per_period_mechanical", PA, np.int16, -1, "1", "contacts in one mechanical period"),
+    Variable("lyapunov", PA, float, np.nan, "1",
+             "largest Lyapunov exponent per strobe period (periodic: log of the largest |Floquet multiplier| / period)"),
+    Variable("lyapunov_low", PA, float, np.nan, "1", "lower end of the exponent's 95 % interval (NaN: exact)"),
+    Variable("lyapunov_high", PA, float, np.nan, "1", "upper end of the exponent's 95 % interval (NaN: exact)"),
+    Variable("max_multiplier", PA, float, np.nan, "1", "largest |Floquet multiplier| of the polished orbit"),
+    Variable("newton_residual", PA, float, np.nan, "1", "scaled shooting residual of the polished orbit"),
+    Variable("n_points", PA, np.int32, 0, "1", "stored strobe states of the attractor (its period, or recorded points)"),
+    Variable("match_distance", PA, float, np.nan, "1",
+             "state-space distance in grid cells to the attractor it continues at the previous value (NaN: none)"),
+    Variable("event", PA, np.int8, 0, "1", "appearance or disappearance between the previous value and this one",
+             (("flag_values", np.arange(len(ATTRACTOR_EVENTS), dtype=np.int8)),
+              ("flag_meanings", " ".join(ATTRACTOR_EVENTS)))),
+    Variable("event_link", PA, str, "", "1",
+             "the local event the appearance or disappearance is linked to (fold, period_doubling, neimark_sacker, "
+             "grazing, impact_lost, stick_onset) or global"),
+    Variable("event_evidence", PA, str, "", "1", "what links the event, or why it is flagged global"),
+]
+ATTRACTOR_COORDS = [
+    Variable("attractor", A_, np.int32, 0, "1", "attractor id, matched across values (outcomes last)"),
+    Variable("attractor_label", A_, str, "", "1", "attractor name (A0, A1, ... or an outcome: escaped, "
+             "not_converged, failed)"),
+]
 
 T = ("time",)
 I = ("impact",)  # noqa: E741

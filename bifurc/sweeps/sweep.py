@@ -125,9 +125,16 @@ def sweep(scene="thesis-1dof", param="relay_hz", values=None, *, mode="independe
         except KeyboardInterrupt:   # every value done: the grazing bisections or the error estimate were running
             n = values.size * len(MODES[mode])
             raise Interrupted(kept_message(parts, n, n) + " (grazing and error estimate: run again)") from None
-    if grazing:
+    return _finish(ds, found if grazing else None, estimate if error_sample else None, path, parts)
+
+
+def _finish(ds, found, estimate, path, parts):
+    """The sweep's Dataset with its located grazings and error estimate (None: not computed), written to
+    ``path`` (the resume parts then removed)."""
+    from . import dataset as storage
+    if found is not None:
         ds = storage.add_grazing(ds, found)
-    if error_sample:
+    if estimate is not None:
         ds = storage.add_error_estimate(ds, **estimate)
     if path:
         with deferred_interrupt():
@@ -381,19 +388,20 @@ class _NoBar:
 
 
 class _PeriodBar:
-    """Progress in relay periods integrated (copies included): the total is the planned work, each value's
-    first transient and record, and grows as values are extended (anytime classification); the values
+    """Progress in relay periods integrated (copies included).  The total is the planned work: each
+    value's first transient and record at the start, then what the values done used plus, for each
+    value to come, the mean they used (never less than its first transient and record); the values
     done are shown beside it."""
 
     def __init__(self, bar, values: int, planned: int, unit: str):
-        self.bar, self.values, self.planned, self.unit, self.count = bar, values, planned, unit, 0
+        self.bar, self.values, self.planned, self.unit = bar, values, planned, unit
+        self.count = self.used = 0
 
     def done(self, chunk):
         used = sum(max(int(getattr(r, "periods_integrated", 0)), 0) or self.planned for r in chunk)
-        grown = used - self.planned * len(chunk)
-        if grown > 0:
-            self.bar.total += grown
         self.count += len(chunk)
+        self.used += used
+        self.bar.total = self.used + (self.values - self.count) * max(self.planned, self.used / self.count)
         self.bar.set_postfix_str(f"{self.count}/{self.values} {self.unit}", refresh=False)
         self.bar.update(used)
 

@@ -138,8 +138,9 @@ def report(results, quick, seconds) -> str:
         nc = ds.class_code == ClassCode.NOT_CONVERGED
         if int(nc.sum()):
             reasons = Counter(re.sub(_NUMBER, "#", str(r)) or "no reason stored" for r in ds.class_reason.values[nc.values])
-            lines += ["", f"Not converged within {a['transient_periods']} + {a['recorded_periods']} relay periods "
-                          f"({int(nc.sum())} cells; the label claims no more), by stored reason (# : a number "
+            lines += ["", f"Not converged within the budget ({a['transient_periods']} + {a['recorded_periods']} "
+                          f"relay periods first, extended up to {a.get('budget_periods', '?')} while undecided; "
+                          f"{int(nc.sum())} cells; the label claims no more), by stored reason (# : a number "
                           "that varies per cell, see `class_reason` in the .nc):", ""]
             lines += [f"- {k} cell{'s' if k > 1 else ''}: {r}" for r, k in reasons.most_common()]
         err = a.get("error_map_step_rel", math.nan)

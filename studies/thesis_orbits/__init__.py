@@ -269,7 +269,8 @@ def report(cases, quick, seconds) -> str:
                 lines.append(f"  - stable period-{n} with {m} impact{'s' if m != 1 else ''} per period for V in "
                              f"[{_end(lo, klo)}, {_end(hi, khi)}] V")
                 if m >= 1:
-                    hammering.append((law, hz, _end(lo, klo), _end(hi, khi), n, m))
+                    stroke = _stroke(ds, law, hz, lo, hi) if (n, m) == (1, 1) else ""
+                    hammering.append((law, hz, _end(lo, klo), _end(hi, khi), n, m, stroke))
             for i in range(ds.sizes["special"]):
                 kind = SPECIAL_KINDS[int(ds.special_kind[i])]
                 tol = float(ds.special_tolerance[i])
@@ -293,16 +294,42 @@ def report(cases, quick, seconds) -> str:
         lines.append("")
     lines += ["## Where the thesis model hammers periodically", ""]
     if hammering:
-        for law, hz, lo, hi, n, m in hammering:
+        for law, hz, lo, hi, n, m, stroke in hammering:
             lines.append(f"- `{law}`, {hz:g} Hz: stable period-{n} with {m} impact{'s' if m != 1 else ''} per period "
-                         f"for V in [{lo}, {hi}] V")
+                         f"for V in [{lo}, {hi}] V" + (f"; {stroke}" if stroke else ""))
     else:
         lines.append("Nowhere on the continued branches: no stable orbit with an impact was found.")
     ones = [h for h in hammering if h[4] == 1 and h[5] == 1]
-    lines += ["", "Period-1 with one impact per relay period (the thesis' hammering regime): "
-              + ("; ".join(f"`{law}` at {hz:g} Hz for V in [{lo}, {hi}] V" for law, hz, lo, hi, _, _ in ones)
-                 if ones else "not found on any continued branch.")]
+    lines += ["", "Period-1 with one impact per relay period (the thesis' period-1; a hammering stroke only where the "
+                  "bar rises millimetres, a chatter where it rises micrometres): "
+              + ("; ".join(f"`{law}` at {hz:g} Hz for V in [{lo}, {hi}] V ({stroke})"
+                           for law, hz, lo, hi, _, _, stroke in ones) if ones else "not found on any continued branch.")]
     return "\n".join(lines) + "\n"
+
+
+def _stroke(ds, law, hz, lo, hi) -> str:
+    """The stroke of a period-1 one-impact orbit at the stable point nearest the middle of [lo, hi] V:
+    x's range over one relay period and its impact speed and energy (one period simulated from the
+    branch's node), as text."""
+    from maps.simulate import simulate
+    V = ds.V.values
+    mid = 0.5 * (lo + hi)
+    ok = np.flatnonzero((ds.stable.values == 1) & (V >= lo) & (V <= hi))
+    if not ok.size:
+        return ""
+    k = int(ok[np.argmin(np.abs(V[ok] - mid))])
+    states = [s for s in ("x", "v", "i", "z") if s in ds]
+    x0 = {s: float(ds[s].values[k, 0]) for s in states}
+    run = simulate(SCENE, periods=1, preset=PRESET, dc_law=law, params={"relay_hz": hz, "V": float(V[k])}, x0=x0,
+                   dt=1e-5)
+    x = 1e3 * run.x.values
+    speeds = np.abs(run.impact_velocity.values[np.isfinite(run.impact_velocity.values)])
+    m = float(ds.attrs.get("param_m", np.nan))
+    if not speeds.size:
+        return f"at {V[k]:.4g} V: x {x.min():.3g}..{x.max():.3g} mm, no impact in the simulated period"
+    energy = 0.5 * m * speeds.max() ** 2 if math.isfinite(m) else math.nan
+    return (f"at {V[k]:.4g} V the bar spans x {x.min():.3g}..{x.max():.3g} mm and strikes at {speeds.max():.3g} m/s"
+            + (f" ({1e3 * energy:.3g} mJ)" if math.isfinite(energy) else ""))
 
 
 def _figure(case, path, overwrite):

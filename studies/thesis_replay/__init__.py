@@ -377,3 +377,34 @@ def _csv(rows, path):
     body = [",".join(f'"{r[k]}"' if isinstance(r[k], str) else f"{r[k]:.10g}" for k in keys) for r in rows]
     Path(path).write_text("# thesis replay (studies/thesis_replay/): one row per run\n" + head + "\n"
                           + "\n".join(body) + "\n")
+
+
+def findings(results, quick) -> list:
+    """What the report states, per run (V, relay frequency, DC law): the label a 3 s run supports and the
+    long run's label (texts, exact), x's spectral peak over 3 s (+- one frequency bin, 1/3 Hz) and x's
+    range over 3 s (+- 0.1 mm); the DC force at the stop (+- 0.01 N); the DC well's own frequency per law
+    (+- 0.05 Hz); and, under the measured law with the physical AC sign, the largest height the bar
+    reaches (+- 0.01 mm)."""
+    from bifurc.findings import Finding
+    out = [Finding(f"DC well's own frequency, {law}", float(f), 0.05, "Hz") for law, f in results["wells"].items()]
+    for r in results["rows"]:
+        tag = f"{r['V']:g} V, {r['relay_hz']:g} Hz, {r['dc_law']}"
+        out += [Finding(f"{tag}: 3 s run supports", _plain(r["label_3s"])),
+                Finding(f"{tag}: long run", _plain(r["label_long"])),
+                Finding(f"{tag}: x's spectral peak over 3 s", float(r["fft_peak_3s_hz"]), 1 / T_THESIS, "Hz"),
+                Finding(f"{tag}: x's largest value over 3 s", float(r["x_max_mm"]), 0.1, "mm"),
+                Finding(f"{tag}: DC force at the stop", float(r["F_dc_stop_N"]), 0.01, "N")]
+    for r in results["physical"]:
+        out.append(Finding(f"{r['V']:g} V, {r['relay_hz']:g} Hz, measured, physical AC sign: x's largest value "
+                           "over 3 s", float(r["x_max_mm"]), 0.01, "mm"))
+    return out
+
+
+def _plain(label: str) -> str:
+    """A label without its numbers' noise: a period's text with decimals dropped ("period-1 (20 impacts)"),
+    any other class by its words alone ("aperiodic", "chaotic", "quasi-periodic")."""
+    import re
+    text = str(label).replace("|", "/")
+    if text.startswith("period"):
+        return re.sub(r"[-+]?\d+\.\d+(e[-+]?\d+)?", "#", text)
+    return text.split(" (")[0]

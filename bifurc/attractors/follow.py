@@ -1,0 +1,68 @@
+"""Global continuation: matching the attractors of neighbouring parameter values, and what their
+appearances and disappearances are linked to.
+
+Each value is seeded with the previous value's attractors (one start on each, not counted in the basin
+fractions) besides the fresh starts; an attractor is matched to the nearest one of the previous value
+within ``threshold`` grid cells (:func:`.identify.distance`: periodic orbits only to orbits of their
+period), greedily by distance, as Attractors.jl's matching by state-space distance.  An attractor left
+unmatched appeared or disappeared: its periodic orbit is continued across the step by
+:func:`bifurc.orbits.branch.continue_orbit`, and a fold, period doubling, Neimark-Sacker point, grazing or
+stick onset located within the step is the link; otherwise the change is flagged "global" with its evidence.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from maps.hybrid import HybridState
+
+from .identify import distance
+
+__all__ = ["match", "link_event"]
+
+
+def match(prev: list, cur: list, grid, q: int = 1, threshold: float = 20.0) -> dict:
+    """{index in ``cur``: (index in ``prev``, distance [cells])} for the matched pairs."""
+    pairs = sorted((distance(a, b, grid, q), i, j) for j, a in enumerate(prev) for i, b in enumerate(cur))
+    out, used = {}, set()
+    for d, i, j in pairs:
+        if d <= threshold and i not in out and j not in used:
+            out[i] = (j, d)
+            used.add(j)
+    return out
+
+
+#: special points of a branch that can create or destroy an attractor
+LOCAL = ("fold", "period_doubling", "neimark_sacker", "grazing", "impact_lost", "stick_onset")
+
+
+def link_event(pb, param: str, a, here: float, there: float, *, tol: float) -> tuple[str, str]:
+    """(kind, evidence) of an attractor ``a`` found at ``here`` and absent at ``there``: the local event
+    located on its branch between the two values, or "global" with what the branch did."""
+    if not a.periodic:
+        return "global", (f"a {a.label()} set absent at {there:g}: not a periodic orbit, so no branch to continue "
+                          f"(exponent {a.lyapunov:.3g} per period)")
+    from ..orbits.branch import continue_orbit
+    start = HybridState(np.asarray(a.points[0], dtype=float), dict(a.flags[0]) if a.flags else None)
+    far = there + 0.5 * (there - here)      # a little beyond, so that an event at the step's end is located
+    try:
+        br = continue_orbit(pb, param, (here, far), params={param: here}, period=a.period, start=start,
+                            k0=a.k0, tol=tol, error=False, max_points=60, step=0.05)
+    except Exception as exc:     # noqa: BLE001 - the evidence is the failure itself
+        return "global", f"its branch could not be continued from {here:g} ({type(exc).__name__}: {exc})"
+    from ..storage.schema import SPECIAL_KINDS
+    lo, hi = min(here, there), max(here, there)
+    for k, v in zip(br.special_kind.values, br.special_value.values):
+        kind = SPECIAL_KINDS[int(k)] if k >= 0 else ""
+        if kind in LOCAL and lo - 1e-12 <= v <= hi + 1e-12:
+            return kind, f"{kind} located at {param} = {v:.10g} on the branch continued from {here:g}"
+    mu = a.max_multiplier
+    reason = br.attrs.get("branch_stop_reasons", "")
+    return "global", (f"no fold, period doubling, torus, grazing or stick onset on its branch between {here:g} and "
+                      f"{there:g} (largest |multiplier| {mu:.3g} at {here:g}; branch: {reason}): a crisis or a "
+                      f"basin-boundary collision")
+
+
+def nan_if_none(x) -> float:
+    return math.nan if x is None else float(x)

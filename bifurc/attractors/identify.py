@@ -1,0 +1,173 @@
+"""Distinct attractors: the state-space grid, what one attractor is, and matching two of them.
+
+A periodic attractor is its orbit polished by Newton (:func:`bifurc.orbits.periodic.find_periodic_orbit`:
+exact multipliers), whatever the phase at which a trajectory met it; a chaotic or quasi-periodic set
+is the grid cells its recorded points visit, and two such sets are one where they share a cell.
+Distances are measured in grid cells (each state divided by its cell width).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from maps.hybrid import HybridState, IntegrationFailure
+
+from ..codes import ClassCode
+from ..orbits.periodic import OrbitNotFound, find_periodic_orbit
+from ..sweeps.classify import candidate_periods, classify_orbit, lyapunov_threshold, mechanical_period
+from ..sweeps.lyapunov import exponent_interval
+
+__all__ = ["Grid", "Attractor", "identify", "distance", "same_attractor"]
+
+
+@dataclass(frozen=True)
+class Grid:
+    """A state-space grid: cell j of state i spans low_i + [j, j+1) width_i (unbounded: any j)."""
+
+    low: np.ndarray
+    width: np.ndarray
+
+    @classmethod
+    def over(cls, box: dict, system, cells: int, base: np.ndarray) -> "Grid":
+        """``cells`` per box side; the states outside the box are not discretised (width inf: one cell), so
+        attractors are told apart and matched by the box's states (for the thesis scenes, the bar's)."""
+        low = np.asarray(base, dtype=float).copy()
+        width = np.full(low.shape, np.inf)
+        for k, (lo, hi) in box.items():
+            j = system.state_names.index(k)
+            low[j], width[j] = lo, (hi - lo) / cells
+        return cls(low, width)
+
+    def keys(self, points) -> list:
+        """The cell of each row of ``points`` as a hashable tuple (NaN rows: None)."""
+        p = np.atleast_2d(np.asarray(points, dtype=float))
+        ok = np.all(np.isfinite(p), axis=1)
+        idx = np.floor((np.where(ok[:, None], p, 0.0) - self.low) / self.width).astype(np.int64)
+        return [tuple(r) if g else None for r, g in zip(idx.tolist(), ok)]
+
+    def scaled(self, points) -> np.ndarray:
+        return np.asarray(points, dtype=float) / self.width
+
+
+@dataclass
+class Attractor:
+    """One attractor at one parameter value: class, periods, impacts, exponent, its points and cells."""
+
+    code: int
+    period: int = 0
+    period_mechanical: int = 0
+    impacts: int = -1
+    impacts_mechanical: int = -1
+    lyapunov: float = math.nan
+    lyapunov_interval: tuple = (math.nan, math.nan)
+    max_multiplier: float = math.nan
+    points: np.ndarray = None            # (m, d): the polished nodes (periodic) or recorded points
+    flags: list = field(default_factory=list)   # flags of each point
+    k0: int = 0                          # strobe sample of points[0]
+    cells: set = field(default_factory=set)
+    min_flight_clearance: float = math.nan
+    residual: float = math.nan
+    how: str = ""                        # how it was identified
+
+    @property
+    def periodic(self) -> bool:
+        return ClassCode(self.code).periodic
+
+    def label(self) -> str:
+        from ..sweeps.classify import describe
+        return describe(self.code, self.period, self.impacts)
+
+
+def distance(a: Attractor, b: Attractor, grid: Grid, q: int = 1) -> float:
+    """State-space distance [grid cells] between two attractors: for two periodic orbits of one period, the
+    largest node distance at the best phase (shifts keeping the forcing's phase, a multiple of q); otherwise
+    the symmetric mean nearest-point distance of their point sets."""
+    A, B = grid.scaled(a.points), grid.scaled(b.points)
+    if a.periodic and b.periodic:
+        if a.period != b.period:
+            return math.inf
+        n = a.period
+        best = math.inf
+        for s in range(n):
+            if q > 1 and (a.k0 - b.k0 - s) % q:
+                continue
+            best = min(best, float(np.max(np.abs(A[:n] - np.roll(B[:n], -s, axis=0)))))
+        return best
+    d = np.max(np.abs(A[:, None, :] - B[None, :, :]), axis=2)
+    return 0.5 * float(d.min(axis=1).mean() + d.min(axis=0).mean())
+
+
+def same_attractor(a: Attractor, b: Attractor, grid: Grid, q: int = 1) -> bool:
+    """One attractor: periodic orbits within half a cell at some phase; other sets sharing a grid cell."""
+    if a.periodic and b.periodic:
+        return distance(a, b, grid, q) < 0.5
+    if a.periodic != b.periodic:
+        return False
+    return bool(a.cells & b.cells)
+
+
+def identify(smap, orbit, k0: int, grid: Grid, *, max_period: int = 16, tol: float = 1e-10,
+             rtol: float = 1e-6, atol: float = 1e-9) -> Attractor | None:
+    """The attractor a recorded orbit (a :class:`maps.poincare.MapOrbit` starting at sample ``k0``, with a
+    tangent vector) lies on, or None when the record decides nothing yet (a transient)."""
+    pts, imp = orbit.points, orbit.impacts_per_step
+    q = smap.forcing_period_steps
+    stretch = orbit.tangent_stretch(np.maximum(np.nanmax(np.abs(pts), axis=0), atol))
+    lam, lo, hi = exponent_interval(stretch[np.isfinite(stretch)]) if stretch is not None \
+        else (math.nan, math.nan, math.nan)
+    cls = classify_orbit(pts, imp, max_period=max_period, rtol=rtol, atol=atol,
+                         periods=candidate_periods(q, max_period), lyapunov=lam,
+                         lyap_tol=lyapunov_threshold(len(imp)), lyapunov_interval=(lo, hi))
+    if cls["label"] in ("periodic", "periodic-no-impact", "not-converged"):
+        for n in _near_periods(pts, grid, candidate_periods(q, max_period)):
+            found = _polish(smap, orbit, k0, n, grid, tol, rtol, atol)
+            if found is not None:
+                return found
+    if cls["label"] in ("chaotic", "quasi-periodic"):
+        return Attractor(int(cls["code"]), lyapunov=lam, lyapunov_interval=(lo, hi), points=pts.copy(),
+                         flags=[orbit.state(j).flags for j in range(len(pts))], k0=k0,
+                         cells={c for c in grid.keys(pts) if c is not None},
+                         min_flight_clearance=float(np.min(orbit.min_flight_clearance_per_step)),
+                         how=f"recurrence on the grid; classified {cls['label']} over {len(imp)} periods")
+    return None
+
+
+def _near_periods(pts, grid: Grid, periods) -> list:
+    """The candidate periods n (ascending) at which the record's last n points recur within two grid cells."""
+    P = grid.scaled(pts)
+    N = len(P)
+    return [n for n in periods if 2 * n < N and float(np.max(np.abs(P[N - n:] - P[N - 2 * n:N - n]))) <= 2.0]
+
+
+def _polish(smap, orbit, k0, n, grid, tol, rtol, atol) -> Attractor | None:
+    """The period-n orbit through the record's last point polished by Newton, if it converges, is stable and
+    lies within two cells of the record (else None: not this trajectory's attractor)."""
+    j = len(orbit.points) - 1 - n     # the last whole period of the record
+    try:
+        po = find_periodic_orbit(smap, orbit.state(j), n, k0=k0 + j, tol=tol, atol=atol)
+    except (OrbitNotFound, IntegrationFailure, ZeroDivisionError, ValueError):
+        return None
+    nodes = np.array([s.y for s in po.nodes])
+    if not po.stable or np.max(np.abs(grid.scaled(nodes) - grid.scaled(orbit.points[j:j + n]))) > 2.0:
+        return None
+    mech = smap.system.mechanical_index
+    m = po.impacts_per_period
+    # the mechanical period from the polished nodes repeated three times (exact recurrence)
+    rep = np.vstack([nodes] * 3 + [nodes[:1]])
+    imp = np.array([sig.count("impact") for sig in po.signatures] * 3)
+    pm, mm, _ = mechanical_period(rep, imp, n, mech, rtol=rtol, atol=atol, impacts=m)
+    mu = float(np.max(np.abs(po.multipliers)))
+    code = ClassCode.PERIODIC if m > 0 else ClassCode.PERIODIC_NO_IMPACT
+    return Attractor(int(code), n, pm, m, mm, lyapunov=math.log(mu) / n if mu > 0 else -math.inf,
+                     max_multiplier=mu, points=nodes, flags=[dict(s.flags or {}) for s in po.nodes],
+                     k0=k0 + j, cells={c for c in grid.keys(np.vstack([nodes, orbit.points[j:]])) if c is not None},
+                     min_flight_clearance=float(np.min(orbit.min_flight_clearance_per_step)),
+                     residual=float(po.residual),
+                     how=f"recurrence on the grid, then Newton (residual {po.residual:.2g}, {po.iterations} iterations)")
+
+
+def representative(a: Attractor) -> HybridState:
+    """A state on the attractor (its first point, with its flags) to seed the next parameter value from."""
+    return HybridState(np.asarray(a.points[0], dtype=float).copy(), dict(a.flags[0]) if a.flags else None)

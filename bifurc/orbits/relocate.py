@@ -1,0 +1,79 @@
+"""A located point's stated tolerance as a measured bound: the point is located again from the branch
+points around it with the integration and the Newton tolerance at 1/100 of the branch's, and its
+tolerance (:func:`bifurc.orbits.branch.continue_orbit`) combines the difference of the two locations with
+the re-location's final bracket (test functions) or the Newton update still asked for (the augmented
+grazing system)."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from maps.poincare import StroboscopicMap
+
+from .continuation import ContinuationProblem, NoConvergence, SpecialPoint, flags_of
+from .grazing_orbit import FAILURES, locate_grazing
+from .passage import _graze_virtual
+from .periodic import _scale
+from .special_points import TESTS, _false_position
+
+__all__ = ["relocate"]
+
+
+def relocate(system, values, param, sp, br, problem, tol: float, newton_tol: float):
+    """(value, its bracket or Newton update) of special point ``sp`` of branch ``br`` located again on
+    the integration at ``tol`` / 100 from the branch points around it, or (NaN, NaN)."""
+    if sp.point is None or not 0 <= sp.index < len(br.points) - (0 if sp.kind == "grazing" else 1):
+        return math.nan, math.nan
+    a = br.points[sp.index]
+    tight = StroboscopicMap(system, dict(values, **{param: a.p}), tol=tol / 100, phase=a.phase)
+    cp = ContinuationProblem(tight, param, br.period, a.k0, scale=_scale([n.y for n in a.nodes], 1e-9),
+                             p_scale=problem.p_scale, p_ref=problem.p_ref, tol=newton_tol / 100)
+    try:
+        if sp.kind == "grazing" and sp.data.get("from_impacting_side"):
+            return _from_impacting_side(cp, a)
+        a2 = _recorrect(cp, a)
+        if sp.kind == "grazing":
+            p, width, *_ = locate_grazing(cp, a2)
+            return p, width
+        b = br.points[sp.index + 1]
+        if b.phase != a.phase or b.k0 != a.k0:
+            return math.nan, math.nan
+        b2 = _recorrect(cp, b)
+        fn = TESTS[sp.kind][2]
+        if not fn(a2) * fn(b2) < 0:
+            return math.nan, math.nan
+        pt, _, width = _false_position(cp, a2, b2, fn, sp.kind, 40)
+        return (math.nan, math.nan) if pt is None else (pt.p, width)
+    except (NoConvergence, *FAILURES):
+        return math.nan, math.nan
+
+
+def _from_impacting_side(cp, a):
+    """A grazing approached from the impacting side located again (:func:`bifurc.orbits.passage._graze_virtual`)
+    from the branch's last point ``a`` as it is (its corrector stalled there), on ``cp``."""
+    F, DF, lins = cp.evaluate(cp.pack(a.nodes, a.p), flags_of(a))
+    pt = cp.point(cp.pack(a.nodes, a.p), F, DF, lins, flags_of(a), 0, a.tangent)
+    again = SpecialPoint("impact_lost", a.p, math.nan, "", math.nan, pt, data={"from_impacting_side": True})
+    _graze_virtual(cp, again, pt)
+    return (again.p, again.tolerance) if again.kind == "grazing" else (math.nan, math.nan)
+
+
+def _recorrect(cp, pt):
+    """Branch point ``pt`` corrected again on ``cp`` (its tighter integration) at the same arclength."""
+    u = cp.pack(pt.nodes, pt.p)
+    t = np.asarray(pt.tangent, float)
+    u_scale = np.append(np.tile(cp.scale, cp.n), cp.p_scale)
+    old_scale = _unit_scale(pt, cp)
+    t = t * old_scale / u_scale
+    t /= np.linalg.norm(t)
+    u, F, DF, lins, flags, its = cp.correct(u, t, flags_of(pt))
+    return cp.point(u, F, DF, lins, flags, its, t)
+
+
+def _unit_scale(pt, cp):
+    """The scales of ``pt``'s unknowns u (nodes and parameter), read back from u and its nodes."""
+    y = np.concatenate([cp.co.reduce(s.y) for s in pt.nodes])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = np.where(pt.u[:-1] != 0, y / pt.u[:-1], np.tile(cp.scale, cp.n))
+    return np.append(np.abs(s), cp.p_scale)

@@ -1,0 +1,276 @@
+"""The attractor census (bifurc.attractors) against independent truths.
+
+1. The forced impact oscillator x'' + 2 zeta w0 x' + w0^2 x = F cos(Omega t), v -> -r v at x = e, in a
+   hysteresis window.  The window was found by hand: with w0 = 1, zeta = 0.05, F = 0.3, e = -1, r = 0.8 the
+   linear response's amplitude F / |w0^2 - Omega^2 + 2i zeta w0 Omega| is 0.43 < |e| at Omega = 1.3 (so the
+   non-impacting orbit exists), while the impacting 1:1 branch, bent to the right by the stop's hardening,
+   reaches Omega = 1.4194 (its fold, located by bifurc.continue_orbit); 40 random starts at Omega = 1.3 reached
+   both.  F < w0^2 |e|: the mass is never pressed on the stop, so it never sticks.  Both orbits are derived
+   here in closed form (the linear forced response; the 1:1 impacting orbit from the free flight between two
+   impacts solved for the impact phase and speed), and every start is classified again by scipy's solve_ivp
+   at rtol 1e-11 with the impact as a terminal event.
+2. A smooth flow with analytic basins: x' = r + x - x^3, y' = -y, sampled every 1 s.  Its equilibria are the
+   roots of the cubic; for |r| < r_c = 2 / (3 sqrt 3) the outer two attract and x < the middle root is the
+   lower one's basin; at r = r_c the lower one meets the middle one in a fold.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import bifurc
+import maps
+from maps import HybridSystem, Parameter, State
+
+OSC = dict(w0=1.0, zeta=0.05, F=0.3, Omega=1.3, e=-1.0, r=0.8)
+BOX = {"x": (-1.0, 2.0), "v": (-2.0, 2.0)}
+
+
+def _response(p):
+    """Complex amplitude Xc of the linear forced response x_p(t) = Re(Xc exp(i Omega t))."""
+    return p["F"] / (p["w0"] ** 2 - p["Omega"] ** 2 + 2j * p["zeta"] * p["w0"] * p["Omega"])
+
+
+def _free(p, t0, x0, v0, t):
+    """Closed-form free flight from (x0, v0) at t0 to t (underdamped linear oscillator plus forced response)."""
+    Xc, W = _response(p), p["Omega"]
+    sig, wd = p["zeta"] * p["w0"], p["w0"] * math.sqrt(1 - p["zeta"] ** 2)
+    xp = lambda s: (Xc * np.exp(1j * W * s)).real           # noqa: E731
+    vp = lambda s: (1j * W * Xc * np.exp(1j * W * s)).real  # noqa: E731
+    A = x0 - xp(t0)
+    B = (v0 - vp(t0) + sig * A) / wd
+    s = t - t0
+    ex = np.exp(-sig * s)
+    x = xp(t) + ex * (A * np.cos(wd * s) + B * np.sin(wd * s))
+    v = vp(t) + ex * (-sig * (A * np.cos(wd * s) + B * np.sin(wd * s)) + wd * (-A * np.sin(wd * s) + B * np.cos(wd * s)))
+    return x, v
+
+
+def _non_impacting(p):
+    Xc = _response(p)
+    return np.array([Xc.real, -p["Omega"] * Xc.imag])
+
+
+def _impacting(p):
+    """Strobe state (t = 0 mod T) of the 1:1 impacting orbit: impact at tau with speed u < 0, rebound -r u,
+    free flight over one period back to the stop with the same speed."""
+    from scipy.optimize import fsolve
+    T, e = 2 * math.pi / p["Omega"], p["e"]
+
+    def res(z):
+        tau, u = z
+        x, v = _free(p, tau, e, -p["r"] * u, tau + T)
+        return [x - e, v - u]
+    roots = []
+    for guess in [(tau, u) for tau in np.linspace(0, T, 12, endpoint=False) for u in np.linspace(-3, -0.1, 8)]:
+        z, info, ok, _ = fsolve(res, guess, xtol=1e-14, full_output=True)
+        tau, u = z[0] % T, z[1]
+        ts = np.linspace(tau, tau + T, 2001)[1:-1]
+        if ok == 1 and u < 0 and np.max(np.abs(res([tau, u]))) < 1e-12 and \
+                np.all(_free(p, tau, e, -p["r"] * u, ts)[0] > e):     # one impact per period, none between
+            roots.append((tau, u))
+    # two 1:1 orbits: the saddle (slower impacts, born with the stable one at the fold) and the stable one
+    tau, u = min(roots, key=lambda z: z[1])
+    assert any(abs(w - u) > 1e-3 for _, w in roots)
+    return np.array(_free(p, tau, e, -p["r"] * u, T))
+
+
+def _brute_force(p, y0, targets, periods=300):
+    """Index of the closed-form orbit in ``targets`` the start reaches, by solve_ivp (rtol 1e-11) with the
+    impact as a terminal event: within 1e-4 of its strobe state at 3 consecutive strobe instants (-1: none)."""
+    from scipy.integrate import solve_ivp
+    T, W, e, r = 2 * math.pi / p["Omega"], p["Omega"], p["e"], p["r"]
+
+    def f(t, y):
+        return [y[1], p["F"] * math.cos(W * t) - 2 * p["zeta"] * p["w0"] * y[1] - p["w0"] ** 2 * y[0]]
+
+    def hit(t, y):
+        return y[0] - e
+    hit.terminal, hit.direction = True, -1
+    y, t, near = np.array(y0, float), 0.0, (-1, 0)
+    for k in range(1, periods + 1):
+        while True:
+            sol = solve_ivp(f, (t, k * T), y, method="DOP853", rtol=1e-11, atol=1e-12, events=hit)
+            t, y = sol.t[-1], sol.y[:, -1].copy()
+            if sol.status != 1:
+                break
+            y = np.array([e, -r * y[1]])
+        d = [np.max(np.abs(y - s)) for s in targets]
+        j = int(np.argmin(d))
+        near = (j, near[1] + 1) if d[j] < 1e-4 and near[0] == j else ((j, 1) if d[j] < 1e-4 else (-1, 0))
+        if near[1] >= 3:
+            return j
+    return -1
+
+
+@pytest.fixture(scope="module")
+def oscillator_census():
+    return bifurc.attractors("impact-oscillator", "Omega", [OSC["Omega"]], params=OSC, box=BOX, n_starts=50,
+                             seed=3, progress=False)
+
+
+def _column(ds, label_start):
+    cols = [j for j in range(ds.sizes["attractor"]) if ds.present.values[0, j] and
+            str(ds.attractor_label.values[j]).startswith("A")]
+    return cols
+
+
+def test_hysteresis_both_orbits_found_to_1e8(oscillator_census):
+    ds = oscillator_census
+    cols = _column(ds, "A")
+    assert len(cols) == 2
+    exact = {0: _non_impacting(OSC), 1: _impacting(OSC)}
+    for j in cols:
+        m = int(ds.impacts_per_period.values[0, j])
+        assert int(ds.period.values[0, j]) == 1 and m in (0, 1)
+        got = np.array([ds.x.values[0, j, 0], ds.v.values[0, j, 0]])
+        assert np.max(np.abs(got - exact[m])) < 1e-8, (m, got, exact[m])
+        assert ds.max_multiplier.values[0, j] < 1
+    assert sorted(int(ds.impacts_per_period.values[0, j]) for j in cols) == [0, 1]
+    assert float(ds.basin_fraction.sum("attractor").values[0]) == pytest.approx(1.0, abs=1e-12)
+
+
+def _fractions_against_scipy(ds, n):
+    exact = [_non_impacting(OSC), _impacting(OSC)]
+    cols = {int(ds.impacts_per_period.values[0, j]): j for j in _column(ds, "A")}
+    brute = [_brute_force(OSC, (x, v), exact) for x, v in zip(ds.start_x.values[:n], ds.start_v.values[:n])]
+    census = ds.start_attractor.values[0, :n]
+    agree = sum(int(census[i] == cols.get(b, -99)) for i, b in enumerate(brute))
+    assert agree >= n - max(1, n // 25), f"{agree} of {n} starts classified alike"
+    for m in (0, 1):
+        frac = np.mean(np.array(brute) == m)
+        lo, hi = ds.basin_fraction_low.values[0, cols[m]], ds.basin_fraction_high.values[0, cols[m]]
+        assert lo <= frac <= hi, (m, frac, lo, hi)
+    return agree
+
+
+def test_fractions_match_scipy_brute_force(oscillator_census):
+    _fractions_against_scipy(oscillator_census, 50)
+
+
+@pytest.mark.slow
+def test_fractions_match_scipy_brute_force_400_starts():
+    ds = bifurc.attractors("impact-oscillator", "Omega", [OSC["Omega"]], params=OSC, box=BOX, n_starts=400,
+                           seed=11, progress=False)
+    _fractions_against_scipy(ds, 400)
+
+
+R_FOLD = 2 / (3 * math.sqrt(3))
+
+
+def bistable():
+    return HybridSystem("bistable-fold", states=[State("x", "m", "position"), State("y", "m", "decaying coordinate")],
+                        parameters=[Parameter("r", "m s-1", "constant drift", -10, 10)],
+                        rhs=lambda s: [s.r + s.x - s.x * s.x * s.x, -s.y], guards=lambda s: [],
+                        strobe_period=lambda p: 1.0)
+
+
+BISTABLE = maps.Scene("bistable-fold", "x' = r + x - x^3, y' = -y (tests/test_attractors.py)", None, preset=None,
+                      overrides={"r": (0.0, "tests/test_attractors.py")}, x0={"x": 0.0, "y": 0.0}, builder=bistable,
+                      box={"x": (-2.0, 2.0), "y": (-1.0, 1.0)})
+
+
+def _roots(r):
+    return np.sort(np.roots([-1.0, 0.0, 1.0, r]).real[np.abs(np.roots([-1.0, 0.0, 1.0, r]).imag) < 1e-9])
+
+
+@pytest.fixture(scope="module")
+def fold_census():
+    return bifurc.attractors(BISTABLE, "r", np.linspace(0.0, 0.5, 6), n_starts=50, cells=50, seed=5, progress=False)
+
+
+def test_analytic_basins_and_equilibria(fold_census):
+    ds = fold_census
+    for i, r in enumerate(ds.r.values):
+        roots = _roots(r)
+        assert float(ds.basin_fraction.values[i].sum()) == pytest.approx(1.0, abs=1e-12)
+        present = [j for j in range(ds.sizes["attractor"] - 3) if ds.present.values[i, j]]
+        xs = sorted(float(ds.x.values[i, j, 0]) for j in present)
+        stable = [roots[0], roots[-1]] if len(roots) == 3 else [roots[-1]]
+        assert np.allclose(xs, stable, atol=1e-8, rtol=0)
+        lower = np.sum(ds.start_x.values < roots[1]) / ds.sizes["start"] if len(roots) == 3 else 0.0
+        j_low = [j for j in present if ds.x.values[i, j, 0] < 0]
+        got = float(ds.basin_fraction.values[i, j_low[0]]) if j_low else 0.0
+        assert got == pytest.approx(lower, abs=1e-12)         # the analytic basin x < middle root, start by start
+        if j_low:
+            lo, hi = ds.basin_fraction_low.values[i, j_low[0]], ds.basin_fraction_high.values[i, j_low[0]]
+            assert lo <= (roots[1] + 2) / 4 <= hi                # the uniform measure's fraction in the interval
+
+
+def test_matching_through_the_fold_linked_to_the_located_fold(fold_census):
+    ds = fold_census
+    r = ds.r.values
+    low = [j for j in range(ds.sizes["attractor"] - 3) if np.nanmin(ds.x.values[:, j, 0]) < 0]
+    assert len(low) == 1                        # one id across every value: matched, not re-born
+    j = low[0]
+    assert list(ds.present.values[:, j]) == [1 if v < R_FOLD else 0 for v in r]
+    after = int(np.argmax(r > R_FOLD))
+    assert int(ds.event.values[after, j]) == 2 and str(ds.event_link.values[after, j]) == "fold"
+    value = float(str(ds.event_evidence.values[after, j]).split("=")[1].split()[0])
+    assert value == pytest.approx(R_FOLD, abs=1e-7)
+    assert np.all(np.isfinite(ds.match_distance.values[1:after, j]))
+
+
+def test_netcdf_round_trip_is_lossless(oscillator_census, tmp_path):
+    import xarray as xr
+    from bifurc.storage.files import write_netcdf
+    path = tmp_path / "atlas.nc"
+    write_netcdf(oscillator_census, path)
+    back = bifurc.load(path, kind="attractors")
+    xr.testing.assert_identical(oscillator_census, back)
+    with pytest.raises(FileExistsError):
+        write_netcdf(oscillator_census, path)
+
+
+def test_same_seed_same_dataset_any_batch_size():
+    kw = dict(params=OSC, box=BOX, n_starts=12, seed=7, progress=False, link=False)
+    a = bifurc.attractors("impact-oscillator", "Omega", [1.3, 1.35], batch_size=4, **kw)
+    b = bifurc.attractors("impact-oscillator", "Omega", [1.3, 1.35], batch_size=1, **kw)
+    assert np.array_equal(a.start_attractor.values, b.start_attractor.values)
+    np.testing.assert_allclose(a.x.values, b.x.values, atol=1e-9, equal_nan=True)
+
+
+def test_slice_basins_and_plots(tmp_path):
+    ds = bifurc.attractors(BISTABLE, "r", [0.1], starts="slice", shape=(8, 3), progress=False, link=False, cells=50)
+    roots = _roots(0.1)
+    img = ds.start_attractor.values[0].reshape(8, 3)
+    xs = ds.start_x.values.reshape(8, 3)[:, 0]
+    lower = [j for j in range(ds.sizes["attractor"] - 3) if ds.present.values[0, j] and ds.x.values[0, j, 0] < 0][0]
+    assert all((img[k] == lower).all() == (xs[k] < roots[1]) for k in range(8))
+    bifurc.plot_basins(ds, path=tmp_path / "basins.png")
+    ds.bifurc.plot(path=tmp_path / "atlas.png")
+    assert (tmp_path / "basins.png").stat().st_size > 1000 and (tmp_path / "atlas.png").stat().st_size > 1000
+
+
+def test_switch_on_starts_are_the_declared_spread():
+    from bifurc.attractors.starts import switch_on_starts
+    st = switch_on_starts(maps.problem("thesis-1dof"), 100, seed=1)
+    x, v, i = st.points[:, 0], st.points[:, 1], st.points[:, 2]
+    assert x.min() >= 0 and x.max() <= 1e-4 and np.abs(v).max() <= 1e-3 and np.all(i == 0)
+
+
+@pytest.mark.parametrize("box, words", [("q=0:1", "unknown state 'q'"), ("x=2:1", "reversed"),
+                                        ("x=0:inf", "finite"), ("x=0", "STATE=LOW:HIGH")])
+def test_bad_box_is_one_line(box, words, tmp_path, capsys):
+    from bifurc.cli import main
+    code = main(["attractors", "--scene", "impact-oscillator", "--param", "Omega", "--from", "1.3", "--to", "1.3",
+                 "--box", box, "-o", str(tmp_path / "a.nc")])
+    err = capsys.readouterr().err
+    assert code == 2 and err.startswith("bifurc: error: --box") and words in err and err.count("\n") == 1
+    assert not (tmp_path / "a.nc").exists()
+
+
+def test_command_writes_dataset_and_figure(tmp_path, capsys):
+    from bifurc.cli import main
+    out = tmp_path / "atlas.nc"
+    code = main(["attractors", "--scene", "impact-oscillator", "--set", "F=0.3", "--set", "e=-1", "--set", "r=0.8",
+                 "--param", "Omega", "--from", "1.3", "--to", "1.3", "--n", "1", "--starts", "20",
+                 "--box", "x=-1:2,v=-2:2", "-o", str(out), "--plot", str(tmp_path / "a.png"), "--quiet"])
+    assert code == 0
+    ds = bifurc.load(out, kind="attractors")
+    assert ds.sizes["start"] == 20 and float(ds.basin_fraction.sum()) == pytest.approx(1.0)
+    assert "2 attractor(s)" in capsys.readouterr().out
+    assert main(["attractors", "--scene", "impact-oscillator", "--param", "Omega", "--from", "1.3", "--to", "1.3",
+                 "--starts", "5", "-o", str(out), "--quiet"]) == 2        # no silent overwrite
