@@ -355,3 +355,24 @@ def _figure(case, path, overwrite):
     ax.set_title(f"thesis-1dof, DC law {case['law']}, relay {case['hz']:g} Hz: continued orbits over the sweep",
                  fontsize=10)
     save_figure(fig, path, overwrite=overwrite)
+
+
+def findings(results, quick) -> list:
+    """What the report states, per DC law and relay frequency: the branches continued (exact), the special
+    points located (+-2: a step may land on either side of a borderline point), and each stable period-1
+    one-impact interval's ends (+- 1e-3 V; a located end to its stated digits); "none" where there is none."""
+    from bifurc.findings import Finding
+    out = []
+    for c in results["cases"]:
+        tag = f"{c['law']} {c['hz']:g} Hz"
+        branches = [ds for ds in c["branches"] if ds.sizes.get("point", 0)]
+        out += [Finding(f"{tag}: branches continued", len(branches), 0, "branches"),
+                Finding(f"{tag}: special points located", sum(ds.sizes.get("special", 0) for ds in branches), 2,
+                        "points")]
+        ones = sorted((lo, hi) for ds in branches for lo, hi, n, m in stable_intervals(ds) if (n, m) == (1, 1))
+        if not ones:
+            out.append(Finding(f"{tag}: stable period-1 one-impact intervals", "none"))
+        for j, (lo, hi) in enumerate(ones):
+            out += [Finding(f"{tag}: stable period-1 one-impact interval {j + 1}, low end", float(lo), 1e-3, "V"),
+                    Finding(f"{tag}: stable period-1 one-impact interval {j + 1}, high end", float(hi), 1e-3, "V")]
+    return out
