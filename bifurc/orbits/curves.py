@@ -220,8 +220,8 @@ def follow_curve(problem: CurveProblem, w0, flags, p2_end: float, bounds1, *, st
         if problem.kind == "grazing":
             K_prev, K = K, _feedback(problem, w, flags)
             if K_prev * K < 0:
-                _locate_zero(problem, curve, "grazing_fold", _feedback, w_prev, t_prev, flags_prev, K_prev, K,
-                             float(t_prev @ (w - w_prev)))
+                _locate_zero(problem, curve, "grazing_fold", lambda w_, f_: _feedback(problem, w_, f_), w_prev,
+                             t_prev, flags_prev, K_prev, K, float(t_prev @ (w - w_prev)))
         elif problem.kind == "fold":
             tests_prev, tests = tests, _fold_tests(problem, w, flags)
             for i, kind in enumerate(("cusp", "fold_flip")):
