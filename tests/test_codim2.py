@@ -56,7 +56,8 @@ def fold_curves():
 
 def _codim2(ds):
     pattern = r"(\w+) on curve (\d+): \(a, b\) = \(([-\d.e]+), ([-\d.e]+)\) \+- ([-\d.e]+)"
-    return [(k, int(i), float(a), float(b), float(tol)) for k, i, a, b, tol in re.findall(pattern, ds.attrs["curve_codim2"])]
+    return [(k, int(i), float(a), float(b), float(tol))
+            for k, i, a, b, tol in re.findall(pattern, ds.attrs["curve_codim2"])]
 
 
 def test_the_fold_curves_follow_the_closed_form(fold_curves):
@@ -77,3 +78,22 @@ def test_cusp_and_fold_flips_are_located_at_their_closed_forms(fold_curves):
         err = max(abs(a - exact[0]), abs(b - exact[1]))
         assert err < 1e-9, (kind, a, b)                 # measured <= 3e-14 (cusp), 2e-12 (fold-flip)
         assert err <= tol < 1e-8, (kind, err, tol)      # the stated tolerance bounds the real error
+
+
+def test_fold_flips_on_the_period_doubling_curve():
+    """The branch in b at a = -1/4 from x ~ -0.63 has its period doubling at b = 3/4 (l1 = 0); the
+    period-doubling curve is b = 3/4 for every a, and its orbit x^3 - 3/4 x = a meets the fold at
+    x = -+1/2: fold-flips at (b, a) = (3/4, +-1/4)."""
+    ds = bifurc.continue_orbit(cusp_flip_system(), "b", (0.0, 1.5), params={"a": -0.25, "b": 0.0},
+                               x0={"x": -0.63, "y1": 0.0, "y2": 0.0}, period=1, param2="a", span2=(-0.25, 0.5),
+                               error=False)
+    kinds = bifurc.storage.schema.SPECIAL_KINDS
+    assert [kinds[int(k)] for k in ds.special_kind.values] == ["period_doubling"]
+    assert abs(float(ds.special_value[0]) - 0.75) < 1e-9
+    np.testing.assert_allclose(ds.curve_b.values, 0.75, rtol=0, atol=1e-9)
+    pattern = r"fold_flip on curve 0: \(b, a\) = \(([-\d.e]+), ([-\d.e]+)\) \+- ([-\d.e]+)"
+    found = sorted((float(a), float(b), float(tol)) for b, a, tol in re.findall(pattern, ds.attrs["curve_codim2"]))
+    assert [round(a, 3) for a, _, _ in found] == [-0.25, 0.25], ds.attrs["curve_codim2"]
+    for a, b, tol in found:
+        err = max(abs(a - math.copysign(0.25, a)), abs(b - 0.75))
+        assert err < 1e-9 and err <= tol < 1e-8, (a, b, err, tol)
