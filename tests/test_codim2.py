@@ -1,8 +1,10 @@
 """Cusps and fold-flips located on two-parameter fold curves, against closed forms derived here.
 
-The impact oscillator's one-impact orbits have two multipliers whose product is positive, so they
-never carry +1 and -1 together (no fold-flip); the test system is smooth instead, with a stroboscopic
-map known in closed form (period T = 1 s):
+The impact oscillator's 1:1 orbits offer neither: their multipliers' product det(P S) = r^2 exp(-2 zeta w0 T)
+is positive (never +1 and -1 together: no fold-flip), and at fixed Omega the stop position of the 1:1 orbit
+with impact phase th is a sinusoid e = x_p(th) + K(Omega) x_p'(th) whose extrema (the folds) are never
+degenerate (no cusp; tests/test_continuation.py checks none is reported).  The test system is smooth
+instead, with a stroboscopic map known in closed form (period T = 1 s):
 
     x'  = a + b x - x^3                                  (equilibria: the fixed points in x)
     y'  = (W J + R(W t) diag(l1, l2) R(W t)^T) y,  W = pi,  l1 = b - 3/4,  l2 = -1,
