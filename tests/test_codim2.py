@@ -99,3 +99,21 @@ def test_fold_flips_on_the_period_doubling_curve():
     for a, b, tol in found:
         err = max(abs(a - math.copysign(0.25, a)), abs(b - 0.75))
         assert err < 1e-9 and err <= tol < 1e-8, (a, b, err, tol)
+
+
+def test_continue_command_prints_and_draws_the_codimension_two_points(tmp_path, capsys):
+    from bifurc.cli import main
+    from bifurc.plots.branch import codim2_points
+    fig = tmp_path / "curves.png"
+    code = main(["continue", "--scene", "test_codim2:cusp_flip_system", "--set", "a=-1", "--set", "b=1",
+                 "--x0", "x=-1.3,y1=0,y2=0", "--period", "1", "--param", "a", "--from", "-1", "--to", "1",
+                 "--param2", "b", "--from2", "1", "--to2", "-0.5", "--no-error", "-o", str(tmp_path / "c.nc"),
+                 "--plot2", str(fig)])
+    assert code == 0 and fig.stat().st_size > 0
+    out = capsys.readouterr().out
+    assert out.count("    fold_flip at (a, b) = (") == 4 and out.count("    cusp at (a, b) = (") == 2
+    import xarray as xr
+    with xr.open_dataset(tmp_path / "c.nc") as ds:
+        points = codim2_points(ds)
+    assert sorted(k for k, *_ in points) == ["cusp"] * 2 + ["fold_flip"] * 4
+    assert all(abs(b - 0.75) < 1e-9 for k, _, _, b, _ in points if k == "fold_flip")
