@@ -332,6 +332,10 @@ def test_two_parameter_fold_period_doubling_and_grazing_curves_equal_the_closed_
         value, mult = one_to_one_family(**{k: p[k] for k in ("w0", "zeta", "F", "Omega", "r", "e")}, free="e")
         closed = [ee for ee, v in period_doublings_of(value, mult, th) if v < 0 and ee < 0.2]
         assert len(closed) == 1 and abs(e[i] - closed[0]) < 1e-7
+    # no false codimension-two points: the 1:1 fold is the extremum of a sinusoid in the impact phase (never
+    # degenerate: no cusp), and det(P S) = r^2 exp(-2 zeta w0 T) > 0 forbids +1 and -1 together (no fold-flip)
+    codim2 = ds.attrs["curve_codim2"] + pd.attrs["curve_codim2"]
+    assert "cusp" not in codim2 and "fold_flip" not in codim2
     p = dict(BASE, Omega=1.5, e=-0.05)
     g = bifurc.continue_orbit("impact-oscillator", "F", (0.02, 0.3), params=p, x0={"x": 0.0}, error=False,
                               param2="zeta", span2=(0.05, 0.3))

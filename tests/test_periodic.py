@@ -48,14 +48,21 @@ def closed_form_1_1(w0, zeta, F, Omega, e, r):
         v = v_of(th)
         return v - u - P[1, 0] * (e - x) - P[1, 1] * (-r * v - u)
     grid = np.linspace(0.0, 2 * math.pi, 3001)
+    xg, ug = a * np.cos(grid) + b * np.sin(grid), Omega * (-a * np.sin(grid) + b * np.cos(grid))
+    vg = ((P[0, 0] - 1) * (e - xg) - P[0, 1] * ug) / (P[0, 1] * r)
+    Gg = vg - ug - P[1, 0] * (e - xg) - P[1, 1] * (-r * vg - ug)       # G on the grid, as arrays
+    lam, V = np.linalg.eig(Al)                 # distinct eigenvalues (zeta != 1): expm(Al s) = V e^(lam s) V^-1
     out = []
-    for lo, hi in zip(grid[:-1], grid[1:]):
+    for lo, hi in zip(grid[:-1][Gg[:-1] * Gg[1:] < 0], grid[1:][Gg[:-1] * Gg[1:] < 0]):
         if G(lo) * G(hi) < 0:
             th = brentq(G, lo, hi, xtol=1e-15, rtol=1e-15)
             v, ti = v_of(th), th / Omega
             y_after = np.array([e, -r * v])
-            flight = [(expm(Al * s) @ (y_after - xp(ti)) + xp(ti + s))[0] for s in np.linspace(0, T, 801)[1:-1]]
-            if v >= 0 or min(flight) < e:
+            s = np.linspace(0, T, 801)[1:-1]
+            c = np.linalg.solve(V, y_after - xp(ti))
+            t = ti + s
+            flight = np.real((V[0] * c) @ np.exp(np.outer(lam, s))) + a * np.cos(Omega * t) + b * np.sin(Omega * t)
+            if v >= 0 or flight.min() < e:
                 continue                     # not an impact, or the flight passes through the stop
             force = F * math.cos(Omega * ti) - w0 * w0 * e
             am, ap = force - 2 * zeta * w0 * v, force + 2 * zeta * w0 * r * v

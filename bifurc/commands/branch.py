@@ -87,10 +87,14 @@ def run(args) -> int:
               + multipliers_text(ds.special_multiplier_abs.values[i], ds.special_multiplier_arg.values[i])
               + ("" if err != err else f"; multiplier error {err:.2g}")
               + (f"; {ds.special_note.values[i]}" if str(ds.special_note.values[i]) else ""))
+    from ..plots.branch import codim2_points
+    codim2 = codim2_points(ds)
     for c in range(ds.sizes.get("curve", 0)):
         n = int((ds.curve_id.values == c).sum())
         print(f"  curve {c} ({SPECIAL_KINDS[int(ds.curve_kind[c])]}, {n} points in "
               f"({par}, {args.param2})): {ds.curve_stop_reason.values[c]}")
+        for kind, _, a, b, tol in (pt for pt in codim2 if pt[1] == c):
+            print(f"    {kind} at ({par}, {args.param2}) = ({a:.12g}, {b:.12g}) (+- {tol:.2g})")
     if args.output:
         write_netcdf(ds, args.output, overwrite=args.force)
         print(f"  wrote {args.output}")

@@ -20,6 +20,14 @@ The rows of F and of the grazing conditions are exact (variational equations wit
 sigma's gradient is a forward difference of sigma itself (each sigma from exact Jacobians): second
 derivatives of the map are not integrated.  It only steers Newton; a converged point satisfies
 sigma = 0 to the tolerance.
+
+Codimension-two points found along a curve (``Curve.special``, stored as ``curve_codim2``), each where a
+test function changes sign between two curve points, located by false position on the arclength:
+a grazing-fold on a grazing curve (Nordmark's feedback K = 0), a cusp on a fold curve (the fold's
+second-order coefficient b^T D^2F(v, v) = 0, a central difference of exact Jacobians along the null
+vector v) and a fold-flip on a fold curve (det of the shooting matrix with wrap-around +I = 0: a
+multiplier -1 beside the +1) or on a period-doubling curve (det of the shooting matrix = 0: a +1 beside
+the -1).
 """
 from __future__ import annotations
 
@@ -36,7 +44,10 @@ from .continuation import NoConvergence, bordered_newton, impact_count, next_ste
 from .grazing_orbit import grazing_rows
 from .nordmark import normal_form
 
-__all__ = ["Curve", "CurveProblem", "follow_curve", "CURVE_KINDS"]
+__all__ = ["Curve", "CurveProblem", "follow_curve", "CURVE_KINDS", "CODIM2"]
+
+#: the codimension-two points looked for on each kind of curve
+CODIM2 = {"grazing": ("grazing_fold",), "fold": ("cusp", "fold_flip"), "period_doubling": ("fold_flip",)}
 
 
 @dataclass
@@ -187,7 +198,7 @@ def follow_curve(problem: CurveProblem, w0, flags, p2_end: float, bounds1, *, st
     curve.p2.append(float(problem.values(w)[1]))
     curve.residual.append(norm)
     h = step
-    K = _feedback(problem, w, flags) if problem.kind == "grazing" else math.nan
+    tests = _codim2_tests(problem, w, flags) if problem.kind in CODIM2 else ()
     while len(curve.p1) < max_points:
         try:
             w_new, G, DG, flags_new, norm, its = _correct(problem, w + h * t, t, flags, tol, max_move=h)
@@ -209,10 +220,12 @@ def follow_curve(problem: CurveProblem, w0, flags, p2_end: float, bounds1, *, st
                 problem.refresh_bordering(w, flags)
             except NoConvergence:
                 pass
-        if problem.kind == "grazing":
-            K_prev, K = K, _feedback(problem, w, flags)
-            if K_prev * K < 0:
-                _grazing_fold(problem, curve, w_prev, t_prev, flags_prev, K_prev, K, float(t_prev @ (w - w_prev)))
+        if problem.kind in CODIM2:
+            tests_prev, tests = tests, _codim2_tests(problem, w, flags)
+            for i, kind in enumerate(CODIM2[problem.kind]):
+                if tests_prev[i] * tests[i] < 0:
+                    _locate_zero(problem, curve, kind, lambda w_, f_, i=i: _codim2_tests(problem, w_, f_)[i], w_prev,
+                                 t_prev, flags_prev, tests_prev[i], tests[i], float(t_prev @ (w - w_prev)))
         if not (lo2 - 1e-12 <= p2 <= hi2 + 1e-12 and lo1 - 1e-12 <= p1 <= hi1 + 1e-12):
             curve.stop_reason = f"left the parameter box at ({p1:.10g}, {p2:.10g})"
             break
@@ -248,10 +261,53 @@ def _feedback(problem, w, flags, shift: float = 1e-9) -> float:
         return math.nan
 
 
-def _grazing_fold(problem, curve, w_a, t_a, flags, K_a, K_b, s_b, max_iter: int = 40) -> None:
-    """Locate where K changes sign between the grazing-curve points w_a and w_a + s_b t_a (Illinois false
-    position on the arclength, each evaluation a corrected curve point): a grazing-fold, where the
-    impacting orbits' fold meets the grazing (K through 0; a sign change through a pole is not one)."""
+def _codim2_tests(problem, w, flags) -> tuple:
+    """The test functions of the codimension-two points ``CODIM2[problem.kind]`` at the curve point w:
+    Nordmark's K on a grazing curve (:func:`_feedback`); (cusp, fold-flip) on a fold curve
+    (:func:`_fold_tests`); on a period-doubling curve det of the shooting matrix (zero where a multiplier
+    +1 joins the -1).  NaN where the shots fail."""
+    if problem.kind == "grazing":
+        return (_feedback(problem, w, flags),)
+    if problem.kind == "fold":
+        return _fold_tests(problem, w, flags)
+    try:
+        M = problem._shoot(w, flags)[2]
+    except NoConvergence:
+        return (math.nan,)
+    return (float(np.linalg.det(M)),)
+
+
+def _fold_tests(problem, w, flags, eps: float = 1e-5) -> tuple:
+    """(cusp, fold-flip) test functions at the fold-curve point w: the fold's second-order coefficient
+    b^T (A(z + eps v) - A(z - eps v)) v / (2 eps), with v, b the right and left singular vectors of the
+    shooting matrix A's smallest singular value (b oriented along the previous point's b), and det(A with
+    wrap-around block +I) (zero where a multiplier is -1); NaN where the shots fail."""
+    try:
+        _, _, M, _, _ = problem._shoot(w, flags)
+        U, _, Vt = np.linalg.svd(M)
+        b, v = U[:, -1], Vt[-1]
+        prev = getattr(problem, "_cusp_b", None)
+        if prev is not None and b @ prev < 0:
+            b = -b
+        problem._cusp_b = b
+        dv = np.zeros(w.size)
+        dv[:problem.N] = eps * v
+        M_plus, M_minus = problem._shoot(w + dv, flags)[2], problem._shoot(w - dv, flags)[2]
+        A_pd = M.copy()
+        A_pd[problem.N - problem.base.d:, :problem.base.d] += 2 * np.eye(problem.base.d)
+        problem.base.smap.set_params(**dict(zip(problem.names, problem.values(w))))
+    except NoConvergence:
+        return math.nan, math.nan
+    return float(b @ (M_plus - M_minus) @ v / (2 * eps)), float(np.linalg.det(A_pd))
+
+
+def _locate_zero(problem, curve, kind, test, w_a, t_a, flags, K_a, K_b, s_b, max_iter: int = 40) -> None:
+    """Locate where the test function ``test(w, flags)`` changes sign between the curve points w_a and
+    w_a + s_b t_a (Illinois false position on the arclength, each evaluation a corrected curve point) and
+    record it as ``kind`` in ``curve.special`` with its tolerance: the bracket's width in the parameters,
+    at least the corrector's acceptance (newton_tol times each parameter's span).  Kinds: ``CODIM2``; a
+    grazing-fold is where the impacting orbits' fold meets the grazing.  A sign change through a pole
+    is not a zero: refused."""
     s_lo, s_hi, f_lo, f_hi, side, w = 0.0, s_b, K_a, K_b, 0, w_a
     K, p_lo, p_hi = K_a, problem.values(w_a), problem.values(w_a + s_b * t_a)
     for _ in range(max_iter):
@@ -261,7 +317,7 @@ def _grazing_fold(problem, curve, w_a, t_a, flags, K_a, K_b, s_b, max_iter: int 
         w, s = _correct_near(problem, w_a, t_a, flags, s, s_lo, s_hi)
         if w is None:
             return
-        K = _feedback(problem, w, flags)
+        K = test(w, flags)
         if not math.isfinite(K):
             return
         if (K < 0) == (f_lo < 0):
@@ -275,9 +331,11 @@ def _grazing_fold(problem, curve, w_a, t_a, flags, K_a, K_b, s_b, max_iter: int 
         if K == 0.0 or s_hi - s_lo < 1e-12:
             break
     if abs(K) > 1e-6 * min(abs(K_a), abs(K_b)):
-        return                                   # a pole of K, not a zero
+        return                                   # a pole of the test function, not a zero
     p1, p2 = problem.values(w)
-    curve.special.append(("grazing_fold", float(p1), float(p2), float(np.max(np.abs(np.asarray(p_hi) - p_lo)))))
+    floor = problem.base.tol * problem.p_scales       # the corrector's acceptance, in parameter units
+    curve.special.append((kind, float(p1), float(p2), float(np.max(np.maximum(np.abs(np.asarray(p_hi) - p_lo),
+                                                                               floor)))))
 
 
 def _correct_near(problem, w_a, t_a, flags, s: float, s_lo: float, s_hi: float):

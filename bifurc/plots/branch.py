@@ -7,7 +7,7 @@ from ..storage.files import check_figure_output, save_figure
 from ..storage.load import require_kind
 from ..storage.schema import SPECIAL_KINDS
 
-__all__ = ["plot_branch", "plot_curves", "branch_curves", "SPECIAL_LABELS"]
+__all__ = ["plot_branch", "plot_curves", "branch_curves", "codim2_points", "SPECIAL_LABELS"]
 
 #: short labels of the special points on the figure
 SPECIAL_LABELS = {"fold": "LP", "period_doubling": "PD", "neimark_sacker": "NS", "grazing": "G",
@@ -135,9 +135,20 @@ def branch_curves(ds) -> list:
     return out
 
 
+def codim2_points(ds) -> list:
+    """[(kind, curve index, p1, p2, tolerance)] of the codimension-two points located on the curves of a
+    branch dataset (cusp, fold_flip, grazing_fold), read from its ``curve_codim2`` attribute."""
+    import re
+    number = r"([-+\d.eE]+|nan|inf)"
+    pattern = rf"(\w+) on curve (\d+): \([^)]*\) = \({number}, {number}\) \+- {number}"
+    return [(kind, int(c), float(a), float(b), float(tol))
+            for kind, c, a, b, tol in re.findall(pattern, ds.attrs.get("curve_codim2", ""))]
+
+
 def plot_curves(ds, path=None, ax=None, overwrite=False):
     """The two-parameter curves of a branch dataset (folds LP, period doublings PD, grazings G) in the
-    (param, param2) plane, each from its special point (a dot).  ``ax``: draw into it (e.g. over a
+    (param, param2) plane, each from its special point (a dot), with the codimension-two points on them
+    (stars: CP cusp, LPPD fold-flip, GLP grazing-fold).  ``ax``: draw into it (e.g. over a
     regime map of the same parameters); ``path``: also save there.  Returns the Axes."""
     if path is not None:
         check_figure_output(path, overwrite)
@@ -155,6 +166,9 @@ def plot_curves(ds, path=None, ax=None, overwrite=False):
         colour, ls = styles.get(label, ("k", ":"))
         ax.plot(x, y, color=colour, ls=ls, lw=1.8, label=label)
         ax.plot(x[:1], y[:1], "o", color=colour, ms=5)
+    for kind, _, a, b, _ in codim2_points(ds):
+        ax.plot([a], [b], _MARKERS[kind], color="k", ms=11, label=f"{SPECIAL_LABELS[kind]} {_MEANINGS[kind]}")
+        ax.annotate(SPECIAL_LABELS[kind], (a, b), textcoords="offset points", xytext=(6, 6), fontsize=8)
     p1, p2 = ds.attrs["curve_parameters"].split()
     ax.set_xlabel(f"{p1} [{ds[f'curve_{p1}'].attrs.get('units', '')}]")
     ax.set_ylabel(f"{p2} [{ds[f'curve_{p2}'].attrs.get('units', '')}]")
