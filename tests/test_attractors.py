@@ -274,3 +274,23 @@ def test_command_writes_dataset_and_figure(tmp_path, capsys):
     assert "2 attractor(s)" in capsys.readouterr().out
     assert main(["attractors", "--scene", "impact-oscillator", "--param", "Omega", "--from", "1.3", "--to", "1.3",
                  "--starts", "5", "-o", str(out), "--quiet"]) == 2        # no silent overwrite
+
+
+def test_matching_pairs_like_with_like_only():
+    """Across a coarse step a periodic orbit 3 cells from a chaotic set, or from an orbit of another period, is
+    never its continuation; an orbit of its period 3 cells away is (distances by hand: cells of 1e-3 and 1e-2)."""
+    from bifurc.attractors.follow import match
+    from bifurc.attractors.identify import Attractor, Grid
+    from bifurc.codes import ClassCode
+    grid = Grid(np.zeros(2), np.array([1e-3, 1e-2]))
+    p1 = Attractor(int(ClassCode.PERIODIC), 1, points=np.array([[0.010, 0.5]]))
+    p1_moved = Attractor(int(ClassCode.PERIODIC), 1, points=np.array([[0.013, 0.5]]))       # 3 cells in x
+    p2 = Attractor(int(ClassCode.PERIODIC), 2, points=np.array([[0.010, 0.5], [0.0101, 0.5]]))
+    chaos = Attractor(int(ClassCode.CHAOTIC), points=np.array([[0.0105, 0.5], [0.0110, 0.52], [0.0095, 0.49]]))
+    assert match([p1], [chaos], grid) == {}          # the old matching paired these at 0.67 cells
+    assert match([p1], [p2], grid) == {}
+    got = match([chaos, p2, p1], [p1_moved], grid)
+    assert list(got) == [0] and got[0][0] == 2 and got[0][1] == pytest.approx(3.0, abs=1e-9)
+    # a grazing changes the impacts, not the orbit: with and without impacts still match
+    nil = Attractor(int(ClassCode.PERIODIC_NO_IMPACT), 1, points=np.array([[0.0115, 0.5]]))
+    assert match([p1], [nil], grid)[0][1] == pytest.approx(1.5, abs=1e-9)
