@@ -294,3 +294,32 @@ def test_matching_pairs_like_with_like_only():
     # a grazing changes the impacts, not the orbit: with and without impacts still match
     nil = Attractor(int(ClassCode.PERIODIC_NO_IMPACT), 1, points=np.array([[0.0115, 0.5]]))
     assert match([p1], [nil], grid)[0][1] == pytest.approx(1.5, abs=1e-9)
+
+
+def test_same_seed_same_dataset_any_workers_and_after_a_resume(tmp_path, monkeypatch):
+    """Each value's fresh starts are one task: 1 worker, 2 worker processes and a run stopped after its first
+    value then resumed from ``<path>.parts`` give the same dataset (every variable, bit for bit)."""
+    import xarray as xr
+
+    from bifurc.attractors.job import CensusParts
+    kw = dict(params=OSC, box=BOX, n_starts=12, seed=7, progress=False, link=False)
+    vals = [1.25, 1.3, 1.35]
+    one = bifurc.attractors("impact-oscillator", "Omega", vals, workers=1, **kw)
+    two = bifurc.attractors("impact-oscillator", "Omega", vals, workers=2, **kw)
+    assert two.attrs["workers"] == 2 and one.attrs["workers"] == 1
+    xr.testing.assert_equal(one, two)
+    path = tmp_path / "atlas.nc"
+    save = CensusParts.save
+
+    def save_then_stop(self, indices, results):
+        save(self, indices, results)
+        raise KeyboardInterrupt
+    monkeypatch.setattr(CensusParts, "save", save_then_stop)
+    with pytest.raises(KeyboardInterrupt):
+        bifurc.attractors("impact-oscillator", "Omega", vals, workers=1, path=path, **kw)
+    assert not path.exists() and len(list((tmp_path / "atlas.nc.parts").glob("census-*.nc"))) == 1
+    monkeypatch.setattr(CensusParts, "save", save)
+    again = bifurc.attractors("impact-oscillator", "Omega", vals, workers=1, path=path, **kw)
+    assert again.attrs["values_resumed"] == 1 and not (tmp_path / "atlas.nc.parts").exists()
+    xr.testing.assert_equal(one, again)
+    xr.testing.assert_equal(one, xr.load_dataset(path))
