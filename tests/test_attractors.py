@@ -323,3 +323,18 @@ def test_same_seed_same_dataset_any_workers_and_after_a_resume(tmp_path, monkeyp
     assert again.attrs["values_resumed"] == 1 and not (tmp_path / "atlas.nc.parts").exists()
     xr.testing.assert_equal(one, again)
     xr.testing.assert_equal(one, xr.load_dataset(path))
+
+
+@pytest.mark.slow
+def test_attractor_atlas_quick_study_writes_its_report_under_two_minutes(tmp_path):
+    import time
+
+    import studies.attractor_atlas as study
+    from bifurc.cli import main
+    clock = time.perf_counter()
+    assert main(["study", "attractor-atlas", "--quick", "-o", str(tmp_path)]) == 0
+    assert time.perf_counter() - clock < 120
+    text = (tmp_path / "report.md").read_text()
+    assert all(f"## DC law `{law}`" in text for law in study.LAWS) and "Findings" in text
+    assert all((tmp_path / f"{law}-switch-on.nc").is_file() and (tmp_path / f"{law}.png").is_file()
+               for law in study.LAWS)
