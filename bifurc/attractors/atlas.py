@@ -82,7 +82,7 @@ def attractors(problem_or_scene="thesis-1dof", param: str = "V", values=None, *,
                     tol)
     fresh, workers, resumed, parts = _fresh(job, values, workers, scheduler, path, progress)
     smap = StroboscopicMap(pb.with_values(**{param: float(values[0])}), tol=tol)
-    per_value, outcomes, events, prev, n_ids, periods = [], [], {}, {}, 0, []
+    per_value, outcomes, links, prev, n_ids, periods = [], [], [], {}, 0, []
     for i, v in enumerate(values):
         smap.set_params(**{param: float(v)})
         found = list(fresh[i].found)
@@ -93,10 +93,11 @@ def attractors(problem_or_scene="thesis-1dof", param: str = "V", values=None, *,
         ids, n_ids = _assign(prev, found, grid, smap.forcing_period_steps, match_threshold, n_ids)
         here = {ids[j]: a for j, a in enumerate(found)}
         if i and link:
-            _events(pb, param, values[i - 1], v, prev, here, events, i, tol)
+            links += _changes(values[i - 1], v, prev, here, i)
         per_value.append(here)
         outcomes.append([ids[k] if k >= 0 else k for k in fresh[i].outcomes])
         prev = here
+    events = _link_all(pb, param, links, tol, workers)
     from .dataset import to_dataset
     attrs = {"workers": int(workers), "values_resumed": int(resumed), "cells_per_side": int(cells),
              "grid_cell_widths": grid.width.tolist(), "fresh_starts": len(st),
@@ -170,16 +171,26 @@ def _assign(prev: dict, found: list, grid, q, threshold, n_ids) -> tuple[list, i
     return ids, n_ids
 
 
-def _events(pb, param, before, now, prev: dict, here: dict, events: dict, i: int, tol: float) -> None:
-    """Disappearances (in ``prev``, not ``here``) and appearances, each linked or flagged, stored at value i."""
-    for gid, a in prev.items():
-        if gid not in here:
-            kind, why = link_event(pb, param, a, before, now, tol=tol)
-            events[(i, gid)] = ("disappeared", kind, why)
-    for gid, a in here.items():
-        if gid not in prev:
-            kind, why = link_event(pb, param, a, now, before, tol=tol)
-            events[(i, gid)] = ("appeared", kind, why)
+def _changes(before, now, prev: dict, here: dict, i: int) -> list:
+    """The appearances and disappearances between two values: ((i, id), what, attractor, here, there)."""
+    gone = [((i, gid), "disappeared", a, before, now) for gid, a in prev.items() if gid not in here]
+    new = [((i, gid), "appeared", a, now, before) for gid, a in here.items() if gid not in prev]
+    return gone + new
+
+
+def _link_all(pb, param, links: list, tol: float, workers: int) -> dict:
+    """{(value index, id): (what, kind, evidence)}: each change linked by continuing its orbit
+    (:func:`.follow.link_event`), on ``workers`` processes when there are several (each link is independent)."""
+    from ..sweeps.executor import WorkerPool, submit_all
+    tasks = [(1.0, link_event, (pb, param, a, here, there, tol)) for _, _, a, here, there in links]
+    periodic = sum(a.periodic for _, _, a, _, _ in links)
+    from ..sweeps.sweep import travels
+    if workers > 1 and periodic > 1 and travels(pb):
+        with WorkerPool(None, min(workers, periodic)) as pool:
+            got = [f.result() for f in submit_all(tasks, pool)]
+    else:
+        got = [f.result() for f in submit_all(tasks)]
+    return {key: (what, kind, why) for (key, what, *_), (kind, why) in zip(links, got)}
 
 
 class _Bar:

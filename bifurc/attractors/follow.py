@@ -47,7 +47,7 @@ def match(prev: list, cur: list, grid, q: int = 1, threshold: float = 20.0) -> d
 LOCAL = ("fold", "period_doubling", "neimark_sacker", "grazing", "impact_lost", "stick_onset")
 
 
-def link_event(pb, param: str, a, here: float, there: float, *, tol: float) -> tuple[str, str]:
+def link_event(pb, param: str, a, here: float, there: float, tol: float = 1e-10) -> tuple[str, str]:
     """(kind, evidence) of an attractor ``a`` found at ``here`` and absent at ``there``: the local event
     located on its branch between the two values, or "global" with what the branch did."""
     if not a.periodic:
