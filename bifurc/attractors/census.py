@@ -93,6 +93,7 @@ def census_at(smap, starts: list, grid: Grid, settings: Settings, *, k0=0,
     tracks = [Track(st, int(k)) for st, k in zip(starts, ks)]
     found: list[Attractor] = list(known or [])
     owner: dict = {c: i for i, a in enumerate(found) for c in a.cells}
+    tried: set = set()          # (period, cell) where Newton failed
     active = list(range(len(tracks)))
     while active:
         orbits = smap.orbits([{}] * len(active), [tracks[i].state for i in active], s.chunk,
@@ -108,7 +109,7 @@ def census_at(smap, starts: list, grid: Grid, settings: Settings, *, k0=0,
             t.last, t.state, t.k, t.periods = o, o.final, t.k + s.chunk, t.periods + s.chunk
             if what == "recur":
                 candidates.append(i)
-        _identify_candidates(smap, tracks, candidates, grid, s, found, owner)
+        _identify_candidates(smap, tracks, candidates, grid, s, found, owner, tried)
         for i in active:
             t = tracks[i]
             if t.outcome is None and t.periods >= s.max_periods:
@@ -146,14 +147,16 @@ def _register(a: Attractor, found: list, owner: dict, grid: Grid, q: int) -> int
     return match
 
 
-def _identify_candidates(smap, tracks, candidates, grid, s: Settings, found: list, owner: dict) -> None:
+def _identify_candidates(smap, tracks, candidates, grid, s: Settings, found: list, owner: dict,
+                         tried: set) -> None:
     """Identify each recurring start from its last chunk (known orbit, or Newton once per distinct
     attractor); the rest are recorded ``locate`` periods with a tangent vector (one batch call)."""
     q = smap.forcing_period_steps
     rest = []
     for i in candidates:
         t = tracks[i]
-        got = from_chunk(smap, t.last, t.k - s.chunk, grid, found, max_period=s.max_period, tol=s.newton_tol)
+        got = from_chunk(smap, t.last, t.k - s.chunk, grid, found, max_period=s.max_period, tol=s.newton_tol,
+                         tried=tried)
         if got is None:
             rest.append(i)
         else:
@@ -167,7 +170,7 @@ def _identify_candidates(smap, tracks, candidates, grid, s: Settings, found: lis
         if o.status != "ok":
             t.outcome = OUTCOMES["escaped" if o.status == "escaped" else "failed"]
             continue
-        a = identify(smap, o, t.k, grid, max_period=s.max_period, tol=s.newton_tol)
+        a = identify(smap, o, t.k, grid, max_period=s.max_period, tol=s.newton_tol, tried=tried)
         t.state, t.k, t.periods = o.final, t.k + s.locate, t.periods + s.locate
         t.recur, t.visits = 0, set()
         if a is None:

@@ -109,7 +109,7 @@ def same_attractor(a: Attractor, b: Attractor, grid: Grid, q: int = 1) -> bool:
 
 
 def identify(smap, orbit, k0: int, grid: Grid, *, max_period: int = 16, tol: float = 1e-10,
-             rtol: float = 1e-6, atol: float = 1e-9) -> Attractor | None:
+             rtol: float = 1e-6, atol: float = 1e-9, tried: set | None = None) -> Attractor | None:
     """The attractor a recorded orbit (a :class:`maps.poincare.MapOrbit` starting at sample ``k0``, with a
     tangent vector) lies on, or None when the record decides nothing yet (a transient)."""
     pts, imp = orbit.points, orbit.impacts_per_step
@@ -122,7 +122,7 @@ def identify(smap, orbit, k0: int, grid: Grid, *, max_period: int = 16, tol: flo
                          lyap_tol=lyapunov_threshold(len(imp)), lyapunov_interval=(lo, hi))
     if cls["label"] in ("periodic", "periodic-no-impact", "not-converged"):
         for n in _near_periods(pts, grid, candidate_periods(q, max_period))[:2]:   # Newton at two periods at most
-            found = _polish(smap, orbit, k0, n, grid, tol, rtol, atol)
+            found = _polish_once(smap, orbit, k0, n, grid, tol, rtol, atol, tried)
             if found is not None:
                 return found
     if cls["label"] in ("chaotic", "quasi-periodic"):
@@ -135,7 +135,7 @@ def identify(smap, orbit, k0: int, grid: Grid, *, max_period: int = 16, tol: flo
 
 
 def from_chunk(smap, orbit, k0: int, grid: Grid, found: list, *, max_period: int = 16, tol: float = 1e-10,
-               rtol: float = 1e-6, atol: float = 1e-9):
+               rtol: float = 1e-6, atol: float = 1e-9, tried: set | None = None):
     """A recurring start's attractor from its last chunk (a bare :class:`maps.poincare.MapOrbit` from sample
     ``k0``): the index in ``found`` of a periodic attractor within two cells of its last n points at some
     phase, else its period-n orbit (n the shortest near period) polished by Newton (a new :class:`Attractor`),
@@ -146,8 +146,20 @@ def from_chunk(smap, orbit, k0: int, grid: Grid, found: list, *, max_period: int
         for j, b in enumerate(found):
             if b.periodic and b.period == n and distance(tail, b, grid, q) <= 2.0:
                 return j
-        return _polish(smap, orbit, k0, n, grid, tol, rtol, atol)     # Newton at the shortest period only
+        return _polish_once(smap, orbit, k0, n, grid, tol, rtol, atol, tried)   # at the shortest period only
     return None
+
+
+def _polish_once(smap, orbit, k0, n, grid, tol, rtol, atol, tried: set | None):
+    """:func:`_polish`, unless Newton already failed at period n from the cell of this record's last point
+    (``tried``: the census' (n, cell) of every failure, so that Newton runs about once per distinct attractor)."""
+    key = (n, grid.keys(orbit.points[-1:])[0])
+    if tried is not None and key in tried:
+        return None
+    a = _polish(smap, orbit, k0, n, grid, tol, rtol, atol)
+    if a is None and tried is not None:
+        tried.add(key)
+    return a
 
 
 def _min_flight(orbit) -> float:
