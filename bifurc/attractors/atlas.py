@@ -74,7 +74,10 @@ def attractors(problem_or_scene="thesis-1dof", param: str = "V", values=None, *,
         from ..storage.files import refuse_existing
         refuse_existing(path, overwrite)
     st = make_starts(pb, starts, n=n_starts, box=box, seed=seed, shape=shape)
-    grid = Grid.over(st.box or getattr(pb.scene, "box", {}) or {}, pb.system,
+    # the grid spans the box drawn from, or for switch-on starts (a spread of a fraction of a millimetre) the
+    # scene's declared box: the attractors they reach lie far outside the spread
+    scene_box = getattr(pb.scene, "box", {}) or {}
+    grid = Grid.over((st.box if st.kind != "switch-on" else scene_box) or scene_box, pb.system,
                      int(validate_value("cells", cells, 2, 1e6)), pb.state_vector())
     s = Settings(chunk=int(chunk), land=int(land), recur=int(recur), locate=int(locate),
                  max_periods=int(max_periods), max_period=int(max_period), batch_size=int(batch_size))

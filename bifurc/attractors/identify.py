@@ -37,7 +37,8 @@ class Grid:
         width = np.full(low.shape, np.inf)
         for k, (lo, hi) in box.items():
             j = system.state_names.index(k)
-            low[j], width[j] = lo, (hi - lo) / cells
+            if hi > lo:              # a state held fixed (lo = hi) is not discretised
+                low[j], width[j] = lo, (hi - lo) / cells
         return cls(low, width)
 
     def keys(self, points) -> list:
