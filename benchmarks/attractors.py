@@ -36,43 +36,58 @@ def duffing_scene():
                       box={"x": (-2.5, 2.5), "v": (-2.5, 2.5)})
 
 
-def census(n_values, n_starts, cells=100):
+def census(n_values, n_starts, cells=100, workers=None, link=True):
+    import resource
+
     import bifurc
-    t = time.perf_counter()
+    kids = lambda: resource.getrusage(resource.RUSAGE_CHILDREN)  # noqa: E731 - worker processes, once reaped
+    t, c, k = time.perf_counter(), time.process_time(), kids()
     ds = bifurc.attractors("thesis-1dof", "V", np.linspace(80, 220, n_values), params={"relay_hz": 10.0},
                            dc_law="measured", box={"x": (0.0, 0.03), "v": (-1.5, 1.5)}, n_starts=n_starts,
-                           seed=1, cells=cells, progress=False)
-    return ds, time.perf_counter() - t
+                           seed=1, cells=cells, progress=False, workers=workers, link=link)
+    k2 = kids()
+    return ds, time.perf_counter() - t, time.process_time() - c + (k2.ru_utime - k.ru_utime) + (k2.ru_stime - k.ru_stime)
 
 
-def bare(ds, n_starts):
-    """Seconds of a bare batch ensemble: the same starts at every value for the census' mean periods per start."""
+def bare(ds):
+    """Seconds of a bare batch ensemble in this process: the same starts at every value, each for the census'
+    mean number of periods per start, strobe points only (``events=False``, the census' own chunks' mode)."""
     import maps
     from maps.poincare import StroboscopicMap
     pb = maps.problem("thesis-1dof", params={"relay_hz": 10.0}, dc_law="measured")
     smap = StroboscopicMap(pb, tol=1e-10)
     starts = np.stack([ds[f"start_{s}"].values for s in pb.system.state_names], axis=1)
     n = max(1, int(round(ds.attrs["periods_per_start_mean"])))
+    smap.orbits([{}], [starts[0]], 1, batch_size=4, events=False)          # compiled before the clock
     t = time.perf_counter()
     for v in ds.V.values:
         smap.set_params(V=float(v))
-        smap.orbits([{}] * len(starts), list(starts), n, batch_size=4)
+        smap.orbits([{}] * len(starts), list(starts), n, batch_size=4, events=False)
     return time.perf_counter() - t, n
+
+
+def load() -> str:
+    import os
+    return f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores"
 
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--quick", action="store_true")
     a = ap.parse_args(argv)
-    ds, sec = census(21, 200)
+    print(load())
+    ds, sec, cpu = census(21, 200)
     n_att = int((ds.present.values[:, :-3] > 0).any(axis=0).sum())
-    print(f"census thesis-1dof measured 10 Hz, 21 values x 200 starts: {sec:.1f} s end to end (target 30 s); "
-          f"{n_att} attractors; {ds.attrs['periods_per_start_mean']:.1f} periods per start on average "
-          f"(max {ds.attrs['periods_per_start_max']})")
-    b, n = bare(ds, 200)
-    print(f"cost per start: census {ds.attrs['census_seconds']:.1f} s vs bare batch ensemble {b:.1f} s "
-          f"({n} periods each): ratio {ds.attrs['census_seconds'] / b:.2f} (target <= 1.3)")
-    half, sec2 = census(21, 200, cells=200)
+    print(f"census thesis-1dof measured 10 Hz, 21 values x 200 starts, {ds.attrs['workers']} workers, linked: "
+          f"{sec:.1f} s end to end ({cpu:.1f} s CPU in all processes; target 30 s); {n_att} attractors; {ds.attrs['periods_per_start_mean']:.1f} "
+          f"periods per start on average (max {ds.attrs['periods_per_start_max']})")
+    one, sec1, cpu1 = census(21, 200, workers=1, link=False)
+    b, n = bare(one)
+    print(f"cost per start, one process, no linking: census {sec1:.1f} s ({cpu1:.1f} s CPU) vs bare batch ensemble "
+          f"{b:.1f} s (the same 4200 starts, {n} periods each, strobe points only): ratio {sec1 / b:.2f} "
+          f"(target <= 1.3)")
+    print(load())
+    half, sec2, _ = census(21, 200, cells=200)
     cols = min(ds.sizes["attractor"], half.sizes["attractor"])
     width = (ds.basin_fraction_high - ds.basin_fraction_low).values
     print(f"grid halved (200 cells per side): {sec2:.1f} s; {n_att} vs "
@@ -89,7 +104,7 @@ def main(argv=None):
         print(f"Duffing basins {side} x {side}: {sec:.1f} s, {side * side / sec:.0f} cells per second; "
               f"fractions {np.round(dd.basin_fraction.values[0], 3).tolist()} ({list(dd.attractor_label.values)})")
     if not a.quick:
-        ds, sec = census(281, 1000)
+        ds, sec, _ = census(281, 1000)
         print(f"census 281 values x 1000 starts: {sec / 60:.1f} min (target 15 min)")
 
 

@@ -274,3 +274,76 @@ def test_command_writes_dataset_and_figure(tmp_path, capsys):
     assert "2 attractor(s)" in capsys.readouterr().out
     assert main(["attractors", "--scene", "impact-oscillator", "--param", "Omega", "--from", "1.3", "--to", "1.3",
                  "--starts", "5", "-o", str(out), "--quiet"]) == 2        # no silent overwrite
+
+
+def test_matching_pairs_like_with_like_only():
+    """Across a coarse step a periodic orbit 3 cells from a chaotic set, or from an orbit of another period, is
+    never its continuation; an orbit of its period 3 cells away is (distances by hand: cells of 1e-3 and 1e-2)."""
+    from bifurc.attractors.follow import match
+    from bifurc.attractors.identify import Attractor, Grid
+    from bifurc.codes import ClassCode
+    grid = Grid(np.zeros(2), np.array([1e-3, 1e-2]))
+    p1 = Attractor(int(ClassCode.PERIODIC), 1, points=np.array([[0.010, 0.5]]))
+    p1_moved = Attractor(int(ClassCode.PERIODIC), 1, points=np.array([[0.013, 0.5]]))       # 3 cells in x
+    p2 = Attractor(int(ClassCode.PERIODIC), 2, points=np.array([[0.010, 0.5], [0.0101, 0.5]]))
+    chaos = Attractor(int(ClassCode.CHAOTIC), points=np.array([[0.0105, 0.5], [0.0110, 0.52], [0.0095, 0.49]]))
+    assert match([p1], [chaos], grid) == {}          # the old matching paired these at 0.67 cells
+    assert match([p1], [p2], grid) == {}
+    got = match([chaos, p2, p1], [p1_moved], grid)
+    assert list(got) == [0] and got[0][0] == 2 and got[0][1] == pytest.approx(3.0, abs=1e-9)
+    # a grazing changes the impacts, not the orbit: with and without impacts still match
+    nil = Attractor(int(ClassCode.PERIODIC_NO_IMPACT), 1, points=np.array([[0.0115, 0.5]]))
+    assert match([p1], [nil], grid)[0][1] == pytest.approx(1.5, abs=1e-9)
+
+
+def test_same_seed_same_dataset_any_workers_and_after_a_resume(tmp_path, monkeypatch):
+    """Each value's fresh starts are one task: 1 worker, 2 worker processes and a run stopped after its first
+    value then resumed from ``<path>.parts`` give the same dataset (every variable, bit for bit)."""
+    import xarray as xr
+
+    from bifurc.attractors.job import CensusParts
+    kw = dict(params=OSC, box=BOX, n_starts=12, seed=7, progress=False, link=False)
+    vals = [1.25, 1.3, 1.35]
+    one = bifurc.attractors("impact-oscillator", "Omega", vals, workers=1, **kw)
+    two = bifurc.attractors("impact-oscillator", "Omega", vals, workers=2, **kw)
+    assert two.attrs["workers"] == 2 and one.attrs["workers"] == 1
+    xr.testing.assert_equal(one, two)
+    path = tmp_path / "atlas.nc"
+    save = CensusParts.save
+
+    def save_then_stop(self, indices, results):
+        save(self, indices, results)
+        raise KeyboardInterrupt
+    monkeypatch.setattr(CensusParts, "save", save_then_stop)
+    with pytest.raises(KeyboardInterrupt):
+        bifurc.attractors("impact-oscillator", "Omega", vals, workers=1, path=path, **kw)
+    assert not path.exists() and len(list((tmp_path / "atlas.nc.parts").glob("census-*.nc"))) == 1
+    monkeypatch.setattr(CensusParts, "save", save)
+    again = bifurc.attractors("impact-oscillator", "Omega", vals, workers=1, path=path, **kw)
+    assert again.attrs["values_resumed"] == 1 and not (tmp_path / "atlas.nc.parts").exists()
+    xr.testing.assert_equal(one, again)
+    xr.testing.assert_equal(one, xr.load_dataset(path))
+
+
+@pytest.mark.slow
+def test_attractor_atlas_quick_study_writes_its_report_under_two_minutes(tmp_path):
+    import time
+
+    import studies.attractor_atlas as study
+    from bifurc.cli import main
+    clock = time.perf_counter()
+    assert main(["study", "attractor-atlas", "--quick", "-o", str(tmp_path)]) == 0
+    assert time.perf_counter() - clock < 120
+    text = (tmp_path / "report.md").read_text()
+    assert all(f"## DC law `{law}`" in text for law in study.LAWS) and "Findings" in text
+    assert all((tmp_path / f"{law}-switch-on.nc").is_file() and (tmp_path / f"{law}.png").is_file()
+               for law in study.LAWS)
+
+
+def test_switch_on_census_grid_spans_the_scene_box_not_the_spread():
+    """Switch-on starts lie within 0.1 mm and 1 mm/s of rest: a grid over that spread (cells of 1 um, a current
+    cell of width 0) never saw a recurrence.  The grid is the scene's box: 0.03 m / 100 and 3 m/s / 100."""
+    ds = bifurc.attractors("thesis-1dof", "V", [150.0], starts="switch-on", n_starts=2, max_periods=40,
+                           params={"relay_hz": 10.0}, progress=False, link=False)
+    w = ds.attrs["grid_cell_widths"]
+    assert w[0] == pytest.approx(3e-4, rel=1e-12) and w[1] == pytest.approx(0.03, rel=1e-12) and math.isinf(w[2])

@@ -12,6 +12,7 @@ from maps.problem import problem
 from maps.provenance import recorded
 
 from .census import OUTCOMES, Settings, census_at
+from .job import CensusJob
 from .follow import link_event, match
 from .identify import Grid, representative
 from .starts import make_starts
@@ -34,7 +35,8 @@ def attractors(problem_or_scene="thesis-1dof", param: str = "V", values=None, *,
                box: dict | None = None, shape=None, seed: int = 0, preset=None, params=None, tol: float = 1e-10,
                cells: int = 100, chunk: int = 20, land: int = 6, recur: int = 20, locate: int = 48,
                max_periods: int = 2000, max_period: int = 16, match_threshold: float = 20.0, link: bool = True,
-               n_node: int = 16, batch_size: int = 4, progress=True, path=None, overwrite: bool = False,
+               n_node: int = 16, batch_size: int = 4, workers: int | None = None, scheduler=None, progress=True,
+               path=None, overwrite: bool = False,
                circuit=None, ac_sign=None, dc_law=None, soil=None, compaction=None):
     """Every attractor at each of ``values`` of ``param``, its basin fraction and how it continues.
 
@@ -54,6 +56,11 @@ def attractors(problem_or_scene="thesis-1dof", param: str = "V", values=None, *,
     link : continue each appearing or disappearing periodic orbit across the step to link the change to a
         located fold, period doubling, torus, grazing or stick onset (else it is flagged "global").
 
+    workers : processes (default every available core, at least 4 values each); ``scheduler`` a Dask scheduler address or Client.  Each
+        value's fresh starts are one task; the seeding with the previous value's attractors, the matching and
+        the linking run here in order, so the same ``seed`` gives the same dataset with any ``workers``.
+    path : with it, each finished value is kept in ``<path>.parts/`` and a run stopped part-way resumes there.
+
     Returns an xarray Dataset (``bifurc_kind`` "attractors"): dims (``param``, ``attractor``) with
     ``basin_fraction`` and its Wilson 95 % interval, class, periods, impacts, exponent, the polished strobe
     states, the matching and the events; outcomes (escaped, not_converged, failed) are attractor entries, so
@@ -67,33 +74,36 @@ def attractors(problem_or_scene="thesis-1dof", param: str = "V", values=None, *,
         from ..storage.files import refuse_existing
         refuse_existing(path, overwrite)
     st = make_starts(pb, starts, n=n_starts, box=box, seed=seed, shape=shape)
-    grid = Grid.over(st.box or getattr(pb.scene, "box", {}) or {}, pb.system,
+    # the grid spans the box drawn from, or for switch-on starts (a spread of a fraction of a millimetre) the
+    # scene's declared box: the attractors they reach lie far outside the spread
+    scene_box = getattr(pb.scene, "box", {}) or {}
+    grid = Grid.over((st.box if st.kind != "switch-on" else scene_box) or scene_box, pb.system,
                      int(validate_value("cells", cells, 2, 1e6)), pb.state_vector())
     s = Settings(chunk=int(chunk), land=int(land), recur=int(recur), locate=int(locate),
                  max_periods=int(max_periods), max_period=int(max_period), batch_size=int(batch_size))
+    job = CensusJob(pb.with_values(**{param: float(values[0])}), param, np.asarray(st.points, dtype=float), grid, s,
+                    tol)
+    fresh, workers, resumed, parts = _fresh(job, values, workers, scheduler, path, progress)
     smap = StroboscopicMap(pb.with_values(**{param: float(values[0])}), tol=tol)
-    bar = _bar(progress, len(values) * len(st))
-    per_value, outcomes, events, prev, n_ids, periods = [], [], {}, {}, 0, []
+    per_value, outcomes, links, prev, n_ids, periods = [], [], [], {}, 0, []
     for i, v in enumerate(values):
         smap.set_params(**{param: float(v)})
-        seeds = [representative(a) for a in prev.values()]
-        out, found, spent = census_at(smap, list(st.points) + seeds, grid, s,
-                               k0=[0] * len(st) + [a.k0 for a in prev.values()],
-                               progress=(lambda k: bar.update(0)) if bar else None)
-        periods.extend(spent[:len(st)])
-        if bar:
-            bar.update(len(st))
+        found = list(fresh[i].found)
+        if prev:      # the previous value's attractors seeded after the fresh starts (not counted in the fractions)
+            found = census_at(smap, [representative(a) for a in prev.values()], grid, s,
+                              k0=[a.k0 for a in prev.values()], known=found)[1]
+        periods.extend(fresh[i].spent)
         ids, n_ids = _assign(prev, found, grid, smap.forcing_period_steps, match_threshold, n_ids)
         here = {ids[j]: a for j, a in enumerate(found)}
         if i and link:
-            _events(pb, param, values[i - 1], v, prev, here, events, i, tol)
+            links += _changes(values[i - 1], v, prev, here, i)
         per_value.append(here)
-        outcomes.append([ids[k] if k >= 0 else k for k in out[:len(st)]])
+        outcomes.append([ids[k] if k >= 0 else k for k in fresh[i].outcomes])
         prev = here
-    if bar:
-        bar.close()
+    events = _link_all(pb, param, links, tol, workers)
     from .dataset import to_dataset
-    attrs = {"cells_per_side": int(cells), "grid_cell_widths": grid.width.tolist(), "fresh_starts": len(st),
+    attrs = {"workers": int(workers), "values_resumed": int(resumed), "cells_per_side": int(cells),
+             "grid_cell_widths": grid.width.tolist(), "fresh_starts": len(st),
              "census_settings": repr(s), "match_threshold_cells": float(match_threshold), "tol": tol,
              "census_seconds": _time.perf_counter() - clock,
              "periods_per_start_mean": float(np.mean(periods)), "periods_per_start_max": int(np.max(periods)),
@@ -105,7 +115,47 @@ def attractors(problem_or_scene="thesis-1dof", param: str = "V", values=None, *,
     if path is not None:
         from ..storage.files import write_netcdf
         write_netcdf(ds, path, overwrite=overwrite)
+        parts.remove()
     return ds
+
+
+def _fresh(job, values, workers, scheduler, path, progress):
+    """Each value's census from its fresh starts: resumed from ``<path>.parts`` where stored, the rest on
+    ``workers`` processes (default every core) or a Dask ``scheduler``; returns (censuses, workers, resumed,
+    parts)."""
+    from ..sweeps.executor import available_cores, map_values
+    from ..sweeps.sweep import travels
+    from .job import CensusParts, census_manifest
+    if scheduler is not None:
+        workers = 0
+    elif workers is None:
+        workers = max(1, min(available_cores(), len(values) // 4)) if travels(job.problem) else 1
+    else:
+        workers = int(validate_value("workers", workers, 1, 1024))
+    parts = CensusParts(path, census_manifest(job, values, {})) if path is not None else None
+    done = parts.load() if parts is not None else {}
+    missing = np.array([i for i in range(len(values)) if i not in done], dtype=np.int64)
+    bar = _bar(progress, len(values) * len(job.starts))
+    if bar:
+        bar.update(len(done) * len(job.starts))
+
+    def take(start, results):
+        idx = missing[start:start + len(results)]
+        for i, r in zip(idx, results):
+            done[int(i)] = r
+        if parts is not None:
+            parts.save([int(i) for i in idx], results)
+        if bar:
+            bar.update(len(results) * len(job.starts))
+
+    try:
+        if missing.size:
+            map_values(job, values[missing], workers=max(1, workers), scheduler=scheduler, collect=False,
+                       chunk_size=1, on_chunk=take)
+    finally:
+        if bar:
+            bar.close()
+    return [done[i] for i in range(len(values))], workers, len(values) - missing.size, parts
 
 
 def _assign(prev: dict, found: list, grid, q, threshold, n_ids) -> tuple[list, int]:
@@ -124,16 +174,26 @@ def _assign(prev: dict, found: list, grid, q, threshold, n_ids) -> tuple[list, i
     return ids, n_ids
 
 
-def _events(pb, param, before, now, prev: dict, here: dict, events: dict, i: int, tol: float) -> None:
-    """Disappearances (in ``prev``, not ``here``) and appearances, each linked or flagged, stored at value i."""
-    for gid, a in prev.items():
-        if gid not in here:
-            kind, why = link_event(pb, param, a, before, now, tol=tol)
-            events[(i, gid)] = ("disappeared", kind, why)
-    for gid, a in here.items():
-        if gid not in prev:
-            kind, why = link_event(pb, param, a, now, before, tol=tol)
-            events[(i, gid)] = ("appeared", kind, why)
+def _changes(before, now, prev: dict, here: dict, i: int) -> list:
+    """The appearances and disappearances between two values: ((i, id), what, attractor, here, there)."""
+    gone = [((i, gid), "disappeared", a, before, now) for gid, a in prev.items() if gid not in here]
+    new = [((i, gid), "appeared", a, now, before) for gid, a in here.items() if gid not in prev]
+    return gone + new
+
+
+def _link_all(pb, param, links: list, tol: float, workers: int) -> dict:
+    """{(value index, id): (what, kind, evidence)}: each change linked by continuing its orbit
+    (:func:`.follow.link_event`), on ``workers`` processes when there are several (each link is independent)."""
+    from ..sweeps.executor import WorkerPool, submit_all
+    tasks = [(1.0, link_event, (pb, param, a, here, there, tol)) for _, _, a, here, there in links]
+    periodic = sum(a.periodic for _, _, a, _, _ in links)
+    from ..sweeps.sweep import travels
+    if workers > 1 and periodic > 1 and travels(pb):
+        with WorkerPool(None, min(workers, periodic)) as pool:
+            got = [f.result() for f in submit_all(tasks, pool)]
+    else:
+        got = [f.result() for f in submit_all(tasks)]
+    return {key: (what, kind, why) for (key, what, *_), (kind, why) in zip(links, got)}
 
 
 class _Bar:

@@ -20,7 +20,7 @@ import numpy as np
 
 from maps.hybrid import HybridState
 
-from .identify import Attractor, Grid, identify, same_attractor
+from .identify import Attractor, Grid, from_chunk, identify, same_attractor
 
 __all__ = ["Settings", "Track", "census_at", "OUTCOMES"]
 
@@ -31,7 +31,8 @@ OUTCOMES = {"escaped": -1, "not_converged": -2, "failed": -3}
 @dataclass(frozen=True)
 class Settings:
     """Census settings: periods per chunk, consecutive points to land or recur, periods recorded to
-    identify, the budget per start [strobe periods], the period search and Newton's tolerance."""
+    identify, the budget per start [strobe periods], the period search, Newton's tolerance, SIMD lanes and
+    the records (``locate`` periods each) after which a start still undecided is "not_converged"."""
 
     chunk: int = 20
     land: int = 6
@@ -41,7 +42,7 @@ class Settings:
     max_period: int = 16
     newton_tol: float = 1e-10
     batch_size: int = 4
-    max_tries: int = 4
+    max_tries: int = 6
 
 
 @dataclass
@@ -57,6 +58,7 @@ class Track:
     tries: int = 0
     outcome: int | None = None
     periods: int = 0
+    last: object = None
 
 
 def _step_cells(t: Track, keys: list, owner: dict, s: Settings) -> str:
@@ -83,28 +85,31 @@ def census_at(smap, starts: list, grid: Grid, settings: Settings, *, k0=0,
     """Follow ``starts`` (states or HybridStates, from sample ``k0``: an int or one per start) under
     ``smap``'s parameters; returns (outcome per start: an attractor's index in
     the list returned, or an :data:`OUTCOMES` id; the attractors found; the strobe periods each start was
-    integrated)."""
+    integrated).  The chunks run as a bare ensemble (strobe points only, ``events=False``); a start that recurs
+    is identified from its last chunk: by a known periodic attractor within two cells, else by Newton (once per
+    distinct attractor), else by a record with a tangent vector (chaotic and quasi-periodic sets)."""
     s = settings
     ks = k0 if isinstance(k0, (list, tuple)) else [k0] * len(starts)
     tracks = [Track(st, int(k)) for st, k in zip(starts, ks)]
     found: list[Attractor] = list(known or [])
     owner: dict = {c: i for i, a in enumerate(found) for c in a.cells}
-    sub = smap
+    tried: set = set()          # (period, cell) where Newton failed
     active = list(range(len(tracks)))
     while active:
-        orbits = sub.orbits([{}] * len(active), [tracks[i].state for i in active], s.chunk,
-                            k0=[tracks[i].k for i in active], batch_size=s.batch_size)
+        orbits = smap.orbits([{}] * len(active), [tracks[i].state for i in active], s.chunk,
+                             k0=[tracks[i].k for i in active], batch_size=s.batch_size, events=False)
+        keys = _chunk_keys(grid, orbits)
         candidates = []
-        for i, o in zip(active, orbits):
+        for i, o, kk in zip(active, orbits, keys):
             t = tracks[i]
             if o.status != "ok":
                 t.outcome = OUTCOMES["escaped" if o.status == "escaped" else "failed"]
                 continue
-            what = _step_cells(t, grid.keys(o.points[1:]), owner, s)
-            t.state, t.k, t.periods = o.final, t.k + s.chunk, t.periods + s.chunk
+            what = _step_cells(t, kk, owner, s)
+            t.last, t.state, t.k, t.periods = o, o.final, t.k + s.chunk, t.periods + s.chunk
             if what == "recur":
                 candidates.append(i)
-        _identify_candidates(sub, tracks, candidates, grid, s, found, owner)
+        _identify_candidates(smap, tracks, candidates, grid, s, found, owner, tried)
         for i in active:
             t = tracks[i]
             if t.outcome is None and t.periods >= s.max_periods:
@@ -116,32 +121,64 @@ def census_at(smap, starts: list, grid: Grid, settings: Settings, *, k0=0,
     return [t.outcome for t in tracks], found, [t.periods for t in tracks]
 
 
-def _identify_candidates(smap, tracks, candidates, grid, s: Settings, found: list, owner: dict) -> None:
-    """Record each candidate ``locate`` periods (one batch call) and identify its attractor."""
-    if not candidates:
+def _chunk_keys(grid: Grid, orbits) -> list:
+    """The grid cells of every chunk's new points, in one numpy pass over the whole ensemble."""
+    rows = [o.points[1:] for o in orbits]
+    if not rows:
+        return []
+    flat = grid.keys(np.vstack(rows))
+    out, a = [], 0
+    for r in rows:
+        out.append(flat[a:a + len(r)])
+        a += len(r)
+    return out
+
+
+def _register(a: Attractor, found: list, owner: dict, grid: Grid, q: int) -> int:
+    """The index of ``a`` among ``found`` (appended if new); its cells are owned from now on."""
+    match = next((j for j, b in enumerate(found) if same_attractor(a, b, grid, q)), None)
+    if match is None:
+        found.append(a)
+        match = len(found) - 1
+    else:
+        found[match].cells |= a.cells
+    for c in a.cells:
+        owner.setdefault(c, match)
+    return match
+
+
+def _identify_candidates(smap, tracks, candidates, grid, s: Settings, found: list, owner: dict,
+                         tried: set) -> None:
+    """Identify each recurring start from its last chunk (known orbit, or Newton once per distinct
+    attractor); the rest are recorded ``locate`` periods with a tangent vector (one batch call)."""
+    q = smap.forcing_period_steps
+    rest = []
+    for i in candidates:
+        t = tracks[i]
+        got = from_chunk(smap, t.last, t.k - s.chunk, grid, found, max_period=s.max_period, tol=s.newton_tol,
+                         tried=tried)
+        if got is None:
+            rest.append(i)
+        else:
+            t.outcome = got if isinstance(got, int) else _register(got, found, owner, grid, q)
+    if not rest:
         return
-    recs = smap.orbits([{}] * len(candidates), [tracks[i].state for i in candidates], s.locate,
-                       k0=[tracks[i].k for i in candidates], batch_size=s.batch_size, tangent=True)
-    for i, o in zip(candidates, recs):
+    recs = smap.orbits([{}] * len(rest), [tracks[i].state for i in rest], s.locate,
+                       k0=[tracks[i].k for i in rest], batch_size=s.batch_size, tangent=True)
+    for i, o in zip(rest, recs):
         t = tracks[i]
         if o.status != "ok":
             t.outcome = OUTCOMES["escaped" if o.status == "escaped" else "failed"]
             continue
-        a = identify(smap, o, t.k, grid, max_period=s.max_period, tol=s.newton_tol)
+        a = identify(smap, o, t.k, grid, max_period=s.max_period, tol=s.newton_tol, tried=tried)
         t.state, t.k, t.periods = o.final, t.k + s.locate, t.periods + s.locate
         t.recur, t.visits = 0, set()
         if a is None:
             t.tries += 1
+            if t.tries >= s.max_tries:       # recorded max_tries times and never decided
+                t.outcome = OUTCOMES["not_converged"]
             continue
-        match = next((j for j, b in enumerate(found) if same_attractor(a, b, grid, smap.forcing_period_steps)), None)
-        if match is None:
-            found.append(a)
-            match = len(found) - 1
-        else:
-            found[match].cells |= a.cells
-        for c in a.cells:
-            owner.setdefault(c, match)
-        t.outcome = match
+        t.outcome = _register(a, found, owner, grid, q)
 
 
 def wilson(k, n, z: float = 1.959963984540054) -> tuple[float, float]:

@@ -3,8 +3,8 @@ appearances and disappearances are linked to.
 
 Each value is seeded with the previous value's attractors (one start on each, not counted in the basin
 fractions) besides the fresh starts; an attractor is matched to the nearest one of the previous value
-within ``threshold`` grid cells (:func:`.identify.distance`: periodic orbits only to orbits of their
-period), greedily by distance, as Attractors.jl's matching by state-space distance.  An attractor left
+within ``threshold`` grid cells (:func:`.identify.distance`), like with like only (a periodic orbit to
+an orbit of its period, by their polished nodes; a chaotic set to a set, never to an orbit), greedily by distance, as Attractors.jl's matching by state-space distance.  An attractor left
 unmatched appeared or disappeared: its periodic orbit is continued across the step by
 :func:`bifurc.orbits.branch.continue_orbit`, and a fold, period doubling, Neimark-Sacker point, grazing or
 stick onset located within the step is the link; otherwise the change is flagged "global" with its evidence.
@@ -22,9 +22,19 @@ from .identify import distance
 __all__ = ["match", "link_event"]
 
 
+def alike(a, b) -> bool:
+    """Only like continues like: two periodic orbits of one period (with or without impacts: a grazing changes
+    the impacts, not the orbit), or two sets that are not periodic (chaotic, quasi-periodic)."""
+    if a.periodic != b.periodic:
+        return False
+    return not a.periodic or a.period == b.period
+
+
 def match(prev: list, cur: list, grid, q: int = 1, threshold: float = 20.0) -> dict:
-    """{index in ``cur``: (index in ``prev``, distance [cells])} for the matched pairs."""
-    pairs = sorted((distance(a, b, grid, q), i, j) for j, a in enumerate(prev) for i, b in enumerate(cur))
+    """{index in ``cur``: (index in ``prev``, distance [cells])} for the matched pairs: like with like only
+    (:func:`alike`), periodic orbits by their polished nodes' distance at the best phase."""
+    pairs = sorted((distance(a, b, grid, q), i, j) for j, a in enumerate(prev) for i, b in enumerate(cur)
+                   if alike(a, b))
     out, used = {}, set()
     for d, i, j in pairs:
         if d <= threshold and i not in out and j not in used:
@@ -37,7 +47,7 @@ def match(prev: list, cur: list, grid, q: int = 1, threshold: float = 20.0) -> d
 LOCAL = ("fold", "period_doubling", "neimark_sacker", "grazing", "impact_lost", "stick_onset")
 
 
-def link_event(pb, param: str, a, here: float, there: float, *, tol: float) -> tuple[str, str]:
+def link_event(pb, param: str, a, here: float, there: float, tol: float = 1e-10) -> tuple[str, str]:
     """(kind, evidence) of an attractor ``a`` found at ``here`` and absent at ``there``: the local event
     located on its branch between the two values, or "global" with what the branch did."""
     if not a.periodic:

@@ -19,7 +19,7 @@ from ..orbits.periodic import OrbitNotFound, find_periodic_orbit
 from ..sweeps.classify import candidate_periods, classify_orbit, lyapunov_threshold, mechanical_period
 from ..sweeps.lyapunov import exponent_interval
 
-__all__ = ["Grid", "Attractor", "identify", "distance", "same_attractor"]
+__all__ = ["Grid", "Attractor", "identify", "from_chunk", "distance", "same_attractor"]
 
 
 @dataclass(frozen=True)
@@ -37,7 +37,8 @@ class Grid:
         width = np.full(low.shape, np.inf)
         for k, (lo, hi) in box.items():
             j = system.state_names.index(k)
-            low[j], width[j] = lo, (hi - lo) / cells
+            if hi > lo:              # a state held fixed (lo = hi) is not discretised
+                low[j], width[j] = lo, (hi - lo) / cells
         return cls(low, width)
 
     def keys(self, points) -> list:
@@ -109,7 +110,7 @@ def same_attractor(a: Attractor, b: Attractor, grid: Grid, q: int = 1) -> bool:
 
 
 def identify(smap, orbit, k0: int, grid: Grid, *, max_period: int = 16, tol: float = 1e-10,
-             rtol: float = 1e-6, atol: float = 1e-9) -> Attractor | None:
+             rtol: float = 1e-6, atol: float = 1e-9, tried: set | None = None) -> Attractor | None:
     """The attractor a recorded orbit (a :class:`maps.poincare.MapOrbit` starting at sample ``k0``, with a
     tangent vector) lies on, or None when the record decides nothing yet (a transient)."""
     pts, imp = orbit.points, orbit.impacts_per_step
@@ -121,8 +122,8 @@ def identify(smap, orbit, k0: int, grid: Grid, *, max_period: int = 16, tol: flo
                          periods=candidate_periods(q, max_period), lyapunov=lam,
                          lyap_tol=lyapunov_threshold(len(imp)), lyapunov_interval=(lo, hi))
     if cls["label"] in ("periodic", "periodic-no-impact", "not-converged"):
-        for n in _near_periods(pts, grid, candidate_periods(q, max_period)):
-            found = _polish(smap, orbit, k0, n, grid, tol, rtol, atol)
+        for n in _near_periods(pts, grid, candidate_periods(q, max_period))[:2]:   # Newton at two periods at most
+            found = _polish_once(smap, orbit, k0, n, grid, tol, rtol, atol, tried)
             if found is not None:
                 return found
     if cls["label"] in ("chaotic", "quasi-periodic"):
@@ -132,6 +133,39 @@ def identify(smap, orbit, k0: int, grid: Grid, *, max_period: int = 16, tol: flo
                          min_flight_clearance=float(np.min(orbit.min_flight_clearance_per_step)),
                          how=f"recurrence on the grid; classified {cls['label']} over {len(imp)} periods")
     return None
+
+
+def from_chunk(smap, orbit, k0: int, grid: Grid, found: list, *, max_period: int = 16, tol: float = 1e-10,
+               rtol: float = 1e-6, atol: float = 1e-9, tried: set | None = None):
+    """A recurring start's attractor from its last chunk (a bare :class:`maps.poincare.MapOrbit` from sample
+    ``k0``): the index in ``found`` of a periodic attractor within two cells of its last n points at some
+    phase, else its period-n orbit (n the shortest near period) polished by Newton (a new :class:`Attractor`),
+    else None (record it)."""
+    pts, q = orbit.points, smap.forcing_period_steps
+    for n in _near_periods(pts, grid, candidate_periods(q, max_period)):
+        tail = Attractor(int(ClassCode.PERIODIC), n, points=pts[len(pts) - n:], k0=k0 + len(pts) - n)
+        for j, b in enumerate(found):
+            if b.periodic and b.period == n and distance(tail, b, grid, q) <= 2.0:
+                return j
+        return _polish_once(smap, orbit, k0, n, grid, tol, rtol, atol, tried)   # at the shortest period only
+    return None
+
+
+def _polish_once(smap, orbit, k0, n, grid, tol, rtol, atol, tried: set | None):
+    """:func:`_polish`, unless Newton already failed at period n from the cell of this record's last point
+    (``tried``: the census' (n, cell) of every failure, so that Newton runs about once per distinct attractor)."""
+    key = (n, grid.keys(orbit.points[-1:])[0])
+    if tried is not None and key in tried:
+        return None
+    a = _polish(smap, orbit, k0, n, grid, tol, rtol, atol)
+    if a is None and tried is not None:
+        tried.add(key)
+    return a
+
+
+def _min_flight(orbit) -> float:
+    m = orbit.min_flight_clearance_per_step
+    return float(np.min(m)) if len(m) else math.nan
 
 
 def _near_periods(pts, grid: Grid, periods) -> list:
@@ -146,7 +180,7 @@ def _polish(smap, orbit, k0, n, grid, tol, rtol, atol) -> Attractor | None:
     lies within two cells of the record (else None: not this trajectory's attractor)."""
     j = len(orbit.points) - 1 - n     # the last whole period of the record
     try:
-        po = find_periodic_orbit(smap, orbit.state(j), n, k0=k0 + j, tol=tol, atol=atol)
+        po = find_periodic_orbit(smap, orbit.state(j), n, k0=k0 + j, tol=tol, atol=atol, max_iter=NEWTON_ITER)
     except (OrbitNotFound, IntegrationFailure, ZeroDivisionError, ValueError):
         return None
     nodes = np.array([s.y for s in po.nodes])
@@ -163,9 +197,14 @@ def _polish(smap, orbit, k0, n, grid, tol, rtol, atol) -> Attractor | None:
     return Attractor(int(code), n, pm, m, mm, lyapunov=math.log(mu) / n if mu > 0 else -math.inf,
                      max_multiplier=mu, points=nodes, flags=[dict(s.flags or {}) for s in po.nodes],
                      k0=k0 + j, cells={c for c in grid.keys(np.vstack([nodes, orbit.points[j:]])) if c is not None},
-                     min_flight_clearance=float(np.min(orbit.min_flight_clearance_per_step)),
+                     min_flight_clearance=_min_flight(orbit),
                      residual=float(po.residual),
                      how=f"recurrence on the grid, then Newton (residual {po.residual:.2g}, {po.iterations} iterations)")
+
+
+#: Newton iterations allowed when polishing a recurring start's orbit: it starts within two cells of the orbit,
+#: so more mean it is not there (a far guess cost minutes of chattering steps on thesis-1dof at 171 V)
+NEWTON_ITER = 10
 
 
 def representative(a: Attractor) -> HybridState:

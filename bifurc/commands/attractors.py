@@ -30,6 +30,9 @@ def register(subparsers):
     p.add_argument("--no-link", action="store_true",
                    help="do not continue appearing/disappearing orbits to link them to local bifurcations")
     p.add_argument("--batch-size", type=int, default=4, help="starts per heyoka batch (SIMD lanes; default 4)")
+    p.add_argument("--workers", type=int, default=None,
+                   help="worker processes (default: every available core, at least 4 values each)")
+    p.add_argument("--scheduler", default=None, help="Dask scheduler address tcp://host:port")
     p.add_argument("-o", "--output", required=True, help="netCDF file to write")
     p.add_argument("--plot", default=None, help="figure file (.png, .pdf, .svg, ...)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -52,6 +55,11 @@ def run(args) -> int:
                         ("--max-period", args.max_period, 1), ("--batch-size", args.batch_size, 1)):
         if v < lo:
             raise ParameterError(f"{name} {v}: at least {lo}")
+    if args.workers is not None and not 1 <= args.workers <= 1024:
+        raise ParameterError(f"--workers {args.workers}: from 1 to 1024")
+    if args.scheduler is not None:
+        from ._common import check_scheduler
+        check_scheduler(args.scheduler)
     if args.n == 1 and args.start != args.stop:
         raise ParameterError(f"--n 1 needs --from = --to (got {args.start:g} and {args.stop:g})")
     kw = scene_kwargs(args)
@@ -68,7 +76,8 @@ def run(args) -> int:
     ds = attractors(args.scene, args.param, values, starts=args.starts_from or "box", n_starts=args.starts, box=box,
                     seed=args.seed, preset=kw["preset"], params=params or None, tol=kw["tol"], cells=args.cells,
                     max_periods=args.max_periods, max_period=args.max_period, link=not args.no_link,
-                    batch_size=args.batch_size, progress=not args.quiet, path=args.output, overwrite=args.force,
+                    batch_size=args.batch_size, workers=args.workers, scheduler=args.scheduler,
+                    progress=not args.quiet, path=args.output, overwrite=args.force,
                     circuit=kw["circuit"], ac_sign=kw["ac_sign"], dc_law=kw["dc_law"], soil=kw["soil"],
                     compaction=kw["compaction"])
     if args.plot:

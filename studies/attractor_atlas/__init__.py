@@ -1,0 +1,127 @@
+"""The attractor atlas of the thesis 1-DOF model at 10 Hz in V: what does the mole settle to, and from switch-on?
+
+For each DC-force law (`listing`, `fit`, `measured`; docs/model.md section 1), thesis-1dof with the
+matlab-listing numbers at 10 Hz relay over V: every attractor the census finds from random starts in the box
+x = 0-30 mm, v = -1.5-1.5 m/s with its basin fraction (95 % Wilson interval), and the switch-on probability of
+each hammering orbit (mechanical period-1, one impact per relay period: the thesis' period-1) from the scene's
+switch-on distribution (the bar at rest on the stop, the circuit at rest, with its declared spread), both by
+:func:`bifurc.attractors`; beside them the stable branches at 10 Hz of the thesis-orbits study
+(studies/thesis_orbits/report.md, continuation).  Nothing is tuned to agree with anything.
+"""
+from __future__ import annotations
+
+import time as _time
+from pathlib import Path
+
+import numpy as np
+
+NAME = "attractor-atlas"
+SCENE = "thesis-1dof"
+PRESET = "matlab-listing"
+LAWS = ("listing", "fit", "measured")
+BOX = {"x": (0.0, 0.03), "v": (-1.5, 1.5)}
+FULL = dict(values=(80.0, 220.0, 29), starts=200, switch_on=100, link=True)
+QUICK = dict(values=(120.0, 220.0, 3), starts=24, switch_on=12, link=False)   # `--quick` and the tests: < 2 min
+
+
+def run(out, quick=False, progress=True, overwrite=False) -> dict:
+    """Every census into folder ``out``: ``<law>-box.nc``, ``<law>-switch-on.nc``, ``<law>.png`` and
+    ``report.md``; returns {(law, kind): dataset}."""
+    import bifurc
+    from bifurc.attractors.plots import plot_attractors
+    from bifurc.storage.files import write_text
+    out = Path(out)
+    size = QUICK if quick else FULL
+    clock = _time.perf_counter()
+    values = np.linspace(*size["values"])
+    results = {}
+    for law in LAWS:
+        kw = dict(preset=PRESET, params={"relay_hz": 10.0}, dc_law=law, seed=1, progress=progress,
+                  link=size["link"], overwrite=True)
+        box = bifurc.attractors(SCENE, "V", values, starts="box", box=BOX, n_starts=size["starts"],
+                                path=out / f"{law}-box.nc", **kw)
+        sw = bifurc.attractors(SCENE, "V", values, starts="switch-on", n_starts=size["switch_on"],
+                               path=out / f"{law}-switch-on.nc", **kw)
+        for kind, ds in (("box", box), ("switch-on", sw)):
+            ds.attrs["study"], ds.attrs["study_case"] = NAME, f"{law}-{kind}"
+            results[law, kind] = ds
+        plot_attractors(box, out / f"{law}.png", overwrite=True)
+    write_text(out / "report.md", report(results, quick, _time.perf_counter() - clock), overwrite=True)
+    return results
+
+
+def hammering(ds):
+    """Per (V, attractor): a mechanical period-1 orbit with one impact per relay period."""
+    return (ds.period_mechanical == 1) & (ds.impacts_per_period_mechanical == 1)
+
+
+def _rows(ds) -> list:
+    """(V, label, fraction, low, high, hammering) of every attractor present at each value."""
+    rows = []
+    for i, v in enumerate(ds["V"].values):
+        for j, name in enumerate(ds.attractor_label.values):
+            f = float(ds.basin_fraction.values[i, j])
+            if name.startswith("A") and bool(ds.present.values[i, j]) or f > 0:
+                rows.append((float(v), str(name), _label(ds, i, j), f, float(ds.basin_fraction_low.values[i, j]),
+                             float(ds.basin_fraction_high.values[i, j]), bool(hammering(ds).values[i, j])))
+    return rows
+
+
+def _label(ds, i, j) -> str:
+    name = str(ds.attractor_label.values[j])
+    if not name.startswith("A"):
+        return name
+    from bifurc.sweeps.classify import describe
+    return describe(int(ds.class_code.values[i, j]), int(ds.period.values[i, j]),
+                    int(ds.impacts_per_period.values[i, j]))
+
+
+def _branches(law: str) -> list:
+    """The thesis-orbits study's stable branches at 10 Hz under ``law`` (its committed report's summary)."""
+    path = Path(__file__).parent.parent / "thesis_orbits" / "report.md"
+    if not path.exists():
+        return ["(studies/thesis_orbits/report.md not found)"]
+    tag = f"- `{law}`, 10 Hz:"
+    return [line[2:] for line in path.read_text().splitlines() if line.startswith(tag)] or ["(none listed)"]
+
+
+def report(results, quick, seconds) -> str:
+    size = QUICK if quick else FULL
+    lines = [f"# {NAME}: attractors of thesis-1dof at 10 Hz in V{' (quick)' if quick else ''}", "",
+             __doc__.split("\n\n", 1)[1].strip(), "",
+             f"Size: {'quick' if quick else 'full'}: V = {size['values'][0]:g}-{size['values'][1]:g} V in "
+             f"{size['values'][2]} values, {size['starts']} box starts and {size['switch_on']} switch-on starts per "
+             f"value (seed 1), linking {'on' if size['link'] else 'off'}.  Run time {seconds:.0f} s.", ""]
+    for law in LAWS:
+        box, sw = results[law, "box"], results[law, "switch-on"]
+        lines += [f"## DC law `{law}`", "", "| V [V] | attractor | class | basin fraction (box) | 95 % interval | "
+                  "hammering |", "|---|---|---|---|---|---|"]
+        lines += [f"| {v:g} | {n} | {lab} | {f:.3f} | {lo:.3f}-{hi:.3f} | {'yes' if h else ''} |"
+                  for v, n, lab, f, lo, hi, h in _rows(box)]
+        lines += ["", "Switch-on (from the scene's switch-on distribution):", "",
+                  "| V [V] | outcome | class | probability | 95 % interval | hammering |", "|---|---|---|---|---|---|"]
+        lines += [f"| {v:g} | {n} | {lab} | {f:.3f} | {lo:.3f}-{hi:.3f} | {'yes' if h else ''} |"
+                  for v, n, lab, f, lo, hi, h in _rows(sw) if f > 0]
+        lines += ["", "Beside them, the thesis-orbits study's stable branches at 10 Hz (continuation):", ""]
+        lines += [f"- {b}" for b in _branches(law)] + [""]
+    return "\n".join(lines)
+
+
+def switch_on_hammering(ds) -> np.ndarray:
+    """Per value: the switch-on probability of landing on a hammering orbit (all hammering orbits together)."""
+    return np.where(hammering(ds).values, ds.basin_fraction.values, 0.0).sum(axis=1)
+
+
+def findings(results, quick) -> list:
+    """Per law: the distinct attractors the box census found (+-1), and the switch-on probability of
+    hammering at the highest V (+- 0.15: its Wilson interval at these sizes is wider)."""
+    from bifurc.findings import Finding
+    out = []
+    for law in LAWS:
+        box, sw = results[law, "box"], results[law, "switch-on"]
+        n_att = int((box.present.values[:, :-3] > 0).any(axis=0).sum())
+        top = float(sw["V"].values[-1])
+        out += [Finding(f"{law}: distinct attractors from the box starts", n_att, 1, "1"),
+                Finding(f"{law}: switch-on probability of hammering at {top:g} V", float(switch_on_hammering(sw)[-1]),
+                        0.15, "1")]
+    return out
