@@ -14,16 +14,12 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import resource
 import shutil
 import time
 
 import numpy as np
 
-
-def _cpu() -> float:
-    own, kids = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
-    return own.ru_utime + own.ru_stime + kids.ru_utime + kids.ru_stime
+from sensitivity import _cpu   # benchmarks/sensitivity.py (this folder is on sys.path when run as a script)
 
 
 def main():

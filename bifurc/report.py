@@ -48,8 +48,10 @@ def _intervals(values, texts):
 
 
 #: not-converged reasons by kind: (words the reason starts with or contains, what it means)
+#: the kind of the values a sweep's --time-budget cut (its remedy is time, not --budget)
+CUT_KIND = "cut by the sweep's time budget (--time-budget)"
 UNDECIDED_KINDS = (
-    ("time budget", "cut by the sweep's time budget (--time-budget)"),
+    ("time budget", CUT_KIND),
     ("contain a threshold", "exponent undecided: a trajectory's interval contains the chaos threshold"),
     ("within +-", "exponent near zero without positive evidence of a torus"),
     ("not stationary", "not stationary at the budget (intermittency or a long transient)"),
@@ -77,7 +79,7 @@ def undecided_summary(ds) -> list[str]:
     out = [f"{bad.size} not-converged (budget {budget} relay periods per value):"]
     for kind, needs in sorted(groups.items(), key=lambda kv: -len(kv[1])):
         wanted = max(needs)
-        remedy = ("raise --time-budget, or drop it" if kind.startswith("cut by the sweep's time budget") else
+        remedy = ("raise --time-budget, or drop it" if kind == CUT_KIND else
                   f"try --budget {int(min(wanted, 10**6))}" if 0 < wanted < 10**6 else
                   "a longer budget is unlikely to decide (near the threshold)" if wanted else "see class_reason")
         out.append(f"  {len(needs)}: {kind}; {remedy}")
