@@ -360,7 +360,8 @@ def _figure(case, path, overwrite):
 def findings(results, quick) -> list:
     """What the report states, per DC law and relay frequency: the branches continued (exact), the special
     points located (+-2: a step may land on either side of a borderline point), and each stable period-1
-    one-impact interval's ends (+- 1e-3 V; a located end to its stated digits); "none" where there is none."""
+    one-impact interval's ends as the report states them (the located fold, period doubling or grazing that
+    bounds it, else the last stable point sampled; +- 1e-3 V); "none" where there is none."""
     from bifurc.findings import Finding
     out = []
     for c in results["cases"]:
@@ -369,7 +370,8 @@ def findings(results, quick) -> list:
         out += [Finding(f"{tag}: branches continued", len(branches), 0, "branches"),
                 Finding(f"{tag}: special points located", sum(ds.sizes.get("special", 0) for ds in branches), 2,
                         "points")]
-        ones = sorted((lo, hi) for ds in branches for lo, hi, n, m in stable_intervals(ds) if (n, m) == (1, 1))
+        ones = sorted((lo, hi) for ds in branches for lo, hi, n, m, *_ in stable_intervals(ds, located=True)
+                      if (n, m) == (1, 1))
         if not ones:
             out.append(Finding(f"{tag}: stable period-1 one-impact intervals", "none"))
         for j, (lo, hi) in enumerate(ones):
