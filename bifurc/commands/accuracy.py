@@ -10,6 +10,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from maps.laws import DC_LAWS
 from maps.parameters import ParameterError
 
 from ._common import add_force_option, check_outputs, parse_floats
@@ -32,7 +33,7 @@ def register(subparsers):
     p.add_argument("--circuit", choices=("thesis", "kvl"), default=None,
                    help="circuit form (the scipy/RK4 baselines implement only 'thesis')")
     p.add_argument("--ac-sign", choices=("physical", "listing"), default=None, help="AC force sign")
-    p.add_argument("--dc-law", choices=("listing", "fit", "measured"), default=None,
+    p.add_argument("--dc-law", choices=tuple(DC_LAWS), default=None,
                    help="DC-force law (default: the preset's; see bifurc simulate --help)")
     p.add_argument("--t-end", type=float, default=2.0, help="integration time [s] (default 2)")
     p.add_argument("--methods", default=",".join(DEFAULT_LADDERS),

@@ -52,21 +52,41 @@ class BaselineResult:
         return int(self.impact_times.size)
 
 
+#: what the baselines implement: option -> allowed values (thesis-1dof, thesis circuit, no optional element)
+SUPPORTED = {"dof": (1,), "dc": (True,), "ac": (True,), "stop": (True,), "relay": ("ssr",), "circuit": ("thesis",),
+             "ac_sign": ("physical",), "energy": (False,), "dc_law": ("listing", "fit", "catalogue"),
+             "air_damping": (False,), "rear_stop": (False,), "dc_delay": (False,)}
+
+
 def check_supported(scene):
-    """Raise :class:`~maps.ParameterError` unless the scene is the 1-DOF thesis-circuit model."""
+    """Raise :class:`~maps.ParameterError` unless the scene is a model the baselines implement
+    (:data:`SUPPORTED`), naming the options that differ."""
     o = scene.options
-    if o is None or not (o.dof == 1 and o.dc and o.ac and o.stop and o.relay == "ssr" and o.circuit == "thesis"
-            and o.ac_sign == "physical" and not o.energy and o.dc_law in ("listing", "fit")):
-        raise ParameterError(f"the baselines implement only thesis-1dof (thesis circuit, physical AC sign, "
-                             f"dc_law listing or fit); scene {scene.name!r} has options {o}")
+    if o is None:
+        raise ParameterError(f"the baselines implement only thesis-1dof; scene {scene.name!r} is not a thesis model")
+    off = [f"{k}={getattr(o, k)!r} (allowed: {', '.join(map(str, v))})" for k, v in SUPPORTED.items()
+           if getattr(o, k) not in v]
+    if off:
+        raise ParameterError(f"the baselines do not implement scene {scene.name!r} with {'; '.join(off)}")
+
+
+def _dc_force(p: dict, dc_law: str):
+    """F_dc(xa) [N] minus the weight where the law does not carry it (the cubics' + m g cancels it)."""
+    s_dc = p["dc_scale"]
+    if dc_law == "catalogue":
+        F, u, w, mg = p["F_dc_sat"], p["u_dc"], 2.0 * p["s_dc"], p["m"] * p["g"]
+        return lambda xa: -0.5 * s_dc * F * (math.tanh((xa - u) / w) + math.tanh((xa + u) / w)) - mg
+    sl = 1.0 if dc_law == "listing" else -1.0     # the fit flips the signs of a2 and a1
+    a1, a2, a3 = p["a1"], p["a2"], p["a3"]
+    return lambda xa: s_dc * (-a3 * xa * xa * xa + sl * a2 * xa * xa - sl * a1 * xa)
 
 
 def rhs_1dof(p: dict, dc_law: str = "listing"):
     """``f(t, y, relay, contact) -> [dx, dv, di, dz]`` for the 1-DOF thesis model (floats);
-    ``dc_law`` "listing" (C.9) or "fit" (eqs 4.6-4.7)."""
-    sl = 1.0 if dc_law == "listing" else -1.0     # the fit flips the signs of a2 and a1
+    ``dc_law`` "listing" (C.9), "fit" (eqs 4.6-4.7) or "catalogue" (two tanh steps, the weight acting)."""
+    dc_force = _dc_force(p, dc_law)
     m, k, c, e = p["m"], p["k"], p["c"], p["e"]
-    a1, a2, a3, d_dc, s_dc = p["a1"], p["a2"], p["a3"], p["d_dc"], p["dc_scale"]
+    d_dc = p["d_dc"]
     R, C, V, d_ac, L0, A, B = p["R"], p["C"], p["V"], p["d_ac"], p["L0"], p["A"], p["B"]
     w = 2.0 * math.pi * p["f_mains"]
     norm = A / (B * math.sqrt(math.pi / 2.0))
@@ -75,7 +95,7 @@ def rhs_1dof(p: dict, dc_law: str = "listing"):
     def f(t, y, relay, contact):
         x, v, i, z = y[0], y[1], y[2], y[3]
         xa = x - d_dc
-        F_dc = s_dc * (-a3 * xa * xa * xa + sl * a2 * xa * xa - sl * a1 * xa)   # weight offset cancels m g
+        F_dc = dc_force(xa)
         xb = x + d_ac
         gauss = exp(-2.0 * (xb / B) ** 2)
         L = L0 + norm * gauss
