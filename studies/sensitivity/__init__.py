@@ -2,12 +2,13 @@
 
 Base model: thesis-1dof with listing C.1's numbers (preset matlab-listing) under the `catalogue` DC law
 (docs/model.md section 1: a pull credible at the stop), every cell from the scene's start.  Each sample
-(one value of every input inside its documented range) gives four scalars:
+(one value of every input inside its documented range) gives five scalars:
 
 - `share_p1`: the share of a (relay 2-10 Hz x V 25-90 V) grid whose mechanical states are period-1 with
   one impact per relay period (`period_mechanical` = 1, `impacts_per_period_mechanical` = 1, periodic);
 - `energy_mJ`, `stroke_mm`: mean impact energy (m v^2 / 2 at the impact) and bar stroke (x range over the
-  last relay period) on those cells (NaN where none);
+  last relay period) on those cells (NaN where none); `stroke_min_mm`: the smallest stroke among them (the
+  thesis' period-1 moved the bar a few millimetres: a stroke of at most 10 mm counts as that regime);
 - `rate_mm_s`: the 2-DOF prototype's progression rate (drift soil, 6 Hz, 90 V read as `v_factor` x 90 V,
   dc_scale 1.44) over the second half of its run.
 
@@ -46,7 +47,11 @@ FULL = dict(inputs=tuple(INPUTS), N=256, n=9, transient=200, record=60, periods_
 #: (benchmarks/sensitivity.py); not a form of the command
 MEDIUM = dict(FULL, N=8)
 OUTPUTS = {"share_p1": "share of cells P1-1 (mechanical)", "energy_mJ": "mean impact energy on them [mJ]",
-           "stroke_mm": "mean stroke on them [mm]", "rate_mm_s": "2-DOF progression rate [mm/s]"}
+           "stroke_mm": "mean stroke on them [mm]", "stroke_min_mm": "smallest stroke on them [mm]",
+           "rate_mm_s": "2-DOF progression rate [mm/s]"}
+#: the thesis' period-1 moved the bar a few millimetres (its sensor spanned +-5 mm): a P1-1 cell with a
+#: stroke at most this counts as the thesis' regime [mm]
+FEW_MM = 10.0
 
 
 def problem_spec(size):
@@ -71,7 +76,7 @@ def design(size) -> tuple[np.ndarray, int]:
 
 
 class SampleJob:
-    """job(i): the four outputs of sample row i (picklable, for bifurc's executor)."""
+    """job(i): the outputs of sample row i (picklable, for bifurc's executor)."""
 
     batch_size = 1
 
@@ -87,7 +92,7 @@ def _values(sample: dict, keys) -> dict:
 
 
 def evaluate(sample: dict, size: dict) -> dict:
-    """The four outputs of one sample (inputs not in ``sample`` take the model's defaults)."""
+    """The outputs of one sample (:data:`OUTPUTS`; inputs not in ``sample`` take the model's defaults)."""
     import maps
     from bifurc.sweeps.regime import regime_map
     n, vf = size["n"], sample.get("v_factor", 1.0)
@@ -113,6 +118,7 @@ def evaluate(sample: dict, size: dict) -> dict:
     h2 = maps.simulate("prototype", periods=size["periods_2dof"], dc_law=LAW, soil="drift", params=p2)
     return {"share_p1": float(hit.mean()), "energy_mJ": float(np.mean(energies)) if energies else math.nan,
             "stroke_mm": float(np.mean(strokes)) if strokes else math.nan,
+            "stroke_min_mm": float(np.min(strokes)) if strokes else math.nan,
             "rate_mm_s": float(h2.progression_rate) * 1e3}
 
 
@@ -262,15 +268,29 @@ def finding(result, size) -> str:
     s = result["sobol"].get("share_p1")
     swing = {k: abs(v["share_p1"][1] - v["share_p1"][0]) for k, v in result["tornado"].items()}
     top = max(swing, key=swing.get)
-    text = (f"Share of P1-1 cells at mid-range: {_f(result['base']['share_p1'])}.  Largest one-at-a-time swing of "
-            f"that share: {top} ({_f(swing[top])}).")
+    text = (f"Share of P1-1 cells at mid-range: {_f(result['base']['share_p1'])}.  "
+            + (f"Largest one-at-a-time swing of that share: {top} ({_f(swing[top])})." if swing[top] > 0 else
+               "No input moves that share one at a time."))
     if s is not None:
         st = max(s, key=lambda k: s[k]["ST"])
         text += (f"  Largest total Sobol index: {st} (ST {_f(s[st]['ST'], '.2f')} ± {_f(s[st]['ST_conf'], '.2f')}); "
                  "intervals this wide (small N) rank the inputs only where they do not overlap.")
     else:
         text += "  The share does not vary over the samples: no Sobol index for it."
+    few, n_hit, smallest = _few_mm(result)
+    text += (f"  Samples with a P1-1 cell: {n_hit} of {len(result['outputs_per_sample']['share_p1'])}; with one whose "
+             f"stroke is at most {FEW_MM:g} mm (the thesis' few-mm period-1 at 25-90 V): {few}"
+             + (f" (smallest stroke on any P1-1 cell: {_f(smallest)} mm)." if n_hit else "."))
     return text
+
+
+def _few_mm(result) -> tuple:
+    """(samples with a P1-1 cell of stroke <= FEW_MM, samples with a P1-1 cell, smallest such stroke [mm])."""
+    Y = result["outputs_per_sample"]
+    share, smin = np.asarray(Y["share_p1"], dtype=float), np.asarray(Y["stroke_min_mm"], dtype=float)
+    hit = share > 0
+    smallest = float(np.nanmin(smin[hit])) if hit.any() and np.isfinite(smin[hit]).any() else math.nan
+    return int(np.sum(hit & (smin <= FEW_MM))), int(hit.sum()), smallest
 
 
 def findings(results, quick) -> list:
@@ -284,6 +304,7 @@ def findings(results, quick) -> list:
     out = [Finding("share_p1 at mid-range", round(results["base"]["share_p1"], 6), cell, "1"),
            Finding("share_p1 mean over samples", round(float(np.mean(Y["share_p1"])), 6), cell, "1"),
            Finding("samples with a P1-1 cell", int(np.sum(np.asarray(Y["share_p1"]) > 0)), 1, "samples"),
+           Finding(f"samples with a P1-1 cell of stroke at most {FEW_MM:g} mm", _few_mm(results)[0], 1, "samples"),
            Finding("rate_mm_s at mid-range", round(results["base"]["rate_mm_s"], 4), 0.05, "mm s-1")]
     for o in ("share_p1", "rate_mm_s"):
         swing = {k: abs(v[o][1] - v[o][0]) for k, v in results["tornado"].items() if np.all(np.isfinite(v[o]))}
