@@ -301,18 +301,22 @@ class HybridSystem:
         self.impact_guard = impacts[0] if impacts else None
         self.gap = _with_time(gap) if gap is not None else (_guard_gap(self, self.impact_guard)
                                                            if self.impact_guard is not None else None)
+        self._check_declarations()
+        self._groups = self.event_groups()
+        self._cfuncs: dict = {}
+
+    def _check_declarations(self) -> None:
+        """ValueError unless the switches, mechanical states and forcing name this system's own names."""
         for sw in self.switches:
             if sw.flag not in self.flag_defaults or sw.frequency not in self._param_index:
                 raise ValueError(f"switch {sw} names an unknown flag or parameter")
         if self.mechanical is not None and not set(self.mechanical) <= set(self.state_names):
-            raise ValueError(f"mechanical states {self.mechanical} of {name!r} are not all states")
-        if forcing is not None and not callable(forcing):
-            self.forcing = tuple(forcing)
+            raise ValueError(f"mechanical states {self.mechanical} of {self.name!r} are not all states")
+        if self.forcing is not None and not callable(self.forcing):
+            self.forcing = tuple(self.forcing)
             unknown = [f for f in self.forcing if f not in self._param_index]
             if unknown:
-                raise ValueError(f"forcing frequency {unknown[0]!r} of {name!r} is not a parameter")
-        self._groups = self.event_groups()
-        self._cfuncs: dict = {}
+                raise ValueError(f"forcing frequency {unknown[0]!r} of {self.name!r} is not a parameter")
 
     # ----- parameters -------------------------------------------------
     def parameter(self, name: str) -> Parameter:
