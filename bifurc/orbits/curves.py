@@ -40,7 +40,8 @@ from maps.hybrid import IntegrationFailure
 from maps.parameters import ParameterError
 
 from ..storage.schema import CURVE_KINDS
-from .continuation import NoConvergence, bordered_newton, impact_count, next_step, unit_tangent
+from .continuation import NoConvergence, bordered_newton, impact_count, unit_tangent
+from .driver import Steps, Track, follow
 from .grazing_orbit import grazing_rows
 from .nordmark import normal_form
 
@@ -176,14 +177,14 @@ def _correct(problem, w_pred, normal, flags, tol, max_move=None):
 
 
 def follow_curve(problem: CurveProblem, w0, flags, p2_end: float, bounds1, *, step: float = 0.02,
-                 max_step: float = 0.1, min_step: float = 1e-6, max_points: int = 100) -> Curve:
+                 max_step: float = 0.1, min_step: float = 1e-6, max_points: int = 100,
+                 max_turn: float = 0.3) -> Curve:
     """Continue the defining system from w0 (a located special point, parameter 2 at its start)
-    toward ``p2_end``, staying inside ``bounds1`` for parameter 1."""
+    toward ``p2_end``, staying inside ``bounds1`` for parameter 1, with the one driver
+    (:func:`bifurc.orbits.driver.follow`; ``max_turn`` [rad] as there)."""
     tol = problem.base.tol
     curve = Curve(problem.kind, problem.names)
     p2_start = float(problem.values(w0)[1])
-    lo2, hi2 = sorted((p2_start, p2_end))
-    lo1, hi1 = sorted(bounds1)
     try:
         if problem.kind != "grazing":
             problem.refresh_bordering(w0, flags)
@@ -193,46 +194,72 @@ def follow_curve(problem: CurveProblem, w0, flags, p2_end: float, bounds1, *, st
     except NoConvergence as exc:
         curve.stop_reason = f"the start does not converge: {exc}"
         return curve
-    t = unit_tangent(DG, e * math.copysign(1.0, p2_end - p2_start))
-    curve.p1.append(float(problem.values(w)[0]))
-    curve.p2.append(float(problem.values(w)[1]))
-    curve.residual.append(norm)
-    h = step
-    tests = _codim2_tests(problem, w, flags) if problem.kind in CODIM2 else ()
-    while len(curve.p1) < max_points:
-        try:
-            w_new, G, DG, flags_new, norm, its = _correct(problem, w + h * t, t, flags, tol, max_move=h)
-            t_new = unit_tangent(DG, t)
-        except NoConvergence as exc:
-            if h / 2 >= min_step:
-                h /= 2
-                continue
-            curve.stop_reason = f"stopped after ({curve.p1[-1]:.10g}, {curve.p2[-1]:.10g}): {exc} at the smallest step"
-            break
-        w_prev, t_prev, flags_prev = w, t, flags
-        w, t, flags = w_new, t_new, flags_new
-        p1, p2 = problem.values(w)
-        curve.p1.append(float(p1))
-        curve.p2.append(float(p2))
-        curve.residual.append(norm)
-        if problem.kind != "grazing":
+    first = CurvePoint(w, unit_tangent(DG, e * math.copysign(1.0, p2_end - p2_start)), flags, 0, norm)
+    track = _CurveTrack(problem, curve, sorted(bounds1), sorted((p2_start, p2_end)))
+    track.record(None, first)
+    track.tests = _codim2_tests(problem, w, flags) if problem.kind in CODIM2 else ()
+    curve.stop_reason = follow(track, first, Steps(step, max_step, min_step, max_turn), max_points)
+    return curve
+
+
+@dataclass
+class CurvePoint:
+    """One corrected point of a curve: scaled unknowns ``u``, unit tangent, mode flags per node, the
+    corrector's iterations and the defining system's largest residual."""
+
+    u: np.ndarray
+    tangent: np.ndarray
+    flags: list
+    iterations: int
+    residual: float
+
+
+class _CurveTrack(Track):
+    """A two-parameter curve for the driver: the defining system's corrector, the bordering refreshed at each
+    point, the codimension-two test functions (``CODIM2``) and the parameter box."""
+
+    def __init__(self, problem, curve, box1, box2):
+        self.problem, self.curve, self.box1, self.box2, self.tests = problem, curve, box1, box2, ()
+
+    def size(self) -> int:
+        return len(self.curve.p1)
+
+    def correct(self, prev, u_pred, h):
+        w, G, DG, flags, norm, its = _correct(self.problem, u_pred, prev.tangent, prev.flags, self.problem.base.tol,
+                                              max_move=h)
+        return CurvePoint(w, unit_tangent(DG, prev.tangent), flags, its, norm)
+
+    def record(self, prev, pt) -> None:
+        p1, p2 = self.problem.values(pt.u)
+        self.curve.p1.append(float(p1))
+        self.curve.p2.append(float(p2))
+        self.curve.residual.append(pt.residual)
+        if prev is not None and self.problem.kind != "grazing":
             try:
-                problem.refresh_bordering(w, flags)
+                self.problem.refresh_bordering(pt.u, pt.flags)
             except NoConvergence:
                 pass
-        if problem.kind in CODIM2:
-            tests_prev, tests = tests, _codim2_tests(problem, w, flags)
-            for i, kind in enumerate(CODIM2[problem.kind]):
-                if tests_prev[i] * tests[i] < 0:
-                    _locate_zero(problem, curve, kind, lambda w_, f_, i=i: _codim2_tests(problem, w_, f_)[i], w_prev,
-                                 t_prev, flags_prev, tests_prev[i], tests[i], float(t_prev @ (w - w_prev)))
+
+    def detect(self, prev, pt) -> None:
+        problem = self.problem
+        if problem.kind not in CODIM2:
+            return
+        before, self.tests = self.tests, _codim2_tests(problem, pt.u, pt.flags)
+        for i, kind in enumerate(CODIM2[problem.kind]):
+            if before[i] * self.tests[i] < 0:
+                _locate_zero(problem, self.curve, kind, lambda w_, f_, i=i: _codim2_tests(problem, w_, f_)[i],
+                             prev.u, prev.tangent, prev.flags, before[i], self.tests[i],
+                             float(prev.tangent @ (pt.u - prev.u)))
+
+    def outside(self, pt):
+        p1, p2 = self.problem.values(pt.u)
+        (lo1, hi1), (lo2, hi2) = self.box1, self.box2
         if not (lo2 - 1e-12 <= p2 <= hi2 + 1e-12 and lo1 - 1e-12 <= p1 <= hi1 + 1e-12):
-            curve.stop_reason = f"left the parameter box at ({p1:.10g}, {p2:.10g})"
-            break
-        h = next_step(h, its, max_step)
-    else:
-        curve.stop_reason = f"reached max_points = {max_points}"
-    return curve
+            return f"left the parameter box at ({p1:.10g}, {p2:.10g})"
+        return None
+
+    def fail(self, prev, pt, why, u_pred):
+        return f"stopped after ({self.curve.p1[-1]:.10g}, {self.curve.p2[-1]:.10g}): {why} at the smallest step"
 
 
 def _feedback(problem, w, flags, shift: float = 1e-9) -> float:
