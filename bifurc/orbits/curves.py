@@ -45,7 +45,8 @@ from .driver import Steps, Track, follow
 from .grazing_orbit import grazing_rows
 from .nordmark import normal_form
 
-__all__ = ["Curve", "CurveProblem", "follow_curve", "CURVE_KINDS", "CODIM2"]
+__all__ = ["Curve", "CurveProblem", "follow_curve", "zero_on_curve", "codim2_tests", "correct_curve", "CURVE_KINDS",
+           "CODIM2"]
 
 #: the codimension-two points looked for on each kind of curve
 CODIM2 = {"grazing": ("grazing_fold",), "fold": ("cusp", "fold_flip"), "period_doubling": ("fold_flip",)}
@@ -63,6 +64,7 @@ class Curve:
     stop_reason: str = ""
     start: int = -1            # index of the special point of the branch it starts from
     special: list = field(default_factory=list)   # codimension-two points on it: (kind, p1, p2, tolerance)
+    brackets: list = field(default_factory=list)  # per special point: (w_a, t_a, flags, s_b, bracket widths)
 
 
 class CurveProblem:
@@ -165,7 +167,7 @@ class CurveProblem:
         return np.append(F, sigma.real), np.vstack([top, grad.real]), lins
 
 
-def _correct(problem, w_pred, normal, flags, tol, max_move=None):
+def correct_curve(problem, w_pred, normal, flags, tol, max_move=None):
     """Newton on [G(w); normal . (w - w_pred)] = 0 (:func:`bifurc.orbits.continuation.bordered_newton`); on
     a grazing curve an iterate that adds an impact is damped back toward the last one; a step
     passes its length ``max_move`` (a solution farther away is on another curve: refused).
@@ -190,14 +192,14 @@ def follow_curve(problem: CurveProblem, w0, flags, p2_end: float, bounds1, *, st
             problem.refresh_bordering(w0, flags)
         e = np.zeros(w0.size)
         e[problem.N + 1] = 1.0                       # fix p2 for the start
-        w, G, DG, flags, norm, _ = _correct(problem, w0, e, flags, tol)
+        w, G, DG, flags, norm, _ = correct_curve(problem, w0, e, flags, tol)
     except NoConvergence as exc:
         curve.stop_reason = f"the start does not converge: {exc}"
         return curve
     first = CurvePoint(w, unit_tangent(DG, e * math.copysign(1.0, p2_end - p2_start)), flags, 0, norm)
     track = _CurveTrack(problem, curve, sorted(bounds1), sorted((p2_start, p2_end)))
     track.record(None, first)
-    track.tests = _codim2_tests(problem, w, flags) if problem.kind in CODIM2 else ()
+    track.tests = codim2_tests(problem, w, flags) if problem.kind in CODIM2 else ()
     curve.stop_reason = follow(track, first, Steps(step, max_step, min_step, max_turn), max_points)
     return curve
 
@@ -225,8 +227,8 @@ class _CurveTrack(Track):
         return len(self.curve.p1)
 
     def correct(self, prev, u_pred, h):
-        w, G, DG, flags, norm, its = _correct(self.problem, u_pred, prev.tangent, prev.flags, self.problem.base.tol,
-                                              max_move=h)
+        w, G, DG, flags, norm, its = correct_curve(self.problem, u_pred, prev.tangent, prev.flags,
+                                                   self.problem.base.tol, max_move=h)
         return CurvePoint(w, unit_tangent(DG, prev.tangent), flags, its, norm)
 
     def record(self, prev, pt) -> None:
@@ -244,10 +246,10 @@ class _CurveTrack(Track):
         problem = self.problem
         if problem.kind not in CODIM2:
             return
-        before, self.tests = self.tests, _codim2_tests(problem, pt.u, pt.flags)
+        before, self.tests = self.tests, codim2_tests(problem, pt.u, pt.flags)
         for i, kind in enumerate(CODIM2[problem.kind]):
             if before[i] * self.tests[i] < 0:
-                _locate_zero(problem, self.curve, kind, lambda w_, f_, i=i: _codim2_tests(problem, w_, f_)[i],
+                _locate_zero(problem, self.curve, kind, lambda w_, f_, i=i: codim2_tests(problem, w_, f_)[i],
                              prev.u, prev.tangent, prev.flags, before[i], self.tests[i],
                              float(prev.tangent @ (pt.u - prev.u)))
 
@@ -288,7 +290,7 @@ def _feedback(problem, w, flags, shift: float = 1e-9) -> float:
         return math.nan
 
 
-def _codim2_tests(problem, w, flags) -> tuple:
+def codim2_tests(problem, w, flags) -> tuple:
     """The test functions of the codimension-two points ``CODIM2[problem.kind]`` at the curve point w:
     Nordmark's K on a grazing curve (:func:`_feedback`); (cusp, fold-flip) on a fold curve
     (:func:`_fold_tests`); on a period-doubling curve det of the shooting matrix (zero where a multiplier
@@ -328,13 +330,28 @@ def _fold_tests(problem, w, flags, eps: float = 1e-5) -> tuple:
     return float(b @ (M_plus - M_minus) @ v / (2 * eps)), float(np.linalg.det(A_pd))
 
 
-def _locate_zero(problem, curve, kind, test, w_a, t_a, flags, K_a, K_b, s_b, max_iter: int = 40) -> None:
+def _locate_zero(problem, curve, kind, test, w_a, t_a, flags, K_a, K_b, s_b) -> None:
     """Locate where the test function ``test(w, flags)`` changes sign between the curve points w_a and
-    w_a + s_b t_a (Illinois false position on the arclength, each evaluation a corrected curve point) and
-    record it as ``kind`` in ``curve.special`` with its tolerance: the bracket's width in the parameters,
-    at least the corrector's acceptance (newton_tol times each parameter's span).  Kinds: ``CODIM2``; a
-    grazing-fold is where the impacting orbits' fold meets the grazing.  A sign change through a pole
-    is not a zero: refused."""
+    w_a + s_b t_a (:func:`zero_on_curve`) and record it as ``kind`` in ``curve.special`` with its
+    tolerance: the bracket's width in the parameters, at least the corrector's acceptance (newton_tol times
+    each parameter's span), and its bracket in ``curve.brackets`` (for a measured tolerance:
+    :func:`bifurc.orbits.relocate.measure_codim2`).  Kinds: ``CODIM2``; a grazing-fold is where the
+    impacting orbits' fold meets the grazing."""
+    found = zero_on_curve(problem, test, w_a, t_a, flags, K_a, K_b, s_b)
+    if found is None:
+        return
+    p, width = found
+    floor = problem.base.tol * problem.p_scales       # the corrector's acceptance, in parameter units
+    curve.special.append((kind, float(p[0]), float(p[1]), float(np.max(np.maximum(width, floor)))))
+    curve.brackets.append((np.array(w_a, dtype=float), np.array(t_a, dtype=float), [dict(f) for f in flags],
+                           float(s_b), width))
+
+
+def zero_on_curve(problem, test, w_a, t_a, flags, K_a, K_b, s_b, max_iter: int = 40):
+    """(p, width): the parameters (p1, p2) where ``test(w, flags)`` changes sign between the curve points
+    w_a and w_a + s_b t_a (Illinois false position on the arclength, each evaluation a corrected curve
+    point) and the final bracket's width in each; None where the location fails or the sign change is
+    through a pole of the test function, not a zero."""
     s_lo, s_hi, f_lo, f_hi, side, w = 0.0, s_b, K_a, K_b, 0, w_a
     K, p_lo, p_hi = K_a, problem.values(w_a), problem.values(w_a + s_b * t_a)
     for _ in range(max_iter):
@@ -343,10 +360,10 @@ def _locate_zero(problem, curve, kind, test, w_a, t_a, flags, K_a, K_b, s_b, max
             s = 0.5 * (s_lo + s_hi)
         w, s = _correct_near(problem, w_a, t_a, flags, s, s_lo, s_hi)
         if w is None:
-            return
+            return None
         K = test(w, flags)
         if not math.isfinite(K):
-            return
+            return None
         if (K < 0) == (f_lo < 0):
             s_lo, f_lo, p_lo = s, K, problem.values(w)
             f_hi = f_hi / 2 if side == -1 else f_hi
@@ -358,11 +375,8 @@ def _locate_zero(problem, curve, kind, test, w_a, t_a, flags, K_a, K_b, s_b, max
         if K == 0.0 or s_hi - s_lo < 1e-12:
             break
     if abs(K) > 1e-6 * min(abs(K_a), abs(K_b)):
-        return                                   # a pole of the test function, not a zero
-    p1, p2 = problem.values(w)
-    floor = problem.base.tol * problem.p_scales       # the corrector's acceptance, in parameter units
-    curve.special.append((kind, float(p1), float(p2), float(np.max(np.maximum(np.abs(np.asarray(p_hi) - p_lo),
-                                                                               floor)))))
+        return None                              # a pole of the test function, not a zero
+    return problem.values(w), np.abs(np.asarray(p_hi) - p_lo)
 
 
 def _correct_near(problem, w_a, t_a, flags, s: float, s_lo: float, s_hi: float):
@@ -373,7 +387,7 @@ def _correct_near(problem, w_a, t_a, flags, s: float, s_lo: float, s_hi: float):
     for k in range(4):
         s_k = s + 0.02 * k * (mid - s)
         try:
-            w, *_ = _correct(problem, w_a + s_k * t_a, t_a, flags, problem.base.tol)
+            w, *_ = correct_curve(problem, w_a + s_k * t_a, t_a, flags, problem.base.tol)
             return w, s_k
         except NoConvergence:
             continue
