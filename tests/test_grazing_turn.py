@@ -68,6 +68,7 @@ def test_no_piece_past_a_grazing_where_the_orbit_does_not_persist(ds):
     assert np.all(ipp[:i + 1] == 0) and np.all(ipp[i + 1:] == 1) and ipp.size > i + 3
     note, why = str(ds.special_note.values[0]), ds.attrs["branch_stop_reasons"]
     assert "no small impacting orbit beyond the grazing" in note and "the branch turns there" in note
+    assert f"no orbit persists past F = {float(ds.special_value[0]):.10g}: the branch turns back there" in why
     assert "continued from F = " in why and "toward decreasing F (1 impact per period)" in why
 
 

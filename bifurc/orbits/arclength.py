@@ -27,8 +27,9 @@ def continue_branch(problem: ContinuationProblem, orbit, p_start: float, p_end: 
     impact lost or stick onset that stops a piece (at most ``max_passages``): continuation restarts on
     the other side with the new transition signature (:func:`bifurc.orbits.passage.restart`) and the
     pieces are joined into one branch, the located event between them (its note holds Nordmark's
-    prediction at a grazing); each piece scales its unknowns by its own orbit's magnitude.  Where no orbit persists on the other side, the branch ends there and
-    its ``stop_reason`` says so."""
+    prediction at a grazing); each piece scales its unknowns by its own orbit's magnitude.  Where no orbit
+    persists on the other side, the branch ends there, or turns back onto the orbit with the other signature on
+    the same side (a non-smooth fold), and its ``stop_reason`` says so."""
     clock = _time.perf_counter()
     lo, hi = sorted(bounds) if bounds is not None else (min(p_start, p_end), max(p_start, p_end))
     branch = continue_piece(problem, orbit, p_start, p_end, max_points=max_points, bounds=(lo, hi), locate=locate,
@@ -46,24 +47,29 @@ def continue_branch(problem: ContinuationProblem, orbit, p_start: float, p_end: 
         if start is None:
             branch.stop_reason += f"; the branch ends there: {p}"
             break
+        came = branch.points[-1].tangent[-1]
         problem = ContinuationProblem(problem.smap, problem.param, problem.n, problem.k0, scale=start.scale,
                                       p_scale=problem.p_scale, p_ref=problem.p_ref, tol=problem.tol)
         piece = continue_piece(problem, start, p, p_end, max_points=max_points - len(branch.points),
                                bounds=(lo, hi), locate=locate, direction=direction, **options)
-        _join(branch, piece, problem.param, p, direction)
+        _join(branch, piece, problem.param, p, direction, sp.p if came * direction < 0 else None)
     branch.seconds = _time.perf_counter() - clock
     return branch
 
 
-def _join(branch, piece, param: str, p: float, direction: float) -> None:
-    """Append the piece restarted at ``param`` = ``p`` past the event that stopped ``branch``."""
+def _join(branch, piece, param: str, p: float, direction: float, turned_at: float | None = None) -> None:
+    """Append the piece restarted at ``param`` = ``p`` past the event that stopped ``branch`` (``turned_at``: the
+    event's value where the new piece goes back, no orbit persisting beyond it)."""
     offset = len(branch.points)
     for sp in piece.special:
         sp.index += offset
     first = piece.points[0] if piece.points else None
     what = (f"{first.impacts} impact{'' if first.impacts == 1 else 's'} per period" if first is not None else "")
     way = "increasing" if direction > 0 else "decreasing"
-    branch.stop_reason += f"; continued from {param} = {p:.10g} toward {way} {param} ({what}): {piece.stop_reason}"
+    turn = ("" if turned_at is None else f"; no orbit persists past {param} = {turned_at:.10g}: the branch turns "
+            f"back there (a non-smooth fold)")
+    branch.stop_reason += (f"{turn}; continued from {param} = {p:.10g} toward {way} {param} ({what}): "
+                           f"{piece.stop_reason}")
     branch.points += piece.points
     branch.special += piece.special
     branch.newton_iterations += piece.newton_iterations
@@ -121,11 +127,23 @@ class _BranchTrack(Track):
     def size(self) -> int:
         return len(self.branch.points)
 
-    def correct(self, prev, u_pred, h):
-        problem = self.problem
-        u, F, DF, lins, flags, its = problem.correct(u_pred, prev.tangent, flags_of(prev), max_move=h)
-        self.branch.newton_iterations += its
-        return problem.point(u, F, DF, lins, flags, its, prev.tangent)
+    @property
+    def tol(self) -> float:
+        return self.problem.tol
+
+    @property
+    def newton(self) -> dict:
+        return self.problem.NEWTON
+
+    def evaluate(self, u, flags):
+        return self.problem.residual(u, flags)
+
+    def flags(self, pt) -> list:
+        return flags_of(pt)
+
+    def point(self, prev, u, G, DG, lins, flags, iterations):
+        self.branch.newton_iterations += iterations
+        return self.problem.point(u, G, DG, lins, flags, iterations, prev.tangent)
 
     def refuse(self, prev, pt):
         return "signature" if pt.transitions != prev.transitions else None

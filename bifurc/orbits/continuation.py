@@ -149,18 +149,22 @@ class ContinuationProblem:
         C = np.vstack([(co.R @ L.J_p) / s[:, None] * np.asarray(p_scales)[None, :] for L in lins])
         return F, M, C, lins
 
-    def correct(self, u_pred, normal, flags, *, max_iter: int = 10, max_move: float | None = None):
+    #: the corrector's options for this system (:func:`bordered_newton`)
+    NEWTON = {"max_iter": 10, "stall_after": 3, "tiny_update": True}
+
+    def residual(self, u, flags):
+        """:meth:`evaluate` with its integration failures raised as NoConvergence (the corrector's form)."""
+        try:
+            return self.evaluate(u, flags)
+        except (IntegrationFailure, ZeroDivisionError, ParameterError) as exc:
+            raise NoConvergence(f"the integration failed: {exc}") from None
+
+    def correct(self, u_pred, normal, flags, *, max_move: float | None = None):
         """Newton on [F(u); normal . (u - u_pred)] = 0 from u_pred (:func:`bordered_newton`; a
         predictor step passes ``max_move``, its length).
 
         Returns (u, F, DF, lins, flags, iterations) or raises NoConvergence."""
-        def evaluate(u, flags):
-            try:
-                return self.evaluate(u, flags)
-            except (IntegrationFailure, ZeroDivisionError, ParameterError) as exc:
-                raise NoConvergence(f"the integration failed: {exc}") from None
-        return bordered_newton(evaluate, u_pred, normal, flags, self.tol, max_iter=max_iter, stall_after=3,
-                               tiny_update=True, max_move=max_move)
+        return bordered_newton(self.residual, u_pred, normal, flags, self.tol, max_move=max_move, **self.NEWTON)
 
     def point(self, u, F, DF, lins, flags, iterations, reference, *, tangent=None) -> BranchPoint:
         co = self.co

@@ -172,10 +172,15 @@ def correct_curve(problem, w_pred, normal, flags, tol, max_move=None):
     a grazing curve an iterate that adds an impact is damped back toward the last one; a step
     passes its length ``max_move`` (a solution farther away is on another curve: refused).
     Returns (w, G, DG, flags, max |G|, iterations)."""
-    w, G, DG, _, flags, its = bordered_newton(problem.evaluate, w_pred, normal, flags, tol, max_iter=12, stall_after=4,
-                                            tiny_update=False, keep_impacts=problem.kind == "grazing",
-                                            max_move=max_move)
+    w, G, DG, _, flags, its = bordered_newton(problem.evaluate, w_pred, normal, flags, tol, max_move=max_move,
+                                              **newton_options(problem))
     return w, G, DG, flags, float(np.max(np.abs(G))), its
+
+
+def newton_options(problem) -> dict:
+    """The corrector's options on a curve's defining system (:func:`bifurc.orbits.continuation.bordered_newton`):
+    on a grazing curve an iterate that adds an impact is damped back."""
+    return {"max_iter": 12, "stall_after": 4, "tiny_update": False, "keep_impacts": problem.kind == "grazing"}
 
 
 def follow_curve(problem: CurveProblem, w0, flags, p2_end: float, bounds1, *, step: float = 0.02,
@@ -226,10 +231,22 @@ class _CurveTrack(Track):
     def size(self) -> int:
         return len(self.curve.p1)
 
-    def correct(self, prev, u_pred, h):
-        w, G, DG, flags, norm, its = correct_curve(self.problem, u_pred, prev.tangent, prev.flags,
-                                                   self.problem.base.tol, max_move=h)
-        return CurvePoint(w, unit_tangent(DG, prev.tangent), flags, its, norm)
+    @property
+    def tol(self) -> float:
+        return self.problem.base.tol
+
+    @property
+    def newton(self) -> dict:
+        return newton_options(self.problem)
+
+    def evaluate(self, u, flags):
+        return self.problem.evaluate(u, flags)
+
+    def flags(self, pt) -> list:
+        return pt.flags
+
+    def point(self, prev, u, G, DG, lins, flags, iterations):
+        return CurvePoint(u, unit_tangent(DG, prev.tangent), flags, iterations, float(np.max(np.abs(G))))
 
     def record(self, prev, pt) -> None:
         p1, p2 = self.problem.values(pt.u)

@@ -2,12 +2,14 @@
 (:mod:`bifurc.orbits.curves`): predictor along the unit tangent, corrector with the pseudo-arclength
 condition, step-size rule, turning-angle control and a hook for test functions and events.
 
-What is continued is a :class:`Track`: it corrects a prediction (Newton on the bordered system
-[G(u); t_prev . (u - u_pred)] = 0, :func:`bifurc.orbits.continuation.bordered_newton`, with its own
-residual and Jacobian), may refuse a corrected point (a branch: its transition signature changed), records
-a point, evaluates its test functions between two points, says when the track leaves its box, and names the
-stop when the corrector fails at the smallest step.  Points are anything with the scaled unknowns ``u``, the
-unit tangent ``tangent`` and the corrector's ``iterations``.
+The corrector is Newton on the bordered system [G(u); t_prev . (u - u_pred)] = 0 (the pseudo-arclength
+condition; :func:`bifurc.orbits.continuation.bordered_newton`), a solution farther than the step from the
+prediction refused.  What is continued is a :class:`Track`: it gives the residual G and its Jacobian
+(``evaluate``), its Newton options and tolerance, builds a point from a solution, may refuse a corrected point
+(a branch: its transition signature changed), records a point, evaluates its test functions between two
+points, says when the track leaves its box, and names the stop when the corrector fails at the smallest step.
+Points are anything with the scaled unknowns ``u``, the unit tangent ``tangent``, the mode flags per node
+(``Track.flags``) and the corrector's ``iterations``.
 
 The step rule (:func:`step_after`): the arclength step h (scaled unknowns) grows x1.5 after an easy
 correction (<= 3 iterations), is kept after <= 5, else shrinks x0.7, at most ``max_step``; a refused or failed
@@ -22,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .continuation import NoConvergence
+from .continuation import NoConvergence, bordered_newton
 
 __all__ = ["Steps", "Track", "follow", "step_after", "turn_angle"]
 
@@ -39,24 +41,37 @@ class Steps:
 
 
 class Track:
-    """The problem-specific parts of a continuation (override what applies; the defaults do nothing)."""
+    """The problem-specific parts of a continuation: ``size``, ``evaluate``, ``flags``, ``point`` and ``record``
+    are required; the hooks after them default to nothing."""
+
+    #: Newton's tolerance on the largest scaled residual, and the options of
+    #: :func:`bifurc.orbits.continuation.bordered_newton` (max_iter, stall_after, tiny_update, keep_impacts)
+    tol: float = 1e-10
+    newton: dict = {"max_iter": 10, "stall_after": 3, "tiny_update": True}
 
     def size(self) -> int:
         """Points recorded so far (the driver stops at ``max_points``)."""
         raise NotImplementedError
 
-    def correct(self, prev, u_pred: np.ndarray, h: float):
-        """The point corrected from the prediction ``u_pred`` = prev.u + h prev.tangent on the hyperplane
-        normal to prev.tangent (a solution farther than h is refused); raises NoConvergence."""
+    def evaluate(self, u: np.ndarray, flags: list):
+        """(G, DG, linearizations) at the unknowns ``u``; raises NoConvergence where it cannot."""
+        raise NotImplementedError
+
+    def flags(self, pt) -> list:
+        """The mode flags per node of point ``pt``, to start the corrector from."""
+        raise NotImplementedError
+
+    def point(self, prev, u, G, DG, lins, flags, iterations: int):
+        """The point at the corrector's solution ``u`` after ``prev`` (its unit tangent oriented along prev's)."""
+        raise NotImplementedError
+
+    def record(self, prev, pt) -> None:
+        """Keep the accepted point ``pt``."""
         raise NotImplementedError
 
     def refuse(self, prev, pt) -> str | None:
         """Why the corrected point ``pt`` is not taken (the step is then halved), or None."""
         return None
-
-    def record(self, prev, pt) -> None:
-        """Keep the accepted point ``pt``."""
-        raise NotImplementedError
 
     def detect(self, prev, pt) -> None:
         """The test-function and event hook: locate what changed between ``prev`` and ``pt``."""
@@ -89,12 +104,17 @@ def step_after(h: float, iterations: int, max_step: float) -> float:
 
 def follow(track: Track, start, steps: Steps, max_points: int) -> str:
     """Continue ``track`` from its recorded point ``start`` until it leaves its box, has ``max_points``
-    points, or a correction fails at ``steps.min_step``; returns the stop reason."""
+    points, or a correction fails at ``steps.min_step``; returns the stop reason.  Each step: predict
+    u_pred = u + h t, correct on the hyperplane t . (u - u_pred) = 0, refuse (the track's reason, or a turn of
+    the tangent above ``steps.max_turn``) and halve h, or record, detect, settle, check the box and size the
+    next step (:func:`step_after`)."""
     prev, h = start, float(steps.step)
     while track.size() < max_points:
         u_pred = prev.u + h * prev.tangent
         try:
-            pt = track.correct(prev, u_pred, h)
+            u, G, DG, lins, flags, its = bordered_newton(track.evaluate, u_pred, prev.tangent, track.flags(prev),
+                                                         track.tol, max_move=h, **track.newton)
+            pt = track.point(prev, u, G, DG, lins, flags, its)
         except NoConvergence as exc:
             pt, why = None, str(exc)
         else:
