@@ -27,7 +27,10 @@ a grazing-fold on a grazing curve (Nordmark's feedback K = 0), a cusp on a fold 
 second-order coefficient b^T D^2F(v, v) = 0, a central difference of exact Jacobians along the null
 vector v) and a fold-flip on a fold curve (det of the shooting matrix with wrap-around +I = 0: a
 multiplier -1 beside the +1) or on a period-doubling curve (det of the shooting matrix = 0: a +1 beside
-the -1).
+the -1).  Each is stated with its bracket (at least the corrector's acceptance), or, with error estimates, a
+measured bound (:func:`bifurc.orbits.relocate.measure_codim2`: located again at tol/100).
+
+A curve is stepped by the one pseudo-arclength driver of branches and curves (:mod:`bifurc.orbits.driver`).
 """
 from __future__ import annotations
 
