@@ -84,9 +84,8 @@ def continue_orbit(scene, param: str, span, *, params=None, preset=None, period:
     branch_switch : bool
         Follow the doubled branch from each located period doubling.
     error : bool
-        At each special point, solve the orbit again at tol/100 and store the multipliers' change, and
-        locate the point again at tol/100: its stated tolerance is then a measured bound; so are the
-        codimension-two points on two-parameter curves.
+        At each special point, solve the orbit again at tol/100 and store the multipliers' change, and locate
+        it (and each codimension-two point of a curve) again at tol/100: its stated tolerance is a measured bound.
     progress : callable(str), optional
         Called with a one-line description of each new point.
     param2, span2 : str, (float, float)
@@ -120,8 +119,7 @@ def continue_orbit(scene, param: str, span, *, params=None, preset=None, period:
         k0 = k0 % smap.forcing_period_steps   # the same map; d t_k / dp = (k + phase) dT/dp stays small
     orbit = find_periodic_orbit(smap, start, period, k0=k0, tol=newton_tol)
     say = (lambda pt, label: progress(_describe(pt, label, param))) if progress else None
-    cont = ContinuationProblem(smap, param, period, k0, scale=orbit.scale, p_scale=abs(b - a), p_ref=a,
-                                  tol=newton_tol)
+    cont = ContinuationProblem(smap, param, period, k0, scale=orbit.scale, p_scale=abs(b - a), p_ref=a, tol=newton_tol)
     branches = [continue_branch(cont, orbit, a, b, step=step, max_step=max_step, max_points=max_points,
                                 progress=(lambda pt: say(pt, "main")) if say else None)]
     if branch_switch:
@@ -129,8 +127,8 @@ def continue_orbit(scene, param: str, span, *, params=None, preset=None, period:
             branches.append(_switch(smap, cont, sp, (a, b), step, max_step, max_points, say))
     curves = []
     if param2 is not None:
-        curves = _curves(cont, branches, param2, (a2, b2), (a, b), max_points, progress,
-                         (system, tol, newton_tol) if error else None)
+        measure = (system, tol, newton_tol) if error else None
+        curves = _curves(cont, branches, param2, (a2, b2), (a, b), max_points, progress, measure)
     if error:
         _errors(system, values, param, branches, cont, tol, newton_tol)
     clear = [_clearances(system, dict(values, **{param: pt.p}), pt) for br in branches for pt in br.points]
