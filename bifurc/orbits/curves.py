@@ -42,7 +42,7 @@ import numpy as np
 from maps.hybrid import IntegrationFailure
 from maps.parameters import ParameterError
 
-from ..storage.schema import CURVE_KINDS
+from ..storage.schema import CURVE_KINDS, SPECIAL_KINDS
 from .continuation import NoConvergence, bordered_newton, impact_count, unit_tangent
 from .driver import Steps, Track, follow
 from .grazing_orbit import grazing_rows
@@ -53,6 +53,8 @@ __all__ = ["Curve", "CurveProblem", "follow_curve", "zero_on_curve", "codim2_tes
 
 #: the codimension-two points looked for on each kind of curve
 CODIM2 = {"grazing": ("grazing_fold",), "fold": ("cusp", "fold_flip"), "period_doubling": ("fold_flip",)}
+assert set(CODIM2) <= set(CURVE_KINDS) <= set(SPECIAL_KINDS), "curve kinds outside the one vocabulary"
+assert {k for kinds in CODIM2.values() for k in kinds} <= set(SPECIAL_KINDS), "codim-2 kinds outside the vocabulary"
 
 
 @dataclass
