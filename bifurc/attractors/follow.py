@@ -17,6 +17,7 @@ import numpy as np
 
 from maps.hybrid import HybridState
 
+from ..storage.schema import SPECIAL_KINDS
 from .identify import distance
 
 __all__ = ["match", "link_event"]
@@ -45,6 +46,7 @@ def match(prev: list, cur: list, grid, q: int = 1, threshold: float = 20.0) -> d
 
 #: special points of a branch that can create or destroy an attractor
 LOCAL = ("fold", "period_doubling", "neimark_sacker", "grazing", "impact_lost", "stick_onset")
+assert set(LOCAL) <= set(SPECIAL_KINDS), "special-point kinds outside the one vocabulary"
 
 
 def link_event(pb, param: str, a, here: float, there: float, tol: float = 1e-10) -> tuple[str, str]:
@@ -61,7 +63,6 @@ def link_event(pb, param: str, a, here: float, there: float, tol: float = 1e-10)
                             k0=a.k0, tol=tol, error=False, max_points=60, step=0.05)
     except Exception as exc:     # noqa: BLE001 - the evidence is the failure itself
         return "global", f"its branch could not be continued from {here:g} ({type(exc).__name__}: {exc})"
-    from ..storage.schema import SPECIAL_KINDS
     lo, hi = min(here, there), max(here, there)
     for k, v in zip(br.special_kind.values, br.special_value.values):
         kind = SPECIAL_KINDS[int(k)] if k >= 0 else ""

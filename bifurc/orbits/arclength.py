@@ -1,6 +1,7 @@
-"""Pseudo-arclength continuation of a branch: predictor along the unit tangent, corrector on the
-bordered system (:class:`bifurc.orbits.continuation.ContinuationProblem`), step control, the strobe
-section moved away from events, and the stops (interval left, point cap, non-smooth events).
+"""Pseudo-arclength continuation of a branch on the one driver (:mod:`bifurc.orbits.driver`: predictor,
+corrector, step rule, turning-angle control): here the branch's parts, the shooting system's corrector
+(:class:`bifurc.orbits.continuation.ContinuationProblem`), the test functions, the strobe section moved away
+from events, the stops (interval left, point cap, non-smooth events) and the restarts past them.
 """
 from __future__ import annotations
 
@@ -12,7 +13,8 @@ import numpy as np
 from maps.hybrid import IntegrationFailure
 from maps.parameters import ParameterError
 
-from .continuation import SMOOTH_ROLES, Branch, ContinuationProblem, NoConvergence, flags_of, next_step
+from .continuation import SMOOTH_ROLES, Branch, ContinuationProblem, NoConvergence, flags_of
+from .driver import Steps, Track, follow
 from .passage import PASSABLE, restart
 from .special_points import TESTS, detect, discontinuity, event_at_section, event_reason
 
@@ -25,8 +27,9 @@ def continue_branch(problem: ContinuationProblem, orbit, p_start: float, p_end: 
     impact lost or stick onset that stops a piece (at most ``max_passages``): continuation restarts on
     the other side with the new transition signature (:func:`bifurc.orbits.passage.restart`) and the
     pieces are joined into one branch, the located event between them (its note holds Nordmark's
-    prediction at a grazing); each piece scales its unknowns by its own orbit's magnitude.  Where no orbit persists on the other side, the branch ends there and
-    its ``stop_reason`` says so."""
+    prediction at a grazing); each piece scales its unknowns by its own orbit's magnitude.  Where no orbit
+    persists on the other side, the branch ends there, or turns back onto the orbit with the other signature on
+    the same side (a non-smooth fold), and its ``stop_reason`` says so."""
     clock = _time.perf_counter()
     lo, hi = sorted(bounds) if bounds is not None else (min(p_start, p_end), max(p_start, p_end))
     branch = continue_piece(problem, orbit, p_start, p_end, max_points=max_points, bounds=(lo, hi), locate=locate,
@@ -44,24 +47,29 @@ def continue_branch(problem: ContinuationProblem, orbit, p_start: float, p_end: 
         if start is None:
             branch.stop_reason += f"; the branch ends there: {p}"
             break
+        came = branch.points[-1].tangent[-1]
         problem = ContinuationProblem(problem.smap, problem.param, problem.n, problem.k0, scale=start.scale,
                                       p_scale=problem.p_scale, p_ref=problem.p_ref, tol=problem.tol)
         piece = continue_piece(problem, start, p, p_end, max_points=max_points - len(branch.points),
                                bounds=(lo, hi), locate=locate, direction=direction, **options)
-        _join(branch, piece, problem.param, p, direction)
+        _join(branch, piece, problem.param, p, direction, sp.p if came * direction < 0 else None)
     branch.seconds = _time.perf_counter() - clock
     return branch
 
 
-def _join(branch, piece, param: str, p: float, direction: float) -> None:
-    """Append the piece restarted at ``param`` = ``p`` past the event that stopped ``branch``."""
+def _join(branch, piece, param: str, p: float, direction: float, turned_at: float | None = None) -> None:
+    """Append the piece restarted at ``param`` = ``p`` past the event that stopped ``branch`` (``turned_at``: the
+    event's value where the new piece goes back, no orbit persisting beyond it)."""
     offset = len(branch.points)
     for sp in piece.special:
         sp.index += offset
     first = piece.points[0] if piece.points else None
     what = (f"{first.impacts} impact{'' if first.impacts == 1 else 's'} per period" if first is not None else "")
     way = "increasing" if direction > 0 else "decreasing"
-    branch.stop_reason += f"; continued from {param} = {p:.10g} toward {way} {param} ({what}): {piece.stop_reason}"
+    turn = ("" if turned_at is None else f"; no orbit persists past {param} = {turned_at:.10g}: the branch turns "
+            f"back there (a non-smooth fold)")
+    branch.stop_reason += (f"{turn}; continued from {param} = {p:.10g} toward {way} {param} ({what}): "
+                           f"{piece.stop_reason}")
     branch.points += piece.points
     branch.special += piece.special
     branch.newton_iterations += piece.newton_iterations
@@ -72,12 +80,12 @@ def continue_piece(problem: ContinuationProblem, orbit, p_start: float, p_end: f
                    max_turn: float = 0.3, tangent=None, label: str = "main", progress=None,
                    locate: bool = True, bounds=None, section_margin: float = 0.02,
                    max_resections: int = 50, direction: float | None = None) -> Branch:
-    """Follow ``orbit`` (at p_start) toward p_end until it leaves [p_start, p_end] (or the interval
-    of the two), ``max_points`` points are taken, or a non-smooth event or a corrector failure at
-    ``min_step`` stops it (``Branch.stop_reason`` says which).  When a state-changing event comes
-    within ``section_margin`` strobe periods of a sample time, the section moves (the map's phase)
-    to the middle of the widest event-free interval of the period, at most ``max_resections``
-    times: an event crossing the section would move between periods and break the map's
+    """Follow ``orbit`` (at p_start) toward p_end with the one driver (:func:`bifurc.orbits.driver.follow`)
+    until it leaves [p_start, p_end] (or the interval of the two), ``max_points`` points are taken, or a
+    non-smooth event or a corrector failure at ``min_step`` stops it (``Branch.stop_reason`` says which).
+    When a state-changing event comes within ``section_margin`` strobe periods of a sample time, the section
+    moves (the map's phase) to the middle of the widest event-free interval of the period, at most
+    ``max_resections`` times: an event crossing the section would move between periods and break the map's
     smoothness.  ``tangent``: a start direction (scaled unknowns; branch switching), else the null
     vector pointing toward p_end; ``bounds``: the interval to stay in, if not [p_start, p_end]."""
     clock = _time.perf_counter()
@@ -102,56 +110,76 @@ def continue_piece(problem: ContinuationProblem, orbit, p_start: float, p_end: f
         branch.stop_reason = f"the start orbit does not converge at {problem.param} = {p_start:.10g}: {exc}"
         return branch
     branch.points.append(problem.point(u, F, DF, lins, flags, its, reference, tangent=tangent))
-    h = float(step)
-    resections = 0
-    while len(branch.points) < max_points:
-        prev = branch.points[-1]
-        u_pred = prev.u + h * prev.tangent
-        pt, why = _predict_correct(problem, prev, u_pred, h, max_turn)
-        branch.newton_iterations += 0 if pt is None else pt.iterations
-        if why is not None:
-            if h / 2 >= min_step:
-                h /= 2
-                continue
-            _stop(branch, problem, prev, pt, why, u_pred, locate)
-            break
-        branch.points.append(pt)
-        its = pt.iterations           # the step rule reads the corrector's effort, not a resection's
-        if progress is not None:
-            progress(pt)
-        if locate:
-            for kind in TESTS:
-                sp = detect(problem, prev, pt, kind)
-                if sp is not None:
-                    sp.index = len(branch.points) - 2
-                    branch.special.append(sp)
-        if resections < max_resections and event_at_section(problem, pt, within=section_margin):
-            moved = _resection(problem, pt)
-            if moved is not None:            # the same orbit, sampled where no event happens
-                resections += 1
-                branch.points.append(moved)
-                pt = moved
-        if not lo - 1e-12 * max(1.0, abs(lo)) <= pt.p <= hi + 1e-12 * max(1.0, abs(hi)):
-            branch.stop_reason = f"left the interval [{lo:.6g}, {hi:.6g}] at {problem.param} = {pt.p:.10g}"
-            break
-        h = next_step(h, its, max_step)
-    else:
-        branch.stop_reason = f"reached max_points = {max_points}"
+    track = _BranchTrack(problem, branch, (lo, hi), progress, locate, section_margin, max_resections)
+    branch.stop_reason = follow(track, branch.points[0], Steps(step, max_step, min_step, max_turn), max_points)
     branch.seconds = _time.perf_counter() - clock
     return branch
 
 
-def _predict_correct(problem, prev, u_pred, h: float, max_turn: float):
-    """(the corrected point or None, why it is refused or None) from the prediction ``u_pred``."""
-    try:
-        u, F, DF, lins, flags_new, its = problem.correct(u_pred, prev.tangent, flags_of(prev), max_move=h)
-    except NoConvergence as exc:
-        return None, str(exc)
-    pt = problem.point(u, F, DF, lins, flags_new, its, prev.tangent)
-    turn = math.acos(max(-1.0, min(1.0, float(pt.tangent @ prev.tangent))))
-    if pt.transitions != prev.transitions:
-        return pt, "signature"
-    return pt, (f"the tangent turned {turn:.2f} rad" if turn > max_turn else None)
+class _BranchTrack(Track):
+    """A branch piece for the driver: the shooting system's corrector, the transition signature's refusal,
+    the test functions (:data:`bifurc.orbits.special_points.TESTS`), section moves and the stops."""
+
+    def __init__(self, problem, branch, box, progress, locate, section_margin, max_resections):
+        self.problem, self.branch, self.box, self.progress, self.locate = problem, branch, box, progress, locate
+        self.section_margin, self.resections_left = section_margin, max_resections
+
+    def size(self) -> int:
+        return len(self.branch.points)
+
+    @property
+    def tol(self) -> float:
+        return self.problem.tol
+
+    @property
+    def newton(self) -> dict:
+        return self.problem.NEWTON
+
+    def evaluate(self, u, flags):
+        return self.problem.residual(u, flags)
+
+    def flags(self, pt) -> list:
+        return flags_of(pt)
+
+    def point(self, prev, u, G, DG, lins, flags, iterations):
+        self.branch.newton_iterations += iterations
+        return self.problem.point(u, G, DG, lins, flags, iterations, prev.tangent)
+
+    def refuse(self, prev, pt):
+        return "signature" if pt.transitions != prev.transitions else None
+
+    def record(self, prev, pt) -> None:
+        self.branch.points.append(pt)
+        if self.progress is not None:
+            self.progress(pt)
+
+    def detect(self, prev, pt) -> None:
+        if not self.locate:
+            return
+        for kind in TESTS:
+            sp = detect(self.problem, prev, pt, kind)
+            if sp is not None:
+                sp.index = len(self.branch.points) - 2
+                self.branch.special.append(sp)
+
+    def settle(self, pt):
+        if self.resections_left > 0 and event_at_section(self.problem, pt, within=self.section_margin):
+            moved = _resection(self.problem, pt)
+            if moved is not None:            # the same orbit, sampled where no event happens
+                self.resections_left -= 1
+                self.branch.points.append(moved)
+                return moved
+        return pt
+
+    def outside(self, pt):
+        lo, hi = self.box
+        if not lo - 1e-12 * max(1.0, abs(lo)) <= pt.p <= hi + 1e-12 * max(1.0, abs(hi)):
+            return f"left the interval [{lo:.6g}, {hi:.6g}] at {self.problem.param} = {pt.p:.10g}"
+        return None
+
+    def fail(self, prev, pt, why, u_pred):
+        _stop(self.branch, self.problem, prev, pt, why, u_pred, self.locate)
+        return self.branch.stop_reason
 
 
 def _stop(branch, problem, prev, pt, why: str, u_pred, locate: bool) -> None:

@@ -26,10 +26,11 @@ from maps.provenance import recorded
 
 from .arclength import continue_branch
 from .continuation import ContinuationProblem, flags_of, in_section
+from ..storage.schema import CURVE_KINDS
 from .dataset import branch_dataset
 from .orbit import first_guess, multiplier_change
 from .periodic import OrbitNotFound, find_periodic_orbit, monodromy
-from .relocate import relocate
+from .relocate import RESOLUTION, measure_codim2, relocate
 from .special_points import LOCATED_KINDS
 
 __all__ = ["continue_orbit", "branch_dataset"]
@@ -83,8 +84,8 @@ def continue_orbit(scene, param: str, span, *, params=None, preset=None, period:
     branch_switch : bool
         Follow the doubled branch from each located period doubling.
     error : bool
-        At each special point, solve the orbit again at tol/100 and store the multipliers' change, and
-        locate the point again at tol/100: its stated tolerance is then a measured bound.
+        At each special point, solve the orbit again at tol/100 and store the multipliers' change, and locate
+        it (and each codimension-two point of a curve) again at tol/100: its stated tolerance is a measured bound.
     progress : callable(str), optional
         Called with a one-line description of each new point.
     param2, span2 : str, (float, float)
@@ -118,8 +119,7 @@ def continue_orbit(scene, param: str, span, *, params=None, preset=None, period:
         k0 = k0 % smap.forcing_period_steps   # the same map; d t_k / dp = (k + phase) dT/dp stays small
     orbit = find_periodic_orbit(smap, start, period, k0=k0, tol=newton_tol)
     say = (lambda pt, label: progress(_describe(pt, label, param))) if progress else None
-    cont = ContinuationProblem(smap, param, period, k0, scale=orbit.scale, p_scale=abs(b - a), p_ref=a,
-                                  tol=newton_tol)
+    cont = ContinuationProblem(smap, param, period, k0, scale=orbit.scale, p_scale=abs(b - a), p_ref=a, tol=newton_tol)
     branches = [continue_branch(cont, orbit, a, b, step=step, max_step=max_step, max_points=max_points,
                                 progress=(lambda pt: say(pt, "main")) if say else None)]
     if branch_switch:
@@ -127,22 +127,24 @@ def continue_orbit(scene, param: str, span, *, params=None, preset=None, period:
             branches.append(_switch(smap, cont, sp, (a, b), step, max_step, max_points, say))
     curves = []
     if param2 is not None:
-        curves = _curves(cont, branches, param2, (a2, b2), (a, b), max_points, progress)
+        measure = (system, tol, newton_tol) if error else None
+        curves = _curves(cont, branches, param2, (a2, b2), (a, b), max_points, progress, measure)
     if error:
         _errors(system, values, param, branches, cont, tol, newton_tol)
     clear = [_clearances(system, dict(values, **{param: pt.p}), pt) for br in branches for pt in br.points]
     return branch_dataset(branches, cont, pb, clearances=clear, curves=curves, seconds=_time.perf_counter() - clock)
 
 
-def _curves(problem, branches, param2, span2, span, max_points, progress):
+def _curves(problem, branches, param2, span2, span, max_points, progress, measure=None):
     """Each located fold, period doubling, Neimark-Sacker point and grazing of the branches, continued in
-    (param, param2)."""
+    (param, param2); with ``measure`` = (system, tol, newton_tol) the codimension-two points on them are
+    stated with measured tolerances (:func:`bifurc.orbits.relocate.measure_codim2`)."""
     from .curves import CurveProblem, follow_curve
     out, index = [], 0
     for br in branches:
         for sp in br.special:
             index += 1
-            if sp.kind not in ("fold", "period_doubling", "neimark_sacker", "grazing") or sp.point is None:
+            if sp.kind not in CURVE_KINDS or sp.point is None:
                 continue
             base = problem if br.period == problem.n else ContinuationProblem(
                 problem.smap, problem.param, br.period, br.k0, scale=problem.scale, p_scale=problem.p_scale,
@@ -153,6 +155,8 @@ def _curves(problem, branches, param2, span2, span, max_points, progress):
                 w0 = cp.pack(sp.point.nodes, sp.p, span2[0], _angle(sp) if sp.kind == "neimark_sacker"
                              else sp.data.get("t_g"))
                 curve = follow_curve(cp, w0, flags_of(sp.point), span2[1], span, max_points=max_points)
+                if measure is not None and curve.special:
+                    measure_codim2(cp, curve, *measure)
                 problem.smap.set_params(**{param2: span2[0]})
             curve.start = index - 1
             out.append(curve)
@@ -213,11 +217,6 @@ def _switch(smap, problem, sp, span, step, max_step, max_points, say):
                          max_points=max_points, bounds=span, label=label,
                          progress=(lambda q: say(q, f"period-{2 * problem.n}")) if say else None)
     return br
-
-
-#: the relative resolution of a located value computed through integrations in double precision (a grazing
-#: located at tol 1e-12 and 1e-14 is 3e-14 relative off its closed form both times: tests/test_grazing_passage.py)
-RESOLUTION = 1e-13
 
 
 def _errors(system, values, param, branches, cont, tol, newton_tol) -> None:

@@ -6,11 +6,11 @@ magnitude per state component and p_s the span asked for.  A branch point solves
 F_j = (P_{k0+j}(z_j; p) - z_{j+1 mod n}) / s, and the arclength condition
 t . (u - u_prev) = h, t the unit tangent (the null vector of DF = [dF/dz | dF/dp]).  Every
 derivative is exact: variational equations with saltation (:meth:`maps.StroboscopicMap.linearize`).
-The corrector is Newton's method on the bordered system [DF; t^T]; the step h grows after easy
-corrections and halves after a failure, a tangent turning by more than ``max_turn`` radians
-or a change of the transition signature.
+The corrector is Newton's method on the bordered system [DF; t^T] (:func:`bordered_newton`, shared with
+the two-parameter curves); predictor, step rule and turning-angle control are the one driver's
+(:mod:`bifurc.orbits.driver`).
 
-The step control, the section moves and the stops are in :mod:`bifurc.orbits.arclength`; test
+The branch's refusals, section moves and stops are in :mod:`bifurc.orbits.arclength`; test
 functions, their location and the discontinuity-induced events in :mod:`bifurc.orbits.special_points`.
 """
 from __future__ import annotations
@@ -29,7 +29,7 @@ from .newton import accept
 from .periodic import _Coordinates, _shooting_matrix
 
 __all__ = ["BranchPoint", "SpecialPoint", "Branch", "ContinuationProblem", "NoConvergence", "SMOOTH_ROLES",
-           "transition_signature", "flags_of", "next_step", "in_section", "unit_tangent", "bordered_newton", "impact_count"]
+           "transition_signature", "flags_of", "in_section", "unit_tangent", "bordered_newton", "impact_count"]
 
 #: event roles that make the map non-smooth when they appear or vanish (observations and
 #: free-flight minima only record; they may come and go along a smooth branch)
@@ -149,18 +149,22 @@ class ContinuationProblem:
         C = np.vstack([(co.R @ L.J_p) / s[:, None] * np.asarray(p_scales)[None, :] for L in lins])
         return F, M, C, lins
 
-    def correct(self, u_pred, normal, flags, *, max_iter: int = 10, max_move: float | None = None):
+    #: the corrector's options for this system (:func:`bordered_newton`)
+    NEWTON = {"max_iter": 10, "stall_after": 3, "tiny_update": True}
+
+    def residual(self, u, flags):
+        """:meth:`evaluate` with its integration failures raised as NoConvergence (the corrector's form)."""
+        try:
+            return self.evaluate(u, flags)
+        except (IntegrationFailure, ZeroDivisionError, ParameterError) as exc:
+            raise NoConvergence(f"the integration failed: {exc}") from None
+
+    def correct(self, u_pred, normal, flags, *, max_move: float | None = None):
         """Newton on [F(u); normal . (u - u_pred)] = 0 from u_pred (:func:`bordered_newton`; a
         predictor step passes ``max_move``, its length).
 
         Returns (u, F, DF, lins, flags, iterations) or raises NoConvergence."""
-        def evaluate(u, flags):
-            try:
-                return self.evaluate(u, flags)
-            except (IntegrationFailure, ZeroDivisionError, ParameterError) as exc:
-                raise NoConvergence(f"the integration failed: {exc}") from None
-        return bordered_newton(evaluate, u_pred, normal, flags, self.tol, max_iter=max_iter, stall_after=3,
-                               tiny_update=True, max_move=max_move)
+        return bordered_newton(self.residual, u_pred, normal, flags, self.tol, max_move=max_move, **self.NEWTON)
 
     def point(self, u, F, DF, lins, flags, iterations, reference, *, tangent=None) -> BranchPoint:
         co = self.co
@@ -252,13 +256,6 @@ def bordered_newton(evaluate, u_pred, normal, flags, tol: float, *, max_iter: in
         u = u + lam * du
         G, DG, lins = trial
     raise NoConvergence("no convergence")   # pragma: no cover - the loop returns or raises
-
-
-def next_step(h: float, iterations: int, max_step: float) -> float:
-    """The one step rule of branches and two-parameter curves: the arclength step after a point the
-    corrector took ``iterations`` to converge: x1.5 after an easy one (<= 3), kept (<= 5), else x0.7,
-    at most ``max_step`` (a failure halves it, down to the driver's min_step)."""
-    return min(max_step, h * (1.5 if iterations <= 3 else 1.0 if iterations <= 5 else 0.7))
 
 
 def flags_of(pt) -> list:

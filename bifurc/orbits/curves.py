@@ -27,7 +27,10 @@ a grazing-fold on a grazing curve (Nordmark's feedback K = 0), a cusp on a fold 
 second-order coefficient b^T D^2F(v, v) = 0, a central difference of exact Jacobians along the null
 vector v) and a fold-flip on a fold curve (det of the shooting matrix with wrap-around +I = 0: a
 multiplier -1 beside the +1) or on a period-doubling curve (det of the shooting matrix = 0: a +1 beside
-the -1).
+the -1).  Each is stated with its bracket (at least the corrector's acceptance), or, with error estimates, a
+measured bound (:func:`bifurc.orbits.relocate.measure_codim2`: located again at tol/100).
+
+A curve is stepped by the one pseudo-arclength driver of branches and curves (:mod:`bifurc.orbits.driver`).
 """
 from __future__ import annotations
 
@@ -39,15 +42,19 @@ import numpy as np
 from maps.hybrid import IntegrationFailure
 from maps.parameters import ParameterError
 
-from ..storage.schema import CURVE_KINDS
-from .continuation import NoConvergence, bordered_newton, impact_count, next_step, unit_tangent
+from ..storage.schema import CURVE_KINDS, SPECIAL_KINDS
+from .continuation import NoConvergence, bordered_newton, impact_count, unit_tangent
+from .driver import Steps, Track, follow
 from .grazing_orbit import grazing_rows
 from .nordmark import normal_form
 
-__all__ = ["Curve", "CurveProblem", "follow_curve", "CURVE_KINDS", "CODIM2"]
+__all__ = ["Curve", "CurveProblem", "follow_curve", "zero_on_curve", "codim2_tests", "correct_curve", "CURVE_KINDS",
+           "CODIM2"]
 
 #: the codimension-two points looked for on each kind of curve
 CODIM2 = {"grazing": ("grazing_fold",), "fold": ("cusp", "fold_flip"), "period_doubling": ("fold_flip",)}
+assert set(CODIM2) <= set(CURVE_KINDS) <= set(SPECIAL_KINDS), "curve kinds outside the one vocabulary"
+assert {k for kinds in CODIM2.values() for k in kinds} <= set(SPECIAL_KINDS), "codim-2 kinds outside the vocabulary"
 
 
 @dataclass
@@ -62,6 +69,7 @@ class Curve:
     stop_reason: str = ""
     start: int = -1            # index of the special point of the branch it starts from
     special: list = field(default_factory=list)   # codimension-two points on it: (kind, p1, p2, tolerance)
+    brackets: list = field(default_factory=list)  # per special point: (w_a, t_a, flags, s_b, bracket widths)
 
 
 class CurveProblem:
@@ -164,75 +172,118 @@ class CurveProblem:
         return np.append(F, sigma.real), np.vstack([top, grad.real]), lins
 
 
-def _correct(problem, w_pred, normal, flags, tol, max_move=None):
+def correct_curve(problem, w_pred, normal, flags, tol, max_move=None):
     """Newton on [G(w); normal . (w - w_pred)] = 0 (:func:`bifurc.orbits.continuation.bordered_newton`); on
     a grazing curve an iterate that adds an impact is damped back toward the last one; a step
     passes its length ``max_move`` (a solution farther away is on another curve: refused).
     Returns (w, G, DG, flags, max |G|, iterations)."""
-    w, G, DG, _, flags, its = bordered_newton(problem.evaluate, w_pred, normal, flags, tol, max_iter=12, stall_after=4,
-                                            tiny_update=False, keep_impacts=problem.kind == "grazing",
-                                            max_move=max_move)
+    w, G, DG, _, flags, its = bordered_newton(problem.evaluate, w_pred, normal, flags, tol, max_move=max_move,
+                                              **newton_options(problem))
     return w, G, DG, flags, float(np.max(np.abs(G))), its
 
 
+def newton_options(problem) -> dict:
+    """The corrector's options on a curve's defining system (:func:`bifurc.orbits.continuation.bordered_newton`):
+    on a grazing curve an iterate that adds an impact is damped back."""
+    return {"max_iter": 12, "stall_after": 4, "tiny_update": False, "keep_impacts": problem.kind == "grazing"}
+
+
 def follow_curve(problem: CurveProblem, w0, flags, p2_end: float, bounds1, *, step: float = 0.02,
-                 max_step: float = 0.1, min_step: float = 1e-6, max_points: int = 100) -> Curve:
+                 max_step: float = 0.1, min_step: float = 1e-6, max_points: int = 100,
+                 max_turn: float = 0.3) -> Curve:
     """Continue the defining system from w0 (a located special point, parameter 2 at its start)
-    toward ``p2_end``, staying inside ``bounds1`` for parameter 1."""
+    toward ``p2_end``, staying inside ``bounds1`` for parameter 1, with the one driver
+    (:func:`bifurc.orbits.driver.follow`; ``max_turn`` [rad] as there)."""
     tol = problem.base.tol
     curve = Curve(problem.kind, problem.names)
     p2_start = float(problem.values(w0)[1])
-    lo2, hi2 = sorted((p2_start, p2_end))
-    lo1, hi1 = sorted(bounds1)
     try:
         if problem.kind != "grazing":
             problem.refresh_bordering(w0, flags)
         e = np.zeros(w0.size)
         e[problem.N + 1] = 1.0                       # fix p2 for the start
-        w, G, DG, flags, norm, _ = _correct(problem, w0, e, flags, tol)
+        w, G, DG, flags, norm, _ = correct_curve(problem, w0, e, flags, tol)
     except NoConvergence as exc:
         curve.stop_reason = f"the start does not converge: {exc}"
         return curve
-    t = unit_tangent(DG, e * math.copysign(1.0, p2_end - p2_start))
-    curve.p1.append(float(problem.values(w)[0]))
-    curve.p2.append(float(problem.values(w)[1]))
-    curve.residual.append(norm)
-    h = step
-    tests = _codim2_tests(problem, w, flags) if problem.kind in CODIM2 else ()
-    while len(curve.p1) < max_points:
-        try:
-            w_new, G, DG, flags_new, norm, its = _correct(problem, w + h * t, t, flags, tol, max_move=h)
-            t_new = unit_tangent(DG, t)
-        except NoConvergence as exc:
-            if h / 2 >= min_step:
-                h /= 2
-                continue
-            curve.stop_reason = f"stopped after ({curve.p1[-1]:.10g}, {curve.p2[-1]:.10g}): {exc} at the smallest step"
-            break
-        w_prev, t_prev, flags_prev = w, t, flags
-        w, t, flags = w_new, t_new, flags_new
-        p1, p2 = problem.values(w)
-        curve.p1.append(float(p1))
-        curve.p2.append(float(p2))
-        curve.residual.append(norm)
-        if problem.kind != "grazing":
+    first = CurvePoint(w, unit_tangent(DG, e * math.copysign(1.0, p2_end - p2_start)), flags, 0, norm)
+    track = _CurveTrack(problem, curve, sorted(bounds1), sorted((p2_start, p2_end)))
+    track.record(None, first)
+    track.tests = codim2_tests(problem, w, flags) if problem.kind in CODIM2 else ()
+    curve.stop_reason = follow(track, first, Steps(step, max_step, min_step, max_turn), max_points)
+    return curve
+
+
+@dataclass
+class CurvePoint:
+    """One corrected point of a curve: scaled unknowns ``u``, unit tangent, mode flags per node, the
+    corrector's iterations and the defining system's largest residual."""
+
+    u: np.ndarray
+    tangent: np.ndarray
+    flags: list
+    iterations: int
+    residual: float
+
+
+class _CurveTrack(Track):
+    """A two-parameter curve for the driver: the defining system's corrector, the bordering refreshed at each
+    point, the codimension-two test functions (``CODIM2``) and the parameter box."""
+
+    def __init__(self, problem, curve, box1, box2):
+        self.problem, self.curve, self.box1, self.box2, self.tests = problem, curve, box1, box2, ()
+
+    def size(self) -> int:
+        return len(self.curve.p1)
+
+    @property
+    def tol(self) -> float:
+        return self.problem.base.tol
+
+    @property
+    def newton(self) -> dict:
+        return newton_options(self.problem)
+
+    def evaluate(self, u, flags):
+        return self.problem.evaluate(u, flags)
+
+    def flags(self, pt) -> list:
+        return pt.flags
+
+    def point(self, prev, u, G, DG, lins, flags, iterations):
+        return CurvePoint(u, unit_tangent(DG, prev.tangent), flags, iterations, float(np.max(np.abs(G))))
+
+    def record(self, prev, pt) -> None:
+        p1, p2 = self.problem.values(pt.u)
+        self.curve.p1.append(float(p1))
+        self.curve.p2.append(float(p2))
+        self.curve.residual.append(pt.residual)
+        if prev is not None and self.problem.kind != "grazing":
             try:
-                problem.refresh_bordering(w, flags)
+                self.problem.refresh_bordering(pt.u, pt.flags)
             except NoConvergence:
                 pass
-        if problem.kind in CODIM2:
-            tests_prev, tests = tests, _codim2_tests(problem, w, flags)
-            for i, kind in enumerate(CODIM2[problem.kind]):
-                if tests_prev[i] * tests[i] < 0:
-                    _locate_zero(problem, curve, kind, lambda w_, f_, i=i: _codim2_tests(problem, w_, f_)[i], w_prev,
-                                 t_prev, flags_prev, tests_prev[i], tests[i], float(t_prev @ (w - w_prev)))
+
+    def detect(self, prev, pt) -> None:
+        problem = self.problem
+        if problem.kind not in CODIM2:
+            return
+        before, self.tests = self.tests, codim2_tests(problem, pt.u, pt.flags)
+        for i, kind in enumerate(CODIM2[problem.kind]):
+            if before[i] * self.tests[i] < 0:
+                _locate_zero(problem, self.curve, kind, lambda w_, f_, i=i: codim2_tests(problem, w_, f_)[i],
+                             prev.u, prev.tangent, prev.flags, before[i], self.tests[i],
+                             float(prev.tangent @ (pt.u - prev.u)))
+
+    def outside(self, pt):
+        p1, p2 = self.problem.values(pt.u)
+        (lo1, hi1), (lo2, hi2) = self.box1, self.box2
         if not (lo2 - 1e-12 <= p2 <= hi2 + 1e-12 and lo1 - 1e-12 <= p1 <= hi1 + 1e-12):
-            curve.stop_reason = f"left the parameter box at ({p1:.10g}, {p2:.10g})"
-            break
-        h = next_step(h, its, max_step)
-    else:
-        curve.stop_reason = f"reached max_points = {max_points}"
-    return curve
+            return f"left the parameter box at ({p1:.10g}, {p2:.10g})"
+        return None
+
+    def fail(self, prev, pt, why, u_pred):
+        return f"stopped after ({self.curve.p1[-1]:.10g}, {self.curve.p2[-1]:.10g}): {why} at the smallest step"
 
 
 def _feedback(problem, w, flags, shift: float = 1e-9) -> float:
@@ -261,7 +312,7 @@ def _feedback(problem, w, flags, shift: float = 1e-9) -> float:
         return math.nan
 
 
-def _codim2_tests(problem, w, flags) -> tuple:
+def codim2_tests(problem, w, flags) -> tuple:
     """The test functions of the codimension-two points ``CODIM2[problem.kind]`` at the curve point w:
     Nordmark's K on a grazing curve (:func:`_feedback`); (cusp, fold-flip) on a fold curve
     (:func:`_fold_tests`); on a period-doubling curve det of the shooting matrix (zero where a multiplier
@@ -301,13 +352,28 @@ def _fold_tests(problem, w, flags, eps: float = 1e-5) -> tuple:
     return float(b @ (M_plus - M_minus) @ v / (2 * eps)), float(np.linalg.det(A_pd))
 
 
-def _locate_zero(problem, curve, kind, test, w_a, t_a, flags, K_a, K_b, s_b, max_iter: int = 40) -> None:
+def _locate_zero(problem, curve, kind, test, w_a, t_a, flags, K_a, K_b, s_b) -> None:
     """Locate where the test function ``test(w, flags)`` changes sign between the curve points w_a and
-    w_a + s_b t_a (Illinois false position on the arclength, each evaluation a corrected curve point) and
-    record it as ``kind`` in ``curve.special`` with its tolerance: the bracket's width in the parameters,
-    at least the corrector's acceptance (newton_tol times each parameter's span).  Kinds: ``CODIM2``; a
-    grazing-fold is where the impacting orbits' fold meets the grazing.  A sign change through a pole
-    is not a zero: refused."""
+    w_a + s_b t_a (:func:`zero_on_curve`) and record it as ``kind`` in ``curve.special`` with its
+    tolerance: the bracket's width in the parameters, at least the corrector's acceptance (newton_tol times
+    each parameter's span), and its bracket in ``curve.brackets`` (for a measured tolerance:
+    :func:`bifurc.orbits.relocate.measure_codim2`).  Kinds: ``CODIM2``; a grazing-fold is where the
+    impacting orbits' fold meets the grazing."""
+    found = zero_on_curve(problem, test, w_a, t_a, flags, K_a, K_b, s_b)
+    if found is None:
+        return
+    p, width = found
+    floor = problem.base.tol * problem.p_scales       # the corrector's acceptance, in parameter units
+    curve.special.append((kind, float(p[0]), float(p[1]), float(np.max(np.maximum(width, floor)))))
+    curve.brackets.append((np.array(w_a, dtype=float), np.array(t_a, dtype=float), [dict(f) for f in flags],
+                           float(s_b), width))
+
+
+def zero_on_curve(problem, test, w_a, t_a, flags, K_a, K_b, s_b, max_iter: int = 40):
+    """(p, width): the parameters (p1, p2) where ``test(w, flags)`` changes sign between the curve points
+    w_a and w_a + s_b t_a (Illinois false position on the arclength, each evaluation a corrected curve
+    point) and the final bracket's width in each; None where the location fails or the sign change is
+    through a pole of the test function, not a zero."""
     s_lo, s_hi, f_lo, f_hi, side, w = 0.0, s_b, K_a, K_b, 0, w_a
     K, p_lo, p_hi = K_a, problem.values(w_a), problem.values(w_a + s_b * t_a)
     for _ in range(max_iter):
@@ -316,10 +382,10 @@ def _locate_zero(problem, curve, kind, test, w_a, t_a, flags, K_a, K_b, s_b, max
             s = 0.5 * (s_lo + s_hi)
         w, s = _correct_near(problem, w_a, t_a, flags, s, s_lo, s_hi)
         if w is None:
-            return
+            return None
         K = test(w, flags)
         if not math.isfinite(K):
-            return
+            return None
         if (K < 0) == (f_lo < 0):
             s_lo, f_lo, p_lo = s, K, problem.values(w)
             f_hi = f_hi / 2 if side == -1 else f_hi
@@ -331,11 +397,8 @@ def _locate_zero(problem, curve, kind, test, w_a, t_a, flags, K_a, K_b, s_b, max
         if K == 0.0 or s_hi - s_lo < 1e-12:
             break
     if abs(K) > 1e-6 * min(abs(K_a), abs(K_b)):
-        return                                   # a pole of the test function, not a zero
-    p1, p2 = problem.values(w)
-    floor = problem.base.tol * problem.p_scales       # the corrector's acceptance, in parameter units
-    curve.special.append((kind, float(p1), float(p2), float(np.max(np.maximum(np.abs(np.asarray(p_hi) - p_lo),
-                                                                               floor)))))
+        return None                              # a pole of the test function, not a zero
+    return problem.values(w), np.abs(np.asarray(p_hi) - p_lo)
 
 
 def _correct_near(problem, w_a, t_a, flags, s: float, s_lo: float, s_hi: float):
@@ -346,7 +409,7 @@ def _correct_near(problem, w_a, t_a, flags, s: float, s_lo: float, s_hi: float):
     for k in range(4):
         s_k = s + 0.02 * k * (mid - s)
         try:
-            w, *_ = _correct(problem, w_a + s_k * t_a, t_a, flags, problem.base.tol)
+            w, *_ = correct_curve(problem, w_a + s_k * t_a, t_a, flags, problem.base.tol)
             return w, s_k
         except NoConvergence:
             continue

@@ -186,5 +186,14 @@ def _put_curves(ds, curves, system) -> None:
     for name in ("curve_residual", "curve_kind", "curve_special", "curve_stop_reason"):
         put(ds, _ROWS[name], columns[name])
     ds.attrs["curve_parameters"] = f"{p1} {p2}"
-    ds.attrs["curve_codim2"] = "; ".join(f"{kind} on curve {i}: ({p1}, {p2}) = ({a:.12g}, {b:.12g}) +- {tol:.2g}"
+    ds.attrs["curve_codim2"] = "; ".join(f"{kind} on curve {i}: ({p1}, {p2}) = ({a:.17g}, {b:.17g}) +- "
+                                         f"{_rounded_up(tol):.2g}"
                                          for i, c in enumerate(curves) for kind, a, b, tol in c.special)
+
+
+def _rounded_up(x: float) -> float:
+    """``x`` rounded up to two significant digits (a stated tolerance printed never below its value)."""
+    if not (math.isfinite(x) and x > 0):
+        return x
+    unit = 10.0 ** (math.floor(math.log10(x)) - 1)
+    return math.ceil(x / unit * (1 - 1e-12)) * unit

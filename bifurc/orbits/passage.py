@@ -19,6 +19,7 @@ from maps.engines.scalar import HybridRun
 from maps.hybrid import HybridState, IntegrationFailure
 from maps.parameters import ParameterError
 
+from ..storage.schema import SPECIAL_KINDS
 from .continuation import NoConvergence, transition_signature
 from .grazing_orbit import gap_derivatives, locate_grazing
 from .nordmark import impact_speed, predict
@@ -28,6 +29,7 @@ __all__ = ["PASSABLE", "restart"]
 
 #: the events a branch is continued through
 PASSABLE = ("grazing", "impact_lost", "stick_onset", "signature_change")
+assert set(PASSABLE) <= set(SPECIAL_KINDS), "special-point kinds outside the one vocabulary"
 
 #: the far side's distances from the event, in units of the span
 LADDER = (1e-5, 1e-4, 1e-3, 1e-2)

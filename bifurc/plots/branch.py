@@ -21,6 +21,8 @@ _MEANINGS = {"fold": "fold", "period_doubling": "period doubling", "neimark_sack
              "grazing": "grazing", "impact_lost": "impact lost", "stick_onset": "stick onset",
              "signature_change": "event sequence changes", "cusp": "cusp", "fold_flip": "fold-flip",
              "grazing_fold": "grazing-fold", "curve_crossing": "curves cross", "resonance": "resonance"}
+assert set(SPECIAL_LABELS) == set(_MARKERS) == set(_MEANINGS) == set(SPECIAL_KINDS), \
+    "the figure's labels must name exactly the special-point kinds of storage.schema.SPECIAL_KINDS"
 
 
 def plot_branch(ds, path=None, state=None, node: int = 0, ax=None, diagram=None, overwrite=False, label=None,

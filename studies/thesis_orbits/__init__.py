@@ -240,6 +240,22 @@ def _bounding_special(ds, i: int, k: int):
     return best
 
 
+#: what benchmarks/stick_onset_continuity.py found past the stick onsets of the measured law's branch at 10 Hz
+STICK_ONSET_NOTE = (
+    "Past each stick onset the branch restarts into an orbit with one impact more.  The same family "
+    "(`python benchmarks/stick_onset_continuity.py`, benchmarks/README.md): each such piece, continued back, stops "
+    "3.6e-5 to 8e-4 V above its onset where sticking sets in, its strobe state as far from the n-impact orbit's at "
+    "the onset as that orbit's own slope times the distance (to 3 %): the state is continuous; the largest "
+    "multiplier differs by 0.2-4.5 % (the map is only piecewise smooth there).  The short stretch between, where "
+    "both pieces' maps show a stick, is skipped by the restart's first try (0.00205 V), not resolved.")
+
+
+def _restarted_at_stick_onset(branches) -> bool:
+    """Some branch was restarted past a stick onset (its stop reasons say so)."""
+    return any("sticking sets in" in ds.attrs.get("branch_stop_reasons", "") and "continued from" in
+               ds.attrs.get("branch_stop_reasons", "") for ds in branches)
+
+
 def report(cases, quick, seconds) -> str:
     from bifurc.report import class_at
     from bifurc.storage.schema import SPECIAL_KINDS
@@ -284,6 +300,8 @@ def report(cases, quick, seconds) -> str:
                          f"{'s' if m != 1 else ''} per period already followed")
         for seed, source, why in c["misses"]:
             lines.append(f"- no orbit from {source} at V = {seed:g} V: {why}")
+        if law == "measured" and hz == 10.0 and _restarted_at_stick_onset(c["branches"]):
+            lines += ["", STICK_ONSET_NOTE]
         lines += ["", "Brute-force classes of the sweep at the same law and frequency:", "",
                   "| V [V] | class | on a stable continued branch |", "|---|---|---|"]
         for V in diagram.V.values[:: max(1, diagram.sizes['V'] // 12)]:
