@@ -144,3 +144,24 @@ def test_stated_tolerances_of_codimension_two_points_are_measured_bounds():
         exact = (0.0, 0.0) if kind == "cusp" else (math.copysign(0.25, a), 0.75)
         err = max(abs(a - exact[0]), abs(b - exact[1]))
         assert err <= tol <= 100 * max(err, ROUND_OFF * span), (kind, a, b, err, tol)
+
+
+def test_a_codim2_point_whose_re_location_failed_says_its_tolerance_is_not_measured():
+    """A stored curve_codim2 line names a point whose tol/100 re-location failed (its tolerance is then the
+    bracket, not a measured bound), and the figure's reader still parses every point."""
+    import types
+
+    import xarray as xr
+
+    from bifurc.orbits.curves import Curve
+    from bifurc.orbits.dataset import _put_curves
+    from bifurc.plots.branch import codim2_points
+    c = Curve("fold", ("a", "b"), p1=[0.0, 1.0], p2=[0.0, 1.0], residual=[0.0, 0.0],
+              special=[("cusp", 0.5, 0.25, 1e-9), ("fold_flip", 0.75, 0.5, 2e-9)], unmeasured={1})
+    system = types.SimpleNamespace(parameter=lambda name: types.SimpleNamespace(unit="1"))
+    ds = xr.Dataset()
+    _put_curves(ds, [c], system)
+    lines = ds.attrs["curve_codim2"].split("; ")
+    assert "not a measured bound" not in lines[0] and "re-location at tol/100 failed" in lines[1]
+    assert [(k, a, b, tol) for k, _, a, b, tol in codim2_points(ds)] == [("cusp", 0.5, 0.25, 1e-9),
+                                                                         ("fold_flip", 0.75, 0.5, 2e-9)]

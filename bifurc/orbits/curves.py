@@ -70,6 +70,7 @@ class Curve:
     start: int = -1            # index of the special point of the branch it starts from
     special: list = field(default_factory=list)   # codimension-two points on it: (kind, p1, p2, tolerance)
     brackets: list = field(default_factory=list)  # per special point: (w_a, t_a, flags, s_b, bracket widths)
+    unmeasured: set = field(default_factory=set)  # indices of special points whose re-location failed
 
 
 class CurveProblem:

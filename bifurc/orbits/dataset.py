@@ -187,8 +187,11 @@ def _put_curves(ds, curves, system) -> None:
         put(ds, _ROWS[name], columns[name])
     ds.attrs["curve_parameters"] = f"{p1} {p2}"
     ds.attrs["curve_codim2"] = "; ".join(f"{kind} on curve {i}: ({p1}, {p2}) = ({a:.17g}, {b:.17g}) +- "
-                                         f"{_rounded_up(tol):.2g}"
-                                         for i, c in enumerate(curves) for kind, a, b, tol in c.special)
+                                         f"{_rounded_up(tol):.2g}" + (" (the bracket: its re-location at tol/100 "
+                                                                      "failed, not a measured bound)"
+                                                                      if j in c.unmeasured else "")
+                                         for i, c in enumerate(curves)
+                                         for j, (kind, a, b, tol) in enumerate(c.special))
 
 
 def _rounded_up(x: float) -> float:

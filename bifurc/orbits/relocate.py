@@ -91,10 +91,12 @@ def measure_codim2(cp, curve, system, tol: float, newton_tol: float) -> None:
     times the larger of |p2| and the parameter's span: the resolution of a value computed through
     integrations), p2 located again from the same curve points with the integration and Newton at
     tol/100 (:func:`relocate_codim2`).  Where that fails, the stated tolerance (bracket, at least the
-    corrector's acceptance) is kept."""
+    corrector's acceptance) is kept and the point is listed in ``curve.unmeasured`` (its stored line says
+    so)."""
     for i, (kind, p1, p2, stated) in enumerate(curve.special):
         again = relocate_codim2(cp, curve, i, system, tol, newton_tol)
         if again is None:
+            curve.unmeasured.add(i)
             continue
         p_again, width2 = again
         own = np.maximum(width2, RESOLUTION * np.maximum(np.abs(p_again), cp.p_scales))
