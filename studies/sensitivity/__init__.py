@@ -49,9 +49,13 @@ MEDIUM = dict(FULL, N=8)
 OUTPUTS = {"share_p1": "share of cells P1-1 (mechanical)", "energy_mJ": "mean impact energy on them [mJ]",
            "stroke_mm": "mean stroke on them [mm]", "stroke_min_mm": "smallest stroke on them [mm]",
            "rate_mm_s": "2-DOF progression rate [mm/s]"}
-#: the thesis' period-1 moved the bar a few millimetres (its sensor spanned +-5 mm): a P1-1 cell with a
-#: stroke at most this counts as the thesis' regime [mm]
+#: the thesis' period-1 moved the bar a few millimetres (its sensor spanned +-5 mm): a P1-1 cell whose
+#: stroke is at most FEW_MM is a candidate, thesis-like where its settled stroke lies in THESIS_STROKE [mm]
+#: (below 1 mm the bar chatters at the stop: not the thesis' hammering)
 FEW_MM = 10.0
+THESIS_STROKE = (1.0, FEW_MM)
+#: a thesis-like cell is confirmed on a record ten times the full form's (relay periods)
+CONFIRM = dict(transient=2000, record=400)
 
 
 def problem_spec(size):
@@ -94,39 +98,52 @@ def _values(sample: dict, keys) -> dict:
 def evaluate(sample: dict, size: dict) -> dict:
     """The outputs of one sample (:data:`OUTPUTS`; inputs not in ``sample`` take the model's defaults)."""
     import maps
-    from bifurc.sweeps.regime import regime_map
-    n, vf = size["n"], sample.get("v_factor", 1.0)
-    params = _values(sample, ("F_dc_sat", "c_air", "dc_scale", "R", "C", "k", "c"))
-    params.setdefault("c_air", 0.0)
-    relays, volts = np.linspace(*RELAY, n), np.linspace(*VOLTS, n) * vf
-    ds = regime_map(SCENE, "relay_hz", relays, "V", volts, preset=PRESET, dc_law=LAW, params=params,
-                    transient=size["transient"], record=size["record"], workers=1, progress=False,
-                    error_sample=0, lyapunov=False)
-    from bifurc.codes import ClassCode
-    hit = ((ds.period_mechanical == 1) & (ds.impacts_per_period_mechanical == 1)
-           & (ds.class_code == ClassCode.PERIODIC)).values
-    m = float(ds.attrs.get("param_m", 0.155))
-    energies, strokes = [], []
-    total = size["transient"] + size["record"]
-    for i, j in zip(*np.nonzero(hit)):
-        energies.append(0.5 * m * float(ds.min_impact_speed.values[i, j]) ** 2 * 1e3)
-        strokes.append(stroke(dict(params, relay_hz=float(relays[i]), V=float(volts[j])), total) * 1e3)
+    vf = sample.get("v_factor", 1.0)
+    cells, share = hammering_cells(sample, size)
+    energies, strokes = [c["energy_mJ"] for c in cells], [c["stroke_mm"] for c in cells]
     p2 = dict(_values(sample, ("F_dc_sat", "c_air", "P_max")), V=90.0 * vf,
               relay_hz=6.0)
     p2["dc_scale"] = 1.44 * sample.get("dc_scale", 1.0)
     p2["dc_scale"] = min(p2["dc_scale"], 100.0)
     h2 = maps.simulate("prototype", periods=size["periods_2dof"], dc_law=LAW, soil="drift", params=p2)
-    return {"share_p1": float(hit.mean()), "energy_mJ": float(np.mean(energies)) if energies else math.nan,
+    return {"share_p1": share, "energy_mJ": float(np.mean(energies)) if energies else math.nan,
             "stroke_mm": float(np.mean(strokes)) if strokes else math.nan,
             "stroke_min_mm": float(np.min(strokes)) if strokes else math.nan,
             "rate_mm_s": float(h2.progression_rate) * 1e3}
 
 
-def stroke(params: dict, periods: int, samples: int = 1000) -> float:
+def hammering_cells(sample: dict, size: dict, **record) -> tuple:
+    """([cell], share): the (relay, V) cells of the sample's map that hammer mechanical period-1 with one
+    impact per relay period, each a dict of its relay [Hz], V [V], impact energy [mJ] and stroke [mm]
+    (``record``: transient=, record= to override the form's)."""
+    from bifurc.codes import ClassCode
+    from bifurc.sweeps.regime import regime_map
+    n, vf = size["n"], sample.get("v_factor", 1.0)
+    params = _values(sample, ("F_dc_sat", "c_air", "dc_scale", "R", "C", "k", "c"))
+    params.setdefault("c_air", 0.0)
+    relays, volts = np.asarray(record.pop("relays", np.linspace(*RELAY, n))), \
+        np.asarray(record.pop("volts", np.linspace(*VOLTS, n) * vf))
+    periods = dict(dict(transient=size["transient"], record=size["record"]), **record)
+    ds = regime_map(SCENE, "relay_hz", relays, "V", volts, preset=PRESET, dc_law=LAW, params=params, workers=1,
+                    progress=False, error_sample=0, lyapunov=False, **periods)
+    hit = ((ds.period_mechanical == 1) & (ds.impacts_per_period_mechanical == 1)
+           & (ds.class_code == ClassCode.PERIODIC)).values
+    m = float(ds.attrs.get("param_m", 0.155))
+    total = periods["transient"] + periods["record"]
+    cells = [{"relay_hz": float(relays[i]), "V": float(volts[j]),
+              "energy_mJ": 0.5 * m * float(ds.min_impact_speed.values[i, j]) ** 2 * 1e3,
+              "stroke_mm": stroke(dict(params, relay_hz=float(relays[i]), V=float(volts[j])), total) * 1e3}
+             for i, j in zip(*np.nonzero(hit))]
+    return cells, float(hit.mean())
+
+
+def stroke(params: dict, periods: int, samples: int = 1000, impacts: bool = False):
     """Bar stroke [m]: the range of x over the last of ``periods`` relay periods from the scene's start,
     sampled ``samples`` times in it.  A bare scalar run at tol 1e-10 without stops at observation-only
-    guards (as the map's transients; the motion is the same): about 40 times cheaper than
-    ``maps.simulate``'s full time history at the same samples (benchmarks/sensitivity.py)."""
+    guards: about 40 times cheaper than ``maps.simulate``'s full time history at the same samples
+    (benchmarks/sensitivity.py).  It is another trajectory than the map's (the batch engine's): where
+    attractors coexist and the transient is long the two can land apart, which ``impacts=True`` shows by
+    returning (stroke, impacts in that last period)."""
     from maps.engines.scalar import HybridRun
     from maps.problem import problem
     pb = problem(SCENE, PRESET, params, dc_law=LAW)
@@ -145,7 +162,11 @@ def stroke(params: dict, periods: int, samples: int = 1000) -> float:
         run.reset(0.0, pb.state_vector(), pb.system.initial_flags(0.0, pb.values, pb.flags0))
     run.advance(times[0])
     run.advance(times[-1], on_segment=on_segment)
-    return float(np.ptp(np.concatenate(xs))) if xs else math.nan
+    out = float(np.ptp(np.concatenate(xs))) if xs else math.nan
+    if not impacts:
+        return out
+    from maps.impacts import impact_table
+    return out, int(np.sum(impact_table(run)["t"] >= times[0]))
 
 
 def run(out, quick=False, progress=True, overwrite=False, workers=None, scheduler=None, size=None) -> dict:
@@ -184,13 +205,46 @@ def run(out, quick=False, progress=True, overwrite=False, workers=None, schedule
                    on_chunk=take, collect=False)
     bar.close()
     seconds = _time.perf_counter() - clock
+    wall = out / "wall.json"      # the wall time of every run into this folder (a resumed run adds its own)
+    total = (json.loads(wall.read_text())["seconds"] if wall.is_file() else 0.0) + seconds
+    wall.write_text(json.dumps({"seconds": total}))
     Y = {o: np.array([done[i][o] for i in range(len(rows))]) for o in OUTPUTS}
     result = analyse(rows, n_oat, Y, size)
-    result.update(size=dict(size), seconds=seconds, n_samples=len(rows), n_run=len(todo), outputs_per_sample=Y)
+    result.update(size=dict(size), seconds=seconds, seconds_all_runs=total, n_samples=len(rows), n_run=len(todo), outputs_per_sample=Y,
+                  thesis_like=thesis_like(rows, names, size, Y), hit_ranges=hit_ranges(rows, names, Y))
     write_text(out / "samples.json", json.dumps({"inputs": names, "rows": rows.tolist(),
                                                  "outputs": {o: Y[o].tolist() for o in Y}}), overwrite=True)
     write_text(out / "report.md", report(result, size, quick, seconds, len(rows), len(todo)), overwrite=True)
     return result
+
+
+def thesis_like(rows, names, size, Y) -> list:
+    """Each P1-1 cell with a stroke of at most :data:`FEW_MM`, found again by re-running its sample's map, and
+    that cell re-run on a record ten times longer (:data:`CONFIRM`): [dict(sample, inputs, relay_hz, V, energy_mJ,
+    stroke_mm, longer: the longer record's P1-1 cell or None, confirmed: P1-1 there with a stroke in
+    :data:`THESIS_STROKE`)]."""
+    out = []
+    pick = np.nonzero((np.asarray(Y["share_p1"]) > 0) & (np.asarray(Y["stroke_min_mm"]) <= FEW_MM))[0]
+    for i in pick:
+        sample = dict(zip(names, map(float, rows[i])))
+        for c in hammering_cells(sample, size)[0]:
+            if c["stroke_mm"] <= FEW_MM:
+                again = hammering_cells(sample, size, relays=[c["relay_hz"]], volts=[c["V"]], **CONFIRM)[0]
+                longer = again[0] if again else None
+                cell = dict(_values(sample, ("F_dc_sat", "c_air", "dc_scale", "R", "C", "k", "c")),
+                            relay_hz=c["relay_hz"], V=c["V"])
+                hits = [stroke(cell, n, impacts=True)[1] for n in (size["transient"] + size["record"],
+                                                                   CONFIRM["transient"] + CONFIRM["record"])]
+                ok = (longer is not None and hits[1] == 1
+                      and THESIS_STROKE[0] <= longer["stroke_mm"] <= THESIS_STROKE[1])
+                out.append(dict(c, sample=int(i), inputs=sample, longer=longer, stroke_run_impacts=hits, confirmed=ok))
+    return out
+
+
+def hit_ranges(rows, names, Y) -> dict:
+    """{input: (lowest, highest)} over the samples with a P1-1 cell (empty without one)."""
+    hit = np.asarray(Y["share_p1"]) > 0
+    return {k: (float(rows[hit, j].min()), float(rows[hit, j].max())) for j, k in enumerate(names)} if hit.any() else {}
 
 
 def analyse(rows, n_oat, Y, size) -> dict:
@@ -239,7 +293,8 @@ def report(result, size, quick, seconds, n_rows, n_run) -> str:
              f"Form: {form}: inputs {', '.join(size['inputs'])}; N = {size['N']}; "
              f"{size['n']} x {size['n']} cells per sample ({size['transient']} transient + {size['record']} "
              f"recorded relay periods); prototype {size['periods_2dof']} relay periods.  {n_rows} samples "
-             f"({n_run} run now) in {seconds:.0f} s wall.  Toolkit {__version__}.", "",
+             f"({n_run} run now) in {seconds:.0f} s wall ({result.get('seconds_all_runs', seconds):.0f} s over every "
+             f"run into its folder).  Toolkit {__version__}.", "",
              "## Inputs and their documented ranges", "", "| input | low | high | unit | source |", "|---|---|---|---|---|"]
     lines += [f"| {k} | {INPUTS[k][0]:g} | {INPUTS[k][1]:g} | {INPUTS[k][2]} | {INPUTS[k][3]} |" for k in size["inputs"]]
     lines += ["", "## One at a time (tornado): each output at the input's low / high end, others mid-range", "",
@@ -259,8 +314,32 @@ def report(result, size, quick, seconds, n_rows, n_run) -> str:
             continue
         lines += [f"| {o} | {k} | {_f(v['S1'], '.2f')} | ±{_f(v['S1_conf'], '.2f')} | {_f(v['ST'], '.2f')} | "
                   f"±{_f(v['ST_conf'], '.2f')} |" for k, v in s.items()]
+    lines += ["", f"## Thesis-like cells: P1-1 with a stroke of at most {FEW_MM:g} mm", ""] + _thesis_like_lines(result)
     lines += ["", "## Finding", "", finding(result, size), ""]
     return "\n".join(lines)
+
+
+def _thesis_like_lines(result) -> list:
+    cells, size = result.get("thesis_like", []), result["size"]
+    if not cells:
+        return [f"None in the {len(result['outputs_per_sample']['share_p1'])} samples."]
+    lines = [f"Each found again by re-running its sample's map, then re-run alone over {CONFIRM['transient']} + "
+             f"{CONFIRM['record']} relay periods: thesis-like where it is still P1-1 there with a stroke of "
+             f"{THESIS_STROKE[0]:g}-{THESIS_STROKE[1]:g} mm.  V is the amplitude applied (the volts read times "
+             "v_factor).", "",
+             "The stroke comes from a scalar run from the same start, the class and impact energy from the map's batch "
+             "run: a cell is thesis-like only where the scalar run also strikes once in its last relay period (else "
+             "the two runs settled on different attractors and the stroke is not the P1-1 orbit's).", "",
+             "| sample | relay [Hz] | V [V] | stroke [mm] | impact energy [mJ] | longer record | scalar run's impacts in "
+             f"its last period ({size['transient'] + size['record']}, {sum(CONFIRM.values())} periods) | inputs |", "|---|---|---|---|---|---|---|---|"]
+    for c in cells:
+        inputs = ", ".join(f"{k} {_f(v, '.4g')}" for k, v in c["inputs"].items())
+        got = c["longer"]
+        longer = ("not P1-1" if got is None else f"P1-1, stroke {_f(got['stroke_mm'])} mm, impact energy "
+                  f"{_f(got['energy_mJ'])} mJ: {'thesis-like' if c['confirmed'] else 'not shown thesis-like'}")
+        lines.append(f"| {c['sample']} | {c['relay_hz']:.4g} | {c['V']:.4g} | {_f(c['stroke_mm'])} | "
+                     f"{_f(c['energy_mJ'])} | {longer} | {', '.join(map(str, c['stroke_run_impacts']))} | {inputs} |")
+    return lines
 
 
 def finding(result, size) -> str:
@@ -280,7 +359,13 @@ def finding(result, size) -> str:
     few, n_hit, smallest = _few_mm(result)
     text += (f"  Samples with a P1-1 cell: {n_hit} of {len(result['outputs_per_sample']['share_p1'])}; with one whose "
              f"stroke is at most {FEW_MM:g} mm (the thesis' few-mm period-1 at 25-90 V): {few}"
-             + (f" (smallest stroke on any P1-1 cell: {_f(smallest)} mm)." if n_hit else "."))
+             + (f" (smallest stroke on any P1-1 cell: {_f(smallest)} mm)" if n_hit else "")
+             + f"; thesis-like after the checks of the section above: "
+               f"{sum(c['confirmed'] for c in result.get('thesis_like', []))}.")
+    narrow = [f"{k} within {_f(a)}-{_f(b)} (documented {_f(INPUTS[k][0])}-{_f(INPUTS[k][1])})"
+              for k, (a, b) in result.get("hit_ranges", {}).items() if b - a < 0.5 * (INPUTS[k][1] - INPUTS[k][0])]
+    if narrow:
+        text += "  Every sample with a P1-1 cell has " + "; ".join(narrow) + "."
     return text
 
 
@@ -305,6 +390,8 @@ def findings(results, quick) -> list:
            Finding("share_p1 mean over samples", round(float(np.mean(Y["share_p1"])), 6), cell, "1"),
            Finding("samples with a P1-1 cell", int(np.sum(np.asarray(Y["share_p1"]) > 0)), 1, "samples"),
            Finding(f"samples with a P1-1 cell of stroke at most {FEW_MM:g} mm", _few_mm(results)[0], 1, "samples"),
+           Finding("thesis-like cells (P1-1, stroke 1-10 mm on the longer record)",
+                   sum(c["confirmed"] for c in results.get("thesis_like", [])), 0, "cells"),
            Finding("rate_mm_s at mid-range", round(results["base"]["rate_mm_s"], 4), 0.05, "mm s-1")]
     for o in ("share_p1", "rate_mm_s"):
         swing = {k: abs(v[o][1] - v[o][0]) for k, v in results["tornado"].items() if np.all(np.isfinite(v[o]))}
