@@ -5,11 +5,16 @@ The recurrence test follows the design of Attractors.jl's ``AttractorsViaRecurre
 Wagemakers 2022), written anew for hybrid maps: each start is iterated in chunks of ``chunk`` strobe
 periods (one batch call for all active starts); each strobe point falls in a grid cell; a start whose
 ``land`` consecutive points lie in the cells of one known attractor is counted for it (early stop);
-one whose ``recur`` consecutive points fall in cells it visited before has found an attractor: it is
-recorded ``locate`` more periods with a tangent vector, classified (:mod:`bifurc.sweeps.classify`),
-polished by Newton where periodic and matched against the attractors already found (:mod:`.identify`).
-A start that escapes or fails is that outcome; one still undecided after ``max_periods`` is
-"not_converged".
+one whose ``recur`` consecutive points fall in cells it visited before has found an attractor.  A recurring
+start whose last chunk repeats with a period is identified at once (a known periodic orbit, or Newton:
+a stable polished orbit).  One that recurs without a period is judged only once it is ``settle`` periods
+old, the same age on every grid: its chunk sharing cells with a known non-periodic attractor counts for it,
+else it is recorded ``locate`` more periods with a tangent vector and classified
+(:mod:`bifurc.sweeps.classify`; one exponent per distinct set, not per start).  Before that age a chaotic
+transient is not called an attractor, and a start lands on a non-periodic set's cells only from that age on,
+so whether a start ends chaotic, periodic or not converged does not depend on when the grid's cells
+happened to recur.  A start that escapes or fails is that outcome; one still undecided after
+``max_periods`` (or ``max_tries`` undecided records) is "not_converged".
 """
 from __future__ import annotations
 
@@ -20,7 +25,8 @@ import numpy as np
 
 from maps.hybrid import HybridState
 
-from .identify import Attractor, Grid, from_chunk, identify, same_attractor
+from ..sweeps.classify import candidate_periods
+from .identify import Attractor, Grid, from_chunk, identify, near_periods, same_attractor
 
 __all__ = ["Settings", "Track", "census_at", "OUTCOMES"]
 
@@ -32,9 +38,12 @@ OUTCOMES = {"escaped": -1, "not_converged": -2, "failed": -3}
 class Settings:
     """Census settings: periods per chunk, consecutive points to land or recur, periods recorded to
     identify, the budget per start [strobe periods], the period search, Newton's tolerance, SIMD lanes and
-    the records (``locate`` periods each) after which a start still undecided is "not_converged"."""
+    the records (``locate`` periods each) after which a start still undecided is "not_converged", and the
+    age [strobe periods] from which a start recurring without a period is judged (chaotic or
+    quasi-periodic) or may land on a non-periodic attractor, and the periods over which a new non-periodic
+    set's copies must keep off every period for the set to be an attractor (:func:`_persists`)."""
 
-    chunk: int = 20
+    chunk: int = 40
     land: int = 6
     recur: int = 20
     locate: int = 48
@@ -43,6 +52,8 @@ class Settings:
     newton_tol: float = 1e-10
     batch_size: int = 4
     max_tries: int = 6
+    settle: int = 200
+    persist: int = 4000
 
 
 @dataclass
@@ -59,13 +70,15 @@ class Track:
     outcome: int | None = None
     periods: int = 0
     last: object = None
+    last_keys: list = field(default_factory=list)
 
 
-def _step_cells(t: Track, keys: list, owner: dict, s: Settings) -> str:
-    """Walk the new points' cells: 'land' (outcome set), 'recur' (an attractor found) or ''."""
-    for key in keys:
+def _step_cells(t: Track, keys: list, owner: dict, s: Settings, late: set) -> str:
+    """Walk the new points' cells: 'land' (outcome set), 'recur' (an attractor found) or ''.  The cells of a
+    non-periodic attractor (ids in ``late``) count for landing only from the age ``s.settle`` on."""
+    for j, key in enumerate(keys):
         aid = owner.get(key)
-        if aid is not None:
+        if aid is not None and (aid not in late or t.periods + j + 1 >= s.settle):
             t.land = t.land + 1 if aid == t.land_id else 1
             t.land_id = aid
             if t.land >= s.land:
@@ -93,7 +106,8 @@ def census_at(smap, starts: list, grid: Grid, settings: Settings, *, k0=0,
     tracks = [Track(st, int(k)) for st, k in zip(starts, ks)]
     found: list[Attractor] = list(known or [])
     owner: dict = {c: i for i, a in enumerate(found) for c in a.cells}
-    tried: set = set()          # (period, cell) where Newton failed
+    tried: dict = {}            # {(period, cell): mismatch} where Newton failed (identify._polish_once)
+    saddles: list = []          # non-periodic sets whose copies all fell onto periods: transients, not attractors
     active = list(range(len(tracks)))
     while active:
         orbits = smap.orbits([{}] * len(active), [tracks[i].state for i in active], s.chunk,
@@ -105,11 +119,11 @@ def census_at(smap, starts: list, grid: Grid, settings: Settings, *, k0=0,
             if o.status != "ok":
                 t.outcome = OUTCOMES["escaped" if o.status == "escaped" else "failed"]
                 continue
-            what = _step_cells(t, kk, owner, s)
-            t.last, t.state, t.k, t.periods = o, o.final, t.k + s.chunk, t.periods + s.chunk
+            what = _step_cells(t, kk, owner, s, {j for j, a in enumerate(found) if not a.periodic})
+            t.last, t.last_keys, t.state, t.k, t.periods = o, kk, o.final, t.k + s.chunk, t.periods + s.chunk
             if what == "recur":
                 candidates.append(i)
-        _identify_candidates(smap, tracks, candidates, grid, s, found, owner, tried)
+        _identify_candidates(smap, tracks, candidates, grid, s, found, owner, tried, saddles)
         for i in active:
             t = tracks[i]
             if t.outcome is None and t.periods >= s.max_periods:
@@ -148,21 +162,67 @@ def _register(a: Attractor, found: list, owner: dict, grid: Grid, q: int) -> int
 
 
 def _identify_candidates(smap, tracks, candidates, grid, s: Settings, found: list, owner: dict,
-                         tried: set) -> None:
-    """Identify each recurring start from its last chunk (known orbit, or Newton once per distinct
-    attractor); the rest are recorded ``locate`` periods with a tangent vector (one batch call)."""
+                         tried: dict, saddles: list) -> None:
+    """Identify each recurring start from its last chunk (known orbit, or Newton once per distinct periodic
+    attractor).  One recurring without a period goes on running until it is ``s.settle`` periods old; then its
+    chunk sharing cells with a known non-periodic attractor counts for it, one sharing cells with a known
+    chaotic saddle runs on, and the rest are recorded ``locate`` periods with a tangent vector (one batch call)
+    and classified."""
     q = smap.forcing_period_steps
     rest = []
     for i in candidates:
         t = tracks[i]
         got = from_chunk(smap, t.last, t.k - s.chunk, grid, found, max_period=s.max_period, tol=s.newton_tol,
                          tried=tried)
-        if got is None:
-            rest.append(i)
-        else:
+        if got is not None:
             t.outcome = got if isinstance(got, int) else _register(got, found, owner, grid, q)
-    if not rest:
-        return
+        elif near_periods(t.last.points, grid, candidate_periods(q, s.max_period)):
+            rest.append(i)           # nearly periodic, Newton failed: the record decides (max_tries of them)
+        elif t.periods >= s.settle:
+            t.outcome = _sharing(t.last_keys, found, owner)
+            if t.outcome is None and not _on_saddle(t, saddles):
+                rest.append(i)
+    if rest:
+        _record_and_classify(smap, tracks, rest, grid, s, found, owner, tried, saddles)
+
+
+def _on_saddle(t: Track, saddles: list) -> bool:
+    """Whether the start's last chunk shares a cell with a known saddle (its cells then join the saddle's):
+    it runs on without a record, its recurrence counted afresh."""
+    cells = {c for c in t.last_keys if c is not None}
+    for sd in saddles:
+        if sd.cells & cells:
+            sd.cells |= cells
+            t.recur, t.visits = 0, set()
+            return True
+    return False
+
+
+def _sharing(keys: list, found: list, owner: dict) -> int | None:
+    """The known non-periodic attractor sharing the most cells with a chunk's ``keys`` (its cells then own
+    the chunk's too), or None."""
+    shared: dict = {}
+    for key in keys:
+        aid = owner.get(key)
+        if aid is not None and not found[aid].periodic:
+            shared[aid] = shared.get(aid, 0) + 1
+    if not shared:
+        return None
+    aid = max(sorted(shared), key=shared.get)
+    cells = {c for c in keys if c is not None}
+    found[aid].cells |= cells
+    for c in cells:
+        owner.setdefault(c, aid)
+    return aid
+
+
+def _record_and_classify(smap, tracks, rest, grid, s: Settings, found: list, owner: dict, tried: dict,
+                         saddles: list) -> None:
+    """Record the starts ``rest`` ``locate`` periods with a tangent vector (one batch call) and identify each
+    (:func:`.identify.identify`); an undecided one runs on, "not_converged" after ``max_tries`` records; a new
+    non-periodic set is an attractor only if it persists (:func:`_persists`), else a saddle the start runs on
+    from."""
+    q = smap.forcing_period_steps
     recs = smap.orbits([{}] * len(rest), [tracks[i].state for i in rest], s.locate,
                        k0=[tracks[i].k for i in rest], batch_size=s.batch_size, tangent=True)
     for i, o in zip(rest, recs):
@@ -178,7 +238,55 @@ def _identify_candidates(smap, tracks, candidates, grid, s: Settings, found: lis
             if t.tries >= s.max_tries:       # recorded max_tries times and never decided
                 t.outcome = OUTCOMES["not_converged"]
             continue
+        if not a.periodic and _is_new_saddle(smap, a, o, t.k - s.locate, grid, s, found, q, saddles):
+            continue
         t.outcome = _register(a, found, owner, grid, q)
+
+
+def _is_new_saddle(smap, a: Attractor, record, k0: int, grid, s: Settings, found: list, q: int,
+                   saddles: list) -> bool:
+    """Whether the non-periodic set ``a`` is a chaotic saddle: one of the known ``saddles`` (sharing a cell) or a
+    new set, matching no attractor in ``found``, that does not persist (then kept in ``saddles``)."""
+    for sd in saddles:
+        if sd.cells & a.cells:
+            sd.cells |= a.cells
+            return True
+    if any(same_attractor(a, b, grid, q) for b in found) or _persists(smap, record, k0, grid, s):
+        return False
+    a.how = f"chaotic saddle: none of {PERSIST_COPIES} trajectories from its record kept off every period"
+    saddles.append(a)
+    return True
+
+
+#: trajectories started on a new non-periodic set's record to test that it persists (one batch of lanes)
+PERSIST_COPIES = 4
+
+
+def _periodic_tail(points, grid, periods) -> bool:
+    """Whether every point of ``points`` lies within two grid cells of the point n before it, for some n."""
+    P = grid.scaled(points)
+    return any(n < len(P) and float(np.max(np.abs(P[n:] - P[:-n]))) <= 2.0 for n in periods)
+
+
+def _persists(smap, record, k0: int, grid, s: Settings) -> bool:
+    """Whether a non-periodic set recorded in ``record`` (from sample ``k0``) is an attractor: some of
+    :data:`PERSIST_COPIES` trajectories started on its recorded points still have no period (within two grid
+    cells, up to ``s.max_period``) after ``s.persist`` periods.  A chaotic saddle's trajectories all fall onto
+    periodic orbits, however long their chaos lasts (thesis-1dof at 122 V: a mean chaotic lifetime near 900
+    relay periods).  Copies are run in legs of 500 periods and dropped once periodic (stable orbits keep them)."""
+    q = smap.forcing_period_steps
+    periods = candidate_periods(q, s.max_period)
+    idx = np.linspace(0, len(record.points) - 1, PERSIST_COPIES).astype(int)
+    live = [(record.state(int(j)), k0 + int(j)) for j in idx]
+    done, leg = 0, 500
+    while live and done < s.persist:
+        n = min(leg, s.persist - done)
+        runs = smap.orbits([{}] * len(live), [x for x, _ in live], n, k0=[k for _, k in live],
+                           batch_size=s.batch_size, events=False)
+        live = [(o.final, k + n) for o, (_, k) in zip(runs, live)
+                if o.status == "ok" and not _periodic_tail(o.points[-4 * s.max_period:], grid, periods)]
+        done += n
+    return bool(live)
 
 
 def wilson(k, n, z: float = 1.959963984540054) -> tuple[float, float]:

@@ -19,7 +19,7 @@ from ..orbits.periodic import OrbitNotFound, find_periodic_orbit
 from ..sweeps.classify import candidate_periods, classify_orbit, lyapunov_threshold, mechanical_period
 from ..sweeps.lyapunov import exponent_interval
 
-__all__ = ["Grid", "Attractor", "identify", "from_chunk", "distance", "same_attractor"]
+__all__ = ["Grid", "Attractor", "identify", "from_chunk", "distance", "same_attractor", "near_periods"]
 
 
 @dataclass(frozen=True)
@@ -110,7 +110,7 @@ def same_attractor(a: Attractor, b: Attractor, grid: Grid, q: int = 1) -> bool:
 
 
 def identify(smap, orbit, k0: int, grid: Grid, *, max_period: int = 16, tol: float = 1e-10,
-             rtol: float = 1e-6, atol: float = 1e-9, tried: set | None = None) -> Attractor | None:
+             rtol: float = 1e-6, atol: float = 1e-9, tried: dict | None = None) -> Attractor | None:
     """The attractor a recorded orbit (a :class:`maps.poincare.MapOrbit` starting at sample ``k0``, with a
     tangent vector) lies on, or None when the record decides nothing yet (a transient)."""
     pts, imp = orbit.points, orbit.impacts_per_step
@@ -122,7 +122,7 @@ def identify(smap, orbit, k0: int, grid: Grid, *, max_period: int = 16, tol: flo
                          periods=candidate_periods(q, max_period), lyapunov=lam,
                          lyap_tol=lyapunov_threshold(len(imp)), lyapunov_interval=(lo, hi))
     if cls["label"] in ("periodic", "periodic-no-impact", "not-converged"):
-        for n in _near_periods(pts, grid, candidate_periods(q, max_period))[:2]:   # Newton at two periods at most
+        for n in near_periods(pts, grid, candidate_periods(q, max_period))[:2]:   # Newton at two periods at most
             found = _polish_once(smap, orbit, k0, n, grid, tol, rtol, atol, tried)
             if found is not None:
                 return found
@@ -136,31 +136,45 @@ def identify(smap, orbit, k0: int, grid: Grid, *, max_period: int = 16, tol: flo
 
 
 def from_chunk(smap, orbit, k0: int, grid: Grid, found: list, *, max_period: int = 16, tol: float = 1e-10,
-               rtol: float = 1e-6, atol: float = 1e-9, tried: set | None = None):
+               rtol: float = 1e-6, atol: float = 1e-9, tried: dict | None = None):
     """A recurring start's attractor from its last chunk (a bare :class:`maps.poincare.MapOrbit` from sample
     ``k0``): the index in ``found`` of a periodic attractor within two cells of its last n points at some
-    phase, else its period-n orbit (n the shortest near period) polished by Newton (a new :class:`Attractor`),
-    else None (record it)."""
+    phase, else its period-n orbit polished by Newton (a new :class:`Attractor`), else None (record it); n the
+    two shortest near periods (a stable period-2 orbit close to its period doubling also nearly repeats after
+    one period, where Newton finds the unstable period-1 orbit)."""
     pts, q = orbit.points, smap.forcing_period_steps
-    for n in _near_periods(pts, grid, candidate_periods(q, max_period)):
+    near = near_periods(pts, grid, candidate_periods(q, max_period))[:2]
+    for n in near:
         tail = Attractor(int(ClassCode.PERIODIC), n, points=pts[len(pts) - n:], k0=k0 + len(pts) - n)
         for j, b in enumerate(found):
             if b.periodic and b.period == n and distance(tail, b, grid, q) <= 2.0:
                 return j
-        return _polish_once(smap, orbit, k0, n, grid, tol, rtol, atol, tried)   # at the shortest period only
+    for n in near:
+        got = _polish_once(smap, orbit, k0, n, grid, tol, rtol, atol, tried)
+        if got is not None:
+            return got
     return None
 
 
-def _polish_once(smap, orbit, k0, n, grid, tol, rtol, atol, tried: set | None):
-    """:func:`_polish`, unless Newton already failed at period n from the cell of this record's last point
-    (``tried``: the census' (n, cell) of every failure, so that Newton runs about once per distinct attractor)."""
+def _polish_once(smap, orbit, k0, n, grid, tol, rtol, atol, tried: dict | None):
+    """:func:`_polish`, unless Newton already failed at period n from the cell of this record's last point for a
+    record that repeated about as closely (``tried``: the census' {(n, cell): mismatch [cells] of the failed
+    record's last n points against the n before}, so that Newton runs about once per distinct attractor; a
+    record repeating RETRY_CLOSER times more closely is tried again: a start at rest in the cell where a
+    chattering transient's Newton failed)."""
     key = (n, grid.keys(orbit.points[-1:])[0])
-    if tried is not None and key in tried:
+    P = grid.scaled(orbit.points[-2 * n:]) if 2 * n < len(orbit.points) else None
+    mismatch = float(np.max(np.abs(P[n:] - P[:n]))) if P is not None else math.inf
+    if tried is not None and key in tried and not mismatch * RETRY_CLOSER < tried[key]:
         return None
     a = _polish(smap, orbit, k0, n, grid, tol, rtol, atol)
     if a is None and tried is not None:
-        tried.add(key)
+        tried[key] = min(mismatch, tried.get(key, math.inf))
     return a
+
+
+#: how many times more closely a record must repeat for Newton to be tried again where it failed
+RETRY_CLOSER = 10.0
 
 
 def _min_flight(orbit) -> float:
@@ -168,7 +182,7 @@ def _min_flight(orbit) -> float:
     return float(np.min(m)) if len(m) else math.nan
 
 
-def _near_periods(pts, grid: Grid, periods) -> list:
+def near_periods(pts, grid: Grid, periods) -> list:
     """The candidate periods n (ascending) at which the record's last n points recur within two grid cells."""
     P = grid.scaled(pts)
     N = len(P)
