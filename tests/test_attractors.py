@@ -380,12 +380,10 @@ def test_a_chaotic_set_is_an_attractor_only_if_it_persists(r, attractor):
     3.8415) and at r = 3.7385, inside the period-5 window, a stable cycle attracts almost every start and the chaos
     seen on the way is a transient: a saddle, not an attractor."""
     from bifurc.attractors.census import Settings, _persists
-    from bifurc.attractors.identify import Grid
     assert 1 + math.sqrt(8) < 3.835 < 3.8415
     m = _LogisticMap(r)
     record = m.orbits([{}], [np.array([0.2345])], 48)[0]       # 48 points of its transient (or of its chaos)
-    grid = Grid(np.zeros(1), np.array([1e-3]))
-    assert _persists(m, record, 0, grid, Settings()) is attractor
+    assert _persists(m, record, 0, Settings()) is attractor
 
 
 def test_outcomes_do_not_depend_on_the_grid():

@@ -1,20 +1,20 @@
-"""The census at one parameter value: every start followed on the batch engine until it lands on a
-known attractor or recurs on the state-space grid, then the new attractor identified.
+"""The census at one parameter value: every start followed on the batch engine until it lands on a known
+attractor or recurs on the state-space grid, then the new attractor identified.
 
 The recurrence test follows the design of Attractors.jl's ``AttractorsViaRecurrences`` (Datseris and
-Wagemakers 2022), written anew for hybrid maps: each start is iterated in chunks of ``chunk`` strobe
-periods (one batch call for all active starts); each strobe point falls in a grid cell; a start whose
-``land`` consecutive points lie in the cells of one known attractor is counted for it (early stop);
-one whose ``recur`` consecutive points fall in cells it visited before has found an attractor.  A recurring
-start whose last chunk repeats with a period is identified at once (a known periodic orbit, or Newton:
-a stable polished orbit).  One that recurs without a period is judged only once it is ``settle`` periods
-old, the same age on every grid: its chunk sharing cells with a known non-periodic attractor counts for it,
-else it is recorded ``locate`` more periods with a tangent vector and classified
-(:mod:`bifurc.sweeps.classify`; one exponent per distinct set, not per start).  Before that age a chaotic
-transient is not called an attractor, and a start lands on a non-periodic set's cells only from that age on,
-so whether a start ends chaotic, periodic or not converged does not depend on when the grid's cells
-happened to recur.  A start that escapes or fails is that outcome; one still undecided after
-``max_periods`` (or ``max_tries`` undecided records) is "not_converged".
+Wagemakers 2022), written anew for hybrid maps: each start is iterated in chunks of ``chunk`` strobe periods
+(one batch call for all active starts); each strobe point falls in a grid cell; a start whose ``land``
+consecutive points lie in the cells of one known attractor is counted for it (early stop); one whose ``recur``
+consecutive points fall in cells it visited before has found an attractor. A recurring start whose last chunk
+repeats with a period is identified at once (a known periodic orbit, or Newton: a stable polished orbit). Of
+one that recurs without a period, the chunk sharing cells with a known non-periodic attractor counts for it
+(one exponent per set, not per start); one on a known chaotic saddle runs on; the rest are recorded ``locate``
+periods with a tangent vector and classified (:mod:`bifurc.sweeps.classify`). A new non-periodic set is an
+attractor only if it persists: trajectories started on it keep off every period for ``persist`` periods
+(:func:`_persists`); else it is a chaotic saddle, a transient however long, and its starts run on to where
+they settle. So whether a start ends chaotic, periodic or not converged does not hinge on when the grid's
+cells happened to recur. A start that escapes or fails is that outcome; one still undecided after
+``max_periods`` or ``max_tries`` undecided records (or on the cells of a start that was) is "not_converged".
 """
 from __future__ import annotations
 
@@ -37,11 +37,10 @@ OUTCOMES = {"escaped": -1, "not_converged": -2, "failed": -3}
 @dataclass(frozen=True)
 class Settings:
     """Census settings: periods per chunk, consecutive points to land or recur, periods recorded to
-    identify, the budget per start [strobe periods], the period search, Newton's tolerance, SIMD lanes and
+    identify, the budget per start [strobe periods], the period search, Newton's tolerance, SIMD lanes,
     the records (``locate`` periods each) after which a start still undecided is "not_converged", and the
-    age [strobe periods] from which a start recurring without a period is judged (chaotic or
-    quasi-periodic) or may land on a non-periodic attractor, and the periods over which a new non-periodic
-    set's copies must keep off every period for the set to be an attractor (:func:`_persists`)."""
+    periods over which a new non-periodic set's copies must keep off every period for the set to be an
+    attractor (:func:`_persists`)."""
 
     chunk: int = 40
     land: int = 6
@@ -52,7 +51,6 @@ class Settings:
     newton_tol: float = 1e-10
     batch_size: int = 4
     max_tries: int = 6
-    settle: int = 200
     persist: int = 4000
 
 
@@ -73,12 +71,22 @@ class Track:
     last_keys: list = field(default_factory=list)
 
 
-def _step_cells(t: Track, keys: list, owner: dict, s: Settings, late: set) -> str:
-    """Walk the new points' cells: 'land' (outcome set), 'recur' (an attractor found) or ''.  The cells of a
-    non-periodic attractor (ids in ``late``) count for landing only from the age ``s.settle`` on."""
-    for j, key in enumerate(keys):
+@dataclass
+class Memory:
+    """What one value's census learnt besides its attractors: {(period, cell): mismatch} where Newton failed
+    (:func:`.identify._polish_once`), the chaotic saddles (non-periodic sets whose copies all fell onto periods),
+    and the cells of starts recorded ``max_tries`` times without a decision."""
+
+    tried: dict = field(default_factory=dict)
+    saddles: list = field(default_factory=list)
+    undecided: list = field(default_factory=list)
+
+
+def _step_cells(t: Track, keys: list, owner: dict, s: Settings) -> str:
+    """Walk the new points' cells: 'land' (outcome set), 'recur' (an attractor found) or ''."""
+    for key in keys:
         aid = owner.get(key)
-        if aid is not None and (aid not in late or t.periods + j + 1 >= s.settle):
+        if aid is not None:
             t.land = t.land + 1 if aid == t.land_id else 1
             t.land_id = aid
             if t.land >= s.land:
@@ -106,8 +114,7 @@ def census_at(smap, starts: list, grid: Grid, settings: Settings, *, k0=0,
     tracks = [Track(st, int(k)) for st, k in zip(starts, ks)]
     found: list[Attractor] = list(known or [])
     owner: dict = {c: i for i, a in enumerate(found) for c in a.cells}
-    tried: dict = {}            # {(period, cell): mismatch} where Newton failed (identify._polish_once)
-    saddles: list = []          # non-periodic sets whose copies all fell onto periods: transients, not attractors
+    mem = Memory()
     active = list(range(len(tracks)))
     while active:
         orbits = smap.orbits([{}] * len(active), [tracks[i].state for i in active], s.chunk,
@@ -119,11 +126,11 @@ def census_at(smap, starts: list, grid: Grid, settings: Settings, *, k0=0,
             if o.status != "ok":
                 t.outcome = OUTCOMES["escaped" if o.status == "escaped" else "failed"]
                 continue
-            what = _step_cells(t, kk, owner, s, {j for j, a in enumerate(found) if not a.periodic})
+            what = _step_cells(t, kk, owner, s)
             t.last, t.last_keys, t.state, t.k, t.periods = o, kk, o.final, t.k + s.chunk, t.periods + s.chunk
             if what == "recur":
                 candidates.append(i)
-        _identify_candidates(smap, tracks, candidates, grid, s, found, owner, tried, saddles)
+        _identify_candidates(smap, tracks, candidates, grid, s, found, owner, mem)
         for i in active:
             t = tracks[i]
             if t.outcome is None and t.periods >= s.max_periods:
@@ -162,28 +169,37 @@ def _register(a: Attractor, found: list, owner: dict, grid: Grid, q: int) -> int
 
 
 def _identify_candidates(smap, tracks, candidates, grid, s: Settings, found: list, owner: dict,
-                         tried: dict, saddles: list) -> None:
+                         mem: Memory) -> None:
     """Identify each recurring start from its last chunk (known orbit, or Newton once per distinct periodic
-    attractor).  One recurring without a period goes on running until it is ``s.settle`` periods old; then its
-    chunk sharing cells with a known non-periodic attractor counts for it, one sharing cells with a known
-    chaotic saddle runs on, and the rest are recorded ``locate`` periods with a tangent vector (one batch call)
-    and classified."""
+    attractor).  Of one recurring without a period, the chunk sharing cells with a known non-periodic attractor
+    counts for it, one sharing cells with a known chaotic saddle runs on, one mostly on the cells of an undecided
+    start is "not_converged", and the rest are recorded ``locate`` periods with a tangent vector (one batch
+    call) and classified."""
     q = smap.forcing_period_steps
     rest = []
     for i in candidates:
         t = tracks[i]
         got = from_chunk(smap, t.last, t.k - s.chunk, grid, found, max_period=s.max_period, tol=s.newton_tol,
-                         tried=tried)
+                         tried=mem.tried)
         if got is not None:
             t.outcome = got if isinstance(got, int) else _register(got, found, owner, grid, q)
+        elif _mostly_in(t.last_keys, mem.undecided):
+            t.outcome = OUTCOMES["not_converged"]
         elif near_periods(t.last.points, grid, candidate_periods(q, s.max_period)):
             rest.append(i)           # nearly periodic, Newton failed: the record decides (max_tries of them)
-        elif t.periods >= s.settle:
+        else:
             t.outcome = _sharing(t.last_keys, found, owner)
-            if t.outcome is None and not _on_saddle(t, saddles):
+            if t.outcome is None and not _on_saddle(t, mem.saddles):
                 rest.append(i)
     if rest:
-        _record_and_classify(smap, tracks, rest, grid, s, found, owner, tried, saddles)
+        _record_and_classify(smap, tracks, rest, grid, s, found, owner, mem)
+
+
+def _mostly_in(keys: list, sets: list) -> bool:
+    """Whether at least half of a chunk's distinct cells lie in one of ``sets`` (cells of undecided starts): the
+    start is on a set the records could not decide, so that its own records would not either."""
+    cells = {c for c in keys if c is not None}
+    return bool(cells) and any(2 * len(cells & u) >= len(cells) for u in sets)
 
 
 def _on_saddle(t: Track, saddles: list) -> bool:
@@ -216,8 +232,7 @@ def _sharing(keys: list, found: list, owner: dict) -> int | None:
     return aid
 
 
-def _record_and_classify(smap, tracks, rest, grid, s: Settings, found: list, owner: dict, tried: dict,
-                         saddles: list) -> None:
+def _record_and_classify(smap, tracks, rest, grid, s: Settings, found: list, owner: dict, mem: Memory) -> None:
     """Record the starts ``rest`` ``locate`` periods with a tangent vector (one batch call) and identify each
     (:func:`.identify.identify`); an undecided one runs on, "not_converged" after ``max_tries`` records; a new
     non-periodic set is an attractor only if it persists (:func:`_persists`), else a saddle the start runs on
@@ -230,15 +245,16 @@ def _record_and_classify(smap, tracks, rest, grid, s: Settings, found: list, own
         if o.status != "ok":
             t.outcome = OUTCOMES["escaped" if o.status == "escaped" else "failed"]
             continue
-        a = identify(smap, o, t.k, grid, max_period=s.max_period, tol=s.newton_tol, tried=tried)
+        a = identify(smap, o, t.k, grid, max_period=s.max_period, tol=s.newton_tol, tried=mem.tried)
         t.state, t.k, t.periods = o.final, t.k + s.locate, t.periods + s.locate
         t.recur, t.visits = 0, set()
         if a is None:
             t.tries += 1
             if t.tries >= s.max_tries:       # recorded max_tries times and never decided
                 t.outcome = OUTCOMES["not_converged"]
+                mem.undecided.append({c for c in grid.keys(o.points) if c is not None})
             continue
-        if not a.periodic and _is_new_saddle(smap, a, o, t.k - s.locate, grid, s, found, q, saddles):
+        if not a.periodic and _is_new_saddle(smap, a, o, t.k - s.locate, grid, s, found, q, mem.saddles):
             continue
         t.outcome = _register(a, found, owner, grid, q)
 
@@ -251,7 +267,7 @@ def _is_new_saddle(smap, a: Attractor, record, k0: int, grid, s: Settings, found
         if sd.cells & a.cells:
             sd.cells |= a.cells
             return True
-    if any(same_attractor(a, b, grid, q) for b in found) or _persists(smap, record, k0, grid, s):
+    if any(same_attractor(a, b, grid, q) for b in found) or _persists(smap, record, k0, s):
         return False
     a.how = f"chaotic saddle: none of {PERSIST_COPIES} trajectories from its record kept off every period"
     saddles.append(a)
@@ -262,18 +278,23 @@ def _is_new_saddle(smap, a: Attractor, record, k0: int, grid, s: Settings, found
 PERSIST_COPIES = 4
 
 
-def _periodic_tail(points, grid, periods) -> bool:
-    """Whether every point of ``points`` lies within two grid cells of the point n before it, for some n."""
-    P = grid.scaled(points)
-    return any(n < len(P) and float(np.max(np.abs(P[n:] - P[:-n]))) <= 2.0 for n in periods)
+def _periodic_tail(points, periods, rtol: float = 1e-6, atol: float = 1e-9) -> bool:
+    """Whether ``points`` repeat with some period n of ``periods``: every point within rtol of each state's scale
+    (plus atol) of the point n before.  A tolerance of the states, not of the grid: a chaotic set's copies are
+    told from converged ones alike on every grid (within two cells of 100 per side, a chaotic set's slow phases
+    at 178 V passed for period 1)."""
+    P = np.asarray(points, dtype=float)
+    tol = rtol * np.maximum(np.max(np.abs(P), axis=0), atol) + atol
+    return any(n < len(P) and bool(np.all(np.abs(P[n:] - P[:-n]) <= tol)) for n in periods)
 
 
-def _persists(smap, record, k0: int, grid, s: Settings) -> bool:
+def _persists(smap, record, k0: int, s: Settings) -> bool:
     """Whether a non-periodic set recorded in ``record`` (from sample ``k0``) is an attractor: some of
-    :data:`PERSIST_COPIES` trajectories started on its recorded points still have no period (within two grid
-    cells, up to ``s.max_period``) after ``s.persist`` periods.  A chaotic saddle's trajectories all fall onto
-    periodic orbits, however long their chaos lasts (thesis-1dof at 122 V: a mean chaotic lifetime near 900
-    relay periods).  Copies are run in legs of 500 periods and dropped once periodic (stable orbits keep them)."""
+    :data:`PERSIST_COPIES` trajectories started on its recorded points still have no period (up to
+    ``s.max_period``, :func:`_periodic_tail`) after ``s.persist`` periods.  A chaotic saddle's trajectories all
+    fall onto periodic orbits, however long their chaos lasts (thesis-1dof at 122 V: a mean chaotic lifetime
+    near 900 relay periods).  Copies are run in legs of 500 periods and dropped once periodic (stable orbits
+    keep them)."""
     q = smap.forcing_period_steps
     periods = candidate_periods(q, s.max_period)
     idx = np.linspace(0, len(record.points) - 1, PERSIST_COPIES).astype(int)
@@ -284,7 +305,7 @@ def _persists(smap, record, k0: int, grid, s: Settings) -> bool:
         runs = smap.orbits([{}] * len(live), [x for x, _ in live], n, k0=[k for _, k in live],
                            batch_size=s.batch_size, events=False)
         live = [(o.final, k + n) for o, (_, k) in zip(runs, live)
-                if o.status == "ok" and not _periodic_tail(o.points[-4 * s.max_period:], grid, periods)]
+                if o.status == "ok" and not _periodic_tail(o.points[-4 * s.max_period:], periods)]
         done += n
     return bool(live)
 
