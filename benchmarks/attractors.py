@@ -111,7 +111,7 @@ def grid_change(ds, half) -> str:
         lo, hi = wilson(a.get(key, 0), n)
         width = max(width, hi - lo)
         worst = max(worst, abs(fb - fa))
-        if not lo <= fb <= hi:
+        if not lo - 1e-12 <= fb <= hi + 1e-12:      # the interval of 0 of n starts at 0 up to round-off
             outside.append(f"{float(ds[ds.basin_fraction.dims[0]].values[key[0]]):g} {key[1]}: {fa:.3f} -> {fb:.3f}")
     tail = (": " + "; ".join(outside)) if outside else ""
     return (f"largest change of a fraction {worst:.3f} (intervals up to {width:.3f} wide); {len(outside)} of "

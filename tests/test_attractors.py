@@ -394,3 +394,37 @@ def test_outcomes_do_not_depend_on_the_grid():
         ds = bifurc.attractors(BISTABLE, "r", [0.1], n_starts=40, seed=2, cells=cells, progress=False, link=False)
         low = [j for j in range(ds.sizes["attractor"] - 3) if ds.present.values[0, j] and ds.x.values[0, j, 0] < 0][0]
         assert np.array_equal(ds.start_attractor.values[0] == low, ds.start_x.values < roots[1]), cells
+
+
+def test_a_grid_coarser_than_the_orbits_spacing_gives_the_same_outcomes(oscillator_census):
+    """With 3 cells per side the two closed-form orbits lie 1.5 and 0.6 cells apart (x, v): a start passing
+    through one orbit's cells is counted for it only if it approaches it, and two polished orbits are told apart
+    by their nodes, not their cells.  Every start reaches an orbit with the same impacts as on 100 cells (whose
+    outcomes the scipy brute force checks above); the old census counted all 50 for the non-impacting one."""
+    exact = [_non_impacting(OSC), _impacting(OSC)]
+    assert np.all(np.abs(exact[0] - exact[1]) / np.array([3.0 / 3, 4.0 / 3]) < 2)
+    coarse = bifurc.attractors("impact-oscillator", "Omega", [OSC["Omega"]], params=OSC, box=BOX, n_starts=50,
+                               seed=3, cells=3, progress=False, link=False)
+
+    def impacts(ds):
+        return ds.impacts_per_period.values[0, ds.start_attractor.values[0]]
+    assert sorted(int(m) for m in set(impacts(coarse))) == [0, 1]
+    assert np.array_equal(impacts(coarse), impacts(oscillator_census))
+
+
+def test_same_orbit_and_converging_are_tolerances_of_the_states():
+    """Hand-made orbits on a grid of unit cells: two fixed points 0.1 cell apart are two orbits, the same period-2
+    orbit at the other phase is one; a trajectory x* + 0.8^k (1, 1) approaches x*, one circling at 0.1 cell does
+    not."""
+    from bifurc.attractors.identify import Attractor, Grid, converging, same_orbit
+    from bifurc.codes import ClassCode
+    P = int(ClassCode.PERIODIC)
+    grid = Grid(np.zeros(2), np.ones(2))
+    a, b = Attractor(P, 1, points=np.array([[5.0, 5.0]])), Attractor(P, 1, points=np.array([[5.1, 5.0]]))
+    assert not same_orbit(a, b) and same_orbit(a, Attractor(P, 1, points=np.array([[5.0, 5.0 + 1e-9]])))
+    two = Attractor(P, 2, points=np.array([[1.0, 2.0], [3.0, 4.0]]))
+    assert same_orbit(two, Attractor(P, 2, points=np.array([[3.0, 4.0], [1.0, 2.0]]), k0=1))
+    k = np.arange(41)[:, None]
+    assert converging(np.array([5.0, 5.0]) + 0.8 ** k * np.ones(2), a, grid)
+    circling = np.array([5.0, 5.0]) + 0.1 * np.hstack([np.cos(k), np.sin(k)])
+    assert not converging(circling, a, grid)

@@ -26,7 +26,7 @@ import numpy as np
 from maps.hybrid import HybridState
 
 from ..sweeps.classify import candidate_periods
-from .identify import Attractor, Grid, from_chunk, identify, near_periods, same_attractor
+from .identify import Attractor, Grid, converging, from_chunk, identify, near_periods, same_attractor
 
 __all__ = ["Settings", "Track", "census_at", "OUTCOMES"]
 
@@ -127,6 +127,8 @@ def census_at(smap, starts: list, grid: Grid, settings: Settings, *, k0=0,
                 t.outcome = OUTCOMES["escaped" if o.status == "escaped" else "failed"]
                 continue
             what = _step_cells(t, kk, owner, s)
+            if what == "land" and found[t.outcome].periodic and not converging(o.points, found[t.outcome], grid):
+                t.outcome, t.land, t.land_id, what = None, 0, -1, ""      # passing by the orbit, not captured
             t.last, t.last_keys, t.state, t.k, t.periods = o, kk, o.final, t.k + s.chunk, t.periods + s.chunk
             if what == "recur":
                 candidates.append(i)
