@@ -123,18 +123,20 @@ def same_orbit(a: Attractor, b: Attractor, q: int = 1, rtol: float = 1e-6, atol:
 
 
 def converging(points, a: Attractor, grid: Grid) -> bool:
-    """Whether a trajectory's ``points`` (strobe points, oldest first, at least two periods of ``a``) approach the
-    periodic attractor ``a``: the largest distance of its last a.period points to the orbit's nearest node
-    [cells] is at most half that of its first ones, or below 1e-6 cells (there already).  A grid-free test that
-    a start landing in the orbit's cells is captured, not passing by (thesis-1dof at 94 V: a 1:6 orbit lies
-    within a cell of 100 per side of the state at rest)."""
+    """Whether a trajectory's ``points`` (strobe points, oldest first, at least three periods of ``a``) approach
+    the periodic attractor ``a``: the largest distance [cells] of a period's points to the orbit's nearest node
+    halves from the first period to the middle one and again to the last, or the last is below 1e-6 cells
+    (there already).  A grid-free test that a start landing in the orbit's cells is captured, not passing by or
+    settling on another orbit close to it (thesis-1dof at 94 V: a 1:6 orbit lies within a cell of 100 per
+    side of the state at rest)."""
     n = a.period
     P, N = grid.scaled(points), grid.scaled(a.points[:n])
-    if len(P) < 2 * n:
+    if len(P) < 3 * n:
         return False
     d = np.max(np.abs(P[:, None, :] - N[None, :, :]), axis=2).min(axis=1)
-    end, start = float(d[-n:].max()), float(d[:n].max())
-    return end <= 1e-6 or end <= 0.5 * start
+    m = (len(P) - n) // 2
+    start, mid, end = float(d[:n].max()), float(d[m:m + n].max()), float(d[-n:].max())
+    return end <= 1e-6 or (end <= 0.5 * mid and mid <= 0.5 * start)
 
 
 def identify(smap, orbit, k0: int, grid: Grid, *, max_period: int = 16, tol: float = 1e-10,
@@ -151,7 +153,7 @@ def identify(smap, orbit, k0: int, grid: Grid, *, max_period: int = 16, tol: flo
                          lyap_tol=lyapunov_threshold(len(imp)), lyapunov_interval=(lo, hi))
     if cls["label"] in ("periodic", "periodic-no-impact", "not-converged"):
         for n in near_periods(pts, grid, candidate_periods(q, max_period))[:2]:   # Newton at two periods at most
-            found = _polish_once(smap, orbit, k0, n, grid, tol, rtol, atol, tried)
+            found = polish_once(smap, orbit, k0, n, grid, tol, rtol, atol, tried)
             if found is not None:
                 return found
     if cls["label"] in ("chaotic", "quasi-periodic"):
@@ -178,13 +180,13 @@ def from_chunk(smap, orbit, k0: int, grid: Grid, found: list, *, max_period: int
             if b.periodic and b.period == n and distance(tail, b, grid, q) <= 2.0 and converging(pts, b, grid):
                 return j
     for n in near:
-        got = _polish_once(smap, orbit, k0, n, grid, tol, rtol, atol, tried)
+        got = polish_once(smap, orbit, k0, n, grid, tol, rtol, atol, tried)
         if got is not None:
             return got
     return None
 
 
-def _polish_once(smap, orbit, k0, n, grid, tol, rtol, atol, tried: dict | None):
+def polish_once(smap, orbit, k0, n, grid, tol, rtol, atol, tried: dict | None):
     """:func:`_polish`, unless Newton already failed at period n from the cell of this record's last point for a
     record that repeated about as closely (``tried``: the census' {(n, cell): mismatch [cells] of the failed
     record's last n points against the n before}, so that Newton runs about once per distinct attractor; a
