@@ -50,9 +50,9 @@ def main(argv=None):
     have = {(i, int(ds.period.values[i, j]), int(ds.impacts_per_period.values[i, j]))
             for i in range(len(values)) for j in range(ds.sizes["attractor"] - 3) if ds.present.values[i, j]}
     got = want & have
+    share = 100 * len(got) / max(1, len(want))
     print(f"census {a.n} values x {a.starts} starts in {sec:.1f} s; stable orbits listed by thesis-orbits at these "
-          f"values: {len(want)}; recovered with the same period and impacts: {len(got)} ({100 * len(got) / max(1, len(want)):.0f} %; "
-          f"target 95 %)")
+          f"values: {len(want)}; recovered with the same period and impacts: {len(got)} ({share:.0f} %; target 95 %)")
     for i, p, m in sorted(want - got):
         print(f"  missed at V = {values[i]:g}: period-{p} with {m} impacts per period")
 

@@ -70,12 +70,13 @@ class Track:
     periods: int = 0
     last: object = None
     last_keys: list = field(default_factory=list)
+    quiet_until: int = 0         # no record before this age: the last one was on a chaotic saddle
 
 
 @dataclass
 class Memory:
-    """What one value's census learnt besides its attractors: {(period, cell): mismatch} where Newton failed
-    (:func:`.identify.polish_once`), the chaotic saddles (non-periodic sets whose copies all fell onto periods),
+    """What one value's census learnt besides its attractors: {(period, cell): (mismatch, failures)} where Newton
+    failed (:func:`.identify.polish_once`), the chaotic saddles (non-periodic sets whose copies all fell onto periods),
     and the cells of starts recorded ``max_tries`` times without a decision."""
 
     tried: dict = field(default_factory=dict)
@@ -204,6 +205,8 @@ def _identify_candidates(smap, tracks, candidates, grid, s: Settings, found: lis
             t.outcome = got if isinstance(got, int) else _register(got, found, owner, grid, q)
         elif _mostly_in(t.last_keys, mem.undecided):
             t.outcome = OUTCOMES["not_converged"]
+        elif t.periods < t.quiet_until:
+            t.recur = 0              # on a chaotic saddle at its last record: it runs on
         elif near_periods(t.last.points, grid, candidate_periods(q, s.max_period)):
             rest.append(i)           # nearly periodic, Newton failed: the record decides (max_tries of them)
         else:
@@ -274,6 +277,7 @@ def _record_and_classify(smap, tracks, rest, grid, s: Settings, found: list, own
                 mem.undecided.append({c for c in grid.keys(o.points) if c is not None})
             continue
         if not a.periodic and _is_new_saddle(smap, a, o, t.k - s.locate, grid, s, found, q, mem.saddles):
+            t.quiet_until = t.periods + SADDLE_QUIET * s.chunk     # on a saddle: it runs on without records
             continue
         t.outcome = _register(a, found, owner, grid, q)
 
@@ -292,6 +296,10 @@ def _is_new_saddle(smap, a: Attractor, record, k0: int, grid, s: Settings, found
     saddles.append(a)
     return True
 
+
+#: chunks a start recorded on a chaotic saddle runs before another record (it lands or recurs periodically
+#: meanwhile, or is recorded again then: a saddle's start may also reach a chaotic attractor)
+SADDLE_QUIET = 10
 
 #: trajectories started on a new non-periodic set's record to test that it persists (one batch of lanes)
 PERSIST_COPIES = 4

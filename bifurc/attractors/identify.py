@@ -19,7 +19,8 @@ from ..orbits.periodic import OrbitNotFound, find_periodic_orbit
 from ..sweeps.classify import candidate_periods, classify_orbit, lyapunov_threshold, mechanical_period
 from ..sweeps.lyapunov import exponent_interval
 
-__all__ = ["Grid", "Attractor", "identify", "from_chunk", "distance", "same_attractor", "same_orbit", "converging", "near_periods"]
+__all__ = ["Grid", "Attractor", "identify", "from_chunk", "distance", "same_attractor", "same_orbit", "converging",
+           "near_periods", "polish_once"]
 
 
 @dataclass(frozen=True)
@@ -169,15 +170,17 @@ def from_chunk(smap, orbit, k0: int, grid: Grid, found: list, *, max_period: int
                rtol: float = 1e-6, atol: float = 1e-9, tried: dict | None = None):
     """A recurring start's attractor from its last chunk (a bare :class:`maps.poincare.MapOrbit` from sample
     ``k0``): the index in ``found`` of a periodic attractor within two cells of its last n points at some
-    phase that they approach (:func:`converging`), else its period-n orbit polished by Newton (a new :class:`Attractor`), else None (record it); n the
-    two shortest near periods (a stable period-2 orbit close to its period doubling also nearly repeats after
-    one period, where Newton finds the unstable period-1 orbit)."""
+    phase that they approach (:func:`converging`), else its period-n orbit polished by Newton (a new
+    :class:`Attractor`), else None (record it); n the two shortest near periods (a stable period-2 orbit close
+    to its period doubling also nearly repeats after one period, where Newton finds the unstable period-1
+    orbit)."""
     pts, q = orbit.points, smap.forcing_period_steps
     near = near_periods(pts, grid, candidate_periods(q, max_period))[:2]
     for n in near:
         tail = Attractor(int(ClassCode.PERIODIC), n, points=pts[len(pts) - n:], k0=k0 + len(pts) - n)
         for j, b in enumerate(found):
-            if b.periodic and b.period == n and distance(tail, b, grid, q) <= 2.0 and converging(pts, b, grid):
+            close = b.periodic and b.period == n and distance(tail, b, grid, q) <= 2.0
+            if close and converging(pts, b, grid):
                 return j
     for n in near:
         got = polish_once(smap, orbit, k0, n, grid, tol, rtol, atol, tried)
@@ -188,23 +191,24 @@ def from_chunk(smap, orbit, k0: int, grid: Grid, found: list, *, max_period: int
 
 def polish_once(smap, orbit, k0, n, grid, tol, rtol, atol, tried: dict | None):
     """:func:`_polish`, unless Newton already failed at period n from the cell of this record's last point for a
-    record that repeated about as closely (``tried``: the census' {(n, cell): mismatch [cells] of the failed
-    record's last n points against the n before}, so that Newton runs about once per distinct attractor; a
-    record repeating RETRY_CLOSER times more closely is tried again: a start at rest in the cell where a
-    chattering transient's Newton failed)."""
+    record that repeated about as closely (``tried``: the census' {(n, cell): (mismatch [cells] of the failed
+    record's last n points against the n before, failures)}, so that Newton runs about once per distinct
+    attractor; a record repeating RETRY_CLOSER times more closely is tried again, up to RETRIES failures: a start
+    at rest in the cell where a chattering transient's Newton failed)."""
     key = (n, grid.keys(orbit.points[-1:])[0])
     P = grid.scaled(orbit.points[-2 * n:]) if 2 * n < len(orbit.points) else None
     mismatch = float(np.max(np.abs(P[n:] - P[:n]))) if P is not None else math.inf
-    if tried is not None and key in tried and not mismatch * RETRY_CLOSER < tried[key]:
+    before = tried.get(key) if tried is not None else None
+    if before is not None and (before[1] >= RETRIES or not mismatch * RETRY_CLOSER < before[0]):
         return None
     a = _polish(smap, orbit, k0, n, grid, tol, rtol, atol)
     if a is None and tried is not None:
-        tried[key] = min(mismatch, tried.get(key, math.inf))
+        tried[key] = (min(mismatch, before[0]), before[1] + 1) if before else (mismatch, 1)
     return a
 
 
-#: how many times more closely a record must repeat for Newton to be tried again where it failed
-RETRY_CLOSER = 10.0
+#: how many times more closely a record must repeat for Newton to be tried again where it failed, and how often
+RETRY_CLOSER, RETRIES = 10.0, 3
 
 
 def _min_flight(orbit) -> float:
