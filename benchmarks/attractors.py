@@ -81,6 +81,18 @@ def interleaved(n_values, n_starts, cells=100):
     return wall, cpu, float(np.mean(spent))
 
 
+def duffing(side: int) -> None:
+    """Cells per second of the forced Duffing oscillator's stroboscopic basins on a side x side slice."""
+    import bifurc
+    t = time.perf_counter()
+    dd = bifurc.attractors(duffing_scene(), "F", [0.27], starts="slice", shape=(side, side), progress=False,
+                           link=False)
+    sec = time.perf_counter() - t
+    print(f"Duffing basins {side} x {side}: {sec:.1f} s, {side * side / sec:.0f} cells per second; "
+          f"fractions {np.round(dd.basin_fraction.values[0], 3).tolist()} ({list(dd.attractor_label.values)}); "
+          f"{dd.attrs['workers']} workers; {load()}")
+
+
 def by_label(ds) -> dict:
     """{(value index, label): starts} of one census: attractors with the same class, period and impacts at a value
     are summed (their ids differ between two censuses), outcomes by name."""
@@ -126,8 +138,11 @@ def load() -> str:
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--duffing", type=int, metavar="SIDE", help="only the Duffing basins on a SIDE x SIDE grid")
     a = ap.parse_args(argv)
     print(load())
+    if a.duffing:
+        return duffing(a.duffing)
     ds, sec, cpu = census(21, 200)
     n_att = int((ds.present.values[:, :-3] > 0).any(axis=0).sum())
     print(f"census thesis-1dof measured 10 Hz, 21 values x 200 starts, {ds.attrs['workers']} workers, linked: "
@@ -142,14 +157,8 @@ def main(argv=None):
     half, sec2, _ = census(21, 200, cells=200)
     print(f"grid halved (200 cells per side): {sec2:.1f} s; {n_att} vs "
           f"{int((half.present.values[:, :-3] > 0).any(axis=0).sum())} attractors; {grid_change(ds, half)}")
-    import bifurc
     for side in ((100,) if a.quick else (100, 500)):
-        t = time.perf_counter()
-        dd = bifurc.attractors(duffing_scene(), "F", [0.27], starts="slice", shape=(side, side), progress=False,
-                               link=False)
-        sec = time.perf_counter() - t
-        print(f"Duffing basins {side} x {side}: {sec:.1f} s, {side * side / sec:.0f} cells per second; "
-              f"fractions {np.round(dd.basin_fraction.values[0], 3).tolist()} ({list(dd.attractor_label.values)})")
+        duffing(side)
     if not a.quick:
         ds, sec, _ = census(281, 1000)
         print(f"census 281 values x 1000 starts: {sec / 60:.1f} min (target 15 min)")
