@@ -319,8 +319,8 @@ def _persists(smap, record, k0: int, s: Settings) -> bool:
     """Whether a non-periodic set recorded in ``record`` (from sample ``k0``) is an attractor: some of
     :data:`PERSIST_COPIES` trajectories started on its recorded points still have no period (up to
     ``s.max_period``, :func:`_periodic_tail`) after ``s.persist`` periods.  A chaotic saddle's trajectories all
-    fall onto periodic orbits, however long their chaos lasts (thesis-1dof at 122 V: a mean chaotic lifetime
-    near 900 relay periods).  Copies are run in legs of 500 periods and dropped once periodic (stable orbits
+    fall onto periodic orbits, however long their chaos lasts (thesis-1dof at 122 V: 5 of 200 starts still
+    chaotic after 3000 relay periods, benchmarks/README.md).  Copies are run in legs of 500 periods and dropped once periodic (stable orbits
     keep them)."""
     q = smap.forcing_period_steps
     periods = candidate_periods(q, s.max_period)
