@@ -4,10 +4,11 @@
     python benchmarks/attractors.py             # also 281 values x 1000 starts and the 500 x 500 Duffing grid
 
 Prints, side by side: the census end to end on thesis-1dof (`measured` law, 10 Hz, V in 80-220 V, box
-x=0:0.03, v=-1.5:1.5); its cost per start against a bare batch ensemble running the same starts for the same
-mean number of periods; the census at half the grid cell size (largest change of a fraction against its
-interval); cells per second on the forced Duffing oscillator's stroboscopic basins
-(x'' + d x' + b x + x^3 = F cos(w t), d = 0.15, b = -1, F = 0.27, w = 0.1).
+x=0:0.03, v=-1.5:1.5); its cost per start against a bare batch ensemble running the same starts, each for the
+periods it spent in the census, interleaved value by value in one process; the census at half the grid cell size
+(every fraction, attractors summed by label, against the first census' 95 % interval); cells per second on the
+forced Duffing oscillator's stroboscopic basins (x'' + d x' + b x + x^3 = F cos(w t), d = 0.15, b = -1, F = 0.27,
+w = 0.1).
 """
 from __future__ import annotations
 
@@ -49,21 +50,84 @@ def census(n_values, n_starts, cells=100, workers=None, link=True):
     return ds, time.perf_counter() - t, time.process_time() - c + (k2.ru_utime - k.ru_utime) + (k2.ru_stime - k.ru_stime)
 
 
-def bare(ds):
-    """Seconds of a bare batch ensemble in this process: the same starts at every value, each for the census'
-    mean number of periods per start, strobe points only (``events=False``, the census' own chunks' mode)."""
+def interleaved(n_values, n_starts, cells=100):
+    """Census and bare ensemble side by side, value after value in this process: the census of a value's fresh
+    starts (:class:`bifurc.attractors.job.CensusJob`), then a bare batch ensemble of the same starts, each run for
+    the strobe periods it spent in the census (strobe points only, ``events=False``).  Returns wall and CPU seconds
+    of both and the mean periods per start."""
     import maps
+    from bifurc.attractors.census import Settings
+    from bifurc.attractors.identify import Grid
+    from bifurc.attractors.job import CensusJob
+    from bifurc.attractors.starts import make_starts
     from maps.poincare import StroboscopicMap
     pb = maps.problem("thesis-1dof", params={"relay_hz": 10.0}, dc_law="measured")
+    st = make_starts(pb, "box", n=n_starts, box={"x": (0.0, 0.03), "v": (-1.5, 1.5)}, seed=1)
+    starts = list(np.asarray(st.points, dtype=float))
+    job = CensusJob(pb, "V", np.asarray(starts), Grid.over(st.box, pb.system, cells, pb.state_vector()), Settings())
+    job.warm()
     smap = StroboscopicMap(pb, tol=1e-10)
-    starts = np.stack([ds[f"start_{s}"].values for s in pb.system.state_names], axis=1)
-    n = max(1, int(round(ds.attrs["periods_per_start_mean"])))
     smap.orbits([{}], [starts[0]], 1, batch_size=4, events=False)          # compiled before the clock
-    t = time.perf_counter()
-    for v in ds.V.values:
+    wall, cpu, spent = np.zeros(2), np.zeros(2), []
+    for v in np.linspace(80, 220, n_values):
+        t, c = time.perf_counter(), time.process_time()
+        r = job(v)
+        wall[0], cpu[0] = wall[0] + time.perf_counter() - t, cpu[0] + time.process_time() - c
         smap.set_params(V=float(v))
-        smap.orbits([{}] * len(starts), list(starts), n, batch_size=4, events=False)
-    return time.perf_counter() - t, n
+        t, c = time.perf_counter(), time.process_time()
+        smap.orbits([{}] * len(starts), starts, [max(1, int(p)) for p in r.spent], batch_size=4, events=False)
+        wall[1], cpu[1] = wall[1] + time.perf_counter() - t, cpu[1] + time.process_time() - c
+        spent.extend(r.spent)
+    return wall, cpu, float(np.mean(spent))
+
+
+def duffing(side: int) -> None:
+    """Cells per second of the forced Duffing oscillator's stroboscopic basins on a side x side slice."""
+    import bifurc
+    t = time.perf_counter()
+    dd = bifurc.attractors(duffing_scene(), "F", [0.27], starts="slice", shape=(side, side), progress=False,
+                           link=False)
+    sec = time.perf_counter() - t
+    print(f"Duffing basins {side} x {side}: {sec:.1f} s, {side * side / sec:.0f} cells per second; "
+          f"fractions {np.round(dd.basin_fraction.values[0], 3).tolist()} ({list(dd.attractor_label.values)}); "
+          f"{dd.attrs['workers']} workers; {load()}")
+
+
+def by_label(ds) -> dict:
+    """{(value index, label): starts} of one census: attractors with the same class, period and impacts at a value
+    are summed (their ids differ between two censuses), outcomes by name."""
+    from bifurc.sweeps.classify import describe
+    n = ds.sizes["start"]
+    out = {}
+    for i in range(ds.sizes[ds.basin_fraction.dims[0]]):
+        for j in range(ds.sizes["attractor"]):
+            k = int(round(float(ds.basin_fraction.values[i, j]) * n))
+            if not k:
+                continue
+            code = int(ds.class_code.values[i, j])
+            label = describe(code, int(ds.period.values[i, j]), int(ds.impacts_per_period.values[i, j])) \
+                if j < ds.sizes["attractor"] - 3 else str(ds.attractor_label.values[j])
+            out[(i, label)] = out.get((i, label), 0) + k
+    return out
+
+
+def grid_change(ds, half) -> str:
+    """Every fraction (attractors by label, and the outcomes) of the census at half the cell size against the
+    first census' 95 % Wilson interval of the same fraction."""
+    from bifurc.attractors.census import wilson
+    n = ds.sizes["start"]
+    a, b = by_label(ds), by_label(half)
+    worst, outside, width = 0.0, [], 0.0
+    for key in sorted(set(a) | set(b)):
+        fa, fb = a.get(key, 0) / n, b.get(key, 0) / n
+        lo, hi = wilson(a.get(key, 0), n)
+        width = max(width, hi - lo)
+        worst = max(worst, abs(fb - fa))
+        if not lo - 1e-12 <= fb <= hi + 1e-12:      # the interval of 0 of n starts at 0 up to round-off
+            outside.append(f"{float(ds[ds.basin_fraction.dims[0]].values[key[0]]):g} {key[1]}: {fa:.3f} -> {fb:.3f}")
+    tail = (": " + "; ".join(outside)) if outside else ""
+    return (f"largest change of a fraction {worst:.3f} (intervals up to {width:.3f} wide); {len(outside)} of "
+            f"{len(set(a) | set(b))} fractions outside the first census' interval{tail}")
 
 
 def load() -> str:
@@ -74,35 +138,27 @@ def load() -> str:
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--duffing", type=int, metavar="SIDE", help="only the Duffing basins on a SIDE x SIDE grid")
     a = ap.parse_args(argv)
     print(load())
+    if a.duffing:
+        return duffing(a.duffing)
     ds, sec, cpu = census(21, 200)
     n_att = int((ds.present.values[:, :-3] > 0).any(axis=0).sum())
     print(f"census thesis-1dof measured 10 Hz, 21 values x 200 starts, {ds.attrs['workers']} workers, linked: "
           f"{sec:.1f} s end to end ({cpu:.1f} s CPU in all processes; target 30 s); {n_att} attractors; {ds.attrs['periods_per_start_mean']:.1f} "
           f"periods per start on average (max {ds.attrs['periods_per_start_max']})")
-    one, sec1, cpu1 = census(21, 200, workers=1, link=False)
-    b, n = bare(one)
-    print(f"cost per start, one process, no linking: census {sec1:.1f} s ({cpu1:.1f} s CPU) vs bare batch ensemble "
-          f"{b:.1f} s (the same 4200 starts, {n} periods each, strobe points only): ratio {sec1 / b:.2f} "
-          f"(target <= 1.3)")
+    wall, cpu, mean = interleaved(21, 200)
+    print(f"cost per start, one process, census and bare ensemble interleaved value by value: census {wall[0]:.1f} s "
+          f"({cpu[0]:.1f} s CPU) vs bare batch ensemble {wall[1]:.1f} s ({cpu[1]:.1f} s CPU) running the same 4200 "
+          f"starts each for the periods it spent in the census ({mean:.1f} on average, strobe points only): ratio "
+          f"{wall[0] / wall[1]:.2f} wall, {cpu[0] / cpu[1]:.2f} CPU (target <= 1.3)")
     print(load())
     half, sec2, _ = census(21, 200, cells=200)
-    cols = min(ds.sizes["attractor"], half.sizes["attractor"])
-    width = (ds.basin_fraction_high - ds.basin_fraction_low).values
     print(f"grid halved (200 cells per side): {sec2:.1f} s; {n_att} vs "
-          f"{int((half.present.values[:, :-3] > 0).any(axis=0).sum())} attractors; outcome fractions "
-          f"(escaped, not_converged, failed) change by at most "
-          f"{float(np.max(np.abs(ds.basin_fraction.values[:, -3:] - half.basin_fraction.values[:, -3:]))):.3f} "
-          f"(interval widths up to {float(np.nanmax(width)):.3f}; {cols} columns compared by id only for outcomes)")
-    import bifurc
+          f"{int((half.present.values[:, :-3] > 0).any(axis=0).sum())} attractors; {grid_change(ds, half)}")
     for side in ((100,) if a.quick else (100, 500)):
-        t = time.perf_counter()
-        dd = bifurc.attractors(duffing_scene(), "F", [0.27], starts="slice", shape=(side, side), progress=False,
-                               link=False)
-        sec = time.perf_counter() - t
-        print(f"Duffing basins {side} x {side}: {sec:.1f} s, {side * side / sec:.0f} cells per second; "
-              f"fractions {np.round(dd.basin_fraction.values[0], 3).tolist()} ({list(dd.attractor_label.values)})")
+        duffing(side)
     if not a.quick:
         ds, sec, _ = census(281, 1000)
         print(f"census 281 values x 1000 starts: {sec / 60:.1f} min (target 15 min)")

@@ -347,3 +347,84 @@ def test_switch_on_census_grid_spans_the_scene_box_not_the_spread():
                            params={"relay_hz": 10.0}, progress=False, link=False)
     w = ds.attrs["grid_cell_widths"]
     assert w[0] == pytest.approx(3e-4, rel=1e-12) and w[1] == pytest.approx(0.03, rel=1e-12) and math.isinf(w[2])
+
+
+class _LogisticMap:
+    """The logistic map x -> r x (1 - x) with the stroboscopic map's ``orbits`` interface (strobe points only),
+    for :func:`bifurc.attractors.census._persists`."""
+
+    forcing_period_steps = 1
+
+    def __init__(self, r):
+        self.r = r
+
+    def orbits(self, overrides, x0, n, *, k0=0, batch_size=4, events=True):
+        from types import SimpleNamespace
+
+        from maps.hybrid import HybridState
+        out = []
+        for s in x0:
+            x = np.empty(n + 1)
+            x[0] = float(np.asarray(getattr(s, "y", s), dtype=float)[0])
+            for k in range(n):
+                x[k + 1] = self.r * x[k] * (1.0 - x[k])
+            out.append(SimpleNamespace(points=x[:, None], status="ok", final=HybridState(x[-1:].copy(), None),
+                                       state=lambda j, x=x: HybridState(x[j:j + 1].copy(), None)))
+        return out
+
+
+@pytest.mark.parametrize("r, attractor", [(4.0, True), (3.835, False), (3.7385, False)])
+def test_a_chaotic_set_is_an_attractor_only_if_it_persists(r, attractor):
+    """Closed-form truths of the logistic map: at r = 4 it is conjugate to the tent map (exponent ln 2, every
+    cycle unstable), so chaos persists; at r = 3.835, inside the period-3 window (1 + sqrt 8 = 3.8284 < r <
+    3.8415) and at r = 3.7385, inside the period-5 window, a stable cycle attracts almost every start and the chaos
+    seen on the way is a transient: a saddle, not an attractor."""
+    from bifurc.attractors.census import Settings, _persists
+    assert 1 + math.sqrt(8) < 3.835 < 3.8415
+    m = _LogisticMap(r)
+    record = m.orbits([{}], [np.array([0.2345])], 48)[0]       # 48 points of its transient (or of its chaos)
+    assert _persists(m, record, 0, Settings()) is attractor
+
+
+def test_outcomes_do_not_depend_on_the_grid():
+    """The bistable flow's outcome of each start is its analytic basin (x below or above the middle root) on a
+    grid of 25, 50 or 100 cells per side: the grid only speeds up landing."""
+    roots = _roots(0.1)
+    for cells in (25, 50, 100):
+        ds = bifurc.attractors(BISTABLE, "r", [0.1], n_starts=40, seed=2, cells=cells, progress=False, link=False)
+        low = [j for j in range(ds.sizes["attractor"] - 3) if ds.present.values[0, j] and ds.x.values[0, j, 0] < 0][0]
+        assert np.array_equal(ds.start_attractor.values[0] == low, ds.start_x.values < roots[1]), cells
+
+
+def test_a_grid_coarser_than_the_orbits_spacing_gives_the_same_outcomes(oscillator_census):
+    """With 3 cells per side the two closed-form orbits lie 1.5 and 0.6 cells apart (x, v): a start passing
+    through one orbit's cells is counted for it only if it approaches it, and two polished orbits are told apart
+    by their nodes, not their cells.  Every start reaches an orbit with the same impacts as on 100 cells (whose
+    outcomes the scipy brute force checks above); the old census counted all 50 for the non-impacting one."""
+    exact = [_non_impacting(OSC), _impacting(OSC)]
+    assert np.all(np.abs(exact[0] - exact[1]) / np.array([3.0 / 3, 4.0 / 3]) < 2)
+    coarse = bifurc.attractors("impact-oscillator", "Omega", [OSC["Omega"]], params=OSC, box=BOX, n_starts=50,
+                               seed=3, cells=3, progress=False, link=False)
+
+    def impacts(ds):
+        return ds.impacts_per_period.values[0, ds.start_attractor.values[0]]
+    assert sorted(int(m) for m in set(impacts(coarse))) == [0, 1]
+    assert np.array_equal(impacts(coarse), impacts(oscillator_census))
+
+
+def test_same_orbit_and_converging_are_tolerances_of_the_states():
+    """Hand-made orbits on a grid of unit cells: two fixed points 0.1 cell apart are two orbits, the same period-2
+    orbit at the other phase is one; a trajectory x* + 0.8^k (1, 1) approaches x*, one circling at 0.1 cell does
+    not."""
+    from bifurc.attractors.identify import Attractor, Grid, converging, same_orbit
+    from bifurc.codes import ClassCode
+    P = int(ClassCode.PERIODIC)
+    grid = Grid(np.zeros(2), np.ones(2))
+    a, b = Attractor(P, 1, points=np.array([[5.0, 5.0]])), Attractor(P, 1, points=np.array([[5.1, 5.0]]))
+    assert not same_orbit(a, b) and same_orbit(a, Attractor(P, 1, points=np.array([[5.0, 5.0 + 1e-9]])))
+    two = Attractor(P, 2, points=np.array([[1.0, 2.0], [3.0, 4.0]]))
+    assert same_orbit(two, Attractor(P, 2, points=np.array([[3.0, 4.0], [1.0, 2.0]]), k0=1))
+    k = np.arange(41)[:, None]
+    assert converging(np.array([5.0, 5.0]) + 0.8 ** k * np.ones(2), a, grid)
+    circling = np.array([5.0, 5.0]) + 0.1 * np.hstack([np.cos(k), np.sin(k)])
+    assert not converging(circling, a, grid)

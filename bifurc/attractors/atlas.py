@@ -33,7 +33,7 @@ def _values(param, values, system) -> np.ndarray:
 @recorded("bifurc.attractors")
 def attractors(problem_or_scene="thesis-1dof", param: str = "V", values=None, *, starts="box", n_starts: int = 100,
                box: dict | None = None, shape=None, seed: int = 0, preset=None, params=None, tol: float = 1e-10,
-               cells: int = 100, chunk: int = 20, land: int = 6, recur: int = 20, locate: int = 48,
+               cells: int = 100, chunk: int = 40, land: int = 6, recur: int = 20, locate: int = 48,
                max_periods: int = 2000, max_period: int = 16, match_threshold: float = 20.0, link: bool = True,
                n_node: int = 16, batch_size: int = 4, workers: int | None = None, scheduler=None, progress=True,
                path=None, overwrite: bool = False,

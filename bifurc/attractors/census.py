@@ -1,15 +1,20 @@
-"""The census at one parameter value: every start followed on the batch engine until it lands on a
-known attractor or recurs on the state-space grid, then the new attractor identified.
+"""The census at one parameter value: every start followed on the batch engine until it lands on a known
+attractor or recurs on the state-space grid, then the new attractor identified.
 
 The recurrence test follows the design of Attractors.jl's ``AttractorsViaRecurrences`` (Datseris and
-Wagemakers 2022), written anew for hybrid maps: each start is iterated in chunks of ``chunk`` strobe
-periods (one batch call for all active starts); each strobe point falls in a grid cell; a start whose
-``land`` consecutive points lie in the cells of one known attractor is counted for it (early stop);
-one whose ``recur`` consecutive points fall in cells it visited before has found an attractor: it is
-recorded ``locate`` more periods with a tangent vector, classified (:mod:`bifurc.sweeps.classify`),
-polished by Newton where periodic and matched against the attractors already found (:mod:`.identify`).
-A start that escapes or fails is that outcome; one still undecided after ``max_periods`` is
-"not_converged".
+Wagemakers 2022), written anew for hybrid maps: each start is iterated in chunks of ``chunk`` strobe periods
+(one batch call for all active starts); each strobe point falls in a grid cell; a start whose ``land``
+consecutive points lie in the cells of one known attractor is counted for it (early stop); one whose ``recur``
+consecutive points fall in cells it visited before has found an attractor. A recurring start whose last chunk
+repeats with a period is identified at once (a known periodic orbit, or Newton: a stable polished orbit). Of
+one that recurs without a period, the chunk sharing cells with a known non-periodic attractor counts for it
+(one exponent per set, not per start); one on a known chaotic saddle runs on; the rest are recorded ``locate``
+periods with a tangent vector and classified (:mod:`bifurc.sweeps.classify`). A new non-periodic set is an
+attractor only if it persists: trajectories started on it keep off every period for ``persist`` periods
+(:func:`_persists`); else it is a chaotic saddle, a transient however long, and its starts run on to where
+they settle. So whether a start ends chaotic, periodic or not converged does not hinge on when the grid's
+cells happened to recur. A start that escapes or fails is that outcome; one still undecided after
+``max_periods`` or ``max_tries`` undecided records (or on the cells of a start that was) is "not_converged".
 """
 from __future__ import annotations
 
@@ -20,7 +25,9 @@ import numpy as np
 
 from maps.hybrid import HybridState
 
-from .identify import Attractor, Grid, from_chunk, identify, same_attractor
+from ..sweeps.classify import candidate_periods
+from .identify import (Attractor, Grid, converging, from_chunk, identify, near_periods, polish_once,
+                       same_attractor, same_orbit)
 
 __all__ = ["Settings", "Track", "census_at", "OUTCOMES"]
 
@@ -31,10 +38,12 @@ OUTCOMES = {"escaped": -1, "not_converged": -2, "failed": -3}
 @dataclass(frozen=True)
 class Settings:
     """Census settings: periods per chunk, consecutive points to land or recur, periods recorded to
-    identify, the budget per start [strobe periods], the period search, Newton's tolerance, SIMD lanes and
-    the records (``locate`` periods each) after which a start still undecided is "not_converged"."""
+    identify, the budget per start [strobe periods], the period search, Newton's tolerance, SIMD lanes,
+    the records (``locate`` periods each) after which a start still undecided is "not_converged", and the
+    periods over which a new non-periodic set's copies must keep off every period for the set to be an
+    attractor (:func:`_persists`)."""
 
-    chunk: int = 20
+    chunk: int = 40
     land: int = 6
     recur: int = 20
     locate: int = 48
@@ -43,6 +52,7 @@ class Settings:
     newton_tol: float = 1e-10
     batch_size: int = 4
     max_tries: int = 6
+    persist: int = 4000
 
 
 @dataclass
@@ -59,6 +69,19 @@ class Track:
     outcome: int | None = None
     periods: int = 0
     last: object = None
+    last_keys: list = field(default_factory=list)
+    quiet_until: int = 0         # no record before this age: the last one was on a chaotic saddle
+
+
+@dataclass
+class Memory:
+    """What one value's census learnt besides its attractors: {(period, cell): (mismatch, failures)} where Newton
+    failed (:func:`.identify.polish_once`), the chaotic saddles (non-periodic sets whose copies all fell onto periods),
+    and the cells of starts recorded ``max_tries`` times without a decision."""
+
+    tried: dict = field(default_factory=dict)
+    saddles: list = field(default_factory=list)
+    undecided: list = field(default_factory=list)
 
 
 def _step_cells(t: Track, keys: list, owner: dict, s: Settings) -> str:
@@ -93,7 +116,7 @@ def census_at(smap, starts: list, grid: Grid, settings: Settings, *, k0=0,
     tracks = [Track(st, int(k)) for st, k in zip(starts, ks)]
     found: list[Attractor] = list(known or [])
     owner: dict = {c: i for i, a in enumerate(found) for c in a.cells}
-    tried: set = set()          # (period, cell) where Newton failed
+    mem = Memory()
     active = list(range(len(tracks)))
     while active:
         orbits = smap.orbits([{}] * len(active), [tracks[i].state for i in active], s.chunk,
@@ -106,10 +129,12 @@ def census_at(smap, starts: list, grid: Grid, settings: Settings, *, k0=0,
                 t.outcome = OUTCOMES["escaped" if o.status == "escaped" else "failed"]
                 continue
             what = _step_cells(t, kk, owner, s)
-            t.last, t.state, t.k, t.periods = o, o.final, t.k + s.chunk, t.periods + s.chunk
+            t.last, t.last_keys, t.state, t.k, t.periods = o, kk, o.final, t.k + s.chunk, t.periods + s.chunk
+            if what == "land" and found[t.outcome].periodic and not converging(o.points, found[t.outcome], grid):
+                _landing_checked(smap, t, found, owner, grid, s, mem)
             if what == "recur":
                 candidates.append(i)
-        _identify_candidates(smap, tracks, candidates, grid, s, found, owner, tried)
+        _identify_candidates(smap, tracks, candidates, grid, s, found, owner, mem)
         for i in active:
             t = tracks[i]
             if t.outcome is None and t.periods >= s.max_periods:
@@ -119,6 +144,22 @@ def census_at(smap, starts: list, grid: Grid, settings: Settings, *, k0=0,
             progress(len(done))
         active = [i for i in active if tracks[i].outcome is None]
     return [t.outcome for t in tracks], found, [t.periods for t in tracks]
+
+
+def _landing_checked(smap, t: Track, found: list, owner: dict, grid, s: Settings, mem: Memory) -> None:
+    """A start landed in a periodic orbit's cells without approaching it geometrically: passing by (it runs on),
+    unless its whole chunk stayed in those cells; then Newton from its chunk decides: another stable orbit
+    close to it (registered: thesis-1dof at 94 V, a 1:6 orbit within a cell of 100 per side of the state at
+    rest), else the orbit it landed on (a slow or chattering approach: at 115 V, chattering on the stop)."""
+    aid = t.outcome
+    t.outcome, t.land, t.land_id = None, 0, -1
+    if not all(owner.get(key) == aid for key in t.last_keys):
+        return
+    got = polish_once(smap, t.last, t.k - s.chunk, found[aid].period, grid, s.newton_tol, 1e-6, 1e-9, mem.tried)
+    if got is None or same_orbit(got, found[aid], smap.forcing_period_steps):
+        t.outcome = aid
+    else:
+        t.outcome = _register(got, found, owner, grid, smap.forcing_period_steps)
 
 
 def _chunk_keys(grid: Grid, orbits) -> list:
@@ -148,21 +189,77 @@ def _register(a: Attractor, found: list, owner: dict, grid: Grid, q: int) -> int
 
 
 def _identify_candidates(smap, tracks, candidates, grid, s: Settings, found: list, owner: dict,
-                         tried: set) -> None:
-    """Identify each recurring start from its last chunk (known orbit, or Newton once per distinct
-    attractor); the rest are recorded ``locate`` periods with a tangent vector (one batch call)."""
+                         mem: Memory) -> None:
+    """Identify each recurring start from its last chunk (known orbit, or Newton once per distinct periodic
+    attractor).  Of one recurring without a period, the chunk sharing cells with a known non-periodic attractor
+    counts for it, one sharing cells with a known chaotic saddle runs on, one mostly on the cells of an undecided
+    start is "not_converged", and the rest are recorded ``locate`` periods with a tangent vector (one batch
+    call) and classified."""
     q = smap.forcing_period_steps
     rest = []
     for i in candidates:
         t = tracks[i]
         got = from_chunk(smap, t.last, t.k - s.chunk, grid, found, max_period=s.max_period, tol=s.newton_tol,
-                         tried=tried)
-        if got is None:
-            rest.append(i)
-        else:
+                         tried=mem.tried)
+        if got is not None:
             t.outcome = got if isinstance(got, int) else _register(got, found, owner, grid, q)
-    if not rest:
-        return
+        elif _mostly_in(t.last_keys, mem.undecided):
+            t.outcome = OUTCOMES["not_converged"]
+        elif t.periods < t.quiet_until:
+            t.recur = 0              # on a chaotic saddle at its last record: it runs on
+        elif near_periods(t.last.points, grid, candidate_periods(q, s.max_period)):
+            rest.append(i)           # nearly periodic, Newton failed: the record decides (max_tries of them)
+        else:
+            t.outcome = _sharing(t.last_keys, found, owner)
+            if t.outcome is None and not _on_saddle(t, mem.saddles):
+                rest.append(i)
+    if rest:
+        _record_and_classify(smap, tracks, rest, grid, s, found, owner, mem)
+
+
+def _mostly_in(keys: list, sets: list) -> bool:
+    """Whether at least half of a chunk's distinct cells lie in one of ``sets`` (cells of undecided starts): the
+    start is on a set the records could not decide, so that its own records would not either."""
+    cells = {c for c in keys if c is not None}
+    return bool(cells) and any(2 * len(cells & u) >= len(cells) for u in sets)
+
+
+def _on_saddle(t: Track, saddles: list) -> bool:
+    """Whether the start's last chunk shares a cell with a known saddle (its cells then join the saddle's):
+    it runs on without a record, its recurrence counted afresh."""
+    cells = {c for c in t.last_keys if c is not None}
+    for sd in saddles:
+        if sd.cells & cells:
+            sd.cells |= cells
+            t.recur, t.visits = 0, set()
+            return True
+    return False
+
+
+def _sharing(keys: list, found: list, owner: dict) -> int | None:
+    """The known non-periodic attractor sharing the most cells with a chunk's ``keys`` (its cells then own
+    the chunk's too), or None."""
+    shared: dict = {}
+    for key in keys:
+        aid = owner.get(key)
+        if aid is not None and not found[aid].periodic:
+            shared[aid] = shared.get(aid, 0) + 1
+    if not shared:
+        return None
+    aid = max(sorted(shared), key=shared.get)
+    cells = {c for c in keys if c is not None}
+    found[aid].cells |= cells
+    for c in cells:
+        owner.setdefault(c, aid)
+    return aid
+
+
+def _record_and_classify(smap, tracks, rest, grid, s: Settings, found: list, owner: dict, mem: Memory) -> None:
+    """Record the starts ``rest`` ``locate`` periods with a tangent vector (one batch call) and identify each
+    (:func:`.identify.identify`); an undecided one runs on, "not_converged" after ``max_tries`` records; a new
+    non-periodic set is an attractor only if it persists (:func:`_persists`), else a saddle the start runs on
+    from."""
+    q = smap.forcing_period_steps
     recs = smap.orbits([{}] * len(rest), [tracks[i].state for i in rest], s.locate,
                        k0=[tracks[i].k for i in rest], batch_size=s.batch_size, tangent=True)
     for i, o in zip(rest, recs):
@@ -170,15 +267,74 @@ def _identify_candidates(smap, tracks, candidates, grid, s: Settings, found: lis
         if o.status != "ok":
             t.outcome = OUTCOMES["escaped" if o.status == "escaped" else "failed"]
             continue
-        a = identify(smap, o, t.k, grid, max_period=s.max_period, tol=s.newton_tol, tried=tried)
+        a = identify(smap, o, t.k, grid, max_period=s.max_period, tol=s.newton_tol, tried=mem.tried)
         t.state, t.k, t.periods = o.final, t.k + s.locate, t.periods + s.locate
         t.recur, t.visits = 0, set()
         if a is None:
             t.tries += 1
             if t.tries >= s.max_tries:       # recorded max_tries times and never decided
                 t.outcome = OUTCOMES["not_converged"]
+                mem.undecided.append({c for c in grid.keys(o.points) if c is not None})
+            continue
+        if not a.periodic and _is_new_saddle(smap, a, o, t.k - s.locate, grid, s, found, q, mem.saddles):
+            t.quiet_until = t.periods + SADDLE_QUIET * s.chunk     # on a saddle: it runs on without records
             continue
         t.outcome = _register(a, found, owner, grid, q)
+
+
+def _is_new_saddle(smap, a: Attractor, record, k0: int, grid, s: Settings, found: list, q: int,
+                   saddles: list) -> bool:
+    """Whether the non-periodic set ``a`` is a chaotic saddle: one of the known ``saddles`` (sharing a cell) or a
+    new set, matching no attractor in ``found``, that does not persist (then kept in ``saddles``)."""
+    for sd in saddles:
+        if sd.cells & a.cells:
+            sd.cells |= a.cells
+            return True
+    if any(same_attractor(a, b, grid, q) for b in found) or _persists(smap, record, k0, s):
+        return False
+    a.how = f"chaotic saddle: none of {PERSIST_COPIES} trajectories from its record kept off every period"
+    saddles.append(a)
+    return True
+
+
+#: chunks a start recorded on a chaotic saddle runs before another record (it lands or recurs periodically
+#: meanwhile, or is recorded again then: a saddle's start may also reach a chaotic attractor)
+SADDLE_QUIET = 10
+
+#: trajectories started on a new non-periodic set's record to test that it persists (one batch of lanes)
+PERSIST_COPIES = 4
+
+
+def _periodic_tail(points, periods, rtol: float = 1e-6, atol: float = 1e-9) -> bool:
+    """Whether ``points`` repeat with some period n of ``periods``: every point within rtol of each state's scale
+    (plus atol) of the point n before.  A tolerance of the states, not of the grid: a chaotic set's copies are
+    told from converged ones alike on every grid (within two cells of 100 per side, a chaotic set's slow phases
+    at 178 V passed for period 1)."""
+    P = np.asarray(points, dtype=float)
+    tol = rtol * np.maximum(np.max(np.abs(P), axis=0), atol) + atol
+    return any(n < len(P) and bool(np.all(np.abs(P[n:] - P[:-n]) <= tol)) for n in periods)
+
+
+def _persists(smap, record, k0: int, s: Settings) -> bool:
+    """Whether a non-periodic set recorded in ``record`` (from sample ``k0``) is an attractor: some of
+    :data:`PERSIST_COPIES` trajectories started on its recorded points still have no period (up to
+    ``s.max_period``, :func:`_periodic_tail`) after ``s.persist`` periods.  A chaotic saddle's trajectories all
+    fall onto periodic orbits, however long their chaos lasts (thesis-1dof at 122 V: 5 of 200 starts still
+    chaotic after 3000 relay periods, benchmarks/README.md).  Copies are run in legs of 500 periods and dropped once periodic (stable orbits
+    keep them)."""
+    q = smap.forcing_period_steps
+    periods = candidate_periods(q, s.max_period)
+    idx = np.linspace(0, len(record.points) - 1, PERSIST_COPIES).astype(int)
+    live = [(record.state(int(j)), k0 + int(j)) for j in idx]
+    done, leg = 0, 500
+    while live and done < s.persist:
+        n = min(leg, s.persist - done)
+        runs = smap.orbits([{}] * len(live), [x for x, _ in live], n, k0=[k for _, k in live],
+                           batch_size=s.batch_size, events=False)
+        live = [(o.final, k + n) for o, (_, k) in zip(runs, live)
+                if o.status == "ok" and not _periodic_tail(o.points[-4 * s.max_period:], periods)]
+        done += n
+    return bool(live)
 
 
 def wilson(k, n, z: float = 1.959963984540054) -> tuple[float, float]:

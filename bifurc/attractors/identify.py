@@ -19,7 +19,8 @@ from ..orbits.periodic import OrbitNotFound, find_periodic_orbit
 from ..sweeps.classify import candidate_periods, classify_orbit, lyapunov_threshold, mechanical_period
 from ..sweeps.lyapunov import exponent_interval
 
-__all__ = ["Grid", "Attractor", "identify", "from_chunk", "distance", "same_attractor"]
+__all__ = ["Grid", "Attractor", "identify", "from_chunk", "distance", "same_attractor", "same_orbit", "converging",
+           "near_periods", "polish_once"]
 
 
 @dataclass(frozen=True)
@@ -101,16 +102,46 @@ def distance(a: Attractor, b: Attractor, grid: Grid, q: int = 1) -> float:
 
 
 def same_attractor(a: Attractor, b: Attractor, grid: Grid, q: int = 1) -> bool:
-    """One attractor: periodic orbits within half a cell at some phase; other sets sharing a grid cell."""
+    """One attractor: periodic orbits whose polished nodes agree at some phase (:func:`same_orbit`: a tolerance
+    of the states, so that two orbits within a cell stay two on a coarse grid); other sets sharing a grid cell."""
     if a.periodic and b.periodic:
-        return distance(a, b, grid, q) < 0.5
+        return same_orbit(a, b, q)
     if a.periodic != b.periodic:
         return False
     return bool(a.cells & b.cells)
 
 
+def same_orbit(a: Attractor, b: Attractor, q: int = 1, rtol: float = 1e-6, atol: float = 1e-9) -> bool:
+    """Whether two polished periodic orbits of one period are one: every node within rtol of each state's scale
+    (plus atol) at some phase (shifts keeping the forcing's phase, a multiple of q).  Newton polishes to 1e-10."""
+    if a.period != b.period:
+        return False
+    n = a.period
+    A, B = np.asarray(a.points[:n], dtype=float), np.asarray(b.points[:n], dtype=float)
+    tol = rtol * np.maximum(np.maximum(np.abs(A).max(axis=0), np.abs(B).max(axis=0)), atol) + atol
+    return any(not (q > 1 and (a.k0 - b.k0 - s) % q) and bool(np.all(np.abs(A - np.roll(B, -s, axis=0)) <= tol))
+               for s in range(n))
+
+
+def converging(points, a: Attractor, grid: Grid) -> bool:
+    """Whether a trajectory's ``points`` (strobe points, oldest first, at least three periods of ``a``) approach
+    the periodic attractor ``a``: the largest distance [cells] of a period's points to the orbit's nearest node
+    halves from the first period to the middle one and again to the last, or the last is below 1e-6 cells
+    (there already).  A grid-free test that a start landing in the orbit's cells is captured, not passing by or
+    settling on another orbit close to it (thesis-1dof at 94 V: a 1:6 orbit lies within a cell of 100 per
+    side of the state at rest)."""
+    n = a.period
+    P, N = grid.scaled(points), grid.scaled(a.points[:n])
+    if len(P) < 3 * n:
+        return False
+    d = np.max(np.abs(P[:, None, :] - N[None, :, :]), axis=2).min(axis=1)
+    m = (len(P) - n) // 2
+    start, mid, end = float(d[:n].max()), float(d[m:m + n].max()), float(d[-n:].max())
+    return end <= 1e-6 or (end <= 0.5 * mid and mid <= 0.5 * start)
+
+
 def identify(smap, orbit, k0: int, grid: Grid, *, max_period: int = 16, tol: float = 1e-10,
-             rtol: float = 1e-6, atol: float = 1e-9, tried: set | None = None) -> Attractor | None:
+             rtol: float = 1e-6, atol: float = 1e-9, tried: dict | None = None) -> Attractor | None:
     """The attractor a recorded orbit (a :class:`maps.poincare.MapOrbit` starting at sample ``k0``, with a
     tangent vector) lies on, or None when the record decides nothing yet (a transient)."""
     pts, imp = orbit.points, orbit.impacts_per_step
@@ -122,8 +153,8 @@ def identify(smap, orbit, k0: int, grid: Grid, *, max_period: int = 16, tol: flo
                          periods=candidate_periods(q, max_period), lyapunov=lam,
                          lyap_tol=lyapunov_threshold(len(imp)), lyapunov_interval=(lo, hi))
     if cls["label"] in ("periodic", "periodic-no-impact", "not-converged"):
-        for n in _near_periods(pts, grid, candidate_periods(q, max_period))[:2]:   # Newton at two periods at most
-            found = _polish_once(smap, orbit, k0, n, grid, tol, rtol, atol, tried)
+        for n in near_periods(pts, grid, candidate_periods(q, max_period))[:2]:   # Newton at two periods at most
+            found = polish_once(smap, orbit, k0, n, grid, tol, rtol, atol, tried)
             if found is not None:
                 return found
     if cls["label"] in ("chaotic", "quasi-periodic"):
@@ -136,31 +167,48 @@ def identify(smap, orbit, k0: int, grid: Grid, *, max_period: int = 16, tol: flo
 
 
 def from_chunk(smap, orbit, k0: int, grid: Grid, found: list, *, max_period: int = 16, tol: float = 1e-10,
-               rtol: float = 1e-6, atol: float = 1e-9, tried: set | None = None):
+               rtol: float = 1e-6, atol: float = 1e-9, tried: dict | None = None):
     """A recurring start's attractor from its last chunk (a bare :class:`maps.poincare.MapOrbit` from sample
     ``k0``): the index in ``found`` of a periodic attractor within two cells of its last n points at some
-    phase, else its period-n orbit (n the shortest near period) polished by Newton (a new :class:`Attractor`),
-    else None (record it)."""
+    phase that they approach (:func:`converging`), else its period-n orbit polished by Newton (a new
+    :class:`Attractor`), else None (record it); n the two shortest near periods (a stable period-2 orbit close
+    to its period doubling also nearly repeats after one period, where Newton finds the unstable period-1
+    orbit)."""
     pts, q = orbit.points, smap.forcing_period_steps
-    for n in _near_periods(pts, grid, candidate_periods(q, max_period)):
+    near = near_periods(pts, grid, candidate_periods(q, max_period))[:2]
+    for n in near:
         tail = Attractor(int(ClassCode.PERIODIC), n, points=pts[len(pts) - n:], k0=k0 + len(pts) - n)
         for j, b in enumerate(found):
-            if b.periodic and b.period == n and distance(tail, b, grid, q) <= 2.0:
+            close = b.periodic and b.period == n and distance(tail, b, grid, q) <= 2.0
+            if close and converging(pts, b, grid):
                 return j
-        return _polish_once(smap, orbit, k0, n, grid, tol, rtol, atol, tried)   # at the shortest period only
+    for n in near:
+        got = polish_once(smap, orbit, k0, n, grid, tol, rtol, atol, tried)
+        if got is not None:
+            return got
     return None
 
 
-def _polish_once(smap, orbit, k0, n, grid, tol, rtol, atol, tried: set | None):
-    """:func:`_polish`, unless Newton already failed at period n from the cell of this record's last point
-    (``tried``: the census' (n, cell) of every failure, so that Newton runs about once per distinct attractor)."""
+def polish_once(smap, orbit, k0, n, grid, tol, rtol, atol, tried: dict | None):
+    """:func:`_polish`, unless Newton already failed at period n from the cell of this record's last point for a
+    record that repeated about as closely (``tried``: the census' {(n, cell): (mismatch [cells] of the failed
+    record's last n points against the n before, failures)}, so that Newton runs about once per distinct
+    attractor; a record repeating RETRY_CLOSER times more closely is tried again, up to RETRIES failures: a start
+    at rest in the cell where a chattering transient's Newton failed)."""
     key = (n, grid.keys(orbit.points[-1:])[0])
-    if tried is not None and key in tried:
+    P = grid.scaled(orbit.points[-2 * n:]) if 2 * n < len(orbit.points) else None
+    mismatch = float(np.max(np.abs(P[n:] - P[:n]))) if P is not None else math.inf
+    before = tried.get(key) if tried is not None else None
+    if before is not None and (before[1] >= RETRIES or not mismatch * RETRY_CLOSER < before[0]):
         return None
     a = _polish(smap, orbit, k0, n, grid, tol, rtol, atol)
     if a is None and tried is not None:
-        tried.add(key)
+        tried[key] = (min(mismatch, before[0]), before[1] + 1) if before else (mismatch, 1)
     return a
+
+
+#: how many times more closely a record must repeat for Newton to be tried again where it failed, and how often
+RETRY_CLOSER, RETRIES = 10.0, 3
 
 
 def _min_flight(orbit) -> float:
@@ -168,7 +216,7 @@ def _min_flight(orbit) -> float:
     return float(np.min(m)) if len(m) else math.nan
 
 
-def _near_periods(pts, grid: Grid, periods) -> list:
+def near_periods(pts, grid: Grid, periods) -> list:
     """The candidate periods n (ascending) at which the record's last n points recur within two grid cells."""
     P = grid.scaled(pts)
     N = len(P)
