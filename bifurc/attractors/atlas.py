@@ -85,21 +85,7 @@ def attractors(problem_or_scene="thesis-1dof", param: str = "V", values=None, *,
                     tol)
     fresh, workers, resumed, parts = _fresh(job, values, workers, scheduler, path, progress)
     smap = StroboscopicMap(pb.with_values(**{param: float(values[0])}), tol=tol)
-    per_value, outcomes, links, prev, n_ids, periods = [], [], [], {}, 0, []
-    for i, v in enumerate(values):
-        smap.set_params(**{param: float(v)})
-        found = list(fresh[i].found)
-        if prev:      # the previous value's attractors seeded after the fresh starts (not counted in the fractions)
-            found = census_at(smap, [representative(a) for a in prev.values()], grid, s,
-                              k0=[a.k0 for a in prev.values()], known=found)[1]
-        periods.extend(fresh[i].spent)
-        ids, n_ids = _assign(prev, found, grid, smap.forcing_period_steps, match_threshold, n_ids)
-        here = {ids[j]: a for j, a in enumerate(found)}
-        if i and link:
-            links += _changes(values[i - 1], v, prev, here, i)
-        per_value.append(here)
-        outcomes.append([ids[k] if k >= 0 else k for k in fresh[i].outcomes])
-        prev = here
+    per_value, outcomes, links, n_ids, periods = _follow(smap, param, values, fresh, grid, s, match_threshold, link)
     events = _link_all(pb, param, links, tol, workers)
     from .dataset import to_dataset
     attrs = {"workers": int(workers), "values_resumed": int(resumed), "cells_per_side": int(cells),
@@ -117,6 +103,27 @@ def attractors(problem_or_scene="thesis-1dof", param: str = "V", values=None, *,
         write_netcdf(ds, path, overwrite=overwrite)
         parts.remove()
     return ds
+
+
+def _follow(smap, param, values, fresh, grid, s, match_threshold, link):
+    """Value by value: seed with the previous value's attractors, match them to this value's and (``link``) note
+    the appearances and disappearances: (per_value, outcomes, links, n_ids, periods spent per start)."""
+    per_value, outcomes, links, prev, n_ids, periods = [], [], [], {}, 0, []
+    for i, v in enumerate(values):
+        smap.set_params(**{param: float(v)})
+        found = list(fresh[i].found)
+        if prev:      # the previous value's attractors seeded after the fresh starts (not counted in the fractions)
+            found = census_at(smap, [representative(a) for a in prev.values()], grid, s,
+                              k0=[a.k0 for a in prev.values()], known=found)[1]
+        periods.extend(fresh[i].spent)
+        ids, n_ids = _assign(prev, found, grid, smap.forcing_period_steps, match_threshold, n_ids)
+        here = {ids[j]: a for j, a in enumerate(found)}
+        if i and link:
+            links += _changes(values[i - 1], v, prev, here, i)
+        per_value.append(here)
+        outcomes.append([ids[k] if k >= 0 else k for k in fresh[i].outcomes])
+        prev = here
+    return per_value, outcomes, links, n_ids, periods
 
 
 def _fresh(job, values, workers, scheduler, path, progress):
