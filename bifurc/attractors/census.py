@@ -25,7 +25,7 @@ import numpy as np
 
 from maps.hybrid import HybridState
 
-from ..sweeps.classify import candidate_periods
+from ..sweeps.classify import candidate_periods, state_scale
 from .identify import (Attractor, Grid, converging, from_chunk, identify, near_periods, polish_once,
                        same_attractor, same_orbit)
 
@@ -311,7 +311,7 @@ def _periodic_tail(points, periods, rtol: float = 1e-6, atol: float = 1e-9) -> b
     told from converged ones alike on every grid (within two cells of 100 per side, a chaotic set's slow phases
     at 178 V passed for period 1)."""
     P = np.asarray(points, dtype=float)
-    tol = rtol * np.maximum(np.max(np.abs(P), axis=0), atol) + atol
+    tol = rtol * state_scale(P, atol) + atol
     return any(n < len(P) and bool(np.all(np.abs(P[n:] - P[:-n]) <= tol)) for n in periods)
 
 

@@ -16,7 +16,7 @@ from maps.hybrid import HybridState, IntegrationFailure
 
 from ..codes import ClassCode
 from ..orbits.periodic import OrbitNotFound, find_periodic_orbit
-from ..sweeps.classify import candidate_periods, classify_orbit, lyapunov_threshold, mechanical_period
+from ..sweeps.classify import candidate_periods, classify_orbit, lyapunov_threshold, mechanical_period, state_scale
 from ..sweeps.lyapunov import exponent_interval
 
 __all__ = ["Grid", "Attractor", "identify", "from_chunk", "distance", "same_attractor", "same_orbit", "converging",
@@ -118,7 +118,7 @@ def same_orbit(a: Attractor, b: Attractor, q: int = 1, rtol: float = 1e-6, atol:
         return False
     n = a.period
     A, B = np.asarray(a.points[:n], dtype=float), np.asarray(b.points[:n], dtype=float)
-    tol = rtol * np.maximum(np.maximum(np.abs(A).max(axis=0), np.abs(B).max(axis=0)), atol) + atol
+    tol = rtol * state_scale(np.vstack([A, B]), atol) + atol
     return any(not (q > 1 and (a.k0 - b.k0 - s) % q) and bool(np.all(np.abs(A - np.roll(B, -s, axis=0)) <= tol))
                for s in range(n))
 
