@@ -252,8 +252,8 @@ STICK_ONSET_NOTE = (
 
 def _restarted_at_stick_onset(branches) -> bool:
     """Some branch was restarted past a stick onset (its stop reasons say so)."""
-    return any("sticking sets in" in ds.attrs.get("branch_stop_reasons", "") and "continued from" in
-               ds.attrs.get("branch_stop_reasons", "") for ds in branches)
+    reasons = (ds.attrs.get("branch_stop_reasons", "") for ds in branches)
+    return any("sticking sets in" in r and "continued from" in r for r in reasons)
 
 
 def report(cases, quick, seconds) -> str:
