@@ -87,7 +87,7 @@ def _attractor_to(a: Attractor) -> dict:
             v = np.asarray(v, dtype=float).tolist()
         elif f.name == "cells":
             v = sorted([list(c) for c in v])
-        elif f.name == "lyapunov_interval":
+        elif f.name in ("lyapunov_interval", "lifetime_interval"):
             v = [repr(float(x)) for x in v]
         elif isinstance(v, float):
             v = repr(v)              # lossless, inf and nan included
@@ -98,14 +98,16 @@ def _attractor_to(a: Attractor) -> dict:
 def _attractor_from(d: dict) -> Attractor:
     kw = {}
     for f in fields(Attractor):
+        if f.name not in d:          # a part written before the field existed: its default
+            continue
         v = d[f.name]
         if f.name == "points":
             v = np.asarray(v, dtype=float)
         elif f.name == "cells":
             v = {tuple(c) for c in v}
-        elif f.name == "lyapunov_interval":
+        elif f.name in ("lyapunov_interval", "lifetime_interval"):
             v = tuple(float(x) for x in v)
-        elif f.name in ("lyapunov", "max_multiplier", "min_flight_clearance", "residual"):
+        elif f.name in ("lyapunov", "max_multiplier", "min_flight_clearance", "residual", "lifetime"):
             v = float(v)
         kw[f.name] = v
     return Attractor(**kw)
