@@ -111,3 +111,20 @@ def test_fall_index_is_where_the_repetition_starts():
     pts = np.vstack([rng.uniform(0, 1, (30, 1)), cycle])
     assert fall_index(pts, [1, 2, 3, 4], 16) == 30
     assert fall_index(np.vstack([cycle, rng.uniform(0, 1, (30, 1))]), [1, 2, 3, 4], 16) is None
+
+
+def test_the_lifetime_is_stored_and_survives_a_resume_part():
+    """A chaotic attractor's lifetime (inf, interval [5000, inf]) goes to the dataset's columns in strobe periods
+    and through a resume part's JSON unchanged; a periodic one's stays NaN."""
+    from bifurc.attractors.dataset import _columns
+    from bifurc.attractors.identify import Attractor
+    from bifurc.attractors.job import ValueCensus, decode, encode
+    from bifurc.codes import ClassCode
+    chaos = Attractor(int(ClassCode.CHAOTIC), points=np.zeros((3, 2)), lifetime=math.inf,
+                      lifetime_interval=(5000.0, math.inf))
+    orbit = Attractor(int(ClassCode.PERIODIC), 1, points=np.zeros((1, 2)))
+    cols = _columns([1.0], [{0: chaos, 1: orbit}], [[0, 1, 0]], 2, {})
+    assert math.isinf(cols["lifetime"][0, 0]) and cols["lifetime_low"][0, 0] == 5000.0
+    assert np.isnan(cols["lifetime"][0, 1]) and np.isnan(cols["lifetime_high"][0, 2])
+    back = decode(encode(ValueCensus([0], [chaos], [10]))).found[0]
+    assert math.isinf(back.lifetime) and back.lifetime_interval == (5000.0, math.inf)
