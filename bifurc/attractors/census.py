@@ -302,7 +302,9 @@ def _is_new_saddle(smap, a: Attractor, record, k0: int, grid, s: Settings, found
     life = _persists(smap, record, k0, s)
     a.lifetime, a.lifetime_interval = life.tau, (life.low, life.high)
     verdict = life.verdict(s.persist)
-    a.how += f"; {life.text()}: {verdict if verdict != 'long-lived' else 'a long-lived chaotic transient'}"
+    a.how += f"; {life.text()}: " + {"attractor": "an attractor", "saddle": "a chaotic saddle (lifetime surely below "
+                                     f"{s.persist} periods)", "long-lived": "a chaotic transient, not shown to "
+                                     f"persist (its lifetime's interval reaches {s.persist} periods)"}[verdict]
     if verdict == "attractor":
         return False
     saddles.append(a)

@@ -8,8 +8,9 @@ a period (:func:`fall_index`).  With the copies censored at the time run, the me
 total time on the set over the falls, with the exact chi-square interval of a censored exponential sample
 (:func:`lifetime_interval`).  After each leg the verdict (:meth:`Lifetime.verdict`) compares the interval with
 the horizon: "attractor" where its lower end exceeds it, "saddle" where its upper end lies below it, otherwise
-"long-lived" (a chaotic transient of the order of the horizon); the run stops once decided, when every copy has
-fallen, or at the horizon.  The interval's level is Bonferroni-corrected over the looks (0.95 overall).
+"long-lived" (a chaotic transient of the order of the horizon); the run stops once decided, once the falls
+seen rule out "attractor" even if no other copy fell (:func:`_may_persist`), when every copy has fallen, or at
+the horizon.  The interval's level is Bonferroni-corrected over the looks (0.95 overall).
 Times are in strobe periods (the relay period, for the thesis scenes).
 """
 from __future__ import annotations
@@ -130,9 +131,17 @@ def estimate_lifetime(smap, record, k0: int, horizon: int, *, max_period: int = 
         done, live = done + n, kept
         got = Lifetime(*lifetime_interval(sum(fallen) + done * len(live), len(fallen), level), len(fallen),
                        sum(fallen) + done * len(live), copies, done)
-        if got.verdict(horizon) != "long-lived":
+        if got.verdict(horizon) != "long-lived" or not _may_persist(got, len(live), horizon, level):
             break
     return got
+
+
+def _may_persist(got: Lifetime, live: int, horizon: int, level: float) -> bool:
+    """Whether the verdict may still become "attractor": the interval's lower end exceeds ``horizon`` if the
+    ``live`` copies all stay on the set to the horizon (else the run stops: the census treats a saddle and a
+    long-lived transient alike, so only the attractor verdict needs the rest of the run)."""
+    best = got.exposure + live * (horizon - got.ran)
+    return lifetime_interval(best, got.falls, level)[1] > horizon
 
 
 def _fall_time(o, before, done: int, periods, tail: int) -> int | None:
