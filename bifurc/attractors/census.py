@@ -14,7 +14,8 @@ attractor only if its mean lifetime, estimated from perturbed copies started on 
 periods (:func:`_persists`, :mod:`.lifetime`); else it is a chaotic saddle or a long-lived chaotic transient (its
 lifetime stored on it), and its starts run on to where they settle.  So whether a start ends chaotic, periodic
 or not converged does not hinge on when the grid's cells happened to recur.  A start that escapes or fails is that
-outcome; one still undecided after ``max_periods`` or ``max_tries`` undecided records (or on the cells of a start that was) is "not_converged".
+outcome; one still undecided after ``max_periods`` or ``max_tries`` undecided records (or on the cells of a start
+that was) is "not_converged".
 """
 from __future__ import annotations
 
@@ -79,7 +80,8 @@ class Track:
 class Memory:
     """What one value's census learnt besides its attractors: {(period, cell): (mismatch, failures)} where Newton
     failed (:func:`.identify.polish_once`), the chaotic saddles and long-lived transients (non-periodic sets whose
-    lifetime is not surely above the horizon), and the cells of starts recorded ``max_tries`` times without a decision."""
+    lifetime is not surely above the horizon), and the cells of starts recorded ``max_tries`` times without a
+    decision."""
 
     tried: dict = field(default_factory=dict)
     saddles: list = field(default_factory=list)

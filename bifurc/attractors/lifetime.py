@@ -109,7 +109,8 @@ def estimate_lifetime(smap, record, k0: int, horizon: int, *, max_period: int = 
                       copies: int = COPIES, perturb: float = PERTURB, leg: int = LEG, seed: int = 0) -> Lifetime:
     """The mean lifetime of the non-periodic set recorded in ``record`` (a MapOrbit from sample ``k0``) under
     ``smap``: copies run in legs of ``leg`` periods up to ``horizon`` periods each, stopped once the verdict
-    against ``horizon`` is decided or every copy has fallen (module docstring).  Reproducible: the perturbations
+    against ``horizon`` is decided, once "attractor" is ruled out, or when every copy has fallen (module
+    docstring).  Reproducible: the perturbations
     come from ``seed``."""
     periods = candidate_periods(smap.forcing_period_steps, max_period)
     tail = 4 * max_period
