@@ -20,8 +20,9 @@ from .identify import Attractor, Grid
 
 __all__ = ["CensusJob", "ValueCensus", "CensusParts", "census_manifest"]
 
-#: version of the census parts' layout
-CENSUS_PARTS_FORMAT = 1
+#: version of the census parts' layout (2: non-periodic sets judged by their lifetime, stored on them; a resume
+#: from parts of 1, whose sets were judged by 4 copies, is refused)
+CENSUS_PARTS_FORMAT = 2
 
 
 @dataclass
