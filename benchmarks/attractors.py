@@ -37,7 +37,9 @@ def duffing_scene():
                       box={"x": (-2.5, 2.5), "v": (-2.5, 2.5)})
 
 
-def census(n_values, n_starts, cells=100, workers=None, link=True):
+def census(n_values, n_starts, cells=100, workers=None, link=True, starts="box"):
+    """The thesis-1dof census (module docstring) and its wall and CPU seconds; ``starts`` as
+    :func:`bifurc.attractors` takes them (default: ``n_starts`` in the box, seed 1)."""
     import resource
 
     import bifurc
@@ -45,7 +47,7 @@ def census(n_values, n_starts, cells=100, workers=None, link=True):
     t, c, k = time.perf_counter(), time.process_time(), kids()
     ds = bifurc.attractors("thesis-1dof", "V", np.linspace(80, 220, n_values), params={"relay_hz": 10.0},
                            dc_law="measured", box={"x": (0.0, 0.03), "v": (-1.5, 1.5)}, n_starts=n_starts,
-                           seed=1, cells=cells, progress=False, workers=workers, link=link)
+                           starts=starts, seed=1, cells=cells, progress=False, workers=workers, link=link)
     k2 = kids()
     return ds, time.perf_counter() - t, time.process_time() - c + (k2.ru_utime - k.ru_utime) + (k2.ru_stime - k.ru_stime)
 

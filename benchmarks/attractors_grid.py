@@ -3,6 +3,8 @@
 against the first census' 95 % interval (:func:`attractors.grid_change`).  Not run in CI.
 
     python benchmarks/attractors_grid.py
+    python benchmarks/attractors_grid.py --control   # the measure's noise floor: the same 100-cell census of the
+                                                     # starts perturbed by 1e-12 (relative), no grid change
     PYTHONPATH=/path/to/an/older/export python benchmarks/attractors_grid.py    # the same for another checkout
 """
 from __future__ import annotations
@@ -15,10 +17,33 @@ bench = importlib.util.module_from_spec(_spec)
 _spec.loader.exec_module(bench)
 
 
-def main():
+def perturbed_starts(rel: float = 1e-12):
+    """The benchmark's 200 box starts (seed 1), each state multiplied by 1 + rel N(0, 1) (seed 2)."""
+    import dataclasses
+
+    import maps
+    import numpy as np
+    from bifurc.attractors.starts import make_starts
+    pb = maps.problem("thesis-1dof", params={"relay_hz": 10.0}, dc_law="measured")
+    st = make_starts(pb, "box", n=200, box={"x": (0.0, 0.03), "v": (-1.5, 1.5)}, seed=1)
+    p = np.asarray(st.points, dtype=float)
+    return dataclasses.replace(st, points=p * (1.0 + rel * np.random.default_rng(2).standard_normal(p.shape)))
+
+
+def main(argv=None):
+    import argparse
+
     import bifurc
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--control", action="store_true", help="100 cells against 100 cells of perturbed starts")
+    a = ap.parse_args(argv)
     print(f"bifurc from {pathlib.Path(bifurc.__file__).parent}; {bench.load()}")
     ds, s1, c1 = bench.census(21, 200, link=False)
+    if a.control:
+        same, s2, c2 = bench.census(21, 200, link=False, starts=perturbed_starts())
+        print(f"100 cells: {s1:.1f} s ({c1:.1f} s CPU); 100 cells, starts perturbed by 1e-12: {s2:.1f} s "
+              f"({c2:.1f} s CPU); {bench.grid_change(ds, same)}")
+        return
     half, s2, c2 = bench.census(21, 200, cells=200, link=False)
     print(f"100 cells: {s1:.1f} s ({c1:.1f} s CPU); 200 cells: {s2:.1f} s ({c2:.1f} s CPU); {bench.grid_change(ds, half)}")
 

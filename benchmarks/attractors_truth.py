@@ -38,9 +38,11 @@ def settled(v: float, periods: int):
     return out, time.perf_counter() - clock
 
 
-def census_labels(v: float, cells: int) -> Counter:
+def census_labels(v: float, cells: int) -> tuple[Counter, list]:
+    """The census' count by label at ``v`` on ``cells`` per side, and how each non-periodic set was judged (its
+    mean lifetime; the saddles and long-lived transients, whose starts ran on, too)."""
     import maps
-    from bifurc.attractors.census import OUTCOMES, Settings, census_at
+    from bifurc.attractors.census import OUTCOMES, Memory, Settings, census_at
     from bifurc.attractors.identify import Grid
     from bifurc.attractors.starts import make_starts
     from maps.poincare import StroboscopicMap
@@ -48,10 +50,13 @@ def census_labels(v: float, cells: int) -> Counter:
     st = make_starts(pb, "box", n=200, box={"x": (0.0, 0.03), "v": (-1.5, 1.5)}, seed=1)
     smap = StroboscopicMap(pb, tol=1e-10)
     smap.set_params(V=v)
+    mem = Memory()
     out, found, _ = census_at(smap, list(np.asarray(st.points, float)), Grid.over(st.box, pb.system, cells,
-                                                                                 pb.state_vector()), Settings())
+                                                                                 pb.state_vector()), Settings(),
+                              memory=mem)
     names = {k: n for n, k in OUTCOMES.items()}
-    return Counter(names[o] if o < 0 else found[o].label() for o in out)
+    sets = [a.how for a in found if not a.periodic] + [a.how for a in mem.saddles]
+    return Counter(names[o] if o < 0 else found[o].label() for o in out), sets
 
 
 def main(argv=None):
@@ -64,8 +69,10 @@ def main(argv=None):
         text = ", ".join(f"{'aperiodic' if n == 0 else f'{n}:{m}'} {k}" for (n, m), k in sorted(got.items()))
         print(f"V = {v:g}: after {a.periods} periods ({sec:.0f} s): {text}")
         for cells in (100, 200):
-            c = census_labels(v, cells)
+            c, sets = census_labels(v, cells)
             print(f"  census, {cells} cells per side: " + ", ".join(f"{lab} {k}" for lab, k in sorted(c.items())))
+            for how in sets:
+                print(f"    non-periodic set: {how}")
 
 
 if __name__ == "__main__":

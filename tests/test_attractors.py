@@ -383,7 +383,7 @@ def test_a_chaotic_set_is_an_attractor_only_if_it_persists(r, attractor):
     assert 1 + math.sqrt(8) < 3.835 < 3.8415
     m = _LogisticMap(r)
     record = m.orbits([{}], [np.array([0.2345])], 48)[0]       # 48 points of its transient (or of its chaos)
-    assert _persists(m, record, 0, Settings()) is attractor
+    assert (_persists(m, record, 0, Settings()).verdict(Settings().persist) == "attractor") is attractor
 
 
 def test_outcomes_do_not_depend_on_the_grid():

@@ -10,11 +10,12 @@ repeats with a period is identified at once (a known periodic orbit, or Newton: 
 one that recurs without a period, the chunk sharing cells with a known non-periodic attractor counts for it
 (one exponent per set, not per start); one on a known chaotic saddle runs on; the rest are recorded ``locate``
 periods with a tangent vector and classified (:mod:`bifurc.sweeps.classify`). A new non-periodic set is an
-attractor only if it persists: trajectories started on it keep off every period for ``persist`` periods
-(:func:`_persists`); else it is a chaotic saddle, a transient however long, and its starts run on to where
-they settle. So whether a start ends chaotic, periodic or not converged does not hinge on when the grid's
-cells happened to recur. A start that escapes or fails is that outcome; one still undecided after
-``max_periods`` or ``max_tries`` undecided records (or on the cells of a start that was) is "not_converged".
+attractor only if its mean lifetime, estimated from perturbed copies started on it, surely exceeds ``persist``
+periods (:func:`_persists`, :mod:`.lifetime`); else it is a chaotic saddle or a long-lived chaotic transient (its
+lifetime stored on it), and its starts run on to where they settle.  So whether a start ends chaotic, periodic
+or not converged does not hinge on when the grid's cells happened to recur.  A start that escapes or fails is that
+outcome; one still undecided after ``max_periods`` or ``max_tries`` undecided records (or on the cells of a start
+that was) is "not_converged".
 """
 from __future__ import annotations
 
@@ -25,11 +26,13 @@ import numpy as np
 
 from maps.hybrid import HybridState
 
-from ..sweeps.classify import candidate_periods, state_scale
+from ..sweeps.classify import candidate_periods
+from .lifetime import Lifetime, estimate_lifetime
+from .lifetime import periodic_tail as _periodic_tail  # noqa: F401 - the benchmarks' name
 from .identify import (Attractor, Grid, converging, from_chunk, identify, near_periods, polish_once,
                        same_attractor, same_orbit)
 
-__all__ = ["Settings", "Track", "census_at", "OUTCOMES"]
+__all__ = ["Settings", "Track", "Memory", "census_at", "OUTCOMES"]
 
 #: outcome ids of a start that reached no attractor (attractor ids are 0, 1, ...)
 OUTCOMES = {"escaped": -1, "not_converged": -2, "failed": -3}
@@ -40,8 +43,8 @@ class Settings:
     """Census settings: periods per chunk, consecutive points to land or recur, periods recorded to
     identify, the budget per start [strobe periods], the period search, Newton's tolerance, SIMD lanes,
     the records (``locate`` periods each) after which a start still undecided is "not_converged", and the
-    periods over which a new non-periodic set's copies must keep off every period for the set to be an
-    attractor (:func:`_persists`)."""
+    mean lifetime [strobe periods] that a new non-periodic set's interval must lie above for the set to be an
+    attractor (:func:`_persists`; also the periods its copies run at most)."""
 
     chunk: int = 40
     land: int = 6
@@ -76,8 +79,9 @@ class Track:
 @dataclass
 class Memory:
     """What one value's census learnt besides its attractors: {(period, cell): (mismatch, failures)} where Newton
-    failed (:func:`.identify.polish_once`), the chaotic saddles (non-periodic sets whose copies all fell onto periods),
-    and the cells of starts recorded ``max_tries`` times without a decision."""
+    failed (:func:`.identify.polish_once`), the chaotic saddles and long-lived transients (non-periodic sets whose
+    lifetime is not surely above the horizon), and the cells of starts recorded ``max_tries`` times without a
+    decision."""
 
     tried: dict = field(default_factory=dict)
     saddles: list = field(default_factory=list)
@@ -104,19 +108,22 @@ def _step_cells(t: Track, keys: list, owner: dict, s: Settings) -> str:
 
 
 def census_at(smap, starts: list, grid: Grid, settings: Settings, *, k0=0,
-              known: list | None = None, progress=None) -> tuple[list, list[Attractor], list]:
+              known: list | None = None, progress=None,
+              memory: Memory | None = None) -> tuple[list, list[Attractor], list]:
     """Follow ``starts`` (states or HybridStates, from sample ``k0``: an int or one per start) under
     ``smap``'s parameters; returns (outcome per start: an attractor's index in
     the list returned, or an :data:`OUTCOMES` id; the attractors found; the strobe periods each start was
     integrated).  The chunks run as a bare ensemble (strobe points only, ``events=False``); a start that recurs
     is identified from its last chunk: by a known periodic attractor within two cells, else by Newton (once per
-    distinct attractor), else by a record with a tangent vector (chaotic and quasi-periodic sets)."""
+    distinct attractor), else by a record with a tangent vector (chaotic and quasi-periodic sets).  ``memory``
+    (a :class:`Memory`, filled) shows what else was learnt: the saddles and long-lived transients with their
+    lifetimes."""
     s = settings
     ks = k0 if isinstance(k0, (list, tuple)) else [k0] * len(starts)
     tracks = [Track(st, int(k)) for st, k in zip(starts, ks)]
     found: list[Attractor] = list(known or [])
     owner: dict = {c: i for i, a in enumerate(found) for c in a.cells}
-    mem = Memory()
+    mem = Memory() if memory is None else memory
     active = list(range(len(tracks)))
     while active:
         orbits = smap.orbits([{}] * len(active), [tracks[i].state for i in active], s.chunk,
@@ -284,15 +291,24 @@ def _record_and_classify(smap, tracks, rest, grid, s: Settings, found: list, own
 
 def _is_new_saddle(smap, a: Attractor, record, k0: int, grid, s: Settings, found: list, q: int,
                    saddles: list) -> bool:
-    """Whether the non-periodic set ``a`` is a chaotic saddle: one of the known ``saddles`` (sharing a cell) or a
-    new set, matching no attractor in ``found``, that does not persist (then kept in ``saddles``)."""
+    """Whether the non-periodic set ``a`` is not an attractor: one of the known ``saddles`` (sharing a cell) or a
+    new set, matching no attractor in ``found``, whose mean lifetime is not surely above ``s.persist`` periods
+    (:func:`_persists`): a saddle, or a long-lived chaotic transient (kept in ``saddles``, its lifetime on it;
+    either way its starts run on to where they settle, so that the two verdicts give the same fractions)."""
     for sd in saddles:
         if sd.cells & a.cells:
             sd.cells |= a.cells
             return True
-    if any(same_attractor(a, b, grid, q) for b in found) or _persists(smap, record, k0, s):
+    if any(same_attractor(a, b, grid, q) for b in found):
         return False
-    a.how = f"chaotic saddle: none of {PERSIST_COPIES} trajectories from its record kept off every period"
+    life = _persists(smap, record, k0, s)
+    a.lifetime, a.lifetime_interval = life.tau, (life.low, life.high)
+    verdict = life.verdict(s.persist)
+    a.how += f"; {life.text()}: " + {"attractor": "an attractor", "saddle": "a chaotic saddle (lifetime surely below "
+                                     f"{s.persist} periods)", "long-lived": "a chaotic transient, not shown to "
+                                     f"persist (its lifetime's interval reaches {s.persist} periods)"}[verdict]
+    if verdict == "attractor":
+        return False
     saddles.append(a)
     return True
 
@@ -301,40 +317,13 @@ def _is_new_saddle(smap, a: Attractor, record, k0: int, grid, s: Settings, found
 #: meanwhile, or is recorded again then: a saddle's start may also reach a chaotic attractor)
 SADDLE_QUIET = 10
 
-#: trajectories started on a new non-periodic set's record to test that it persists (one batch of lanes)
-PERSIST_COPIES = 4
-
-
-def _periodic_tail(points, periods, rtol: float = 1e-6, atol: float = 1e-9) -> bool:
-    """Whether ``points`` repeat with some period n of ``periods``: every point within rtol of each state's scale
-    (plus atol) of the point n before.  A tolerance of the states, not of the grid: a chaotic set's copies are
-    told from converged ones alike on every grid (within two cells of 100 per side, a chaotic set's slow phases
-    at 178 V passed for period 1)."""
-    P = np.asarray(points, dtype=float)
-    tol = rtol * state_scale(P, atol) + atol
-    return any(n < len(P) and bool(np.all(np.abs(P[n:] - P[:-n]) <= tol)) for n in periods)
-
-
-def _persists(smap, record, k0: int, s: Settings) -> bool:
-    """Whether a non-periodic set recorded in ``record`` (from sample ``k0``) is an attractor: some of
-    :data:`PERSIST_COPIES` trajectories started on its recorded points still have no period (up to
-    ``s.max_period``, :func:`_periodic_tail`) after ``s.persist`` periods.  A chaotic saddle's trajectories all
-    fall onto periodic orbits, however long their chaos lasts (thesis-1dof at 122 V: 5 of 200 starts still
-    chaotic after 3000 relay periods, benchmarks/README.md).  Copies are run in legs of 500 periods and dropped once periodic (stable orbits
-    keep them)."""
-    q = smap.forcing_period_steps
-    periods = candidate_periods(q, s.max_period)
-    idx = np.linspace(0, len(record.points) - 1, PERSIST_COPIES).astype(int)
-    live = [(record.state(int(j)), k0 + int(j)) for j in idx]
-    done, leg = 0, 500
-    while live and done < s.persist:
-        n = min(leg, s.persist - done)
-        runs = smap.orbits([{}] * len(live), [x for x, _ in live], n, k0=[k for _, k in live],
-                           batch_size=s.batch_size, events=False)
-        live = [(o.final, k + n) for o, (_, k) in zip(runs, live)
-                if o.status == "ok" and not _periodic_tail(o.points[-4 * s.max_period:], periods)]
-        done += n
-    return bool(live)
+def _persists(smap, record, k0: int, s: Settings) -> Lifetime:
+    """The mean lifetime [strobe periods] of the non-periodic set recorded in ``record`` (from sample ``k0``), from
+    :data:`.lifetime.COPIES` perturbed copies started on its points (:func:`.lifetime.estimate_lifetime`, horizon
+    ``s.persist``): its verdict is "attractor" only where the lifetime's interval lies above ``s.persist``.  A
+    chaotic saddle's trajectories all fall onto periodic orbits, however long their chaos lasts (thesis-1dof at
+    122 V: 5 of 200 starts still chaotic after 3000 relay periods, benchmarks/README.md)."""
+    return estimate_lifetime(smap, record, k0, s.persist, max_period=s.max_period, batch_size=s.batch_size)
 
 
 def wilson(k, n, z: float = 1.959963984540054) -> tuple[float, float]:

@@ -72,6 +72,8 @@ class Attractor:
     min_flight_clearance: float = math.nan
     residual: float = math.nan
     how: str = ""                        # how it was identified
+    lifetime: float = math.nan           # non-periodic: mean lifetime on the set [strobe periods] (inf: none fell)
+    lifetime_interval: tuple = (math.nan, math.nan)   # its interval (bifurc.attractors.lifetime)
 
     @property
     def periodic(self) -> bool:

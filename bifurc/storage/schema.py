@@ -305,6 +305,11 @@ ATTRACTOR = [
     Variable("lyapunov_high", PA, float, np.nan, "1", "upper end of the exponent's 95 % interval (NaN: exact)"),
     Variable("max_multiplier", PA, float, np.nan, "1", "largest |Floquet multiplier| of the polished orbit"),
     Variable("newton_residual", PA, float, np.nan, "1", "scaled shooting residual of the polished orbit"),
+    Variable("lifetime", PA, float, np.nan, "1",
+             "non-periodic attractor: mean lifetime on the set in strobe (relay) periods, from perturbed copies "
+             "(inf: none fell onto a period; NaN: periodic or an outcome)"),
+    Variable("lifetime_low", PA, float, np.nan, "1", "lower end of the lifetime's 95 % interval [strobe periods]"),
+    Variable("lifetime_high", PA, float, np.nan, "1", "upper end of the lifetime's 95 % interval [strobe periods]"),
     Variable("n_points", PA, np.int32, 0, "1", "stored strobe states of the attractor (its period, or recorded points)"),
     Variable("match_distance", PA, float, np.nan, "1",
              "state-space distance in grid cells to the attractor it continues at the previous value (NaN: none)"),
