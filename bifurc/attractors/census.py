@@ -26,8 +26,8 @@ import numpy as np
 from maps.hybrid import HybridState
 
 from ..sweeps.classify import candidate_periods, state_scale
-from .identify import (Attractor, Grid, converging, from_chunk, identify, near_periods, polish_once,
-                       same_attractor, same_orbit)
+from .identify import (Attractor, Grid, contracting, converging, from_chunk, identify, near_periods,
+                       polish_once, same_attractor, same_orbit)
 
 __all__ = ["Settings", "Track", "census_at", "OUTCOMES"]
 
@@ -199,22 +199,41 @@ def _identify_candidates(smap, tracks, candidates, grid, s: Settings, found: lis
     rest = []
     for i in candidates:
         t = tracks[i]
+        quiet = t.periods < t.quiet_until
+        saddle = quiet or _shares_cell(t.last_keys, mem.saddles)     # Newton only where it contracts
         got = from_chunk(smap, t.last, t.k - s.chunk, grid, found, max_period=s.max_period, tol=s.newton_tol,
-                         tried=mem.tried)
+                         tried=mem.tried, newton="contracting" if saddle else "near")
         if got is not None:
             t.outcome = got if isinstance(got, int) else _register(got, found, owner, grid, q)
         elif _mostly_in(t.last_keys, mem.undecided):
             t.outcome = OUTCOMES["not_converged"]
-        elif t.periods < t.quiet_until:
+        elif quiet:
             t.recur = 0              # on a chaotic saddle at its last record: it runs on
-        elif near_periods(t.last.points, grid, candidate_periods(q, s.max_period)):
-            rest.append(i)           # nearly periodic, Newton failed: the record decides (max_tries of them)
+        elif near := near_periods(t.last.points, grid, candidate_periods(q, s.max_period))[:2]:
+            if _chance_return(t, near, grid, mem.saddles):
+                t.quiet_until = t.periods + SADDLE_QUIET * s.chunk      # as a record there would find
+            else:
+                rest.append(i)       # nearly periodic, Newton failed: the record decides (max_tries of them)
         else:
             t.outcome = _sharing(t.last_keys, found, owner)
             if t.outcome is None and not _on_saddle(t, mem.saddles):
                 rest.append(i)
     if rest:
         _record_and_classify(smap, tracks, rest, grid, s, found, owner, mem)
+
+
+def _shares_cell(keys: list, sets: list) -> bool:
+    """Whether a chunk's cells ``keys`` meet any of ``sets`` (of known chaotic saddles: :class:`Attractor`)."""
+    cells = {c for c in keys if c is not None}
+    return any(sd.cells & cells for sd in sets)
+
+
+def _chance_return(t: Track, near: list, grid: Grid, saddles: list) -> bool:
+    """Whether a nearly periodic chunk is a known chaotic saddle's chance near return: it contracts at none of its
+    ``near`` periods (:func:`.identify.contracting`) and shares a cell with a saddle (:func:`_on_saddle`: it then runs
+    on without a record).  On thesis-1dof at 122 V two in three of the census' records were such chunks, and all
+    but 7 of 181 found the saddle again (benchmarks/README.md, census cost)."""
+    return not any(contracting(t.last.points, grid, n) for n in near) and _on_saddle(t, saddles)
 
 
 def _mostly_in(keys: list, sets: list) -> bool:
@@ -321,20 +340,24 @@ def _persists(smap, record, k0: int, s: Settings) -> bool:
     ``s.max_period``, :func:`_periodic_tail`) after ``s.persist`` periods.  A chaotic saddle's trajectories all
     fall onto periodic orbits, however long their chaos lasts (thesis-1dof at 122 V: 5 of 200 starts still
     chaotic after 3000 relay periods, benchmarks/README.md).  Copies are run in legs of 500 periods and dropped once periodic (stable orbits
-    keep them)."""
+    keep them), the first alone, then the others together: the verdict is known as soon as one copy has kept off
+    every period for ``s.persist`` periods (an attractor's other copies are not run)."""
     q = smap.forcing_period_steps
     periods = candidate_periods(q, s.max_period)
     idx = np.linspace(0, len(record.points) - 1, PERSIST_COPIES).astype(int)
-    live = [(record.state(int(j)), k0 + int(j)) for j in idx]
-    done, leg = 0, 500
-    while live and done < s.persist:
-        n = min(leg, s.persist - done)
-        runs = smap.orbits([{}] * len(live), [x for x, _ in live], n, k0=[k for _, k in live],
-                           batch_size=s.batch_size, events=False)
-        live = [(o.final, k + n) for o, (_, k) in zip(runs, live)
-                if o.status == "ok" and not _periodic_tail(o.points[-4 * s.max_period:], periods)]
-        done += n
-    return bool(live)
+    copies = [(record.state(int(j)), k0 + int(j)) for j in idx]
+    for live in (copies[:1], copies[1:]):
+        done, leg = 0, 500
+        while live and done < s.persist:
+            n = min(leg, s.persist - done)
+            runs = smap.orbits([{}] * len(live), [x for x, _ in live], n, k0=[k for _, k in live],
+                               batch_size=s.batch_size, events=False)
+            live = [(o.final, k + n) for o, (_, k) in zip(runs, live)
+                    if o.status == "ok" and not _periodic_tail(o.points[-4 * s.max_period:], periods)]
+            done += n
+        if live:
+            return True
+    return False
 
 
 def wilson(k, n, z: float = 1.959963984540054) -> tuple[float, float]:
