@@ -8,8 +8,9 @@ consecutive points lie in the cells of one known attractor is counted for it (ea
 consecutive points fall in cells it visited before has found an attractor. A recurring start whose last chunk
 repeats with a period is identified at once (a known periodic orbit, or Newton: a stable polished orbit). Of
 one that recurs without a period, the chunk sharing cells with a known non-periodic attractor counts for it
-(one exponent per set, not per start); one on a known chaotic saddle runs on; the rest are recorded ``locate``
-periods with a tangent vector and classified (:mod:`bifurc.sweeps.classify`). A new non-periodic set is an
+(one exponent per set, not per start); one on a known chaotic saddle runs on (there Newton is tried only where
+the chunk contracts, :func:`.identify.contracting`: the saddle's near returns are chance); the rest are recorded
+``locate`` periods with a tangent vector and classified (:mod:`bifurc.sweeps.classify`). A new non-periodic set is an
 attractor only if it persists: trajectories started on it keep off every period for ``persist`` periods
 (:func:`_persists`); else it is a chaotic saddle, a transient however long, and its starts run on to where
 they settle. So whether a start ends chaotic, periodic or not converged does not hinge on when the grid's
@@ -229,11 +230,13 @@ def _shares_cell(keys: list, sets: list) -> bool:
 
 
 def _chance_return(t: Track, near: list, grid: Grid, saddles: list) -> bool:
-    """Whether a nearly periodic chunk is a known chaotic saddle's chance near return: it contracts at none of its
-    ``near`` periods (:func:`.identify.contracting`) and shares a cell with a saddle (:func:`_on_saddle`: it then runs
-    on without a record).  On thesis-1dof at 122 V two in three of the census' records were such chunks, and all
-    but 7 of 181 found the saddle again (benchmarks/README.md, census cost)."""
-    return not any(contracting(t.last.points, grid, n) for n in near) and _on_saddle(t, saddles)
+    """Whether a nearly periodic chunk is a known chaotic saddle's chance near return: the start's own records found
+    a saddle and never were undecided, the chunk contracts at none of its ``near`` periods
+    (:func:`.identify.contracting`) and shares a cell with a saddle (it then runs on without a record,
+    :func:`_on_saddle`).  On thesis-1dof at 122 V two in three of the census' records were chunks on a saddle that
+    did not contract, and all but 7 of 181 found the saddle again (benchmarks/README.md, census cost)."""
+    return (t.quiet_until > 0 and t.tries == 0 and not any(contracting(t.last.points, grid, n) for n in near)
+            and _on_saddle(t, saddles))
 
 
 def _mostly_in(keys: list, sets: list) -> bool:

@@ -192,17 +192,18 @@ def from_chunk(smap, orbit, k0: int, grid: Grid, found: list, *, max_period: int
     return None
 
 
-def contracting(pts, grid: Grid, n: int, factor: float = 0.5) -> bool:
+def contracting(pts, grid: Grid, n: int, factor: float = 0.5, close: float = 0.05) -> bool:
     """Whether a record's points approach a period-n orbit: the largest distance [cells] of its last n points
-    to the points n before is at most ``factor`` times that of its first n points (or zero).  On thesis-1dof at
-    122-206 V every record from which Newton found a stable orbit contracted so (by 0.25 or more); three in four
-    from which it failed, a chaotic saddle's chance near returns, did not (benchmarks/README.md, census cost)."""
+    to the points n before is at most ``factor`` times that of its first n points, or smaller than theirs and
+    below ``close`` cells (a slow approach, multiplier near 1, gets there within a few chunks).  On thesis-1dof
+    at 122-199 V every chunk from which Newton found a stable orbit contracted by 0.25 or more; most from which
+    it failed, a chaotic saddle's chance near returns, did not (benchmarks/README.md, census cost)."""
     P = grid.scaled(pts)
     if len(P) < 2 * n + 1:
         return False
     d = np.max(np.abs(P[n:] - P[:-n]), axis=1)
     first, last = float(np.max(d[:n])), float(np.max(d[-n:]))
-    return last == 0.0 or last <= factor * first
+    return last == 0.0 or last <= factor * first or (last < first and last <= close)
 
 
 def polish_once(smap, orbit, k0, n, grid, tol, rtol, atol, tried: dict | None):
