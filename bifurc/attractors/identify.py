@@ -195,7 +195,8 @@ def from_chunk(smap, orbit, k0: int, grid: Grid, found: list, *, max_period: int
 def contracting(pts, grid: Grid, n: int, factor: float = 0.5, close: float = 0.05) -> bool:
     """Whether a record's points approach a period-n orbit: the largest distance [cells] of its last n points
     to the points n before is at most ``factor`` times that of its first n points, or smaller than theirs and
-    below ``close`` cells (a slow approach, multiplier near 1, gets there within a few chunks).  On thesis-1dof
+    below ``close`` cells (a slow approach, multiplier near 1, gets there within a few chunks), or below 1e-6
+    cells (there already, to round-off).  On thesis-1dof
     at 122-199 V every chunk from which Newton found a stable orbit contracted by 0.25 or more; most from which
     it failed, a chaotic saddle's chance near returns, did not (benchmarks/README.md, census cost)."""
     P = grid.scaled(pts)
@@ -203,7 +204,7 @@ def contracting(pts, grid: Grid, n: int, factor: float = 0.5, close: float = 0.0
         return False
     d = np.max(np.abs(P[n:] - P[:-n]), axis=1)
     first, last = float(np.max(d[:n])), float(np.max(d[-n:]))
-    return last == 0.0 or last <= factor * first or (last < first and last <= close)
+    return last <= 1e-6 or last <= factor * first or (last < first and last <= close)
 
 
 def polish_once(smap, orbit, k0, n, grid, tol, rtol, atol, tried: dict | None):
