@@ -234,7 +234,7 @@ def _chance_return(t: Track, near: list, grid: Grid, saddles: list) -> bool:
     a saddle and never were undecided, the chunk contracts at none of its ``near`` periods
     (:func:`.identify.contracting`) and shares a cell with a saddle (it then runs on without a record,
     :func:`_on_saddle`).  On thesis-1dof at 122 V two in three of the census' records were chunks on a saddle that
-    did not contract, and all but 7 of 181 found the saddle again (benchmarks/README.md, census cost)."""
+    did not contract, and all but 7 of 181 found the saddle again (benchmarks/reports/census-diagnostics)."""
     return (t.quiet_until > 0 and t.tries == 0 and not any(contracting(t.last.points, grid, n) for n in near)
             and _on_saddle(t, saddles))
 

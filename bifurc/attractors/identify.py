@@ -196,9 +196,9 @@ def contracting(pts, grid: Grid, n: int, factor: float = 0.5, close: float = 0.0
     """Whether a record's points approach a period-n orbit: the largest distance [cells] of its last n points
     to the points n before is at most ``factor`` times that of its first n points, or smaller than theirs and
     below ``close`` cells (a slow approach, multiplier near 1, gets there within a few chunks), or below 1e-6
-    cells (there already, to round-off).  On thesis-1dof
-    at 122-199 V every chunk from which Newton found a stable orbit contracted by 0.25 or more; most from which
-    it failed, a chaotic saddle's chance near returns, did not (benchmarks/README.md, census cost)."""
+    cells (there already, to round-off).  On thesis-1dof at 122, 129, 192 and 199 V every chunk from which
+    Newton found a stable orbit shrank so, to 0.2515 or less; at 122 and 129 V five in six from which it failed, a
+    chaotic saddle's chance near returns, did not (at 199 V most did) (benchmarks/reports/census-diagnostics)."""
     P = grid.scaled(pts)
     if len(P) < 2 * n + 1:
         return False
