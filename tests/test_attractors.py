@@ -428,3 +428,21 @@ def test_same_orbit_and_converging_are_tolerances_of_the_states():
     assert converging(np.array([5.0, 5.0]) + 0.8 ** k * np.ones(2), a, grid)
     circling = np.array([5.0, 5.0]) + 0.1 * np.hstack([np.cos(k), np.sin(k)])
     assert not converging(circling, a, grid)
+
+
+def test_contracting_tells_an_approach_from_chance_near_returns():
+    """A trajectory x* + mu^k (1, -1) approaches the fixed point x* (period 1) and the period-2 orbit around it for
+    |mu| < 1: over 41 points its distance to the points n before shrinks by |mu|^(41 - 2n), below half for mu =
+    0.9 or -0.9 (0.9^39 = 0.016); for mu = 0.99 (0.99^39 = 0.68) only once that distance, a 0.99^k 0.01 cells from
+    a distance of a cells, is below 0.05 cells (a = 20: 0.135 at the end; a = 5: 0.034).  A trajectory leaving an
+    unstable fixed point (mu = 1.1) or circling it (distance constant) does not contract at any period 1-4."""
+    from bifurc.attractors.identify import Grid, contracting
+    grid = Grid(np.zeros(2), np.ones(2))
+    k = np.arange(41)[:, None]
+    for mu in (0.9, -0.9):
+        assert contracting(np.array([5.0, 5.0]) + mu ** k * np.array([1.0, -1.0]), grid, 1 if mu > 0 else 2)
+    slow = lambda a: np.array([5.0, 5.0]) + a * 0.99 ** k * np.array([1.0, -1.0])  # noqa: E731
+    assert 0.99 ** 39 > 0.5 and not contracting(slow(20.0), grid, 1) and contracting(slow(5.0), grid, 1)
+    leaving = np.array([5.0, 5.0]) + 1e-3 * 1.1 ** k * np.array([1.0, -1.0])
+    circling = np.array([5.0, 5.0]) + 0.1 * np.hstack([np.cos(k), np.sin(k)])
+    assert not any(contracting(p, grid, n) for p in (leaving, circling) for n in (1, 2, 3, 4))

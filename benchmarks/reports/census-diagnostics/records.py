@@ -1,0 +1,33 @@
+import sys, time, numpy as np, collections
+import maps
+from bifurc.attractors import identify, census
+from bifurc.attractors.census import Settings
+from bifurc.attractors.identify import Grid, near_periods, contracting
+from bifurc.sweeps.classify import candidate_periods
+from bifurc.attractors.job import CensusJob
+from bifurc.attractors.starts import make_starts
+pb = maps.problem("thesis-1dof", params={"relay_hz": 10.0}, dc_law="measured")
+st = make_starts(pb, "box", n=200, box={"x": (0.0, 0.03), "v": (-1.5, 1.5)}, seed=1)
+starts = np.asarray(st.points, dtype=float)
+grid = Grid.over(st.box, pb.system, 100, pb.state_vector())
+job = CensusJob(pb, "V", starts, grid, Settings())
+job.warm()
+stat = collections.Counter()
+orig = census.identify
+def ident(smap, o, k, g, **kw):
+    f = sys._getframe(1).f_locals
+    t, mem = f['t'], f['mem']
+    cells = {c for c in t.last_keys if c is not None}
+    sad = any(sd.cells & cells for sd in mem.saddles)
+    near = near_periods(t.last.points, g, candidate_periods(1, 16))[:2]
+    con = any(contracting(t.last.points, g, n) for n in near)
+    a = orig(smap, o, k, g, **kw)
+    res = "none" if a is None else ("periodic" if a.periodic else "nonperiodic")
+    stat[("near" if near else "far", "saddle" if sad else "-", "contracting" if con else "-", res)] += 1
+    return a
+census.identify = ident
+for v in map(float, sys.argv[1:]):
+    stat.clear()
+    job(v)
+    print(v)
+    for k, c in sorted(stat.items()): print("   ", k, c)
