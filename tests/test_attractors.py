@@ -446,3 +446,26 @@ def test_contracting_tells_an_approach_from_chance_near_returns():
     leaving = np.array([5.0, 5.0]) + 1e-3 * 1.1 ** k * np.array([1.0, -1.0])
     circling = np.array([5.0, 5.0]) + 0.1 * np.hstack([np.cos(k), np.sin(k)])
     assert not any(contracting(p, grid, n) for p in (leaving, circling) for n in (1, 2, 3, 4))
+
+
+def test_a_start_settling_at_rest_in_a_chaotic_sets_cell_is_the_state_at_rest():
+    """thesis-1dof, measured law, 10 Hz, 192 V: the state at rest of 185 V (the bar on the stop, x = v = 0) seeded
+    where a chaotic set owns its grid cell (here one owning only that cell) settles at rest within two periods; it is
+    the state at rest (period 1, no impact: x = 0 = e, v = 0, the map's fixed point to 1e-8, stable), not the set."""
+    from bifurc.attractors.census import Settings, census_at
+    from bifurc.attractors.identify import Attractor, Grid
+    from bifurc.codes import ClassCode
+    from maps.hybrid import HybridState
+    from maps.poincare import StroboscopicMap
+    pb = maps.problem("thesis-1dof", None, {"relay_hz": 10.0, "V": 192.0}, dc_law="measured")
+    smap = StroboscopicMap(pb, tol=1e-10)
+    grid = Grid.over({"x": (0.0, 0.03), "v": (-1.5, 1.5)}, pb.system, 100, pb.state_vector())
+    seed = HybridState(np.array([0.0, 0.0, -0.17004117, 18.03055005]), None)
+    cell = grid.keys(seed.y)[0]
+    chaotic = Attractor(int(ClassCode.CHAOTIC), points=np.array([seed.y]), cells={cell})
+    out, found, spent = census_at(smap, [seed], grid, Settings(), known=[chaotic])
+    a = found[out[0]]
+    assert out[0] == 1 and a.period == 1 and a.code == int(ClassCode.PERIODIC_NO_IMPACT)
+    assert abs(a.points[0][0] - smap.params["e"]) < 1e-12 and abs(a.points[0][1]) < 1e-12
+    assert 0 < a.max_multiplier < 1
+    assert np.allclose(smap.step(a.points[0], a.k0), a.points[0], rtol=1e-8, atol=1e-10)

@@ -568,3 +568,30 @@ def test_an_impact_lost_is_extrapolated_where_its_speed_vanishes():
     assert np.max(np.abs(v2 - (slope * dV + intercept))) < 1e-3 * v2.max()      # linear in V
     assert abs(-intercept / slope) < 1e-8
     assert slowest(-1e-6) > 0.05
+
+
+def test_a_corrector_node_takes_the_flags_its_state_implies():
+    """A node moved deep into the stop keeps its previous point's DC region flags (region 5): the node is given
+    the region containing its xa and contact; its step then ends in Escaped (beyond the model's domain, 20 mm
+    into the stop) instead of integrating region 5's cubic far outside its region (one heyoka step for minutes)."""
+    from bifurc.orbits.continuation import ContinuationProblem
+    from maps.hybrid import Escaped, HybridState
+    from maps.model import STOP_ESCAPE, _region_flags, measured_dc_regions
+    from maps.poincare import StroboscopicMap
+    pb = maps.problem("thesis-1dof", "matlab-listing", {"relay_hz": 10.0, "V": 155.0}, dc_law="measured")
+    smap = StroboscopicMap(pb, tol=1e-10)
+    cp = ContinuationProblem(smap, "V", 4, 36, scale=np.ones(4), p_scale=7.5, p_ref=155.0)
+    y = np.array([-0.02863546412288712, 1.7867193968824058, -0.10546384861207692, 24.07249126862597])
+    stale = dict(P=1.0, contact=0.0, stuck_bar=0.0, escaped=0.0, **_region_flags(5))
+    fixed = cp.consistent(HybridState(y, stale))
+    xa = y[0] - smap.params["d_dc"]
+    lows = [r[0] for r in measured_dc_regions()]
+    region = max(k for k, lo in enumerate(lows) if lo <= xa)
+    assert xa < -0.029 and region == 0 and fixed.flags["dc_region"] == float(region)
+    assert fixed.flags["dc_lo"] <= xa <= fixed.flags["dc_hi"]
+    assert fixed.flags["contact"] == 1.0          # inside the stop (e = 0)
+    assert y[0] - smap.params["e"] < -STOP_ESCAPE  # beyond the model's domain: the step escapes
+    with pytest.raises(Escaped):
+        smap.linearize(fixed, 36, params=("V",))
+    same = cp.consistent(fixed)
+    assert same is fixed                          # consistent flags: the node as it is

@@ -84,14 +84,19 @@ def attractors(problem_or_scene="thesis-1dof", param: str = "V", values=None, *,
     job = CensusJob(pb.with_values(**{param: float(values[0])}), param, np.asarray(st.points, dtype=float), grid, s,
                     tol)
     fresh, workers, resumed, parts = _fresh(job, values, workers, scheduler, path, progress)
+    stages = [_time.perf_counter()]
     smap = StroboscopicMap(pb.with_values(**{param: float(values[0])}), tol=tol)
     per_value, outcomes, links, n_ids, periods = _follow(smap, param, values, fresh, grid, s, match_threshold, link)
+    stages.append(_time.perf_counter())
     events = _link_all(pb, param, links, tol, workers)
+    stages.append(_time.perf_counter())
     from .dataset import to_dataset
     attrs = {"workers": int(workers), "values_resumed": int(resumed), "cells_per_side": int(cells),
              "grid_cell_widths": grid.width.tolist(), "fresh_starts": len(st),
              "census_settings": repr(s), "match_threshold_cells": float(match_threshold), "tol": tol,
-             "census_seconds": _time.perf_counter() - clock,
+             "census_seconds": _time.perf_counter() - clock, "fresh_seconds": stages[0] - clock,
+             "seeding_seconds": stages[1] - stages[0], "linking_seconds": stages[2] - stages[1],
+             "links": len(links),
              "periods_per_start_mean": float(np.mean(periods)), "periods_per_start_max": int(np.max(periods)),
              "method": "recurrence on a state-space grid (after Attractors.jl's AttractorsViaRecurrences) on the "
                        "batch engine, early landing on known attractors' cells; periodic attractors polished by "

@@ -126,6 +126,7 @@ def census_at(smap, starts: list, grid: Grid, settings: Settings, *, k0=0,
     owner: dict = {c: i for i, a in enumerate(found) for c in a.cells}
     mem = Memory() if memory is None else memory
     active = list(range(len(tracks)))
+    near = candidate_periods(smap.forcing_period_steps, s.max_period)
     while active:
         orbits = smap.orbits([{}] * len(active), [tracks[i].state for i in active], s.chunk,
                              k0=[tracks[i].k for i in active], batch_size=s.batch_size, events=False)
@@ -140,6 +141,10 @@ def census_at(smap, starts: list, grid: Grid, settings: Settings, *, k0=0,
             t.last, t.last_keys, t.state, t.k, t.periods = o, kk, o.final, t.k + s.chunk, t.periods + s.chunk
             if what == "land" and found[t.outcome].periodic and not converging(o.points, found[t.outcome], grid):
                 _landing_checked(smap, t, found, owner, grid, s, mem)
+            elif what == "land" and not found[t.outcome].periodic and _periodic_tail(o.points[s.chunk // 2:], near):
+                # a chunk whose second half repeats does not land on a chaotic set sharing its cells: it is identified (a bar
+                # at rest on the stop at 192 V, in the cell of a chaotic set that rests there with another current)
+                t.outcome, t.land, t.land_id, what = None, 0, -1, "recur"
             if what == "recur":
                 candidates.append(i)
         _identify_candidates(smap, tracks, candidates, grid, s, found, owner, mem)

@@ -135,8 +135,20 @@ class ContinuationProblem:
         if not math.isfinite(p):
             raise IntegrationFailure("non-finite parameter")
         self.smap.set_params(**{self.param: p})
-        F, M, C, lins = self.shooting(self.states(u, flags), (self.param,), np.array([self.p_scale]))
+        nodes = [self.consistent(s) for s in self.states(u, flags)]
+        F, M, C, lins = self.shooting(nodes, (self.param,), np.array([self.p_scale]))
         return F, np.column_stack([M, C]), lins
+
+    def consistent(self, node: HybridState) -> HybridState:
+        """``node`` with the flags that follow from its state (:meth:`maps.hybrid.HybridSystem.mode_at`: the
+        measured DC law's region, contact inside the stop) where its carried flags contradict them.  A corrector
+        step can move a node across a region knot or deep into the stop; its previous point's flags, taken as a
+        complete mode, then left the region's cubic evaluated far outside its region and no guard able to fire
+        (thesis-1dof, measured law, 155 V: the cubic blew up and one heyoka step ran for minutes)."""
+        fl = node.flags or {}
+        rule = self.smap.system.mode_at(node.y, self.smap.params, fl, ())
+        wrong = {k: v for k, v in rule.items() if k in fl and fl[k] != v}
+        return HybridState(node.y, dict(fl, **wrong)) if wrong else node
 
     def shooting(self, nodes, names: tuple, p_scales):
         """(F, M, C, linearizations) at ``nodes`` under the map's current parameters: the scaled

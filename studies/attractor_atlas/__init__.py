@@ -76,6 +76,15 @@ def _label(ds, i, j) -> str:
                     int(ds.impacts_per_period.values[i, j]))
 
 
+def _stages(ds) -> str:
+    """Where a census' time went: its fresh starts (every worker), the seeding and matching, the linking."""
+    a = ds.attrs
+    if "fresh_seconds" not in a:
+        return f"{a['census_seconds']:.0f} s"
+    return (f"{a['census_seconds']:.0f} s ({a['workers']} workers: fresh starts {a['fresh_seconds']:.0f} s, seeding and "
+            f"matching {a['seeding_seconds']:.0f} s, linking {a['links']} changes {a['linking_seconds']:.0f} s)")
+
+
 def _branches(law: str) -> list:
     """The thesis-orbits study's stable branches at 10 Hz under ``law`` (its committed report's summary)."""
     path = Path(__file__).parent.parent / "thesis_orbits" / "report.md"
@@ -102,7 +111,8 @@ def report(results, quick, seconds) -> str:
                   "| V [V] | outcome | class | probability | 95 % interval | hammering |", "|---|---|---|---|---|---|"]
         lines += [f"| {v:g} | {n} | {lab} | {f:.3f} | {lo:.3f}-{hi:.3f} | {'yes' if h else ''} |"
                   for v, n, lab, f, lo, hi, h in _rows(sw) if f > 0]
-        lines += ["", "Beside them, the thesis-orbits study's stable branches at 10 Hz (continuation):", ""]
+        lines += ["", "Run times: " + "; ".join(f"{kind} {_stages(ds)}" for kind, ds in (("box", box), ("switch-on", sw))),
+                  "", "Beside them, the thesis-orbits study's stable branches at 10 Hz (continuation):", ""]
         lines += [f"- {b}" for b in _branches(law)] + [""]
     return "\n".join(lines)
 
