@@ -23,6 +23,7 @@ import pytest
 import bifurc
 import maps
 from maps import HybridSystem, Parameter, State
+from one_dim_map import OneDimMap
 
 OSC = dict(w0=1.0, zeta=0.05, F=0.3, Omega=1.3, e=-1.0, r=0.8)
 BOX = {"x": (-1.0, 2.0), "v": (-2.0, 2.0)}
@@ -349,30 +350,6 @@ def test_switch_on_census_grid_spans_the_scene_box_not_the_spread():
     assert w[0] == pytest.approx(3e-4, rel=1e-12) and w[1] == pytest.approx(0.03, rel=1e-12) and math.isinf(w[2])
 
 
-class _LogisticMap:
-    """The logistic map x -> r x (1 - x) with the stroboscopic map's ``orbits`` interface (strobe points only),
-    for :func:`bifurc.attractors.census._persists`."""
-
-    forcing_period_steps = 1
-
-    def __init__(self, r):
-        self.r = r
-
-    def orbits(self, overrides, x0, n, *, k0=0, batch_size=4, events=True):
-        from types import SimpleNamespace
-
-        from maps.hybrid import HybridState
-        out = []
-        for s in x0:
-            x = np.empty(n + 1)
-            x[0] = float(np.asarray(getattr(s, "y", s), dtype=float)[0])
-            for k in range(n):
-                x[k + 1] = self.r * x[k] * (1.0 - x[k])
-            out.append(SimpleNamespace(points=x[:, None], status="ok", final=HybridState(x[-1:].copy(), None),
-                                       state=lambda j, x=x: HybridState(x[j:j + 1].copy(), None)))
-        return out
-
-
 @pytest.mark.parametrize("r, attractor", [(4.0, True), (3.835, False), (3.7385, False)])
 def test_a_chaotic_set_is_an_attractor_only_if_it_persists(r, attractor):
     """Closed-form truths of the logistic map: at r = 4 it is conjugate to the tent map (exponent ln 2, every
@@ -381,7 +358,7 @@ def test_a_chaotic_set_is_an_attractor_only_if_it_persists(r, attractor):
     seen on the way is a transient: a saddle, not an attractor."""
     from bifurc.attractors.census import Settings, _persists
     assert 1 + math.sqrt(8) < 3.835 < 3.8415
-    m = _LogisticMap(r)
+    m = OneDimMap(lambda x: r * x * (1.0 - x))     # the logistic map
     record = m.orbits([{}], [np.array([0.2345])], 48)[0]       # 48 points of its transient (or of its chaos)
     assert (_persists(m, record, 0, Settings()).verdict(Settings().persist) == "attractor") is attractor
 

@@ -10,36 +10,14 @@ chaos never ends.
 from __future__ import annotations
 
 import math
-from types import SimpleNamespace
-
 import numpy as np
 import pytest
 
 from bifurc.attractors.lifetime import estimate_lifetime, fall_index, lifetime_interval
-from maps.hybrid import HybridState
+from one_dim_map import OneDimMap
 
 
-class _OneDimMap:
-    """A 1-D map with the stroboscopic map's ``orbits`` interface (strobe points only)."""
-
-    forcing_period_steps = 1
-
-    def __init__(self, f):
-        self.f = f
-
-    def orbits(self, overrides, x0, n, *, k0=0, batch_size=4, events=True):
-        out = []
-        for s in x0:
-            x = np.empty(n + 1)
-            x[0] = float(np.asarray(getattr(s, "y", s), dtype=float)[0])
-            for k in range(n):
-                x[k + 1] = self.f(x[k])
-            out.append(SimpleNamespace(points=x[:, None], status="ok", final=HybridState(x[-1:].copy(), None),
-                                       state=lambda j, x=x: HybridState(x[j:j + 1].copy(), None)))
-        return out
-
-
-def _hole_map(h: float) -> _OneDimMap:
+def _hole_map(h: float) -> OneDimMap:
     a = 0.45 * (1.0 - h)          # unequal branches: no dyadic round-off collapse
 
     def f(x):
@@ -48,7 +26,7 @@ def _hole_map(h: float) -> _OneDimMap:
         if x < 1.0 - h:
             return (x - a) / (1.0 - h - a)
         return 2.0
-    return _OneDimMap(f)
+    return OneDimMap(f)
 
 
 def _records_on_the_set(m, h, n, seed):
@@ -88,7 +66,7 @@ def test_a_transient_as_long_as_the_horizon_is_never_called_an_attractor():
 
 def test_the_logistic_maps_chaos_at_r4_is_an_attractor():
     """At r = 4 no copy ever falls: the interval's lower end exceeds the horizon, the estimate is infinite."""
-    m = _OneDimMap(lambda x: 4.0 * x * (1.0 - x))
+    m = OneDimMap(lambda x: 4.0 * x * (1.0 - x))
     rec = m.orbits([{}], [np.array([0.2345])], 48)[0]
     got = estimate_lifetime(m, rec, 0, 4000)
     assert got.verdict(4000) == "attractor" and got.falls == 0 and math.isinf(got.tau) and got.low > 4000
