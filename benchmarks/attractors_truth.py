@@ -21,7 +21,7 @@ import numpy as np
 def settled(v: float, periods: int):
     """Counter of (period, impacts per period) after ``periods`` (period 0: aperiodic), and the seconds taken."""
     import maps
-    from bifurc.attractors.census import _periodic_tail
+    from bifurc.attractors.lifetime import periodic_tail as _periodic_tail
     from bifurc.attractors.starts import make_starts
     from maps.poincare import StroboscopicMap
     pb = maps.problem("thesis-1dof", params={"relay_hz": 10.0}, dc_law="measured")

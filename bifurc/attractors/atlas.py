@@ -11,7 +11,7 @@ from maps.poincare import StroboscopicMap
 from maps.problem import problem
 from maps.provenance import recorded
 
-from .census import OUTCOMES, Settings, census_at
+from .census import Settings, census_at
 from .job import CensusJob
 from .follow import link_event, match
 from .identify import Grid, representative

@@ -28,8 +28,7 @@ import numpy as np
 from maps.hybrid import HybridState
 
 from ..sweeps.classify import candidate_periods
-from .lifetime import Lifetime, estimate_lifetime
-from .lifetime import periodic_tail as _periodic_tail  # noqa: F401 - the benchmarks' name
+from .lifetime import Lifetime, estimate_lifetime, periodic_tail
 from .identify import (Attractor, Grid, contracting, converging, from_chunk, identify, near_periods,
                        polish_once, same_attractor, same_orbit)
 
@@ -141,7 +140,7 @@ def census_at(smap, starts: list, grid: Grid, settings: Settings, *, k0=0,
             t.last, t.last_keys, t.state, t.k, t.periods = o, kk, o.final, t.k + s.chunk, t.periods + s.chunk
             if what == "land" and found[t.outcome].periodic and not converging(o.points, found[t.outcome], grid):
                 _landing_checked(smap, t, found, owner, grid, s, mem)
-            elif what == "land" and not found[t.outcome].periodic and _periodic_tail(o.points[s.chunk // 2:], near):
+            elif what == "land" and not found[t.outcome].periodic and periodic_tail(o.points[s.chunk // 2:], near):
                 # a chunk whose second half repeats does not land on a chaotic set sharing its cells: it is identified (a bar
                 # at rest on the stop at 192 V, in the cell of a chaotic set that rests there with another current)
                 t.outcome, t.land, t.land_id, what = None, 0, -1, "recur"

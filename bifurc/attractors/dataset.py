@@ -56,8 +56,8 @@ def _put_attractor(cols, i, col, a) -> None:
     cols["lyapunov"][i, col] = a.lyapunov
     cols["lyapunov_low"][i, col], cols["lyapunov_high"][i, col] = a.lyapunov_interval
     cols["max_multiplier"][i, col], cols["newton_residual"][i, col] = a.max_multiplier, a.residual
-    cols["lifetime"][i, col] = getattr(a, "lifetime", np.nan)
-    cols["lifetime_low"][i, col], cols["lifetime_high"][i, col] = getattr(a, "lifetime_interval", (np.nan, np.nan))
+    cols["lifetime"][i, col] = a.lifetime
+    cols["lifetime_low"][i, col], cols["lifetime_high"][i, col] = a.lifetime_interval
     cols["n_points"][i, col] = len(a.points)
     cols["match_distance"][i, col] = getattr(a, "match_distance", np.nan)
 

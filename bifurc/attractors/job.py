@@ -99,8 +99,6 @@ def _attractor_to(a: Attractor) -> dict:
 def _attractor_from(d: dict) -> Attractor:
     kw = {}
     for f in fields(Attractor):
-        if f.name not in d:          # a part written before the field existed: its default
-            continue
         v = d[f.name]
         if f.name == "points":
             v = np.asarray(v, dtype=float)

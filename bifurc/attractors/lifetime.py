@@ -130,8 +130,8 @@ def estimate_lifetime(smap, record, k0: int, horizon: int, *, max_period: int = 
             else:
                 fallen.append(at)
         done, live = done + n, kept
-        got = Lifetime(*lifetime_interval(sum(fallen) + done * len(live), len(fallen), level), len(fallen),
-                       sum(fallen) + done * len(live), copies, done)
+        exposure = sum(fallen) + done * len(live)
+        got = Lifetime(*lifetime_interval(exposure, len(fallen), level), len(fallen), exposure, copies, done)
         if got.verdict(horizon) != "long-lived" or not _may_persist(got, len(live), horizon, level):
             break
     return got

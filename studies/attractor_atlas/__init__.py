@@ -79,8 +79,6 @@ def _label(ds, i, j) -> str:
 def _stages(ds) -> str:
     """Where a census' time went: its fresh starts (every worker), the seeding and matching, the linking."""
     a = ds.attrs
-    if "fresh_seconds" not in a:
-        return f"{a['census_seconds']:.0f} s"
     return (f"{a['census_seconds']:.0f} s ({a['workers']} workers: fresh starts {a['fresh_seconds']:.0f} s, seeding and "
             f"matching {a['seeding_seconds']:.0f} s, linking {a['links']} changes {a['linking_seconds']:.0f} s)")
 
