@@ -1,15 +1,7 @@
 import sys, time, numpy as np
-import maps
-from bifurc.attractors.census import Settings
-from bifurc.attractors.identify import Grid
-from bifurc.attractors.job import CensusJob
-from bifurc.attractors.starts import make_starts
 from maps.poincare import StroboscopicMap
-pb = maps.problem("thesis-1dof", params={"relay_hz": 10.0}, dc_law="measured")
-st = make_starts(pb, "box", n=200, box={"x": (0.0, 0.03), "v": (-1.5, 1.5)}, seed=1)
-S = list(np.asarray(st.points, dtype=float))
-grid = Grid.over(st.box, pb.system, 100, pb.state_vector())
-job = CensusJob(pb, "V", np.asarray(S), grid, Settings()); job.warm()
+from _census_setup import job, pb, starts
+S = list(starts)
 smap = StroboscopicMap(pb, tol=1e-10); smap.orbits([{}], [S[0]], 1, batch_size=4, events=False)
 for v in map(float, sys.argv[1:]):
     r = job(v)

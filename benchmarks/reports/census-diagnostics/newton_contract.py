@@ -1,16 +1,6 @@
-import sys, time, numpy as np, collections
-import maps
+import sys, time, numpy as np
 from bifurc.attractors import identify
-from bifurc.attractors.census import Settings
-from bifurc.attractors.identify import Grid
-from bifurc.attractors.job import CensusJob
-from bifurc.attractors.starts import make_starts
-pb = maps.problem("thesis-1dof", params={"relay_hz": 10.0}, dc_law="measured")
-st = make_starts(pb, "box", n=200, box={"x": (0.0, 0.03), "v": (-1.5, 1.5)}, seed=1)
-starts = np.asarray(st.points, dtype=float)
-grid = Grid.over(st.box, pb.system, 100, pb.state_vector())
-job = CensusJob(pb, "V", starts, grid, Settings())
-job.warm()
+from _census_setup import job
 rows = []
 orig = identify._polish
 def pol(smap, orbit, k0, n, g, *a):

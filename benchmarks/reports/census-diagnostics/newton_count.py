@@ -1,16 +1,8 @@
-import sys, time, numpy as np
+import sys, time
 sys.argv=[sys.argv[0]]
-import maps
-from bifurc.attractors import identify, census
-from bifurc.attractors.census import Settings
-from bifurc.attractors.identify import Grid, same_orbit
-from bifurc.attractors.job import CensusJob
-from bifurc.attractors.starts import make_starts
-pb = maps.problem("thesis-1dof", params={"relay_hz": 10.0}, dc_law="measured")
-st = make_starts(pb, "box", n=200, box={"x": (0.0, 0.03), "v": (-1.5, 1.5)}, seed=1)
-starts = np.asarray(st.points, dtype=float)
-job = CensusJob(pb, "V", starts, Grid.over(st.box, pb.system, 100, pb.state_vector()), Settings())
-job.warm()
+from bifurc.attractors import identify
+from bifurc.attractors.identify import same_orbit
+from _census_setup import job
 log=[]
 orig=identify._polish
 def pol(smap, orbit, k0, n, grid, *a):
