@@ -131,10 +131,6 @@ class _BranchTrack(Track):
     def tol(self) -> float:
         return self.problem.tol
 
-    @property
-    def newton(self) -> dict:
-        return self.problem.NEWTON
-
     def evaluate(self, u, flags):
         return self.problem.residual(u, flags)
 

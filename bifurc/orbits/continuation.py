@@ -31,6 +31,9 @@ from .periodic import _Coordinates, _shooting_matrix
 __all__ = ["BranchPoint", "SpecialPoint", "Branch", "ContinuationProblem", "NoConvergence", "SMOOTH_ROLES",
            "transition_signature", "flags_of", "in_section", "unit_tangent", "bordered_newton", "impact_count"]
 
+#: the corrector's options on a branch's shooting system and the driver's default (:func:`bordered_newton`)
+NEWTON_OPTIONS = {"max_iter": 10, "stall_after": 3, "tiny_update": True}
+
 #: event roles that make the map non-smooth when they appear or vanish (observations and
 #: free-flight minima only record; they may come and go along a smooth branch)
 SMOOTH_ROLES = ("observation", "flight_minimum", "deepest")
@@ -161,9 +164,6 @@ class ContinuationProblem:
         C = np.vstack([(co.R @ L.J_p) / s[:, None] * np.asarray(p_scales)[None, :] for L in lins])
         return F, M, C, lins
 
-    #: the corrector's options for this system (:func:`bordered_newton`)
-    NEWTON = {"max_iter": 10, "stall_after": 3, "tiny_update": True}
-
     def residual(self, u, flags):
         """:meth:`evaluate` with its integration failures raised as NoConvergence (the corrector's form)."""
         try:
@@ -176,7 +176,7 @@ class ContinuationProblem:
         predictor step passes ``max_move``, its length).
 
         Returns (u, F, DF, lins, flags, iterations) or raises NoConvergence."""
-        return bordered_newton(self.residual, u_pred, normal, flags, self.tol, max_move=max_move, **self.NEWTON)
+        return bordered_newton(self.residual, u_pred, normal, flags, self.tol, max_move=max_move, **NEWTON_OPTIONS)
 
     def point(self, u, F, DF, lins, flags, iterations, reference, *, tangent=None) -> BranchPoint:
         co = self.co

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .continuation import NoConvergence, bordered_newton
+from .continuation import NEWTON_OPTIONS, NoConvergence, bordered_newton
 
 __all__ = ["Steps", "Track", "follow", "step_after", "turn_angle"]
 
@@ -47,7 +47,7 @@ class Track:
     #: Newton's tolerance on the largest scaled residual, and the options of
     #: :func:`bifurc.orbits.continuation.bordered_newton` (max_iter, stall_after, tiny_update, keep_impacts)
     tol: float = 1e-10
-    newton: dict = {"max_iter": 10, "stall_after": 3, "tiny_update": True}
+    newton: dict = NEWTON_OPTIONS
 
     def size(self) -> int:
         """Points recorded so far (the driver stops at ``max_points``)."""
