@@ -446,3 +446,40 @@ def test_a_start_settling_at_rest_in_a_chaotic_sets_cell_is_the_state_at_rest():
     assert abs(a.points[0][0] - smap.params["e"]) < 1e-12 and abs(a.points[0][1]) < 1e-12
     assert 0 < a.max_multiplier < 1
     assert np.allclose(smap.step(a.points[0], a.k0), a.points[0], rtol=1e-8, atol=1e-10)
+
+
+def test_a_periodic_record_newton_cannot_polish_is_that_periodic_attractor(monkeypatch):
+    """The logistic map at r = 3.2: its stable 2-cycle is x = (r + 1 +- sqrt((r - 3)(r + 1))) / (2 r) with
+    multiplier r^2 (1 - 2 x1)(1 - 2 x2) = -r^2 + 2 r + 4 = 0.16 (exponent ln(0.16) / 2 per step).  A record of 48
+    steps after 400 from x = 0.3 repeats to round-off; with Newton made to fail, it is still the period-2
+    attractor (not "undecided"): its nodes the closed form to 1e-12, no impact, its exponent the record's, its
+    multipliers unknown."""
+    from types import SimpleNamespace
+
+    from bifurc.attractors import identify as idf
+    from bifurc.codes import ClassCode
+    from bifurc.orbits.periodic import OrbitNotFound
+    from maps.hybrid import HybridState
+
+    def fail(*args, **kwargs):
+        raise OrbitNotFound("made to fail")
+    monkeypatch.setattr(idf, "find_periodic_orbit", fail)
+    r = 3.2
+    x = np.empty(449)
+    x[0] = 0.3
+    for k in range(448):
+        x[k + 1] = r * x[k] * (1.0 - x[k])
+    pts = x[400:, None]
+    stretch = np.log(np.abs(r * (1.0 - 2.0 * pts[:-1, 0])))
+    record = SimpleNamespace(points=pts, impacts_per_step=np.zeros(48, np.int64),
+                             min_flight_clearance_per_step=np.full(48, np.inf),
+                             tangent_stretch=lambda scale=None: stretch,
+                             state=lambda j: HybridState(pts[j].copy(), None))
+    smap = SimpleNamespace(forcing_period_steps=1, system=SimpleNamespace(mechanical_index=[0]))
+    a = idf.identify(smap, record, 400, idf.Grid(np.zeros(1), np.full(1, 0.01)), tried={})
+    root = math.sqrt((r - 3.0) * (r + 1.0))
+    cycle = sorted([(r + 1.0 - root) / (2.0 * r), (r + 1.0 + root) / (2.0 * r)])
+    assert a is not None and a.code == int(ClassCode.PERIODIC_NO_IMPACT) and a.period == 2 and a.impacts == 0
+    assert np.allclose(sorted(a.points[:, 0]), cycle, rtol=0, atol=1e-12)
+    assert a.lyapunov == pytest.approx(math.log(-r * r + 2.0 * r + 4.0) / 2.0, rel=1e-9)
+    assert math.isnan(a.max_multiplier) and "Newton did not converge" in a.how

@@ -159,6 +159,8 @@ def identify(smap, orbit, k0: int, grid: Grid, *, max_period: int = 16, tol: flo
             found = polish_once(smap, orbit, k0, n, grid, tol, rtol, atol, tried)
             if found is not None:
                 return found
+    if cls["label"] in ("periodic", "periodic-no-impact"):
+        return _unpolished(smap, orbit, k0, cls, grid, (lam, lo, hi), rtol, atol)
     if cls["label"] in ("chaotic", "quasi-periodic"):
         return Attractor(int(cls["code"]), lyapunov=lam, lyapunov_interval=(lo, hi), points=pts.copy(),
                          flags=[orbit.state(j).flags for j in range(len(pts))], k0=k0,
@@ -166,6 +168,28 @@ def identify(smap, orbit, k0: int, grid: Grid, *, max_period: int = 16, tol: flo
                          min_flight_clearance=float(np.min(orbit.min_flight_clearance_per_step)),
                          how=f"recurrence on the grid; classified {cls['label']} over {len(imp)} periods")
     return None
+
+
+def _unpolished(smap, orbit, k0, cls: dict, grid: Grid, exponent: tuple, rtol: float, atol: float) -> Attractor:
+    """A record that repeats with period n to ``rtol`` of each state's scale over all its points
+    (:func:`bifurc.sweeps.classify.classify_orbit`) where Newton did not converge: a periodic attractor all the
+    same, its nodes the record's last n points (as close as the record repeats), its exponent the record's
+    tangent estimate, its multipliers unknown (NaN).  On thesis-1dof (`measured`, 10 Hz) at 94 V, 17 of 200 box
+    starts sit on a chattering period-6 orbit with 50 impacts that repeats to 1e-10 from 500 periods on and that
+    Newton does not polish; they were "not_converged"."""
+    pts, imp, n = orbit.points, orbit.impacts_per_step, int(cls["period"])
+    j = len(pts) - 1 - n
+    pm, mm, _ = mechanical_period(pts, imp, n, smap.system.mechanical_index, rtol=rtol, atol=atol,
+                                  impacts=int(cls["impacts_per_period"]))
+    lam, lo, hi = exponent
+    return Attractor(int(cls["code"]), n, pm, int(cls["impacts_per_period"]), mm, lyapunov=lam,
+                     lyapunov_interval=(lo, hi), points=pts[j:j + n].copy(),
+                     flags=[orbit.state(i).flags for i in range(j, j + n)], k0=k0 + j,
+                     cells={c for c in grid.keys(pts[j:]) if c is not None}, min_flight_clearance=_min_flight(orbit),
+                     residual=math.nan,
+                     how=f"recurrence on the grid; the record repeats with period {n} to {cls['recurrence']:.2g} x "
+                         f"{rtol:g} of each state's scale over {len(imp)} periods; Newton did not converge: not "
+                         f"polished, multipliers unknown, exponent from the record's tangent vector")
 
 
 def from_chunk(smap, orbit, k0: int, grid: Grid, found: list, *, max_period: int = 16, tol: float = 1e-10,
