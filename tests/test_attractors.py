@@ -483,3 +483,19 @@ def test_a_periodic_record_newton_cannot_polish_is_that_periodic_attractor(monke
     assert np.allclose(sorted(a.points[:, 0]), cycle, rtol=0, atol=1e-12)
     assert a.lyapunov == pytest.approx(math.log(-r * r + 2.0 * r + 4.0) / 2.0, rel=1e-9)
     assert math.isnan(a.max_multiplier) and "Newton did not converge" in a.how
+
+
+def test_an_attractor_met_only_at_the_last_values_is_carried_back_down_to_where_it_exists():
+    """x' = r + x - x^3 for r = -0.3 ... 0.3 (inside the bistable window |r| < r_c = 0.3849) from the one start x =
+    -0.1: the upper equilibrium's basin x > m(r), the middle root, holds it only where m(r) < -0.1, i.e. r >
+    0.1 - 0.001 = 0.099 (m^3 - m = r at m = -0.1), so the fresh start meets the upper equilibrium at r = 0.1, 0.2,
+    0.3 only.  It exists at every value: the sweep back down from r = 0.3 finds it at all seven (its x the largest
+    root to 1e-8), with basin fraction 0 where the start went to the lower one (the start by start truth)."""
+    r = np.linspace(-0.3, 0.3, 7)
+    ds = bifurc.attractors(BISTABLE, "r", r, starts=np.array([[-0.1, 0.0]]), cells=50, progress=False, link=False)
+    up = [j for j in range(ds.sizes["attractor"] - 3) if np.nanmax(ds.x.values[:, j, 0]) > 0.5]
+    assert len(up) == 1
+    j = up[0]
+    assert list(ds.present.values[:, j]) == [1] * 7
+    assert np.allclose(ds.x.values[:, j, 0], [_roots(v)[-1] for v in r], atol=1e-8, rtol=0)
+    assert list(ds.basin_fraction.values[:, j]) == [float(v > 0.099) for v in r]

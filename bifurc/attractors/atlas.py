@@ -110,16 +110,32 @@ def attractors(problem_or_scene="thesis-1dof", param: str = "V", values=None, *,
     return ds
 
 
+def _seeded(smap, param, values, fresh, grid, s) -> list:
+    """Each value's attractors: those of its fresh starts, then those reached from the neighbouring value's
+    attractors (one start on each, not counted in the fractions), in a sweep up the values and one back down.  The
+    sweep down finds an orbit at the values below the one whose fresh starts first met it, down to where it was
+    born: thesis-1dof (`measured`, 10 Hz) has a stable 1:2 orbit from its fold at 89.34 V, met by box starts at
+    108 V but not at 94 or 101 V."""
+    found = [list(f.found) for f in fresh]
+    for order in (range(len(values)), range(len(values) - 1, -1, -1)):
+        prev = None
+        for i in order:
+            if prev:
+                smap.set_params(**{param: float(values[i])})
+                found[i] = census_at(smap, [representative(a) for a in prev], grid, s, k0=[a.k0 for a in prev],
+                                     known=found[i])[1]
+            prev = found[i]
+    return found
+
+
 def _follow(smap, param, values, fresh, grid, s, match_threshold, link):
-    """Value by value: seed with the previous value's attractors, match them to this value's and (``link``) note
-    the appearances and disappearances: (per_value, outcomes, links, n_ids, periods spent per start)."""
+    """Value by value: the attractors of each (:func:`_seeded`) matched to the previous value's and (``link``) the
+    appearances and disappearances noted: (per_value, outcomes, links, n_ids, periods spent per start)."""
     per_value, outcomes, links, prev, n_ids, periods = [], [], [], {}, 0, []
+    seeded = _seeded(smap, param, values, fresh, grid, s)
     for i, v in enumerate(values):
         smap.set_params(**{param: float(v)})
-        found = list(fresh[i].found)
-        if prev:      # the previous value's attractors seeded after the fresh starts (not counted in the fractions)
-            found = census_at(smap, [representative(a) for a in prev.values()], grid, s,
-                              k0=[a.k0 for a in prev.values()], known=found)[1]
+        found = seeded[i]
         periods.extend(fresh[i].spent)
         ids, n_ids = _assign(prev, found, grid, smap.forcing_period_steps, match_threshold, n_ids)
         here = {ids[j]: a for j, a in enumerate(found)}
