@@ -1,10 +1,11 @@
 """Global continuation: matching the attractors of neighbouring parameter values, and what their
 appearances and disappearances are linked to.
 
-Each value is seeded with the previous value's attractors (one start on each, not counted in the basin
-fractions) besides the fresh starts; an attractor is matched to the nearest one of the previous value
-within ``threshold`` grid cells (:func:`.identify.distance`), like with like only (a periodic orbit to
-an orbit of its period, by their polished nodes; a chaotic set to a set, never to an orbit), greedily by distance, as Attractors.jl's matching by state-space distance.  An attractor left
+Each value is seeded with the neighbouring values' attractors (one start on each, not counted in the basin
+fractions; a sweep up the values, then one back down) besides the fresh starts; an attractor is matched to the
+nearest one of the previous value within ``threshold`` grid cells (:func:`.identify.distance`), like with like
+only (a periodic orbit to an orbit of its period, by their polished nodes; a chaotic set to a set, never to an
+orbit), greedily by distance, as Attractors.jl's matching by state-space distance.  An attractor left
 unmatched appeared or disappeared: its periodic orbit is continued across the step by
 :func:`bifurc.orbits.branch.continue_orbit`, and a fold, period doubling, Neimark-Sacker point, grazing or
 stick onset located within the step is the link; otherwise the change is flagged "global" with its evidence.
