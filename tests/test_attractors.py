@@ -499,3 +499,65 @@ def test_an_attractor_met_only_at_the_last_values_is_carried_back_down_to_where_
     assert list(ds.present.values[:, j]) == [1] * 7
     assert np.allclose(ds.x.values[:, j, 0], [_roots(v)[-1] for v in r], atol=1e-8, rtol=0)
     assert list(ds.basin_fraction.values[:, j]) == [float(v > 0.099) for v in r]
+
+
+class _StandardMap3:
+    """x' = x + b p + K sin x, p' = b p + K sin x, z' = c z: the (dissipative for b < 1) standard map with a
+    strongly contracting third state.  det of the (x, p) block is b at every point, so the two leading exponents
+    sum to ln b exactly (ln c = ln 0.05 lies below both)."""
+
+    def __init__(self, K, b, c=0.05):
+        self.K, self.b, self.c = K, b, c
+
+    def orbit(self, y, n):
+        from types import SimpleNamespace
+
+        from maps.hybrid import HybridState
+        P = [np.asarray(y, dtype=float)]
+        for _ in range(n):
+            x, p, z = P[-1]
+            q = self.b * p + self.K * math.sin(x)
+            P.append(np.array([x + q, q, self.c * z]))
+        P = np.array(P)
+        return SimpleNamespace(points=P, state=lambda j: HybridState(P[j].copy(), None))
+
+    def linearize(self, state, k):
+        from types import SimpleNamespace
+        x = float(state.y[0])
+        kc = self.K * math.cos(x)
+        return SimpleNamespace(J=np.array([[1.0 + kc, self.b, 0.0], [kc, self.b, 0.0], [0.0, 0.0, self.c]]))
+
+
+@pytest.mark.parametrize("b", [1.0, 0.9])
+def test_area_rate_is_the_log_of_the_standard_maps_jacobian(b):
+    """The area rate of a 400-step record of the standard map (K = 1.2, chaotic layer from x = 3, p = 0.1) is ln b
+    to 1e-12 (0 for the area-preserving map), its interval within 1e-12 of it."""
+    from bifurc.attractors.identify import area_rate
+    m = _StandardMap3(1.2, b)
+    rate, lo, hi = area_rate(m, m.orbit([3.0, 0.1, 1.0], 400), 0)
+    assert rate == pytest.approx(math.log(b), abs=1e-12)
+    assert lo == pytest.approx(math.log(b), abs=1e-12) and hi == pytest.approx(math.log(b), abs=1e-12)
+
+
+def test_undamped_flight_shows_no_area_contraction_impacts_do():
+    """thesis-1dof at 10 Hz.  Under the `listing` law at 90 V a start at x = 19.1 mm, v = -0.69 m/s swings
+    without impact (its flight is undamped): the area rate's interval contains 0 and is under 0.01 wide,
+    while the circuit's exponent (about -3 per period) is far below.  Under `measured` at 171 V the bar strikes
+    twice per period: the rate is below -0.1 with its whole interval."""
+    from types import SimpleNamespace
+
+    from bifurc.attractors.identify import area_rate
+    from maps.poincare import StroboscopicMap
+    got = {}
+    for law, v in (("listing", 90.0), ("measured", 171.0)):
+        pb = maps.problem("thesis-1dof", None, {"relay_hz": 10.0, "V": v}, dc_law=law)
+        smap = StroboscopicMap(pb, tol=1e-10)
+        y = pb.state_vector()
+        y[0], y[1] = 0.0191, -0.69
+        o = smap.orbit(y, 348)
+        rec = o.since(300)
+        got[law] = (area_rate(smap, rec, 300), int(np.sum(rec.impacts_per_step)))
+    (rate, lo, hi), impacts = got["listing"]
+    assert impacts == 0 and lo <= 0.0 <= hi and hi - lo < 0.01
+    (rate, lo, hi), impacts = got["measured"]
+    assert impacts > 48 and hi < -0.1

@@ -58,6 +58,8 @@ def _put_attractor(cols, i, col, a) -> None:
     cols["max_multiplier"][i, col], cols["newton_residual"][i, col] = a.max_multiplier, a.residual
     cols["lifetime"][i, col] = a.lifetime
     cols["lifetime_low"][i, col], cols["lifetime_high"][i, col] = a.lifetime_interval
+    cols["area_rate"][i, col] = a.area_rate
+    cols["area_rate_low"][i, col], cols["area_rate_high"][i, col] = a.area_rate_interval
     cols["n_points"][i, col] = len(a.points)
     cols["match_distance"][i, col] = getattr(a, "match_distance", np.nan)
 

@@ -19,7 +19,7 @@ from ..orbits.periodic import OrbitNotFound, find_periodic_orbit
 from ..sweeps.classify import candidate_periods, classify_orbit, lyapunov_threshold, mechanical_period, state_scale
 from ..sweeps.lyapunov import exponent_interval
 
-__all__ = ["Grid", "Attractor", "identify", "from_chunk", "distance", "same_attractor", "same_orbit", "converging",
+__all__ = ["Grid", "Attractor", "identify", "area_rate", "from_chunk", "distance", "same_attractor", "same_orbit", "converging",
            "contracting", "near_periods", "polish_once"]
 
 
@@ -74,6 +74,8 @@ class Attractor:
     how: str = ""                        # how it was identified
     lifetime: float = math.nan           # non-periodic: mean lifetime on the set [strobe periods] (inf: none fell)
     lifetime_interval: tuple = (math.nan, math.nan)   # its interval (bifurc.attractors.lifetime)
+    area_rate: float = math.nan          # non-periodic: sum of the two leading exponents [per period] (:func:`area_rate`)
+    area_rate_interval: tuple = (math.nan, math.nan)  # its 95 % interval
 
     @property
     def periodic(self) -> bool:
@@ -162,7 +164,9 @@ def identify(smap, orbit, k0: int, grid: Grid, *, max_period: int = 16, tol: flo
     if cls["label"] in ("periodic", "periodic-no-impact"):
         return _unpolished(smap, orbit, k0, cls, grid, (lam, lo, hi), rtol, atol)
     if cls["label"] in ("chaotic", "quasi-periodic"):
+        area, a_lo, a_hi = area_rate(smap, orbit, k0)
         return Attractor(int(cls["code"]), lyapunov=lam, lyapunov_interval=(lo, hi), points=pts.copy(),
+                         area_rate=area, area_rate_interval=(a_lo, a_hi),
                          flags=[orbit.state(j).flags for j in range(len(pts))], k0=k0,
                          cells={c for c in grid.keys(pts) if c is not None},
                          min_flight_clearance=float(np.min(orbit.min_flight_clearance_per_step)),
@@ -190,6 +194,34 @@ def _unpolished(smap, orbit, k0, cls: dict, grid: Grid, exponent: tuple, rtol: f
                      how=f"recurrence on the grid; the record repeats with period {n} to {cls['recurrence']:.2g} x "
                          f"{rtol:g} of each state's scale over {len(imp)} periods; Newton did not converge: not "
                          f"polished, multipliers unknown, exponent from the record's tangent vector")
+
+
+#: periods of a record left out of :func:`area_rate` while the tangent plane aligns with the leading directions
+AREA_SKIP = 8
+
+
+def area_rate(smap, orbit, k0: int, skip: int = AREA_SKIP) -> tuple[float, float, float]:
+    """(rate, low, high): the sum of the two leading Lyapunov exponents [per strobe period] on a recorded set, the
+    mean log growth of a tangent plane carried by the exact one-period Jacobians at the record's states (QR, each
+    state in units of its largest size on the record), after
+    ``skip`` periods that align the plane, with the 95 % batch-means interval of
+    :func:`bifurc.sweeps.lyapunov.exponent_interval`.  Below 0: the set contracts areas (an attractor of a
+    dissipative map has a negative sum); an interval about 0: no contraction shown, as on the invariant tori of an
+    area-preserving map (thesis-1dof under the `listing` law at 90 V, 10 Hz: with no impact the bar's multipliers'
+    product is 1, the circuit's states contract alone; with impacts 0.96 per period).  NaN where a step fails."""
+    P = np.asarray(orbit.points, dtype=float)
+    scale = np.maximum(np.nanmax(np.abs(P), axis=0), 1e-9)     # each state in units of its size on the set
+    s, Q = [], None
+    try:
+        for j in range(len(P) - 1):
+            J = smap.linearize(orbit.state(j), k0 + j).J / scale[:, None] * scale[None, :]
+            Q = np.eye(J.shape[0])[:, :2] if Q is None else Q
+            Q, R = np.linalg.qr(J @ Q)
+            s.append(float(np.sum(np.log(np.abs(np.diag(R))))))
+    except (IntegrationFailure, ValueError, ZeroDivisionError, np.linalg.LinAlgError):
+        return math.nan, math.nan, math.nan
+    return exponent_interval(np.asarray(s[skip:]))
+
 
 
 def from_chunk(smap, orbit, k0: int, grid: Grid, found: list, *, max_period: int = 16, tol: float = 1e-10,

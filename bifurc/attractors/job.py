@@ -20,9 +20,9 @@ from .identify import Attractor, Grid
 
 __all__ = ["CensusJob", "ValueCensus", "CensusParts", "census_manifest"]
 
-#: version of the census parts' layout (2: non-periodic sets judged by their lifetime, stored on them; a resume
-#: from parts of 1, whose sets were judged by 4 copies, is refused)
-CENSUS_PARTS_FORMAT = 2
+#: version of the census parts' layout (2: non-periodic sets judged by their lifetime, stored on them; 3: and their
+#: area rate; a resume from parts of an older layout is refused)
+CENSUS_PARTS_FORMAT = 3
 
 
 @dataclass
@@ -88,7 +88,7 @@ def _attractor_to(a: Attractor) -> dict:
             v = np.asarray(v, dtype=float).tolist()
         elif f.name == "cells":
             v = sorted([list(c) for c in v])
-        elif f.name in ("lyapunov_interval", "lifetime_interval"):
+        elif f.name in ("lyapunov_interval", "lifetime_interval", "area_rate_interval"):
             v = [repr(float(x)) for x in v]
         elif isinstance(v, float):
             v = repr(v)              # lossless, inf and nan included
@@ -104,9 +104,9 @@ def _attractor_from(d: dict) -> Attractor:
             v = np.asarray(v, dtype=float)
         elif f.name == "cells":
             v = {tuple(c) for c in v}
-        elif f.name in ("lyapunov_interval", "lifetime_interval"):
+        elif f.name in ("lyapunov_interval", "lifetime_interval", "area_rate_interval"):
             v = tuple(float(x) for x in v)
-        elif f.name in ("lyapunov", "max_multiplier", "min_flight_clearance", "residual", "lifetime"):
+        elif f.name in ("lyapunov", "max_multiplier", "min_flight_clearance", "residual", "lifetime", "area_rate"):
             v = float(v)
         kw[f.name] = v
     return Attractor(**kw)

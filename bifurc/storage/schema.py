@@ -310,6 +310,11 @@ ATTRACTOR = [
              "(inf: none fell onto a period; NaN: periodic or an outcome)"),
     Variable("lifetime_low", PA, float, np.nan, "1", "lower end of the lifetime's 95 % interval [strobe periods]"),
     Variable("lifetime_high", PA, float, np.nan, "1", "upper end of the lifetime's 95 % interval [strobe periods]"),
+    Variable("area_rate", PA, float, np.nan, "1",
+             "non-periodic attractor: sum of the two leading Lyapunov exponents per strobe period (below 0: the set "
+             "contracts areas; about 0: no contraction, as on an area-preserving map's invariant tori; NaN: periodic)"),
+    Variable("area_rate_low", PA, float, np.nan, "1", "lower end of the area rate's 95 % interval"),
+    Variable("area_rate_high", PA, float, np.nan, "1", "upper end of the area rate's 95 % interval"),
     Variable("n_points", PA, np.int32, 0, "1", "stored strobe states of the attractor (its period, or recorded points)"),
     Variable("match_distance", PA, float, np.nan, "1",
              "state-space distance in grid cells to the attractor it continues at the previous value (NaN: none)"),

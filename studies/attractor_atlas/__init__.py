@@ -72,8 +72,27 @@ def _label(ds, i, j) -> str:
     if not name.startswith("A"):
         return name
     from bifurc.sweeps.classify import describe
-    return describe(int(ds.class_code.values[i, j]), int(ds.period.values[i, j]),
-                    int(ds.impacts_per_period.values[i, j]))
+    text = describe(int(ds.class_code.values[i, j]), int(ds.period.values[i, j]), int(ds.impacts_per_period.values[i, j]))
+    return text + " (neutral: no area contraction)" if neutral(ds).values[i, j] else text
+
+
+def neutral(ds):
+    """Per (V, attractor): a non-periodic set whose area rate's 95 % interval contains 0 (no contraction shown: an
+    invariant set of undamped motion, as the tori of an area-preserving map, not an attractor of a dissipative one)."""
+    return (ds.area_rate_low <= 0.0) & (ds.area_rate_high >= 0.0)
+
+
+def _neutral_note(ds) -> str:
+    n = int(neutral(ds).values.sum())
+    sets = int(((ds.present.values[:, :-3] > 0) & (ds.period.values[:, :-3] == 0)).sum())
+    share = float(np.where(neutral(ds).values, ds.basin_fraction.values, 0.0).sum() / ds.sizes["V"])
+    if not n:
+        return (f"Non-periodic sets: {sets} (value, set) entries, none without area contraction (for each the sum of "
+                f"its two leading Lyapunov exponents is below 0 or not estimated)." if sets else "No non-periodic set.")
+    return (f"Non-periodic sets: {sets} (value, set) entries; {n} of them show no area contraction (the sum of their "
+            f"two leading Lyapunov exponents has a 95 % interval containing 0: the bar's flight between impacts is "
+            f"undamped, docs/model.md), holding {share:.3f} of the box starts on average over the values: invariant "
+            f"sets of conservative motion, on which a start keeps its own amplitude, not attractors.")
 
 
 def _stages(ds) -> str:
@@ -105,7 +124,7 @@ def report(results, quick, seconds) -> str:
                   "hammering |", "|---|---|---|---|---|---|"]
         lines += [f"| {v:g} | {n} | {lab} | {f:.3f} | {lo:.3f}-{hi:.3f} | {'yes' if h else ''} |"
                   for v, n, lab, f, lo, hi, h in _rows(box)]
-        lines += ["", "Switch-on (from the scene's switch-on distribution):", "",
+        lines += ["", _neutral_note(box), "", "Switch-on (from the scene's switch-on distribution):", "",
                   "| V [V] | outcome | class | probability | 95 % interval | hammering |", "|---|---|---|---|---|---|"]
         lines += [f"| {v:g} | {n} | {lab} | {f:.3f} | {lo:.3f}-{hi:.3f} | {'yes' if h else ''} |"
                   for v, n, lab, f, lo, hi, h in _rows(sw) if f > 0]
