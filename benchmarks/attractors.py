@@ -100,6 +100,7 @@ def by_label(ds) -> dict:
     are summed (their ids differ between two censuses), outcomes by name."""
     from bifurc.sweeps.classify import describe
     n = ds.sizes["start"]
+    from bifurc.attractors.census import OUTCOMES
     out = {}
     for i in range(ds.sizes[ds.basin_fraction.dims[0]]):
         for j in range(ds.sizes["attractor"]):
@@ -108,7 +109,7 @@ def by_label(ds) -> dict:
                 continue
             code = int(ds.class_code.values[i, j])
             label = describe(code, int(ds.period.values[i, j]), int(ds.impacts_per_period.values[i, j])) \
-                if j < ds.sizes["attractor"] - 3 else str(ds.attractor_label.values[j])
+                if j < ds.sizes["attractor"] - len(OUTCOMES) else str(ds.attractor_label.values[j])
             out[(i, label)] = out.get((i, label), 0) + k
     return out
 
@@ -142,11 +143,12 @@ def main(argv=None):
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--duffing", type=int, metavar="SIDE", help="only the Duffing basins on a SIDE x SIDE grid")
     a = ap.parse_args(argv)
+    from bifurc.attractors.census import OUTCOMES
     print(load())
     if a.duffing:
         return duffing(a.duffing)
     ds, sec, cpu = census(21, 200)
-    n_att = int((ds.present.values[:, :-3] > 0).any(axis=0).sum())
+    n_att = int((ds.present.values[:, :-len(OUTCOMES)] > 0).any(axis=0).sum())
     print(f"census thesis-1dof measured 10 Hz, 21 values x 200 starts, {ds.attrs['workers']} workers, linked: "
           f"{sec:.1f} s end to end ({cpu:.1f} s CPU in all processes; target 30 s); {n_att} attractors; {ds.attrs['periods_per_start_mean']:.1f} "
           f"periods per start on average (max {ds.attrs['periods_per_start_max']})")
@@ -158,7 +160,7 @@ def main(argv=None):
     print(load())
     half, sec2, _ = census(21, 200, cells=200)
     print(f"grid halved (200 cells per side): {sec2:.1f} s; {n_att} vs "
-          f"{int((half.present.values[:, :-3] > 0).any(axis=0).sum())} attractors; {grid_change(ds, half)}")
+          f"{int((half.present.values[:, :-len(OUTCOMES)] > 0).any(axis=0).sum())} attractors; {grid_change(ds, half)}")
     for side in ((100,) if a.quick else (100, 500)):
         duffing(side)
     if not a.quick:

@@ -22,6 +22,7 @@ import pytest
 
 import bifurc
 import maps
+from bifurc.attractors.census import OUTCOMES
 from maps import HybridSystem, Parameter, State
 from one_dim_map import OneDimMap
 
@@ -187,7 +188,7 @@ def test_analytic_basins_and_equilibria(fold_census):
     for i, r in enumerate(ds.r.values):
         roots = _roots(r)
         assert float(ds.basin_fraction.values[i].sum()) == pytest.approx(1.0, abs=1e-12)
-        present = [j for j in range(ds.sizes["attractor"] - 3) if ds.present.values[i, j]]
+        present = [j for j in range(ds.sizes["attractor"] - len(OUTCOMES)) if ds.present.values[i, j]]
         xs = sorted(float(ds.x.values[i, j, 0]) for j in present)
         stable = [roots[0], roots[-1]] if len(roots) == 3 else [roots[-1]]
         assert np.allclose(xs, stable, atol=1e-8, rtol=0)
@@ -203,7 +204,7 @@ def test_analytic_basins_and_equilibria(fold_census):
 def test_matching_through_the_fold_linked_to_the_located_fold(fold_census):
     ds = fold_census
     r = ds.r.values
-    low = [j for j in range(ds.sizes["attractor"] - 3) if np.nanmin(ds.x.values[:, j, 0]) < 0]
+    low = [j for j in range(ds.sizes["attractor"] - len(OUTCOMES)) if np.nanmin(ds.x.values[:, j, 0]) < 0]
     assert len(low) == 1                        # one id across every value: matched, not re-born
     j = low[0]
     assert list(ds.present.values[:, j]) == [1 if v < R_FOLD else 0 for v in r]
@@ -238,7 +239,7 @@ def test_slice_basins_and_plots(tmp_path):
     roots = _roots(0.1)
     img = ds.start_attractor.values[0].reshape(8, 3)
     xs = ds.start_x.values.reshape(8, 3)[:, 0]
-    lower = [j for j in range(ds.sizes["attractor"] - 3) if ds.present.values[0, j] and ds.x.values[0, j, 0] < 0][0]
+    lower = [j for j in range(ds.sizes["attractor"] - len(OUTCOMES)) if ds.present.values[0, j] and ds.x.values[0, j, 0] < 0][0]
     assert all((img[k] == lower).all() == (xs[k] < roots[1]) for k in range(8))
     bifurc.plot_basins(ds, path=tmp_path / "basins.png")
     ds.bifurc.plot(path=tmp_path / "atlas.png")
@@ -369,7 +370,7 @@ def test_outcomes_do_not_depend_on_the_grid():
     roots = _roots(0.1)
     for cells in (25, 50, 100):
         ds = bifurc.attractors(BISTABLE, "r", [0.1], n_starts=40, seed=2, cells=cells, progress=False, link=False)
-        low = [j for j in range(ds.sizes["attractor"] - 3) if ds.present.values[0, j] and ds.x.values[0, j, 0] < 0][0]
+        low = [j for j in range(ds.sizes["attractor"] - len(OUTCOMES)) if ds.present.values[0, j] and ds.x.values[0, j, 0] < 0][0]
         assert np.array_equal(ds.start_attractor.values[0] == low, ds.start_x.values < roots[1]), cells
 
 
@@ -493,7 +494,7 @@ def test_an_attractor_met_only_at_the_last_values_is_carried_back_down_to_where_
     root to 1e-8), with basin fraction 0 where the start went to the lower one (the start by start truth)."""
     r = np.linspace(-0.3, 0.3, 7)
     ds = bifurc.attractors(BISTABLE, "r", r, starts=np.array([[-0.1, 0.0]]), cells=50, progress=False, link=False)
-    up = [j for j in range(ds.sizes["attractor"] - 3) if np.nanmax(ds.x.values[:, j, 0]) > 0.5]
+    up = [j for j in range(ds.sizes["attractor"] - len(OUTCOMES)) if np.nanmax(ds.x.values[:, j, 0]) > 0.5]
     assert len(up) == 1
     j = up[0]
     assert list(ds.present.values[:, j]) == [1] * 7
@@ -544,8 +545,6 @@ def test_undamped_flight_shows_no_area_contraction_impacts_do():
     without impact (its flight is undamped): the area rate's interval contains 0 and is under 0.01 wide,
     while the circuit's exponent (about -3 per period) is far below.  Under `measured` at 171 V the bar strikes
     twice per period: the rate is below -0.1 with its whole interval."""
-    from types import SimpleNamespace
-
     from bifurc.attractors.identify import area_rate
     from maps.poincare import StroboscopicMap
     got = {}
@@ -561,3 +560,16 @@ def test_undamped_flight_shows_no_area_contraction_impacts_do():
     assert impacts == 0 and lo <= 0.0 <= hi and hi - lo < 0.01
     (rate, lo, hi), impacts = got["measured"]
     assert impacts > 48 and hi < -0.1
+
+
+def test_undamped_motion_is_neutral_not_an_attractor(oscillator_census):
+    """The oscillator without damping (zeta = 0) and with its stop 100 units away: x'' + x = F cos(Omega t) maps
+    every state over one forcing period to its rotation by 2 pi / Omega about the forced response (area-preserving;
+    at Omega = 1.3 = 13/10 every orbit around it is period-13, none attracts).  All 20 starts are "neutral", and no
+    attractor is reported; with zeta = 0.05 no start is neutral."""
+    ds = bifurc.attractors("impact-oscillator", "Omega", [1.3], params=dict(OSC, zeta=0.0, e=-100.0), box=BOX,
+                           n_starts=20, seed=3, progress=False, link=False)
+    labels = list(ds.attractor_label.values)
+    assert labels == list(OUTCOMES) and float(ds.basin_fraction.values[0, labels.index("neutral")]) == 1.0
+    damped = list(oscillator_census.attractor_label.values).index("neutral")
+    assert float(oscillator_census.basin_fraction.values[0, damped]) == 0.0

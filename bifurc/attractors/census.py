@@ -29,13 +29,14 @@ from maps.hybrid import HybridState
 
 from ..sweeps.classify import candidate_periods
 from .lifetime import Lifetime, estimate_lifetime, periodic_tail
-from .identify import (Attractor, Grid, contracting, converging, from_chunk, identify, near_periods,
-                       polish_once, same_attractor, same_orbit)
+from .identify import (Attractor, Grid, area_rate, contracting, converging, from_chunk, identify, near_periods,
+                       no_contraction, polish_once, same_attractor, same_orbit)
 
 __all__ = ["Settings", "Track", "Memory", "census_at", "OUTCOMES"]
 
-#: outcome ids of a start that reached no attractor (attractor ids are 0, 1, ...)
-OUTCOMES = {"escaped": -1, "not_converged": -2, "failed": -3}
+#: outcome ids of a start that reached no attractor (attractor ids are 0, 1, ...): "neutral" is motion that
+#: dissipates nothing over its record (:func:`_neutral`), on which a start keeps its own amplitude
+OUTCOMES = {"escaped": -1, "not_converged": -2, "failed": -3, "neutral": -4}
 
 
 @dataclass(frozen=True)
@@ -74,6 +75,7 @@ class Track:
     last: object = None
     last_keys: list = field(default_factory=list)
     quiet_until: int = 0         # no record before this age: the last one was on a chaotic saddle
+    checked: int = 0             # its age when it was last a candidate (:data:`WANDER`)
 
 
 @dataclass
@@ -144,7 +146,10 @@ def census_at(smap, starts: list, grid: Grid, settings: Settings, *, k0=0,
                 # a chunk whose second half repeats does not land on a chaotic set sharing its cells: it is identified (a bar
                 # at rest on the stop at 192 V, in the cell of a chaotic set that rests there with another current)
                 t.outcome, t.land, t.land_id, what = None, 0, -1, "recur"
+            if what == "" and t.periods - t.checked >= WANDER * s.chunk and t.periods >= t.quiet_until:
+                what = "recur"       # wandering over new cells: identified from its chunk or a record all the same
             if what == "recur":
+                t.checked = t.periods
                 candidates.append(i)
         _identify_candidates(smap, tracks, candidates, grid, s, found, owner, mem)
         for i in active:
@@ -156,6 +161,13 @@ def census_at(smap, starts: list, grid: Grid, settings: Settings, *, k0=0,
             progress(len(done))
         active = [i for i in active if tracks[i].outcome is None]
     return [t.outcome for t in tracks], found, [t.periods for t in tracks]
+
+
+#: chunks after which a start that has neither landed nor recurred is identified all the same: one that fills an
+#: area of the states without recurring on the grid (thesis-1dof under `listing` at 90 V, 10 Hz: 1000-1800 cells of
+#: 100 per box side in 2000 periods, the bar swinging up to 125 mm: a chaotic layer of its undamped flight) is
+#: recorded instead of running to ``max_periods``
+WANDER = 10
 
 
 def _landing_checked(smap, t: Track, found: list, owner: dict, grid, s: Settings, mem: Memory) -> None:
@@ -301,6 +313,9 @@ def _record_and_classify(smap, tracks, rest, grid, s: Settings, found: list, own
             t.outcome = OUTCOMES["escaped" if o.status == "escaped" else "failed"]
             continue
         a = identify(smap, o, t.k, grid, max_period=s.max_period, tol=s.newton_tol, tried=mem.tried)
+        if _neutral(smap, o, t.k, a):
+            t.outcome, t.periods = OUTCOMES["neutral"], t.periods + s.locate
+            continue
         t.state, t.k, t.periods = o.final, t.k + s.locate, t.periods + s.locate
         t.recur, t.visits = 0, set()
         if a is None:
@@ -313,6 +328,23 @@ def _record_and_classify(smap, tracks, rest, grid, s: Settings, found: list, own
             t.quiet_until = t.periods + SADDLE_QUIET * s.chunk     # on a saddle: it runs on without records
             continue
         t.outcome = _register(a, found, owner, grid, q)
+
+
+def _neutral(smap, record, k0: int, a) -> bool:
+    """Whether a record that is no periodic orbit (``a``: what :func:`.identify.identify` made of it, or None) shows
+    motion that dissipates nothing: not one impact over it, and the 95 % interval of its area rate
+    (:func:`.identify.area_rate`) contains 0 (:func:`.identify.no_contraction`) and is at most NEUTRAL_WIDTH wide.
+    Such motion does not settle: it is an invariant torus or layer of conservative motion, not an attractor
+    (thesis-1dof under the `listing` and `fit` laws, whose flight between impacts is undamped: at 90 V, 10 Hz, 15 of
+    the 16 non-periodic sets the census met; their 146 undecided starts ran to the periods' budget)."""
+    if a is not None and a.periodic or np.any(np.asarray(record.impacts_per_step)):
+        return False
+    lo, hi = a.area_rate_interval if a is not None else area_rate(smap, record, k0)[1:]
+    return bool(no_contraction(lo, hi) and hi - lo <= NEUTRAL_WIDTH)
+
+
+#: widest interval of the area rate [per strobe period] that can show a record to be neutral
+NEUTRAL_WIDTH = 0.2
 
 
 def _is_new_saddle(smap, a: Attractor, record, k0: int, grid, s: Settings, found: list, q: int,

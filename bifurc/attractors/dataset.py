@@ -16,7 +16,9 @@ from .census import OUTCOMES, wilson
 __all__ = ["to_dataset", "OUTCOME_CODES"]
 
 #: the class code stored for each outcome entry
-OUTCOME_CODES = {"escaped": ClassCode.ESCAPED, "not_converged": ClassCode.NOT_CONVERGED, "failed": ClassCode.FAILED}
+OUTCOME_CODES = {"escaped": ClassCode.ESCAPED, "not_converged": ClassCode.NOT_CONVERGED, "failed": ClassCode.FAILED,
+                 "neutral": ClassCode.NOT_CONVERGED}
+assert list(OUTCOME_CODES) == list(OUTCOMES), "one class code per outcome, in the outcomes' order"
 
 
 def _columns(values, per_value, outcomes, n_ids, events):

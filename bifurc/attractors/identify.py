@@ -19,7 +19,7 @@ from ..orbits.periodic import OrbitNotFound, find_periodic_orbit
 from ..sweeps.classify import candidate_periods, classify_orbit, lyapunov_threshold, mechanical_period, state_scale
 from ..sweeps.lyapunov import exponent_interval
 
-__all__ = ["Grid", "Attractor", "identify", "area_rate", "from_chunk", "distance", "same_attractor", "same_orbit", "converging",
+__all__ = ["Grid", "Attractor", "identify", "area_rate", "no_contraction", "from_chunk", "distance", "same_attractor", "same_orbit", "converging",
            "contracting", "near_periods", "polish_once"]
 
 
@@ -161,8 +161,10 @@ def identify(smap, orbit, k0: int, grid: Grid, *, max_period: int = 16, tol: flo
             found = polish_once(smap, orbit, k0, n, grid, tol, rtol, atol, tried)
             if found is not None:
                 return found
-    if cls["label"] in ("periodic", "periodic-no-impact"):
-        return _unpolished(smap, orbit, k0, cls, grid, (lam, lo, hi), rtol, atol)
+    if cls["label"] in ("periodic", "periodic-no-impact") and stretch is not None:
+        whole = _whole_periods(stretch, int(cls["period"]))
+        if whole[2] < 0.0:
+            return _unpolished(smap, orbit, k0, cls, grid, whole, rtol, atol)
     if cls["label"] in ("chaotic", "quasi-periodic"):
         area, a_lo, a_hi = area_rate(smap, orbit, k0)
         return Attractor(int(cls["code"]), lyapunov=lam, lyapunov_interval=(lo, hi), points=pts.copy(),
@@ -174,11 +176,24 @@ def identify(smap, orbit, k0: int, grid: Grid, *, max_period: int = 16, tol: flo
     return None
 
 
+def _whole_periods(stretch, n: int) -> tuple[float, float, float]:
+    """(exponent, low, high) [per strobe period] of a period-n record from its tangent stretch summed over whole
+    periods (the stretch within a period varies with the phase; over whole periods it repeats): NaN bounds with
+    fewer than 4 whole periods."""
+    s = np.asarray(stretch, dtype=float)
+    m = len(s) // n * n
+    if not m or not np.all(np.isfinite(s[len(s) - m:])):
+        return math.nan, math.nan, math.nan
+    return exponent_interval(s[len(s) - m:].reshape(-1, n).sum(axis=1) / n)
+
+
 def _unpolished(smap, orbit, k0, cls: dict, grid: Grid, exponent: tuple, rtol: float, atol: float) -> Attractor:
     """A record that repeats with period n to ``rtol`` of each state's scale over all its points
-    (:func:`bifurc.sweeps.classify.classify_orbit`) where Newton did not converge: a periodic attractor all the
-    same, its nodes the record's last n points (as close as the record repeats), its exponent the record's
-    tangent estimate, its multipliers unknown (NaN).  On thesis-1dof (`measured`, 10 Hz) at 94 V, 17 of 200 box
+    (:func:`bifurc.sweeps.classify.classify_orbit`), whose tangent exponent's interval (over whole periods,
+    :func:`_whole_periods`) lies below 0, where Newton
+    did not converge: a periodic attractor all the same, its nodes the record's last n points (as close as the
+    record repeats), its exponent the record's tangent estimate, its multipliers unknown (NaN).  (A record of a
+    neutral centre, every orbit around it periodic, has an exponent about 0 and is not an attractor.)  On thesis-1dof (`measured`, 10 Hz) at 94 V, 17 of 200 box
     starts sit on a chattering period-6 orbit with 50 impacts that repeats to 1e-10 from 500 periods on and that
     Newton does not polish; they were "not_converged"."""
     pts, imp, n = orbit.points, orbit.impacts_per_step, int(cls["period"])
@@ -195,6 +210,15 @@ def _unpolished(smap, orbit, k0, cls: dict, grid: Grid, exponent: tuple, rtol: f
                          f"{rtol:g} of each state's scale over {len(imp)} periods; Newton did not converge: not "
                          f"polished, multipliers unknown, exponent from the record's tangent vector")
 
+
+def no_contraction(low, high):
+    """Whether area-rate intervals [low, high] contain 0 to AREA_ATOL (numbers or arrays): no area contraction shown."""
+    return (low - AREA_ATOL <= 0.0) & (high + AREA_ATOL >= 0.0)
+
+
+#: |area rate| [per strobe period] taken as 0: the integration's round-off (one period of an undamped linear
+#: oscillator at tol 1e-10: rate 4.8e-12)
+AREA_ATOL = 1e-6
 
 #: periods of a record left out of :func:`area_rate` while the tangent plane aligns with the leading directions
 AREA_SKIP = 8

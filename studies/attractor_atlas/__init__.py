@@ -79,12 +79,14 @@ def _label(ds, i, j) -> str:
 def neutral(ds):
     """Per (V, attractor): a non-periodic set whose area rate's 95 % interval contains 0 (no contraction shown: an
     invariant set of undamped motion, as the tori of an area-preserving map, not an attractor of a dissipative one)."""
-    return (ds.area_rate_low <= 0.0) & (ds.area_rate_high >= 0.0)
+    from bifurc.attractors.identify import no_contraction
+    return no_contraction(ds.area_rate_low, ds.area_rate_high)
 
 
 def _neutral_note(ds) -> str:
+    from bifurc.attractors.census import OUTCOMES
     n = int(neutral(ds).values.sum())
-    sets = int(((ds.present.values[:, :-3] > 0) & (ds.period.values[:, :-3] == 0)).sum())
+    sets = int(((ds.present.values[:, :-len(OUTCOMES)] > 0) & (ds.period.values[:, :-len(OUTCOMES)] == 0)).sum())
     share = float(np.where(neutral(ds).values, ds.basin_fraction.values, 0.0).sum() / ds.sizes["V"])
     if not n:
         return (f"Non-periodic sets: {sets} (value, set) entries, none without area contraction (for each the sum of "
@@ -142,11 +144,12 @@ def switch_on_hammering(ds) -> np.ndarray:
 def findings(results, quick) -> list:
     """Per law: the distinct attractors the box census found (+-1), and the switch-on probability of
     hammering at the highest V (+- 0.15: its Wilson interval at these sizes is wider)."""
+    from bifurc.attractors.census import OUTCOMES
     from bifurc.findings import Finding
     out = []
     for law in LAWS:
         box, sw = results[law, "box"], results[law, "switch-on"]
-        n_att = int((box.present.values[:, :-3] > 0).any(axis=0).sum())
+        n_att = int((box.present.values[:, :-len(OUTCOMES)] > 0).any(axis=0).sum())
         top = float(sw["V"].values[-1])
         out += [Finding(f"{law}: distinct attractors from the box starts", n_att, 1, "1"),
                 Finding(f"{law}: switch-on probability of hammering at {top:g} V", float(switch_on_hammering(sw)[-1]),
