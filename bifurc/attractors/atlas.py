@@ -63,7 +63,8 @@ def attractors(problem_or_scene="thesis-1dof", param: str = "V", values=None, *,
 
     Returns an xarray Dataset (``bifurc_kind`` "attractors"): dims (``param``, ``attractor``) with
     ``basin_fraction`` and its Wilson 95 % interval, class, periods, impacts, exponent, the polished strobe
-    states, the matching and the events; outcomes (escaped, not_converged, failed) are attractor entries, so
+    states, the matching and the events; outcomes (escaped, not_converged, failed, and neutral: motion that
+    dissipates nothing, :func:`.census._neutral`) are attractor entries, so
     the fractions sum to 1.  ``path``: also written as netCDF (refused if it exists unless ``overwrite``).
     """
     clock = _time.perf_counter()

@@ -7,7 +7,7 @@ def register(subparsers):
                               description="Run an ensemble of starts at each value; find every attractor by recurrence "
                                           "on a state-space grid, its basin fraction with a 95 % Wilson interval, and "
                                           "follow the attractors across the values (seeding and matching). Outcomes "
-                                          "(escaped, not_converged, failed) are attractor entries, so the fractions "
+                                          "(escaped, not_converged, failed, neutral) are attractor entries, so the fractions "
                                           "sum to 1. --from A --to A --n 1 is one value.")
     add_scene_options(p, default_tol=1e-10)
     p.add_argument("--param", default="V", help="parameter to vary (default V)")

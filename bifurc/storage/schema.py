@@ -287,7 +287,7 @@ PA, A_ = (PARAM, "attractor"), ("attractor",)
 #: what became of an attractor between the previous value and this one (attractors dataset: bifurc.attractors)
 ATTRACTOR_EVENTS = ("none", "appeared", "disappeared")
 #: the attractor census (bifurc.attractors): one row per (value, attractor); every outcome is an attractor entry
-#: (escaped, not_converged, failed too), so basin_fraction sums to 1 at every value
+#: (escaped, not_converged, failed, neutral too), so basin_fraction sums to 1 at every value
 ATTRACTOR = [
     Variable("basin_fraction", PA, float, np.nan, "1", "fraction of the fresh starts that reach the attractor"),
     Variable("basin_fraction_low", PA, float, np.nan, "1", "lower end of the 95 % Wilson interval of basin_fraction"),
@@ -329,7 +329,7 @@ ATTRACTOR = [
 ATTRACTOR_COORDS = [
     Variable("attractor", A_, np.int32, 0, "1", "attractor id, matched across values (outcomes last)"),
     Variable("attractor_label", A_, str, "", "1", "attractor name (A0, A1, ... or an outcome: escaped, "
-             "not_converged, failed)"),
+             "not_converged, failed, neutral)"),
 ]
 
 T = ("time",)
