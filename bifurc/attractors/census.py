@@ -327,7 +327,17 @@ def _record_and_classify(smap, tracks, rest, grid, s: Settings, found: list, own
         if not a.periodic and _is_new_saddle(smap, a, o, t.k - s.locate, grid, s, found, q, mem.saddles):
             t.quiet_until = t.periods + SADDLE_QUIET * s.chunk     # on a saddle: it runs on without records
             continue
+        if not a.periodic and math.isnan(a.area_rate) and not any(same_attractor(a, b, grid, q) for b in found):
+            _with_area_rate(smap, a, o, t.k - s.locate)          # once per new non-periodic attractor
         t.outcome = _register(a, found, owner, grid, q)
+
+
+def _with_area_rate(smap, a: Attractor, record, k0: int) -> Attractor:
+    """``a`` with the area rate of its record (:func:`.identify.area_rate`; 48 exact one-period Jacobians, so it is
+    computed only for a new attractor or an impact-free record)."""
+    rate, lo, hi = area_rate(smap, record, k0)
+    a.area_rate, a.area_rate_interval = rate, (lo, hi)
+    return a
 
 
 def _neutral(smap, record, k0: int, a) -> bool:
@@ -339,7 +349,8 @@ def _neutral(smap, record, k0: int, a) -> bool:
     the 16 non-periodic sets the census met; their 146 undecided starts ran to the periods' budget)."""
     if a is not None and a.periodic or np.any(np.asarray(record.impacts_per_step)):
         return False
-    lo, hi = a.area_rate_interval if a is not None else area_rate(smap, record, k0)[1:]
+    lo, hi = _with_area_rate(smap, a, record, k0).area_rate_interval if a is not None else \
+        area_rate(smap, record, k0)[1:]
     return bool(no_contraction(lo, hi) and hi - lo <= NEUTRAL_WIDTH)
 
 

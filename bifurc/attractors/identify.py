@@ -166,9 +166,7 @@ def identify(smap, orbit, k0: int, grid: Grid, *, max_period: int = 16, tol: flo
         if whole[2] < 0.0:
             return _unpolished(smap, orbit, k0, cls, grid, whole, rtol, atol)
     if cls["label"] in ("chaotic", "quasi-periodic"):
-        area, a_lo, a_hi = area_rate(smap, orbit, k0)
         return Attractor(int(cls["code"]), lyapunov=lam, lyapunov_interval=(lo, hi), points=pts.copy(),
-                         area_rate=area, area_rate_interval=(a_lo, a_hi),
                          flags=[orbit.state(j).flags for j in range(len(pts))], k0=k0,
                          cells={c for c in grid.keys(pts) if c is not None},
                          min_flight_clearance=float(np.min(orbit.min_flight_clearance_per_step)),
