@@ -8,30 +8,33 @@ neighbouring values' attractors runs afterwards, in order, in the calling proces
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, field, fields
 
 import numpy as np
 
 from maps.hybrid import HybridState
 
 from ..sweeps.resume import Parts
-from .census import Settings, census_at
+from .census import Memory, Settings, census_at
 from .identify import Attractor, Grid
 
 __all__ = ["CensusJob", "ValueCensus", "CensusParts", "census_manifest"]
 
 #: version of the census parts' layout (2: non-periodic sets judged by their lifetime, stored on them; 3: and their
-#: area rate; a resume from parts of an older layout is refused)
+#: area rate, and each value's saddles; a resume from parts of an older layout is refused)
 CENSUS_PARTS_FORMAT = 3
 
 
 @dataclass
 class ValueCensus:
-    """One value's census: the outcome of each fresh start, the attractors found, the periods each start ran."""
+    """One value's census: the outcome of each fresh start, the attractors found, the periods each start ran, and
+    the chaotic saddles and long-lived transients it met (so that the seeding does not estimate their lifetimes
+    again)."""
 
     outcomes: list
     found: list
     spent: list
+    saddles: list = field(default_factory=list)
 
 
 @dataclass
@@ -60,8 +63,9 @@ class CensusJob:
     def __call__(self, value) -> ValueCensus:
         smap = self._map()
         smap.set_params(**{self.param: float(value)})
-        out, found, spent = census_at(smap, list(self.starts), self.grid, self.settings)
-        return ValueCensus(out, found, spent)
+        memory = Memory()
+        out, found, spent = census_at(smap, list(self.starts), self.grid, self.settings, memory=memory)
+        return ValueCensus(out, found, spent, memory.saddles)
 
     def run_many(self, values) -> list:
         return [self(v) for v in values]
@@ -115,12 +119,14 @@ def _attractor_from(d: dict) -> Attractor:
 def encode(r: ValueCensus) -> str:
     """A value's census as JSON text (floats by repr: lossless)."""
     return json.dumps({"outcomes": [int(o) for o in r.outcomes], "spent": [int(s) for s in r.spent],
-                       "found": [_attractor_to(a) for a in r.found]}, default=lambda o: o.item())
+                       "found": [_attractor_to(a) for a in r.found], "saddles": [_attractor_to(a) for a in r.saddles]},
+                      default=lambda o: o.item())
 
 
 def decode(text: str) -> ValueCensus:
     d = json.loads(text)
-    return ValueCensus(d["outcomes"], [_attractor_from(a) for a in d["found"]], d["spent"])
+    return ValueCensus(d["outcomes"], [_attractor_from(a) for a in d["found"]], d["spent"],
+                       [_attractor_from(a) for a in d["saddles"]])
 
 
 class CensusParts(Parts):
