@@ -58,7 +58,7 @@ def attractors(problem_or_scene="thesis-1dof", param: str = "V", values=None, *,
         located fold, period doubling, torus, grazing or stick onset (else it is flagged "global").
 
     workers : processes (default every available core, at least 4 values each); ``scheduler`` a Dask scheduler address or Client.  Each
-        value's fresh starts are one task; the seeding with the neighbouring values' attractors, the matching and
+        value's fresh starts are one task; the seeding with the neighbouring values' periodic attractors, the matching and
         the linking run here in order, so the same ``seed`` gives the same dataset with any ``workers``.
     path : with it, each finished value is kept in ``<path>.parts/`` and a run stopped part-way resumes there.
 
@@ -102,8 +102,9 @@ def attractors(problem_or_scene="thesis-1dof", param: str = "V", values=None, *,
              "periods_per_start_mean": float(np.mean(periods)), "periods_per_start_max": int(np.max(periods)),
              "method": "recurrence on a state-space grid (after Attractors.jl's AttractorsViaRecurrences) on the "
                        "batch engine, early landing on known attractors' cells; periodic attractors polished by "
-                       "Newton (exact multipliers); seeding with the neighbouring values' attractors (a sweep up the values and one back down) and matching by "
-                       "state-space distance; basin fractions with 95 % Wilson intervals"}
+                       "Newton (exact multipliers); seeding with the neighbouring values' periodic attractors (a "
+                       "sweep up the values and one back down) and matching by state-space distance; basin "
+                       "fractions with 95 % Wilson intervals; motion without impact or area contraction: neutral"}
     ds = to_dataset(pb, param, values, per_value, outcomes, n_ids, events, st, n_node=int(n_node), attrs=attrs)
     if path is not None:
         from ..storage.files import write_netcdf

@@ -1,8 +1,8 @@
 """Global continuation: matching the attractors of neighbouring parameter values, and what their
 appearances and disappearances are linked to.
 
-Each value is seeded with the neighbouring values' attractors (one start on each, not counted in the basin
-fractions; a sweep up the values, then one back down) besides the fresh starts; an attractor is matched to the
+Each value is seeded with the neighbouring values' periodic attractors (one start on each, not counted in the
+basin fractions; a sweep up the values, then one back down) besides the fresh starts; an attractor is matched to the
 nearest one of the previous value within ``threshold`` grid cells (:func:`.identify.distance`), like with like
 only (a periodic orbit to an orbit of its period, by their polished nodes; a chaotic set to a set, never to an
 orbit), greedily by distance, as Attractors.jl's matching by state-space distance.  An attractor left

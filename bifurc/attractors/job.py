@@ -3,7 +3,7 @@ and kept on disk for a resume (:class:`bifurc.sweeps.resume.Parts`'s folder and 
 
 Each value's census uses its fresh starts only, so it is the same whichever process runs it and whatever ran
 before: the same ``seed`` gives the same dataset with any ``workers`` and after a resume.  The seeding with the
-neighbouring values' attractors runs afterwards, in order, in the calling process (:mod:`.atlas`).
+neighbouring values' periodic attractors runs afterwards, in order, in the calling process (:mod:`.atlas`).
 """
 from __future__ import annotations
 
