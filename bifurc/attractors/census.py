@@ -143,8 +143,8 @@ def census_at(smap, starts: list, grid: Grid, settings: Settings, *, k0=0,
             if what == "land" and found[t.outcome].periodic and not converging(o.points, found[t.outcome], grid):
                 _landing_checked(smap, t, found, owner, grid, s, mem)
             elif what == "land" and not found[t.outcome].periodic and periodic_tail(o.points[s.chunk // 2:], near):
-                # a chunk whose second half repeats does not land on a chaotic set sharing its cells: it is identified (a bar
-                # at rest on the stop at 192 V, in the cell of a chaotic set that rests there with another current)
+                # a chunk whose second half repeats does not land on a chaotic set sharing its cells: it is identified
+                # (a bar at rest on the stop at 192 V, in the cell of a chaotic set that rests there with another current)
                 t.outcome, t.land, t.land_id, what = None, 0, -1, "recur"
             if what == "" and t.periods - t.checked >= WANDER * s.chunk and t.periods >= t.quiet_until:
                 what = "recur"       # wandering over new cells: identified from its chunk or a record all the same

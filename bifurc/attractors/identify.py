@@ -19,8 +19,8 @@ from ..orbits.periodic import OrbitNotFound, find_periodic_orbit
 from ..sweeps.classify import candidate_periods, classify_orbit, lyapunov_threshold, mechanical_period, state_scale
 from ..sweeps.lyapunov import exponent_interval
 
-__all__ = ["Grid", "Attractor", "identify", "area_rate", "no_contraction", "from_chunk", "distance", "same_attractor", "same_orbit", "converging",
-           "contracting", "near_periods", "polish_once"]
+__all__ = ["Grid", "Attractor", "identify", "area_rate", "no_contraction", "from_chunk", "distance", "same_attractor",
+           "same_orbit", "converging", "contracting", "near_periods", "polish_once"]
 
 
 @dataclass(frozen=True)
@@ -74,7 +74,7 @@ class Attractor:
     how: str = ""                        # how it was identified
     lifetime: float = math.nan           # non-periodic: mean lifetime on the set [strobe periods] (inf: none fell)
     lifetime_interval: tuple = (math.nan, math.nan)   # its interval (bifurc.attractors.lifetime)
-    area_rate: float = math.nan          # non-periodic: sum of the two leading exponents [per period] (:func:`area_rate`)
+    area_rate: float = math.nan          # non-periodic: sum of the two leading exponents [per period] (area_rate)
     area_rate_interval: tuple = (math.nan, math.nan)  # its 95 % interval
 
     @property
@@ -187,13 +187,13 @@ def _whole_periods(stretch, n: int) -> tuple[float, float, float]:
 
 def _unpolished(smap, orbit, k0, cls: dict, grid: Grid, exponent: tuple, rtol: float, atol: float) -> Attractor:
     """A record that repeats with period n to ``rtol`` of each state's scale over all its points
-    (:func:`bifurc.sweeps.classify.classify_orbit`), whose tangent exponent's interval (over whole periods,
-    :func:`_whole_periods`) lies below 0, where Newton
-    did not converge: a periodic attractor all the same, its nodes the record's last n points (as close as the
-    record repeats), its exponent the record's tangent estimate, its multipliers unknown (NaN).  (A record of a
-    neutral centre, every orbit around it periodic, has an exponent about 0 and is not an attractor.)  On thesis-1dof (`measured`, 10 Hz) at 94 V, 17 of 200 box
-    starts sit on a chattering period-6 orbit with 50 impacts that repeats to 1e-10 from 500 periods on and that
-    Newton does not polish; they were "not_converged"."""
+    (:func:`bifurc.sweeps.classify.classify_orbit`), whose tangent exponent's interval over whole periods
+    (:func:`_whole_periods`) lies below 0, where Newton did not converge: a periodic attractor all the same, its
+    nodes the record's last n points (as close as the record repeats), its exponent the record's tangent estimate,
+    its multipliers unknown (NaN).  (A record of a neutral centre, every orbit around it periodic, has an exponent
+    about 0 and is not an attractor.)  On thesis-1dof (`measured`, 10 Hz) at 94 V, 17 of 200 box starts sit on a
+    chattering period-6 orbit with 50 impacts that repeats to 1e-10 from 500 periods on and that Newton does not
+    polish; they were "not_converged"."""
     pts, imp, n = orbit.points, orbit.impacts_per_step, int(cls["period"])
     j = len(pts) - 1 - n
     pm, mm, _ = mechanical_period(pts, imp, n, smap.system.mechanical_index, rtol=rtol, atol=atol,
@@ -345,7 +345,8 @@ def _polish(smap, orbit, k0, n, grid, tol, rtol, atol) -> Attractor | None:
                      k0=k0 + j, cells={c for c in grid.keys(np.vstack([nodes, orbit.points[j:]])) if c is not None},
                      min_flight_clearance=_min_flight(orbit),
                      residual=float(po.residual),
-                     how=f"recurrence on the grid, then Newton (residual {po.residual:.2g}, {po.iterations} iterations)")
+                     how=f"recurrence on the grid, then Newton (residual {po.residual:.2g}, "
+                         f"{po.iterations} iterations)")
 
 
 #: Newton iterations allowed when polishing a recurring start's orbit: it starts within two cells of the orbit,
