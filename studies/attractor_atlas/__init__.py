@@ -142,7 +142,8 @@ def switch_on_hammering(ds) -> np.ndarray:
 
 
 def findings(results, quick) -> list:
-    """Per law: the distinct attractors the box census found (+-1), and the switch-on probability of
+    """Per law: the distinct attractors the box census found (+-1), the share of box starts on neutral motion
+    (undamped flight: no impact, no area contraction) averaged over V (+- 0.05), and the switch-on probability of
     hammering at the highest V (+- 0.15: its Wilson interval at these sizes is wider)."""
     from bifurc.attractors.census import OUTCOMES
     from bifurc.findings import Finding
@@ -151,7 +152,10 @@ def findings(results, quick) -> list:
         box, sw = results[law, "box"], results[law, "switch-on"]
         n_att = int((box.present.values[:, :-len(OUTCOMES)] > 0).any(axis=0).sum())
         top = float(sw["V"].values[-1])
+        column = list(box.attractor_label.values).index("neutral")
+        neutral_share = float(box.basin_fraction.isel(attractor=column).mean())
         out += [Finding(f"{law}: distinct attractors from the box starts", n_att, 1, "1"),
+                Finding(f"{law}: share of the box starts whose motion is neutral, mean over V", neutral_share, 0.05, "1"),
                 Finding(f"{law}: switch-on probability of hammering at {top:g} V", float(switch_on_hammering(sw)[-1]),
                         0.15, "1")]
     return out
