@@ -14,8 +14,8 @@ from maps.provenance import recorded
 
 from .census import Memory, Settings, census_at
 from .job import CensusJob
-from .follow import alike, link_event, match
-from .identify import Grid, distance, representative
+from .follow import link_event, match
+from .identify import Grid, representative, same_orbit
 from .starts import make_starts
 
 __all__ = ["attractors"]
@@ -115,14 +115,15 @@ def attractors(problem_or_scene="thesis-1dof", param: str = "V", values=None, *,
 
 def _seeded(smap, param, values, fresh, grid, s) -> list:
     """Each value's attractors: those of its fresh starts, then those reached from the neighbouring value's
-    periodic attractors (one start on each not already there, :func:`_known`; not counted in the fractions), in a
+    periodic attractors (one start on each that is not one of its orbits already; not counted in the fractions), in a
     sweep up the values and one back down.  A chaotic set is not seeded: the census tells an attractor from a
     saddle by 48 copies' lifetimes, and on thesis-1dof at 21 values x 50 starts seeds on chaotic sets the fresh
     starts had not met (or had met as saddles) spent 61 of the seeding's 64 s in those estimates; a chaotic
-    attractor of the neighbour that persists is met by the fresh starts.  The
-    sweep down finds an orbit at the values below the one whose fresh starts first met it, down to where it was
-    born: thesis-1dof (`measured`, 10 Hz) has a stable 1:2 orbit from its fold at 89.34 V, met by box starts at
-    108 V but not at 94 or 101 V."""
+    attractor of the neighbour that persists is met by the fresh starts.  The sweep down finds an orbit at the
+    values below the one whose fresh starts first met it, down to where it was born.  An orbit is left unseeded
+    only if it is there already to the states' tolerance (:func:`.identify.same_orbit`): skipping one within two
+    grid cells of an orbit of its period had lost thesis-1dof's orbits next to the state at rest or to another
+    orbit (1:3 from 159 to 174 V, 1:2 from 186.5 to 204 V, on 281 values x 200 starts)."""
     found = [list(f.found) for f in fresh]
     memory = [Memory(saddles=list(f.saddles)) for f in fresh]      # each value's saddles, for both sweeps
     q = smap.forcing_period_steps
@@ -130,7 +131,7 @@ def _seeded(smap, param, values, fresh, grid, s) -> list:
     for order in (range(len(values)), range(len(values) - 1, -1, -1)):
         prev = None
         for i in order:
-            seeds = [a for a in prev or [] if a.periodic and not any(_known(a, b, grid, q) for b in found[i])]
+            seeds = [a for a in prev or [] if a.periodic and not any(same_orbit(a, b, q) for b in found[i])]
             if seeds:
                 smap.set_params(**{param: float(values[i])})
                 found[i] = census_at(smap, [representative(a) for a in seeds], grid, short, k0=[a.k0 for a in seeds],
@@ -142,12 +143,6 @@ def _seeded(smap, param, values, fresh, grid, s) -> list:
 #: strobe periods a seed runs at most: one that has not settled by then continues no attractor of its neighbour
 #: (the one it would reach after a long transient is the fresh starts' to find)
 SEED_PERIODS = 400
-
-
-def _known(a, b, grid, q) -> bool:
-    """Whether the neighbouring value's attractor ``a`` is already there as ``b`` (so that its seed would only land
-    on ``b``): like with like (:func:`.follow.alike`) within two grid cells (:func:`.identify.distance`)."""
-    return alike(a, b) and distance(a, b, grid, q) <= 2.0
 
 
 def _follow(smap, param, values, fresh, grid, s, match_threshold, link):
