@@ -61,11 +61,23 @@ def plot_attractors(ds, path=None, state=None, ax=None, overwrite=False):
                 ax.plot(x[at], np.nanmean(y[at], axis=1) if code == 1 else np.full(at.sum(), np.nanmin(y)),
                         mark, color=_colour(label, j), ms=7, mfc="none")
     ax.set_ylabel(f"{state} [{ds[state].attrs.get('units', '')}]")
-    ax.legend(fontsize=7, loc="best")
+    if any(lb not in OUTCOME_COLOURS for lb in labels):
+        ax.legend(fontsize=7, loc="best")
+    else:
+        ax.text(0.5, 0.5, "no attractor at any value: outcomes only (below)", transform=ax.transAxes, ha="center")
     ax.set_title(ds.attrs.get("title", ""), fontsize=9)
     if ax2 is not None:
         frac = np.nan_to_num(ds.basin_fraction.values)
-        ax2.stackplot(x, frac.T, colors=[_colour(lb, j) for j, lb in enumerate(labels)], step="mid")
+        colours = [_colour(lb, j) for j, lb in enumerate(labels)]
+        if len(x) > 1:
+            areas = ax2.stackplot(x, frac.T, colors=colours, step="mid")
+        else:               # one value: a stacked bar (a stack plot over one point has no width)
+            below = np.concatenate([[0.0], np.cumsum(frac[0])[:-1]])
+            width = 0.1 * max(abs(float(x[0])), 1.0)
+            areas = [ax2.bar(x, [f], bottom=[b], width=width, color=c) for f, b, c in zip(frac[0], below, colours)]
+        shown = [(a, lb) for a, lb, f in zip(areas, labels, frac.T) if lb in OUTCOME_COLOURS and f.max() > 0]
+        if shown:           # the outcomes' colours (the attractors' are in the legend above)
+            ax2.legend([a for a, _ in shown], [lb for _, lb in shown], fontsize=7, loc="upper right")
         ax2.set_ylim(0, 1)
         ax2.set_ylabel("basin fraction")
         ax2.set_xlabel(f"{par} [{ds[par].attrs.get('units', '')}]")
