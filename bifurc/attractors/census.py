@@ -327,9 +327,9 @@ def _record_and_classify(smap, tracks, rest, grid, s: Settings, found: list, own
         if not a.periodic and _is_new_saddle(smap, a, o, t.k - s.locate, grid, s, found, q, mem.saddles):
             t.quiet_until = t.periods + SADDLE_QUIET * s.chunk     # on a saddle: it runs on without records
             continue
-        if not a.periodic and math.isnan(a.area_rate) and not any(same_attractor(a, b, grid, q) for b in found):
-            _with_area_rate(smap, a, o, t.k - s.locate)          # once per new non-periodic attractor
         t.outcome = _register(a, found, owner, grid, q)
+        if found[t.outcome] is a and not a.periodic and math.isnan(a.area_rate):
+            _with_area_rate(smap, a, o, t.k - s.locate)          # once per new non-periodic attractor
 
 
 def _with_area_rate(smap, a: Attractor, record, k0: int) -> Attractor:

@@ -225,9 +225,8 @@ AREA_SKIP = 8
 def area_rate(smap, orbit, k0: int, skip: int = AREA_SKIP) -> tuple[float, float, float]:
     """(rate, low, high): the sum of the two leading Lyapunov exponents [per strobe period] on a recorded set, the
     mean log growth of a tangent plane carried by the exact one-period Jacobians at the record's states (QR, each
-    state in units of its largest size on the record), after
-    ``skip`` periods that align the plane, with the 95 % batch-means interval of
-    :func:`bifurc.sweeps.lyapunov.exponent_interval`.  Below 0: the set contracts areas (an attractor of a
+    state in units of its largest size on the record), after ``skip`` periods that align the plane, with the 95 %
+    batch-means interval of :func:`bifurc.sweeps.lyapunov.exponent_interval`.  Below 0: the set contracts areas (an attractor of a
     dissipative map has a negative sum); an interval about 0: no contraction shown, as on the invariant tori of an
     area-preserving map (thesis-1dof under the `listing` law at 90 V, 10 Hz: with no impact the bar's multipliers'
     product is 1, the circuit's states contract alone; with impacts 0.96 per period).  NaN where a step fails."""
@@ -243,7 +242,6 @@ def area_rate(smap, orbit, k0: int, skip: int = AREA_SKIP) -> tuple[float, float
     except (IntegrationFailure, ValueError, ZeroDivisionError, np.linalg.LinAlgError):
         return math.nan, math.nan, math.nan
     return exponent_interval(np.asarray(s[skip:]))
-
 
 
 def from_chunk(smap, orbit, k0: int, grid: Grid, found: list, *, max_period: int = 16, tol: float = 1e-10,

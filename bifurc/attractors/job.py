@@ -92,7 +92,7 @@ def _attractor_to(a: Attractor) -> dict:
             v = np.asarray(v, dtype=float).tolist()
         elif f.name == "cells":
             v = sorted([list(c) for c in v])
-        elif f.name in ("lyapunov_interval", "lifetime_interval", "area_rate_interval"):
+        elif isinstance(f.default, tuple):       # the (low, high) intervals
             v = [repr(float(x)) for x in v]
         elif isinstance(v, float):
             v = repr(v)              # lossless, inf and nan included
@@ -108,9 +108,9 @@ def _attractor_from(d: dict) -> Attractor:
             v = np.asarray(v, dtype=float)
         elif f.name == "cells":
             v = {tuple(c) for c in v}
-        elif f.name in ("lyapunov_interval", "lifetime_interval", "area_rate_interval"):
+        elif isinstance(f.default, tuple):
             v = tuple(float(x) for x in v)
-        elif f.name in ("lyapunov", "max_multiplier", "min_flight_clearance", "residual", "lifetime", "area_rate"):
+        elif isinstance(f.default, float):       # stored by repr
             v = float(v)
         kw[f.name] = v
     return Attractor(**kw)
