@@ -143,12 +143,12 @@ def main(argv=None):
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--duffing", type=int, metavar="SIDE", help="only the Duffing basins on a SIDE x SIDE grid")
     a = ap.parse_args(argv)
-    from bifurc.attractors.census import OUTCOMES
+    from bifurc.attractors.dataset import attractor_count
     print(load())
     if a.duffing:
         return duffing(a.duffing)
     ds, sec, cpu = census(21, 200)
-    n_att = int((ds.present.values[:, :-len(OUTCOMES)] > 0).any(axis=0).sum())
+    n_att = attractor_count(ds)
     print(f"census thesis-1dof measured 10 Hz, 21 values x 200 starts, {ds.attrs['workers']} workers, linked: "
           f"{sec:.1f} s end to end ({cpu:.1f} s CPU in all processes; target 30 s); {n_att} attractors; {ds.attrs['periods_per_start_mean']:.1f} "
           f"periods per start on average (max {ds.attrs['periods_per_start_max']})")
@@ -160,7 +160,7 @@ def main(argv=None):
     print(load())
     half, sec2, _ = census(21, 200, cells=200)
     print(f"grid halved (200 cells per side): {sec2:.1f} s; {n_att} vs "
-          f"{int((half.present.values[:, :-len(OUTCOMES)] > 0).any(axis=0).sum())} attractors; {grid_change(ds, half)}")
+          f"{attractor_count(half)} attractors; {grid_change(ds, half)}")
     for side in ((100,) if a.quick else (100, 500)):
         duffing(side)
     if not a.quick:

@@ -13,12 +13,18 @@ from ..storage.build import coord, dataset, put
 from ..storage.schema import ATTRACTOR, ATTRACTOR_COORDS, ATTRACTOR_EVENTS, flag_variable, state_variable
 from .census import OUTCOMES, wilson
 
-__all__ = ["to_dataset", "OUTCOME_CODES"]
+__all__ = ["to_dataset", "attractor_count", "OUTCOME_CODES"]
 
 #: the class code stored for each outcome entry
 OUTCOME_CODES = {"escaped": ClassCode.ESCAPED, "not_converged": ClassCode.NOT_CONVERGED, "failed": ClassCode.FAILED,
                  "neutral": ClassCode.NOT_CONVERGED}
 assert list(OUTCOME_CODES) == list(OUTCOMES), "one class code per outcome, in the outcomes' order"
+
+
+def attractor_count(ds) -> int:
+    """The distinct attractors an attractors Dataset holds: ids present at some value (the outcome entries, last,
+    not counted)."""
+    return int((ds.present.values[:, :ds.sizes["attractor"] - len(OUTCOMES)] > 0).any(axis=0).sum())
 
 
 def _columns(values, per_value, outcomes, n_ids, events):

@@ -89,8 +89,8 @@ def run(args) -> int:
 
 def _summary(ds, args) -> None:
     from ..attractors.plots import _legend
-    from ..attractors.census import OUTCOMES
-    n_att = int((ds.present.values[:, :-len(OUTCOMES)] > 0).any(axis=0).sum())
+    from ..attractors.dataset import attractor_count
+    n_att = attractor_count(ds)
     print(f"{ds.attrs['scene']}: {args.param} {args.start:g}..{args.stop:g} ({args.n} values x {args.starts} starts) "
           f"in {ds.attrs['census_seconds']:.1f} s: {n_att} attractor(s)")
     last = ds.basin_fraction.values[-1]

@@ -57,23 +57,24 @@ def hammering(ds):
 
 def _rows(ds) -> list:
     """(V, label, fraction, low, high, hammering) of every attractor present at each value."""
-    rows = []
+    rows, hammers, still = [], hammering(ds).values, neutral(ds).values
     for i, v in enumerate(ds["V"].values):
         for j, name in enumerate(ds.attractor_label.values):
             f = float(ds.basin_fraction.values[i, j])
             if name.startswith("A") and bool(ds.present.values[i, j]) or f > 0:
-                rows.append((float(v), str(name), _label(ds, i, j), f, float(ds.basin_fraction_low.values[i, j]),
-                             float(ds.basin_fraction_high.values[i, j]), bool(hammering(ds).values[i, j])))
+                rows.append((float(v), str(name), _label(ds, i, j, still[i, j]), f,
+                             float(ds.basin_fraction_low.values[i, j]), float(ds.basin_fraction_high.values[i, j]),
+                             bool(hammers[i, j])))
     return rows
 
 
-def _label(ds, i, j) -> str:
+def _label(ds, i, j, is_neutral: bool) -> str:
     name = str(ds.attractor_label.values[j])
     if not name.startswith("A"):
         return name
     from bifurc.sweeps.classify import describe
     text = describe(int(ds.class_code.values[i, j]), int(ds.period.values[i, j]), int(ds.impacts_per_period.values[i, j]))
-    return text + " (neutral: no area contraction)" if neutral(ds).values[i, j] else text
+    return text + " (neutral: no area contraction)" if is_neutral else text
 
 
 def neutral(ds):
@@ -85,9 +86,10 @@ def neutral(ds):
 
 def _neutral_note(ds) -> str:
     from bifurc.attractors.census import OUTCOMES
-    n = int(neutral(ds).values.sum())
+    still = neutral(ds).values
+    n = int(still.sum())
     sets = int(((ds.present.values[:, :-len(OUTCOMES)] > 0) & (ds.period.values[:, :-len(OUTCOMES)] == 0)).sum())
-    share = float(np.where(neutral(ds).values, ds.basin_fraction.values, 0.0).sum() / ds.sizes["V"])
+    share = float(np.where(still, ds.basin_fraction.values, 0.0).sum() / ds.sizes["V"])
     if not n:
         return (f"Non-periodic sets: {sets} (value, set) entries, none without area contraction (for each the sum of "
                 f"its two leading Lyapunov exponents is below 0 or not estimated)." if sets else "No non-periodic set.")
@@ -145,12 +147,12 @@ def findings(results, quick) -> list:
     """Per law: the distinct attractors the box census found (+-1), the share of box starts on neutral motion
     (undamped flight: no impact, no area contraction) averaged over V (+- 0.05), and the switch-on probability of
     hammering at the highest V (+- 0.15: its Wilson interval at these sizes is wider)."""
-    from bifurc.attractors.census import OUTCOMES
+    from bifurc.attractors.dataset import attractor_count
     from bifurc.findings import Finding
     out = []
     for law in LAWS:
         box, sw = results[law, "box"], results[law, "switch-on"]
-        n_att = int((box.present.values[:, :-len(OUTCOMES)] > 0).any(axis=0).sum())
+        n_att = attractor_count(box)
         top = float(sw["V"].values[-1])
         column = list(box.attractor_label.values).index("neutral")
         neutral_share = float(box.basin_fraction.isel(attractor=column).mean())
