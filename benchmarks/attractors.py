@@ -3,8 +3,9 @@
     python benchmarks/attractors.py --quick     # 21 values x 200 starts; Duffing basins on 100 x 100
     python benchmarks/attractors.py             # also 281 values x 1000 starts and the 500 x 500 Duffing grid
 
-Prints, side by side: the census end to end on thesis-1dof (`measured` law, 10 Hz, V in 80-220 V, box
-x=0:0.03, v=-1.5:1.5); its cost per start against a bare batch ensemble running the same starts, each for the
+Prints, side by side: the census end to end on thesis-1dof (`matlab-listing` preset, as the thesis-orbits study whose
+orbits attractors_recovery.py counts; `measured` law, 10 Hz, V in 80-220 V, box x=0:0.03, v=-1.5:1.5; before
+2026-11-26 15:00 the scene's default preset `thesis-text` was run: R = 30 Ohm, C = 0.3 mF against 25 Ohm, 0.28 mF); its cost per start against a bare batch ensemble running the same starts, each for the
 periods it spent in the census, interleaved value by value in one process; the census at half the grid cell size
 (every fraction, attractors summed by label, against the first census' 95 % interval); cells per second on the
 forced Duffing oscillator's stroboscopic basins (x'' + d x' + b x + x^3 = F cos(w t), d = 0.15, b = -1, F = 0.27,
@@ -18,6 +19,9 @@ import time
 
 import numpy as np
 
+#: the model every census here runs: thesis-1dof under these options (the thesis-orbits study's preset)
+MODEL = dict(preset="matlab-listing", params={"relay_hz": 10.0}, dc_law="measured")
+BOX = {"x": (0.0, 0.03), "v": (-1.5, 1.5)}
 
 def duffing_scene():
     import maps
@@ -45,8 +49,7 @@ def census(n_values, n_starts, cells=100, workers=None, link=True, starts="box")
     import bifurc
     kids = lambda: resource.getrusage(resource.RUSAGE_CHILDREN)  # noqa: E731 - worker processes, once reaped
     t, c, k = time.perf_counter(), time.process_time(), kids()
-    ds = bifurc.attractors("thesis-1dof", "V", np.linspace(80, 220, n_values), params={"relay_hz": 10.0},
-                           dc_law="measured", box={"x": (0.0, 0.03), "v": (-1.5, 1.5)}, n_starts=n_starts,
+    ds = bifurc.attractors("thesis-1dof", "V", np.linspace(80, 220, n_values), **MODEL, box=BOX, n_starts=n_starts,
                            starts=starts, seed=1, cells=cells, progress=False, workers=workers, link=link)
     k2 = kids()
     return ds, time.perf_counter() - t, time.process_time() - c + (k2.ru_utime - k.ru_utime) + (k2.ru_stime - k.ru_stime)
@@ -63,8 +66,8 @@ def interleaved(n_values, n_starts, cells=100):
     from bifurc.attractors.job import CensusJob
     from bifurc.attractors.starts import make_starts
     from maps.poincare import StroboscopicMap
-    pb = maps.problem("thesis-1dof", params={"relay_hz": 10.0}, dc_law="measured")
-    st = make_starts(pb, "box", n=n_starts, box={"x": (0.0, 0.03), "v": (-1.5, 1.5)}, seed=1)
+    pb = maps.problem("thesis-1dof", **MODEL)
+    st = make_starts(pb, "box", n=n_starts, box=BOX, seed=1)
     starts = list(np.asarray(st.points, dtype=float))
     job = CensusJob(pb, "V", np.asarray(starts), Grid.over(st.box, pb.system, cells, pb.state_vector()), Settings())
     job.warm()

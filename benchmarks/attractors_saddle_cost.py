@@ -4,7 +4,8 @@ after.  Not run in CI.
 
     python benchmarks/attractors_saddle_cost.py [V ...]     # default: the benchmark's 21 values, 80-220 V
 
-thesis-1dof, `measured` law, 10 Hz, 200 box starts x=0:0.03, v=-1.5:1.5 (seed 1), 100 cells per side, one process.
+thesis-1dof as in benchmarks/attractors.py (`matlab-listing` preset since 2026-11-26 15:00; before, the
+scene's default `thesis-text`), `measured` law, 10 Hz, 200 box starts x=0:0.03, v=-1.5:1.5 (seed 1), 100 cells per side, one process.
 A start "meets" a saddle when the census first treats it as on one (its chunk shares a known saddle's cells, or
 its record is a set whose lifetime is not surely above the horizon); the saddle is "short" where its lifetime's
 interval lies below `Settings.persist`, "long-lived" otherwise.  The census is not changed: its functions are
@@ -59,8 +60,9 @@ def main(argv=None):
     from bifurc.attractors.starts import make_starts
     from maps.poincare import StroboscopicMap
     values = [float(v) for v in (argv if argv is not None else sys.argv[1:])] or list(np.linspace(80, 220, 21))
-    pb = maps.problem("thesis-1dof", params={"relay_hz": 10.0}, dc_law="measured")
-    st = make_starts(pb, "box", n=200, box={"x": (0.0, 0.03), "v": (-1.5, 1.5)}, seed=1)
+    from attractors import BOX, MODEL       # the census of benchmarks/attractors.py
+    pb = maps.problem("thesis-1dof", **MODEL)
+    st = make_starts(pb, "box", n=200, box=BOX, seed=1)
     starts = list(np.asarray(st.points, dtype=float))
     grid = Grid.over(st.box, pb.system, 100, pb.state_vector())
     smap = StroboscopicMap(pb, tol=1e-10)

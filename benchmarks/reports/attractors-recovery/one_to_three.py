@@ -12,9 +12,13 @@ from bifurc.orbits.periodic import find_periodic_orbit
 from maps.hybrid import HybridState
 from maps.poincare import StroboscopicMap
 
+#: the thesis-orbits study's preset (before 2026-11-26 15:00 this ran under the scene's default, `thesis-text`: another
+#: model than the one whose 1:3 orbit it was compared with)
+PRESET = "matlab-listing"
+
 
 def main():
-    ds = bifurc.attractors("thesis-1dof", "V", [158.0, 159.0], params={"relay_hz": 10.0}, dc_law="measured",
+    ds = bifurc.attractors("thesis-1dof", "V", [158.0, 159.0], preset=PRESET, params={"relay_hz": 10.0}, dc_law="measured",
                            box={"x": (0.0, 0.03), "v": (-1.5, 1.5)}, n_starts=200, seed=1, progress=False, link=False,
                            workers=1)
     for i, v in enumerate(ds["V"].values):
@@ -22,7 +26,7 @@ def main():
             f"{int(ds.period.values[i, j])}:{int(ds.impacts_per_period.values[i, j])} at x = "
             f"{ds.x.values[i, j, 0] * 1e3:.3f} mm, fraction {ds.basin_fraction.values[i, j]:.3f}"
             for j in range(ds.sizes["attractor"] - len(OUTCOMES)) if ds.present.values[i, j]))
-    pb = maps.problem("thesis-1dof", params={"relay_hz": 10.0, "V": 158.0}, dc_law="measured")
+    pb = maps.problem("thesis-1dof", preset=PRESET, params={"relay_hz": 10.0, "V": 158.0}, dc_law="measured")
     j = [j for j in range(ds.sizes["attractor"] - len(OUTCOMES)) if ds.present.values[0, j]
          and ds.period.values[0, j] == 1 and ds.impacts_per_period.values[0, j] == 3][0]
     start = HybridState(np.array([ds[n].values[0, j, 0] for n in pb.system.state_names]), None)
