@@ -3,9 +3,9 @@
 section 5; not CI).
 
     python benchmarks/attractors_recovery.py [--n 21] [--starts 200] [-o census.nc | --census census.nc]
-                                             [--branches DIR]
+                                             [--branches DIR] [--link]
 
-Two counts, side by side:
+Two counts, side by side (and with ``--link`` a third):
 
 - by label: every line "stable period-P with M impacts per period for V in [a, b] V" of studies/thesis_orbits/
   report.md's section "DC law `measured`, relay 10 Hz" is an orbit expected at each census value inside [a, b];
@@ -16,6 +16,9 @@ Two counts, side by side:
   by Newton (`find_periodic_orbit`, tol 1e-10) from the branch point beside it; it counts as recovered where a
   census attractor of its period has every node within 1e-6 of each state's scale of the orbit's nodes, at some
   phase.
+- links (``--link``): of every fold and period doubling the branches locate inside the census' range, whether the
+  census has the stable orbit ending there at the census value beside it (by state) and marks its appearance or
+  disappearance across the step linked to that kind of event.
 
 The census (V in 80-220 V, box x=0:0.03, v=-1.5:1.5, seed 1) gets no orbit from continuation: only its random starts
 and the seeding with the previous value's attractors.  Both use the thesis-orbits study's preset (`matlab-listing`):
@@ -71,14 +74,15 @@ def _nodes(ds, names, idx, period):
 
 
 def stable_orbits(bs, values, names, pb) -> dict:
-    """{value index: [(period, impacts, nodes)]}: the stable orbits of the branches ``bs`` at each census value,
-    each polished by Newton at that value from the branch point beside it (distinct by state)."""
+    """{value index: [(period, impacts, nodes, {branch index: branch point})]}: the stable orbits of the branches
+    ``bs`` at each census value, each polished by Newton at that value from the branch point beside it (distinct by
+    state; the branches and points it was polished from)."""
     from bifurc.orbits.periodic import OrbitNotFound, find_periodic_orbit
     from maps.hybrid import HybridState
     from maps.poincare import StroboscopicMap
     smap = StroboscopicMap(pb, tol=1e-10)
     out: dict = {i: [] for i in range(len(values))}
-    for ds in bs:
+    for b, ds in enumerate(bs):
         V, stable = ds["V"].values, ds.stable.values
         for i, v in enumerate(values):
             for p in range(len(V) - 1):
@@ -95,8 +99,51 @@ def stable_orbits(bs, values, names, pb) -> dict:
                 if not po.stable:
                     continue
                 nodes = np.array([s.y for s in po.nodes])
-                if not any(same(nodes, other) for _, _, other in out[i]):
-                    out[i].append((period, int(po.impacts_per_period), nodes))
+                known = next((o for o in out[i] if same(nodes, o[2])), None)
+                if known is None:
+                    out[i].append((period, int(po.impacts_per_period), nodes, {b: q}))
+                else:
+                    known[3].setdefault(b, q)
+    return out
+
+
+def located(bs, low, high) -> list:
+    """[(kind, value, branch index, special point index)]: the folds and period doublings the branches locate in
+    [low, high] (to their stated tolerance), each once (the first branch locating it)."""
+    from bifurc.storage.schema import SPECIAL_KINDS
+    out = []
+    for b, ds in enumerate(bs):
+        for k in range(ds.sizes.get("special", 0)):
+            kind, value = SPECIAL_KINDS[int(ds.special_kind.values[k])], float(ds.special_value.values[k])
+            if kind in ("fold", "period_doubling") and low <= value <= high and np.isfinite(
+                    float(ds.special_tolerance.values[k])) and not any(
+                    o[0] == kind and abs(o[1] - value) <= 1e-6 * value for o in out):
+                out.append((kind, value, b, int(ds.special_point.values[k])))
+    return out
+
+
+def links(ds, bs, orbits, values, names, n_att) -> list:
+    """For every located fold and period doubling in the census' range: (kind, value, verdict), the verdict
+    "linked" where the census has the stable orbit that ends there (by state) at the census value beside it and
+    marks its appearance or disappearance across the step with that kind; else what it has."""
+    out = []
+    for kind, value, b, sp in located(bs, values[0], values[-1]):
+        i = int(np.searchsorted(values, value))
+        if i == 0 or i == len(values):
+            continue
+        ending = [(abs(o[3][b] - sp), side, o[2]) for side in (i - 1, i) for o in orbits[side] if b in o[3]]
+        if not ending:
+            out.append((kind, value, "its stable orbit is not on the branch at the census values beside it"))
+            continue
+        _, side, nodes = min(ending, key=lambda e: e[0])
+        j = next((j for j in range(n_att) if ds.present.values[side, j] and int(ds.period.values[side, j]) ==
+                  len(nodes) and same(nodes, _nodes(ds, names, (side, j), len(nodes)))), None)
+        if j is None:
+            out.append((kind, value, f"its stable orbit at {values[side]:g} V is not met by the census"))
+            continue
+        said = [str(ds.event_link.values[r, j]) for r in (i - 1, i) if int(ds.event.values[r, j])]
+        out.append((kind, value, "linked" if kind in said else
+                    f"census attractor {j} at {values[side]:g} V: " + (", ".join(said) or "no event across the step")))
     return out
 
 
@@ -116,6 +163,8 @@ def main(argv=None):
     ap.add_argument("-o", dest="out", help="write the census dataset here (netCDF)")
     ap.add_argument("--census", help="read the census dataset from this file instead of running it")
     ap.add_argument("--branches", help="a thesis-orbits output folder with branches_measured_10Hz_*.nc")
+    ap.add_argument("--link", action="store_true", help="link the census' changes and count the located folds and "
+                    "period doublings linked")
     a = ap.parse_args(argv)
     import xarray as xr
 
@@ -132,7 +181,7 @@ def main(argv=None):
         values = np.linspace(80, 220, a.n)
         ds = bifurc.attractors("thesis-1dof", "V", values, preset=PRESET, params={"relay_hz": HZ}, dc_law=LAW,
                                box={"x": (0.0, 0.03), "v": (-1.5, 1.5)}, n_starts=a.starts, seed=1, progress=False,
-                               link=False)
+                               link=a.link)
         if a.out:
             ds.to_netcdf(a.out)
     sec = time.perf_counter() - clock
@@ -148,14 +197,15 @@ def main(argv=None):
     pb = maps.problem("thesis-1dof", preset=PRESET, params={"relay_hz": HZ, "V": float(values[0])}, dc_law=LAW)
     names = list(pb.system.state_names)
     clock = time.perf_counter()
-    orbits = stable_orbits(branches(a.branches), values, names, pb)
+    bs = branches(a.branches)
+    orbits = stable_orbits(bs, values, names, pb)
     n_want = sum(len(o) for o in orbits.values())
     missed, resting = [], []
     x = names.index("x")
     for i, found in orbits.items():
         mine = [_nodes(ds, names, (i, j), int(ds.period.values[i, j])) for j in range(n_att)
                 if ds.present.values[i, j] and 0 < ds.period.values[i, j] <= ds.sizes["node"]]
-        for p, m, nodes in found:
+        for p, m, nodes, _ in found:
             if any(same(nodes, c) for c in mine):
                 continue
             if m == 0 and any(c.shape == nodes.shape and np.all(c[:, x] <= 0.0) for c in mine):
@@ -171,6 +221,14 @@ def main(argv=None):
     print(STUCK)
     for v, p, m in missed:
         print(f"  missed at V = {v:g}: period-{p} with {m} impacts per period")
+    if "event_link" in ds and ds.attrs.get("links", 0):
+        got = links(ds, bs, orbits, values, names, n_att)
+        n_linked = sum(v == "linked" for _, _, v in got)
+        print(f"links: of the {len(got)} folds and period doublings the branches locate inside {values[0]:g}-"
+              f"{values[-1]:g} V, {n_linked} linked to the census' appearance or disappearance of the orbit ending there")
+        for kind, value, verdict in got:
+            if verdict != "linked":
+                print(f"  {kind} at {value:.8g} V: {verdict}")
 
 
 #: why a resting orbit is counted apart
