@@ -2,8 +2,8 @@
 `measured` law, 10 Hz) the attractor census recovers from random starts and its previous values' attractors (issue 31,
 section 5; not CI).
 
-    python benchmarks/attractors_recovery.py [--n 21] [--starts 200] [-o census.nc | --census census.nc]
-                                             [--branches DIR] [--link]
+    python benchmarks/attractors_recovery.py [--n 21] [--starts 200] [--range 80 220] [-o census.nc | --census census.nc]
+                                             [--branches DIR | --save-branches DIR] [--link]
 
 Two counts, side by side (and with ``--link`` a third):
 
@@ -13,7 +13,8 @@ Two counts, side by side (and with ``--link`` a third):
   sharing a label are counted once, and the census' orbit is credited whichever of them it is.
 - by state: the thesis-orbits branches (continued again here with the study's own settings, or read from a study
   output folder ``--branches DIR``) give, at every census value inside a stable stretch, the orbit there polished
-  by Newton (`find_periodic_orbit`, tol 1e-10) from the branch point beside it; it counts as recovered where a
+  by Newton (`find_periodic_orbit`, tol 1e-10) from the branch point beside it (on the branch's section: the
+  continuation moves the sampling phase off an orbit in contact at phase 0; then carried to phase 0); it counts as recovered where a
   census attractor of its period has every node within 1e-6 of each state's scale of the orbit's nodes, at some
   phase.
 - links (``--link``): of every fold and period doubling the branches locate inside the census' range, whether the
@@ -68,6 +69,14 @@ def branches(folder):
     return thesis_orbits._case(LAW, HZ, thesis_orbits.FULL, progress=True)["branches"]
 
 
+def save_branches(bs, folder) -> None:
+    """The branches as the study writes them (``--branches`` reads them back)."""
+    folder = pathlib.Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    for k, ds in enumerate(bs):
+        ds.to_netcdf(folder / f"branches_{LAW}_{HZ:g}Hz_{k}.nc")
+
+
 def _nodes(ds, names, idx, period):
     """A (period x states) array of a dataset's strobe states at index ``idx`` (a tuple before the node axis)."""
     return np.array([[float(ds[n].values[idx + (k,)]) for n in names] for k in range(period)])
@@ -75,12 +84,13 @@ def _nodes(ds, names, idx, period):
 
 def stable_orbits(bs, values, names, pb) -> dict:
     """{value index: [(period, impacts, nodes, {branch index: branch point})]}: the stable orbits of the branches
-    ``bs`` at each census value, each polished by Newton at that value from the branch point beside it (distinct by
-    state; the branches and points it was polished from)."""
+    ``bs`` at each census value, each polished by Newton at that value from the branch point beside it on the
+    branch's section (its sampling phase) and brought to the census' section, phase 0 (distinct by state; the
+    branches and points it was polished from)."""
     from bifurc.orbits.periodic import OrbitNotFound, find_periodic_orbit
     from maps.hybrid import HybridState
     from maps.poincare import StroboscopicMap
-    smap = StroboscopicMap(pb, tol=1e-10)
+    maps_at = {}
     out: dict = {i: [] for i in range(len(values))}
     for b, ds in enumerate(bs):
         V, stable = ds["V"].values, ds.stable.values
@@ -89,16 +99,22 @@ def stable_orbits(bs, values, names, pb) -> dict:
                 if not (min(V[p], V[p + 1]) <= v <= max(V[p], V[p + 1])) or not (stable[p] or stable[p + 1]):
                     continue
                 q = p if stable[p] and (not stable[p + 1] or abs(V[p] - v) <= abs(V[p + 1] - v)) else p + 1
-                period = int(ds.period.values[q])
-                smap.set_params(V=float(v))
+                period, phase, k0 = int(ds.period.values[q]), float(ds.section_phase.values[q]), \
+                    int(ds.section_k0.values[q])
+                for ph in {0.0, phase}:
+                    if ph not in maps_at:
+                        maps_at[ph] = StroboscopicMap(pb, tol=1e-10, phase=ph)
+                    maps_at[ph].set_params(V=float(v))
                 try:
-                    po = find_periodic_orbit(smap, HybridState(_nodes(ds, names, (q,), 1)[0]), period,
-                                             k0=int(ds.attrs["k0"]), tol=1e-10)
+                    po = find_periodic_orbit(maps_at[phase], HybridState(_nodes(ds, names, (q,), 1)[0]), period,
+                                             k0=k0, tol=1e-10)
                 except OrbitNotFound:
                     continue
                 if not po.stable:
                     continue
-                nodes = np.array([s.y for s in po.nodes])
+                nodes = np.array([s.y for s in po.nodes]) if phase == 0.0 else np.array([
+                    maps_at[phase].linearize(s, k0 + j, until=maps_at[0.0].sample_time(k0 + j + 1)).state.y
+                    for j, s in enumerate(po.nodes)])
                 known = next((o for o in out[i] if same(nodes, o[2])), None)
                 if known is None:
                     out[i].append((period, int(po.impacts_per_period), nodes, {b: q}))
@@ -160,9 +176,11 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--n", type=int, default=21)
     ap.add_argument("--starts", type=int, default=200)
+    ap.add_argument("--range", type=float, nargs=2, default=(80.0, 220.0), metavar=("LOW", "HIGH"), help="V [V]")
     ap.add_argument("-o", dest="out", help="write the census dataset here (netCDF)")
     ap.add_argument("--census", help="read the census dataset from this file instead of running it")
     ap.add_argument("--branches", help="a thesis-orbits output folder with branches_measured_10Hz_*.nc")
+    ap.add_argument("--save-branches", metavar="DIR", help="write the branches continued here to DIR")
     ap.add_argument("--link", action="store_true", help="link the census' changes and count the located folds and "
                     "period doublings linked")
     a = ap.parse_args(argv)
@@ -178,7 +196,7 @@ def main(argv=None):
         ds = xr.load_dataset(a.census)
         values = ds["V"].values
     else:
-        values = np.linspace(80, 220, a.n)
+        values = np.linspace(*a.range, a.n)
         ds = bifurc.attractors("thesis-1dof", "V", values, preset=PRESET, params={"relay_hz": HZ}, dc_law=LAW,
                                box={"x": (0.0, 0.03), "v": (-1.5, 1.5)}, n_starts=a.starts, seed=1, progress=False,
                                link=a.link)
@@ -198,6 +216,8 @@ def main(argv=None):
     names = list(pb.system.state_names)
     clock = time.perf_counter()
     bs = branches(a.branches)
+    if a.save_branches:
+        save_branches(bs, a.save_branches)
     orbits = stable_orbits(bs, values, names, pb)
     n_want = sum(len(o) for o in orbits.values())
     missed, resting = [], []
