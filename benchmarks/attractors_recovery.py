@@ -177,7 +177,8 @@ def main(argv=None):
     ap.add_argument("--n", type=int, default=21)
     ap.add_argument("--starts", type=int, default=200)
     ap.add_argument("--range", type=float, nargs=2, default=(80.0, 220.0), metavar=("LOW", "HIGH"), help="V [V]")
-    ap.add_argument("-o", dest="out", help="write the census dataset here (netCDF)")
+    ap.add_argument("-o", dest="out", help="write the census dataset here (netCDF; its values are kept in "
+                    "OUT.parts as they finish, and a stopped run resumes there)")
     ap.add_argument("--census", help="read the census dataset from this file instead of running it")
     ap.add_argument("--branches", help="a thesis-orbits output folder with branches_measured_10Hz_*.nc")
     ap.add_argument("--save-branches", metavar="DIR", help="write the branches continued here to DIR")
@@ -199,9 +200,7 @@ def main(argv=None):
         values = np.linspace(*a.range, a.n)
         ds = bifurc.attractors("thesis-1dof", "V", values, preset=PRESET, params={"relay_hz": HZ}, dc_law=LAW,
                                box={"x": (0.0, 0.03), "v": (-1.5, 1.5)}, n_starts=a.starts, seed=1, progress=False,
-                               link=a.link)
-        if a.out:
-            ds.to_netcdf(a.out)
+                               link=a.link, path=a.out)
     sec = time.perf_counter() - clock
     assert ds.attrs.get("preset") == PRESET, ds.attrs.get("preset")
     n_att = ds.sizes["attractor"] - len(OUTCOMES)
@@ -209,7 +208,9 @@ def main(argv=None):
             for i in range(len(values)) for j in range(n_att) if ds.present.values[i, j]}
     want = expected(values)
     got = want & have
-    print(f"census {len(values)} values x {ds.sizes['start']} starts in {sec:.1f} s ({PRESET}, {LAW}, {HZ:g} Hz)")
+    print(f"census {len(values)} values x {ds.sizes['start']} starts in {sec:.1f} s ({PRESET}, {LAW}, {HZ:g} Hz; "
+          f"{ds.attrs.get('workers')} workers, {ds.attrs.get('periods_per_start_mean', float('nan')):.1f} relay "
+          f"periods per start, linking {ds.attrs.get('linking_seconds', 0.0):.1f} s)")
     print(f"by label: stable orbits listed by thesis-orbits at these values: {len(want)}; recovered with the same "
           f"period and impacts: {len(got)} ({100 * len(got) / max(1, len(want)):.0f} %; target 95 %)")
     pb = maps.problem("thesis-1dof", preset=PRESET, params={"relay_hz": HZ, "V": float(values[0])}, dc_law=LAW)
@@ -238,7 +239,8 @@ def main(argv=None):
           f"({100 * n_got / max(1, n_want):.0f} %); with the bar at rest on the stop found in contact instead of "
           f"stuck at {len(resting)} values: {n_got + len(resting)} ({100 * (n_got + len(resting)) / max(1, n_want):.0f} "
           f"%; target 95 %)")
-    print(STUCK)
+    if resting:
+        print(STUCK)
     for v, p, m in missed:
         print(f"  missed at V = {v:g}: period-{p} with {m} impacts per period")
     if "event_link" in ds and ds.attrs.get("links", 0):
