@@ -2,8 +2,9 @@
 
     python benchmarks/attractors_profile.py [V ...] [--starts N] [--profile FILE]
 
-One process: for each value (default 122 136 192 206 V; thesis-1dof, `measured` law, 10 Hz, box x=0:0.03,
-v=-1.5:1.5, seed 1, 100 cells per side) the census of the fresh starts, then a bare batch ensemble of the same
+One process: for each value (default 122 136 192 206 V; thesis-1dof as benchmarks/attractors.py runs it: the
+`matlab-listing` preset since 2026-11-26 15:00, the scene's default `thesis-text` before; `measured` law, 10 Hz, box
+x=0:0.03, v=-1.5:1.5, seed 1, 100 cells per side) the census of the fresh starts, then a bare batch ensemble of the same
 starts each run for the periods it spent in the census (strobe points only), side by side.  With ``--profile``
 the census calls run under cProfile and the functions are ranked by cumulative time.
 """
@@ -86,8 +87,9 @@ def main(argv=None):
     print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
     if a.lanes:
         return lanes()
-    pb = maps.problem("thesis-1dof", params={"relay_hz": 10.0}, dc_law="measured")
-    st = make_starts(pb, "box", n=a.starts, box={"x": (0.0, 0.03), "v": (-1.5, 1.5)}, seed=1)
+    from attractors import BOX, MODEL       # the census of benchmarks/attractors.py
+    pb = maps.problem("thesis-1dof", **MODEL)
+    st = make_starts(pb, "box", n=a.starts, box=BOX, seed=1)
     starts = list(np.asarray(st.points, dtype=float))
     job = CensusJob(pb, "V", np.asarray(starts), Grid.over(st.box, pb.system, 100, pb.state_vector()), Settings())
     job.warm()

@@ -19,7 +19,8 @@ Two counts, side by side (and with ``--link`` a third):
   phase.
 - links (``--link``): of every fold and period doubling the branches locate inside the census' range, whether the
   census has the stable orbit ending there at the census value beside it (by state) and marks its appearance or
-  disappearance across the step linked to that kind of event.
+  disappearance across the step linked to that kind of event (a fold where the branch is a period-m orbit taken
+  twice is the birth at that orbit's period doubling: linked as a period doubling).
 
 The census (V in 80-220 V, box x=0:0.03, v=-1.5:1.5, seed 1) gets no orbit from continuation: only its random starts
 and the seeding with the previous value's attractors.  Both use the thesis-orbits study's preset (`matlab-listing`):
@@ -158,9 +159,20 @@ def links(ds, bs, orbits, values, names, n_att) -> list:
             out.append((kind, value, f"its stable orbit at {values[side]:g} V is not met by the census"))
             continue
         said = [str(ds.event_link.values[r, j]) for r in (i - 1, i) if int(ds.event.values[r, j])]
+        if kind == "fold" and _birth(bs[b], sp, names):
+            kind = "period_doubling"          # the daughter's branch folds where it is its parent taken twice
         out.append((kind, value, "linked" if kind in said else
                     f"census attractor {j} at {values[side]:g} V: " + (", ".join(said) or "no event across the step")))
     return out
+
+
+def _birth(br, point: int, names) -> bool:
+    """Whether a fold at branch point ``point`` is a period-2m orbit's birth at a period-m orbit's period doubling
+    (the orbit nearly repeats after m periods there, as the census' linking and the continuation read it)."""
+    from bifurc.attractors.follow import half_gaps
+    from bifurc.orbits.special_points import BIRTH_MISMATCH
+    gaps = half_gaps(br, names, int(br.period.values[point]))
+    return gaps is not None and gaps[point] < BIRTH_MISMATCH
 
 
 def same(A, B, rtol=RTOL) -> bool:
@@ -185,7 +197,6 @@ def main(argv=None):
     ap.add_argument("--link", action="store_true", help="link the census' changes and count the located folds and "
                     "period doublings linked")
     a = ap.parse_args(argv)
-    import xarray as xr
 
     import bifurc
     import maps
@@ -194,7 +205,7 @@ def main(argv=None):
     from studies.thesis_orbits import PRESET
     clock = time.perf_counter()
     if a.census:
-        ds = xr.load_dataset(a.census)
+        ds = bifurc.load(a.census)
         values = ds["V"].values
     else:
         values = np.linspace(*a.range, a.n)

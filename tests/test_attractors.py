@@ -215,6 +215,65 @@ def test_matching_through_the_fold_linked_to_the_located_fold(fold_census):
     assert np.all(np.isfinite(ds.match_distance.values[1:after, j]))
 
 
+def kicked_logistic():
+    """x' = 0, y' = -y, with x -> r x (1 - x) at every half period: its stroboscopic map is the logistic map."""
+    import heyoka as hy
+    return HybridSystem(
+        "kicked-logistic", states=[State("x", "1", "kicked coordinate"), State("y", "1", "decaying coordinate")],
+        parameters=[Parameter("r", "1", "logistic rate", 0, 4)], rhs=lambda s: [0.0 * s.x, -s.y],
+        guards=lambda s: [maps.Guard("kick", hy.sin(2 * math.pi * s.t), -1,
+                                     reset=[s.r * s.x * (1.0 - s.x), s.y], role="other")],
+        strobe_period=lambda p: 1.0)
+
+
+KICKED = maps.Scene("kicked-logistic", "the logistic map as a kicked flow (tests/test_attractors.py)", None, preset=None,
+                    overrides={"r": (2.9, "tests/test_attractors.py")}, x0={"x": 0.3, "y": 0.0},
+                    builder=kicked_logistic, box={"x": (0.05, 0.95), "y": (-0.5, 0.5)})
+
+
+def test_a_period_doubling_links_the_parents_loss_and_the_daughters_birth():
+    """The logistic map's fixed point (r - 1) / r loses stability at r = 3, where its 2-cycle
+    (r + 1 +- sqrt((r - 3)(r + 1))) / (2 r) is born: both changes are linked to that period doubling (the
+    2-cycle's branch folds at r = 3 where it is the fixed point taken twice; a fold there is no saddle-node)."""
+    r = [2.9, 2.95, 3.0125, 3.05, 3.1]
+    ds = bifurc.attractors(KICKED, "r", r, n_starts=20, seed=1, progress=False, workers=1)
+    ids = range(ds.sizes["attractor"] - len(OUTCOMES))
+    one = [j for j in ids if ds.period.values[0, j] == 1]
+    two = [j for j in ids if np.any(ds.period.values[:, j] == 2)]
+    assert len(one) == 1 and len(two) == 1
+    one, two = one[0], two[0]
+    for i, v in enumerate(r):
+        if v < 3:
+            assert ds.present.values[i, one] and not ds.present.values[i, two]
+            assert float(ds.x.values[i, one, 0]) == pytest.approx((v - 1) / v, abs=1e-9)
+        else:
+            assert ds.present.values[i, two] and not ds.present.values[i, one]
+            cycle = (v + 1 + np.array([1.0, -1.0]) * math.sqrt((v - 3) * (v + 1))) / (2 * v)
+            assert np.allclose(np.sort(ds.x.values[i, two, :2]), np.sort(cycle), atol=1e-9, rtol=0)
+    for j, event in ((one, 2), (two, 1)):
+        assert int(ds.event.values[2, j]) == event and str(ds.event_link.values[2, j]) == "period_doubling"
+        value = float(str(ds.event_evidence.values[2, j]).split(" = ")[1].split()[0])
+        assert value == pytest.approx(3.0, abs=1e-6), str(ds.event_evidence.values[2, j])
+
+
+def test_a_daughter_branch_continued_onto_its_doubled_parent_is_linked_to_the_period_doubling():
+    """thesis-1dof (`matlab-listing`, `measured`, 10 Hz): the 2:4 orbit the census finds at 204.5 V, continued
+    down, passes the branch point at its parent's period doubling onto the 1:2 orbit taken twice (no fold or
+    period-doubling test fires on it): the change is linked to a period doubling bracketing the one located on the
+    1:2 branch's own test function, 204.27041 V (studies/thesis_orbits/report.md)."""
+    from bifurc.attractors.follow import link_event
+    from bifurc.attractors.identify import Attractor
+    pb = maps.problem("thesis-1dof", preset="matlab-listing", params={"relay_hz": 10.0}, dc_law="measured")
+    node = [4.34857043e-03, 1.16323516e-01, -2.02762836e-01, 2.81342951e+01]     # the census' node, 8 digits
+    a = Attractor(code=0, period=2, period_mechanical=2, impacts=4, impacts_mechanical=4, lyapunov=0.0,
+                  lyapunov_interval=(0.0, 0.0), max_multiplier=0.835, points=np.array([node, node]), flags=None,
+                  k0=38, cells=set(), min_flight_clearance=math.nan, residual=0.0, how="")
+    kind, why = link_event(pb, "V", a, 204.5, 204.0)
+    assert kind == "period_doubling", why
+    low, high = sorted(float(w) for w in why.split(" = ")[1].split(":")[0].split(" to "))
+    assert low <= 204.27041 <= high and high - low < 0.2, why
+
+
 def test_netcdf_round_trip_is_lossless(oscillator_census, tmp_path):
     import xarray as xr
     from bifurc.storage.files import write_netcdf

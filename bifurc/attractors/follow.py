@@ -8,7 +8,9 @@ only (a periodic orbit to an orbit of its period, by their polished nodes; a cha
 orbit), greedily by distance, as Attractors.jl's matching by state-space distance.  An attractor left
 unmatched appeared or disappeared: its periodic orbit is continued across the step by
 :func:`bifurc.orbits.branch.continue_orbit`, and a fold, period doubling, Neimark-Sacker point, grazing or
-stick onset located within the step is the link; otherwise the change is flagged "global" with its evidence.
+stick onset located within the step is the link (a period-2m branch folding, or turning into, where it is a period-m orbit
+traversed twice is the birth at that orbit's period doubling: :func:`half_gaps`, :func:`collapse`); otherwise the change is flagged "global" with
+its evidence.
 """
 from __future__ import annotations
 
@@ -18,10 +20,11 @@ import numpy as np
 
 from maps.hybrid import HybridState
 
+from ..orbits.special_points import BIRTH_MISMATCH, BIRTH_NOTE
 from ..storage.schema import SPECIAL_KINDS
 from .identify import distance
 
-__all__ = ["match", "link_event"]
+__all__ = ["match", "link_event", "half_gaps", "collapse"]
 
 
 def alike(a, b) -> bool:
@@ -65,15 +68,57 @@ def link_event(pb, param: str, a, here: float, there: float, tol: float = 1e-10)
     except Exception as exc:     # noqa: BLE001 - the evidence is the failure itself
         return "global", f"its branch could not be continued from {here:g} ({type(exc).__name__}: {exc})"
     lo, hi = min(here, there), max(here, there)
-    for k, v in zip(br.special_kind.values, br.special_value.values):
+    gaps = half_gaps(br, pb.system.state_names, a.period)
+    for k, v, at in zip(br.special_kind.values, br.special_value.values, br.special_point.values):
         kind = SPECIAL_KINDS[int(k)] if k >= 0 else ""
         if kind in LOCAL and lo - 1e-12 <= v <= hi + 1e-12:
+            if kind == "fold" and gaps is not None and gaps[int(at)] < BIRTH_MISMATCH:
+                return "period_doubling", (f"period_doubling: the period-{a.period} branch continued from {here:g} "
+                                           f"folds at {param} = {v:.10g} where it nearly repeats after {a.period // 2} "
+                                           f"periods (half-period mismatch {gaps[int(at)]:.2g} of the state): "
+                                           f"{BIRTH_NOTE} of a period-{a.period // 2} orbit")
             return kind, f"{kind} located at {param} = {v:.10g} on the branch continued from {here:g}"
+    halved = collapse(gaps, br[param].values)
+    if halved is not None and lo - 1e-12 <= min(halved) and max(halved) <= hi + 1e-12:
+        return "period_doubling", (f"period_doubling bracketed in {param} = {halved[0]:.10g} to {halved[1]:.10g}: the "
+                                   f"period-{a.period} branch continued from {here:g} becomes a period-{a.period // 2} "
+                                   f"orbit traversed twice there (born or lost at that orbit's period doubling)")
     mu = a.max_multiplier
     reason = br.attrs.get("branch_stop_reasons", "")
     return "global", (f"no fold, period doubling, torus, grazing or stick onset on its branch between {here:g} and "
                       f"{there:g} (largest |multiplier| {mu:.3g} at {here:g}; branch: {reason}): a crisis or a "
                       f"basin-boundary collision")
+
+
+def half_gaps(br, names, period: int):
+    """Per branch point, max over nodes j and states of |y_j - y_j+m| / that state's largest magnitude on the orbit,
+    m = period / 2 (0: a period-m orbit traversed twice; as :func:`bifurc.orbits.special_points.half_period_mismatch`);
+    None for an odd period or a branch storing fewer nodes."""
+    if period % 2 or "node" not in br.dims or br.sizes["node"] < period:
+        return None
+    m = period // 2
+    X = np.stack([np.asarray(br[n].values, dtype=float)[:, :period] for n in names], axis=-1)   # point, node, state
+    scale = np.nanmax(np.abs(X), axis=1, keepdims=True)
+    scale[~(scale > 0)] = 1.0
+    return np.nanmax(np.abs(X[:, :m] - X[:, m:]) / scale[:, :, :], axis=(1, 2))
+
+
+#: half-period mismatch (:func:`half_gaps`) below which a period-2m orbit is a period-m orbit traversed twice (Newton
+#: converges to 1e-10)
+HALVED = 1e-6
+
+
+def collapse(gaps, values) -> tuple[float, float] | None:
+    """The parameter interval between two consecutive branch points (``values``) over which a period-2m branch
+    turns into a period-m orbit traversed twice (its :func:`half_gaps` ``gaps`` fall below :data:`HALVED`): the
+    branch passed through the period doubling that bore it onto the doubled parent (pseudo-arclength continuation
+    can cross that branch point with neither a fold nor a period-doubling test firing), or None."""
+    if gaps is None:
+        return None
+    for i in range(1, len(gaps)):
+        if gaps[i - 1] > HALVED >= gaps[i]:
+            return float(values[i - 1]), float(values[i])
+    return None
 
 
 def nan_if_none(x) -> float:

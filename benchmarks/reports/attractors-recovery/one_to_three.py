@@ -1,5 +1,7 @@
 """The census' period-1, 3-impact orbit of thesis-1dof (`measured`, 10 Hz) at 158 V continued by Newton in 0.5 V
-steps up to 175 V and down to 140 V, its multipliers printed (why the recovery benchmark misses 1:3 at 159-174 V).
+steps up to 175 V and down to 140 V, its multipliers printed: where it loses stability, beside the thesis-orbits
+study's 1:3 orbit "stable in [140.31062 (period doubling), 174.49314 (period doubling)]".  Under the scene's default
+preset (before 2026-11-26 15:00) it period-doubled at 158.5-159 V: another model's orbit.
 
     python benchmarks/reports/attractors-recovery/one_to_three.py > one_to_three.txt
 """
