@@ -154,7 +154,7 @@ def _follow(smap, param, values, fresh, grid, s, match_threshold, link):
         smap.set_params(**{param: float(v)})
         found = seeded[i]
         periods.extend(fresh[i].spent)
-        ids, n_ids = _assign(prev, found, grid, smap.forcing_period_steps, match_threshold, n_ids)
+        ids, n_ids = _assign(prev, found, grid, smap, match_threshold, n_ids)
         here = {ids[j]: a for j, a in enumerate(found)}
         if i and link:
             links += _changes(values[i - 1], v, prev, here, i)
@@ -203,10 +203,10 @@ def _fresh(job, values, workers, scheduler, path, progress):
     return [done[i] for i in range(len(values))], workers, len(values) - missing.size, parts
 
 
-def _assign(prev: dict, found: list, grid, q, threshold, n_ids) -> tuple[list, int]:
-    """Global ids of ``found``: the matched previous attractor's id, else a new one."""
+def _assign(prev: dict, found: list, grid, smap, threshold, n_ids) -> tuple[list, int]:
+    """Global ids of ``found`` (at ``smap``'s value): the matched previous attractor's id, else a new one."""
     keys = list(prev)
-    pairs = match([prev[k] for k in keys], found, grid, q, threshold)
+    pairs = match([prev[k] for k in keys], found, grid, smap.forcing_period_steps, threshold, smap=smap)
     ids = []
     for j, a in enumerate(found):
         if j in pairs:

@@ -24,7 +24,7 @@ from ..orbits.special_points import BIRTH_MISMATCH, BIRTH_NOTE
 from ..storage.schema import SPECIAL_KINDS
 from .identify import distance
 
-__all__ = ["match", "link_event", "half_gaps", "collapse"]
+__all__ = ["match", "continues", "link_event", "half_gaps", "collapse"]
 
 
 def alike(a, b) -> bool:
@@ -35,17 +35,40 @@ def alike(a, b) -> bool:
     return not a.periodic or a.period == b.period
 
 
-def match(prev: list, cur: list, grid, q: int = 1, threshold: float = 20.0) -> dict:
+def match(prev: list, cur: list, grid, q: int = 1, threshold: float = 20.0, smap=None) -> dict:
     """{index in ``cur``: (index in ``prev``, distance [cells])} for the matched pairs: like with like only
-    (:func:`alike`), periodic orbits by their polished nodes' distance at the best phase."""
+    (:func:`alike`), periodic orbits by their polished nodes' distance at the best phase.  With ``smap`` (the map at
+    ``cur``'s value) two periodic orbits whose impact counts differ are paired only if the earlier one, corrected
+    by Newton at this value, is the later one (:func:`continues`): an impact gained at a grazing keeps the orbit,
+    while an orbit lost beside another of its period must not be read as turning into it."""
     pairs = sorted((distance(a, b, grid, q), i, j) for j, a in enumerate(prev) for i, b in enumerate(cur)
                    if alike(a, b))
     out, used = {}, set()
     for d, i, j in pairs:
-        if d <= threshold and i not in out and j not in used:
+        if d <= threshold and i not in out and j not in used and (
+                smap is None or not prev[j].periodic or prev[j].impacts == cur[i].impacts
+                or continues(smap, prev[j], cur[i], q)):
             out[i] = (j, d)
             used.add(j)
     return out
+
+
+def continues(smap, a, b, q: int = 1) -> bool:
+    """Whether the periodic orbit ``a`` (polished at the previous value), corrected by Newton on ``smap`` (this
+    value), is the orbit ``b`` (:func:`.identify.same_orbit`); True where Newton does not converge from ``a``'s
+    nodes (a grazing between the values changes its transitions: the distance decides then)."""
+    from types import SimpleNamespace
+
+    from ..orbits.periodic import OrbitNotFound, find_periodic_orbit
+    from .identify import same_orbit
+    nodes = [HybridState(np.asarray(a.points[k], dtype=float), dict(a.flags[k]) if a.flags and a.flags[k] else None)
+             for k in range(a.period)]
+    try:
+        po = find_periodic_orbit(smap, nodes, a.period, k0=a.k0, tol=1e-10)
+    except OrbitNotFound:
+        return True
+    got = SimpleNamespace(period=a.period, k0=po.k0, points=np.array([np.asarray(n.y, dtype=float) for n in po.nodes]))
+    return same_orbit(got, b, q)
 
 
 #: special points of a branch that can create or destroy an attractor
