@@ -5,12 +5,13 @@ Each value is seeded with the neighbouring values' periodic attractors (one star
 basin fractions; a sweep up the values, then one back down) besides the fresh starts; an attractor is matched to the
 nearest one of the previous value within ``threshold`` grid cells (:func:`.identify.distance`), like with like
 only (a periodic orbit to an orbit of its period, by their polished nodes; a chaotic set to a set, never to an
-orbit), greedily by distance, as Attractors.jl's matching by state-space distance.  An attractor left
-unmatched appeared or disappeared: its periodic orbit is continued across the step by
-:func:`bifurc.orbits.branch.continue_orbit`, and a fold, period doubling, Neimark-Sacker point, grazing or
-stick onset located within the step is the link (a period-2m branch folding, or turning into, where it is a period-m orbit
-traversed twice is the birth at that orbit's period doubling: :func:`half_gaps`, :func:`collapse`); otherwise the change is flagged "global" with
-its evidence.
+orbit), greedily by distance, as Attractors.jl's matching by state-space distance; two orbits whose impact counts
+differ only if Newton from the earlier one at the new value lands on the later one (:func:`continues`).  An
+attractor left unmatched appeared or disappeared: its periodic orbit is continued across the step by
+:func:`bifurc.orbits.branch.continue_orbit`, and a fold, period doubling, Neimark-Sacker point, grazing or stick
+onset located within the step is the link (a period-2m branch folding at, or turning into, a period-m orbit
+traversed twice is the birth at that orbit's period doubling: :func:`half_gaps`, :func:`collapse`); otherwise the
+change is flagged "global" with its evidence.
 """
 from __future__ import annotations
 
