@@ -283,10 +283,10 @@ def _period_two(nodes, impacts):
 
 def test_an_orbit_lost_beside_another_of_its_period_is_not_matched_to_it():
     """thesis-1dof (`matlab-listing`, `measured`, 10 Hz): the census' 2:4 orbit at 211.0 V and its 2:6 orbit at
-    211.5 V (nodes to 16 digits from the 281-value census) lie 11.7 grid cells apart, within the 20-cell matching
-    threshold.  The thesis-orbits study locates the 2:4 orbit's period doubling at 211.49133 V: at 211.5 V that
-    orbit, corrected by Newton, still has 4 impacts and a multiplier above 1, so it is not the 2:6 orbit and the two
-    must not be matched (they were: the census saw no change across the step)."""
+    211.5 V (nodes to 16 digits from the 281-value census) lie 11.7 grid cells apart, and another 2:4 orbit at
+    211.5 V 13.1 cells, within the 20-cell matching threshold.  The thesis-orbits study locates the 2:4 orbit's period doubling at 211.49133 V: at 211.5 V that
+    orbit, corrected by Newton, still has 4 impacts and a multiplier above 1, so it is neither of them and must not
+    be matched to either (it was, to each in turn: the census saw no change across the step)."""
     from bifurc.attractors.follow import match
     from bifurc.attractors.identify import Grid
     from bifurc.attractors.starts import make_starts
@@ -306,6 +306,11 @@ def test_an_orbit_lost_beside_another_of_its_period_is_not_matched_to_it():
                      100, pb.state_vector())
     assert match([lost], [there], grid)[0][1] == pytest.approx(11.675, abs=1e-3)     # by distance alone: a pair
     assert match([lost], [there], grid, smap=smap) == {}
+    other = _period_two([[0.008399976466344487, 0.029242985205618636, -0.19752201997678004, 28.816496998811473],
+                         [0.003773606786031242, 0.08733261541249156, -0.21232631316070308, 28.998784577364347]], 4)
+    assert match([lost], [other], grid)[0][1] == pytest.approx(13.086, abs=1e-3)     # another 2:4 orbit, 13 cells
+    assert match([lost], [other], grid, smap=smap) == {}
+    assert match([other], [other], grid, smap=smap) == {0: (0, 0.0)}                # an orbit is itself
 
 
 def test_netcdf_round_trip_is_lossless(oscillator_census, tmp_path):

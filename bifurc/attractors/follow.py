@@ -6,7 +6,8 @@ basin fractions; a sweep up the values, then one back down) besides the fresh st
 nearest one of the previous value within ``threshold`` grid cells (:func:`.identify.distance`), like with like
 only (a periodic orbit to an orbit of its period, by their polished nodes; a chaotic set to a set, never to an
 orbit), greedily by distance, as Attractors.jl's matching by state-space distance; two orbits whose impact counts
-differ only if Newton from the earlier one at the new value lands on the later one (:func:`continues`).  An
+differ or that lie more than a cell apart only if Newton from the earlier one at the new value lands on the later
+one (:func:`continues`).  An
 attractor left unmatched appeared or disappeared: its periodic orbit is continued across the step by
 :func:`bifurc.orbits.branch.continue_orbit`, and a fold, period doubling, Neimark-Sacker point, grazing or stick
 onset located within the step is the link (a period-2m branch folding at, or turning into, a period-m orbit
@@ -39,19 +40,26 @@ def alike(a, b) -> bool:
 def match(prev: list, cur: list, grid, q: int = 1, threshold: float = 20.0, smap=None) -> dict:
     """{index in ``cur``: (index in ``prev``, distance [cells])} for the matched pairs: like with like only
     (:func:`alike`), periodic orbits by their polished nodes' distance at the best phase.  With ``smap`` (the map at
-    ``cur``'s value) two periodic orbits whose impact counts differ are paired only if the earlier one, corrected
-    by Newton at this value, is the later one (:func:`continues`): an impact gained at a grazing keeps the orbit,
-    while an orbit lost beside another of its period must not be read as turning into it."""
+    ``cur``'s value) two periodic orbits whose impact counts differ or that lie more than :data:`CONFIRM` cells
+    apart are paired only if the earlier one, corrected by Newton at this value, is the later one
+    (:func:`continues`): an impact gained at a grazing keeps the orbit, while an orbit lost beside another of its
+    period must not be read as turning into it."""
     pairs = sorted((distance(a, b, grid, q), i, j) for j, a in enumerate(prev) for i, b in enumerate(cur)
                    if alike(a, b))
     out, used = {}, set()
     for d, i, j in pairs:
         if d <= threshold and i not in out and j not in used and (
-                smap is None or not prev[j].periodic or prev[j].impacts == cur[i].impacts
+                smap is None or not prev[j].periodic or (prev[j].impacts == cur[i].impacts and d <= CONFIRM)
                 or continues(smap, prev[j], cur[i], q)):
             out[i] = (j, d)
             used.add(j)
     return out
+
+
+#: grid cells beyond which a periodic pair is confirmed by Newton (:func:`continues`): an orbit continued over a
+#: 0.5 V step of thesis-1dof moves 0.03-0.5 cells; at 211-211.5 V a 2:4 orbit lost at its period doubling lay 13.1
+#: cells from another 2:4 orbit
+CONFIRM = 1.0
 
 
 def continues(smap, a, b, q: int = 1) -> bool:
