@@ -22,7 +22,7 @@ import numpy as np
 
 from maps.hybrid import HybridState
 
-from ..orbits.special_points import BIRTH_MISMATCH, BIRTH_NOTE
+from ..orbits.special_points import BIRTH_MISMATCH, BIRTH_NOTE, nodes_mismatch
 from ..storage.schema import SPECIAL_KINDS
 from .identify import distance
 
@@ -123,16 +123,13 @@ def link_event(pb, param: str, a, here: float, there: float, tol: float = 1e-10)
 
 
 def half_gaps(br, names, period: int):
-    """Per branch point, max over nodes j and states of |y_j - y_j+m| / that state's largest magnitude on the orbit,
-    m = period / 2 (0: a period-m orbit traversed twice; as :func:`bifurc.orbits.special_points.half_period_mismatch`);
+    """Per point of the branch dataset ``br``, the half-period mismatch of its orbit
+    (:func:`bifurc.orbits.special_points.nodes_mismatch`: 0 for a period-m orbit traversed twice, m = period / 2);
     None for an odd period or a branch storing fewer nodes."""
     if period % 2 or "node" not in br.dims or br.sizes["node"] < period:
         return None
-    m = period // 2
     X = np.stack([np.asarray(br[n].values, dtype=float)[:, :period] for n in names], axis=-1)   # point, node, state
-    scale = np.nanmax(np.abs(X), axis=1, keepdims=True)
-    scale[~(scale > 0)] = 1.0
-    return np.nanmax(np.abs(X[:, :m] - X[:, m:]) / scale[:, :, :], axis=(1, 2))
+    return np.array([nodes_mismatch(Y) for Y in X])
 
 
 #: half-period mismatch (:func:`half_gaps`) below which a period-2m orbit is a period-m orbit traversed twice (Newton

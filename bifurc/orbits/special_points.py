@@ -139,10 +139,14 @@ BIRTH_MISMATCH = 0.3
 def half_period_mismatch(pt: BranchPoint) -> float:
     """max_j,i |y_j,i - y_j+m,i| / max_j |y_j,i| over the nodes y_j of an orbit of even period 2m
     (0: the orbit repeats after m periods, a period-m orbit taken twice); NaN for an odd period."""
-    n = len(pt.nodes)
+    return nodes_mismatch(np.array([np.asarray(s.y, dtype=float) for s in pt.nodes]))
+
+
+def nodes_mismatch(Y) -> float:
+    """:func:`half_period_mismatch` of an orbit's nodes given as an array (period x states)."""
+    n = len(Y)
     if n < 2 or n % 2:
         return math.nan
-    Y = np.array([np.asarray(s.y, dtype=float) for s in pt.nodes])
     scale = np.max(np.abs(Y), axis=0)
     scale[scale == 0] = 1.0
     return float(np.max(np.abs(Y[:n // 2] - Y[n // 2:]) / scale))
