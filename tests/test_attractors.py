@@ -671,3 +671,68 @@ def test_undamped_motion_is_neutral_not_an_attractor(oscillator_census):
     assert labels == list(OUTCOMES) and float(ds.basin_fraction.values[0, labels.index("neutral")]) == 1.0
     damped = list(oscillator_census.attractor_label.values).index("neutral")
     assert float(oscillator_census.basin_fraction.values[0, damped]) == 0.0
+
+
+OUTCOMES_NAMES = {k: n for n, k in OUTCOMES.items()}
+
+#: thesis-1dof box starts (x [m], v [m/s]; circuit at rest) that wander over the stop for hundreds to thousands of
+#: relay periods at 136 V (`matlab-listing`, `measured`, 10 Hz) beside the stable state at rest
+WANDERERS = [[0.026565608001298403, -1.1604775198607329], [0.0049352179942230385, 1.2459248058459256],
+             [0.004471440701121376, 0.8357411043837364], [0.018757844532453202, 0.9827854915776313],
+             [0.010880905711735452, -0.34795374452607053]]
+
+
+def test_a_start_counts_for_an_orbit_only_where_its_own_path_settles_there():
+    """thesis-1dof (`matlab-listing`, `measured`, 10 Hz) at 136 V: beside a start at rest on the stop (the state at
+    rest, multiplier 0.10), five box starts that wander over the stop.  The census on grids of 100 and 200 cells per
+    side gives every start the same outcome (its path, chunks of 40 periods from its start, does not depend on the
+    census' records or grid), and every start it counts for a periodic orbit is on it: its path continued 120
+    periods past the count stays within 1e-6 of each state's scale of the orbit's nodes.  (Counted from a chance
+    halving of its distance to the state at rest, or from Newton run on a record beside its path, two of these
+    starts were "at rest" on one grid and not on the other while their paths still wandered 1.5 mm over the stop.)"""
+    from bifurc.attractors.census import Settings, census_at
+    from bifurc.attractors.identify import Grid
+    from bifurc.sweeps.classify import state_scale
+    from maps.poincare import StroboscopicMap
+    pb = maps.problem("thesis-1dof", preset="matlab-listing", params={"relay_hz": 10.0, "V": 136.0},
+                      dc_law="measured")
+    smap = StroboscopicMap(pb, tol=1e-10)
+    starts = [np.array([0.0, 0.0, -0.139, 16.66])] + [np.array([x, v, 0.0, 0.0]) for x, v in WANDERERS]
+    got = {}
+    for cells in (100, 200):
+        grid = Grid.over({"x": (0.0, 0.03), "v": (-1.5, 1.5)}, pb.system, cells, pb.state_vector())
+        out, found, spent = census_at(smap, starts, grid, Settings(max_periods=1200))
+        got[cells] = [OUTCOMES_NAMES.get(o) or found[o].label() for o in out]
+        for s0, o, n in zip(starts, out, spent):
+            if o < 0 or not found[o].periodic:
+                continue
+            state, k = s0, 0
+            while k < n + 120:               # the census' path: chunks of 40 periods
+                path = smap.orbits([{}], [state], 40, k0=[k], batch_size=4, events=False)[0]
+                state, k = path.final, k + 40
+            a = found[o]
+            tol = 1e-6 * state_scale(path.points, 1e-9) + 1e-9
+            near = np.min(np.max(np.abs(path.points[:, None, :] - a.points[None, :a.period, :]) / tol, axis=2), axis=1)
+            assert np.all(near <= 1.0), (cells, got[cells])
+    assert got[100] == got[200], got
+    assert got[100][0] == "period-1, no impact"
+
+
+def test_approaching_is_half_the_contraction_of_the_orbits_multiplier():
+    """A fixed point x* with multiplier mu = 0.1 and trajectories x* + rho^k (1, 1) over 11 points: the distance
+    shrinks by rho^10 (above the 1e-6 cells taken as there), half the orbit's contraction mu^(10/2) is reached for
+    rho <= sqrt(0.1) = 0.3162; so rho = 0.31 approaches, rho = 0.33 does not (though it halves twice within the
+    points: the old test).  With mu
+    unknown (NaN: not polished) any trajectory passes; one already within 1e-6 cells passes whatever mu."""
+    from bifurc.attractors.identify import Attractor, Grid, approaching, converging
+    from bifurc.codes import ClassCode
+    grid = Grid(np.zeros(2), np.ones(2))
+    a = Attractor(int(ClassCode.PERIODIC), 1, max_multiplier=0.1, points=np.array([[5.0, 5.0]]))
+    k = np.arange(11)[:, None]
+    path = lambda rho, c=1.0: np.array([5.0, 5.0]) + c * rho ** k * np.ones(2)  # noqa: E731
+    assert approaching(path(0.31), a, grid) and converging(path(0.31), a, grid)
+    assert not approaching(path(0.33), a, grid) and not converging(path(0.33), a, grid)
+    assert 0.33 ** 5 < 0.25 and 0.33 ** 10 > 1e-6     # it halves twice, and is not yet there
+    unknown = Attractor(int(ClassCode.PERIODIC), 1, points=np.array([[5.0, 5.0]]))
+    assert approaching(path(0.33), unknown, grid)
+    assert approaching(path(0.99, 1e-7), a, grid) and not approaching(path(0.99), a, grid)

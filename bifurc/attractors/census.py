@@ -10,7 +10,11 @@ repeats with a period is identified at once (a known periodic orbit, or Newton: 
 one that recurs without a period, the chunk sharing cells with a known non-periodic attractor counts for it
 (one exponent per set, not per start); one on a known chaotic saddle runs on (there Newton is tried only where
 the chunk contracts, :func:`.identify.contracting`: the saddle's near returns are chance); the rest are recorded
-``locate`` periods with a tangent vector and classified (:mod:`bifurc.sweeps.classify`). A new non-periodic set is
+``locate`` periods with a tangent vector and classified (:mod:`bifurc.sweeps.classify`). A start's path is its
+chunks from its start, whatever the census decides: a record runs beside it (its tangent vector changes the step
+sizes, and on a chaotic saddle a start's fate hangs on such differences: thesis-1dof at 136 V, 44 of 200 outcomes
+differed between grids of 100 and 200 cells per side while records placed by the grid were part of the paths), and
+a periodic orbit a record finds counts a start only once its own path lands there. A new non-periodic set is
 an attractor only if its mean lifetime, estimated from perturbed copies started on it, surely exceeds ``persist``
 periods (:func:`_persists`, :mod:`.lifetime`); else it is a chaotic saddle or a long-lived chaotic transient (its
 lifetime stored on it), and its starts run on to where they settle.  So whether a start ends chaotic, periodic
@@ -29,8 +33,8 @@ from maps.hybrid import HybridState
 
 from ..sweeps.classify import candidate_periods
 from .lifetime import Lifetime, estimate_lifetime, periodic_tail
-from .identify import (Attractor, Grid, area_rate, contracting, converging, from_chunk, identify, near_periods,
-                       no_contraction, polish_once, same_attractor, same_orbit)
+from .identify import (Attractor, Grid, approaching, area_rate, contracting, converging, from_chunk, identify,
+                       near_periods, no_contraction, polish_once, same_attractor, same_orbit)
 
 __all__ = ["Settings", "Track", "Memory", "census_at", "OUTCOMES"]
 
@@ -174,13 +178,16 @@ def _landing_checked(smap, t: Track, found: list, owner: dict, grid, s: Settings
     """A start landed in a periodic orbit's cells without approaching it geometrically: passing by (it runs on),
     unless its whole chunk stayed in those cells; then Newton from its chunk decides: another stable orbit
     close to it (registered: thesis-1dof at 94 V, a 1:6 orbit within a cell of 100 per side of the state at
-    rest), else the orbit it landed on (a slow or chattering approach: at 115 V, chattering on the stop)."""
+    rest), else the orbit it landed on (a slow or chattering approach: at 115 V, chattering on the stop) if the
+    chunk approaches it at its multipliers' rate (:func:`.identify.approaching`), else it runs on."""
     aid = t.outcome
     t.outcome, t.land, t.land_id = None, 0, -1
     if not all(owner.get(key) == aid for key in t.last_keys):
         return
     got = polish_once(smap, t.last, t.k - s.chunk, found[aid].period, grid, s.newton_tol, 1e-6, 1e-9, mem.tried)
-    if got is None or same_orbit(got, found[aid], smap.forcing_period_steps):
+    if got is None:
+        t.outcome = aid if approaching(t.last.points, found[aid], grid) else None
+    elif same_orbit(got, found[aid], smap.forcing_period_steps):
         t.outcome = aid
     else:
         t.outcome = _register(got, found, owner, grid, smap.forcing_period_steps)
@@ -300,8 +307,10 @@ def _sharing(keys: list, found: list, owner: dict) -> int | None:
 
 
 def _record_and_classify(smap, tracks, rest, grid, s: Settings, found: list, owner: dict, mem: Memory) -> None:
-    """Record the starts ``rest`` ``locate`` periods with a tangent vector (one batch call) and identify each
-    (:func:`.identify.identify`); an undecided one runs on, "not_converged" after ``max_tries`` records; a new
+    """Record the starts ``rest`` ``locate`` periods with a tangent vector (one batch call, beside their paths) and
+    identify each (:func:`.identify.identify`): a start on a non-periodic attractor counts for it (and its record's
+    periods for it); a periodic orbit found is registered and the start runs on from where its record began, to
+    land there along its own path; an undecided one runs on, "not_converged" after ``max_tries`` records; a new
     non-periodic set is an attractor only if it persists (:func:`_persists`), else a saddle the start runs on
     from."""
     q = smap.forcing_period_steps
@@ -316,7 +325,7 @@ def _record_and_classify(smap, tracks, rest, grid, s: Settings, found: list, own
         if _neutral(smap, o, t.k, a):
             t.outcome, t.periods = OUTCOMES["neutral"], t.periods + s.locate
             continue
-        t.state, t.k, t.periods = o.final, t.k + s.locate, t.periods + s.locate
+        # an undecided start runs on from where its record began (the record ran beside its path: :func:`census_at`)
         t.recur, t.visits = 0, set()
         if a is None:
             t.tries += 1
@@ -324,12 +333,15 @@ def _record_and_classify(smap, tracks, rest, grid, s: Settings, found: list, own
                 t.outcome = OUTCOMES["not_converged"]
                 mem.undecided.append({c for c in grid.keys(o.points) if c is not None})
             continue
-        if not a.periodic and _is_new_saddle(smap, a, o, t.k - s.locate, grid, s, found, q, mem.saddles):
+        if not a.periodic and _is_new_saddle(smap, a, o, t.k, grid, s, found, q, mem.saddles):
             t.quiet_until = t.periods + SADDLE_QUIET * s.chunk     # on a saddle: it runs on without records
             continue
-        t.outcome = _register(a, found, owner, grid, q)
-        if found[t.outcome] is a and not a.periodic and math.isnan(a.area_rate):
-            _with_area_rate(smap, a, o, t.k - s.locate)          # once per new non-periodic attractor
+        aid = _register(a, found, owner, grid, q)
+        if a.periodic:
+            continue                 # its path, not the record beside it, must land there (it runs on)
+        t.outcome, t.periods = aid, t.periods + s.locate
+        if found[aid] is a and math.isnan(a.area_rate):
+            _with_area_rate(smap, a, o, t.k)          # once per new non-periodic attractor
 
 
 def _with_area_rate(smap, a: Attractor, record, k0: int) -> Attractor:
