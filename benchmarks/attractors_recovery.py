@@ -18,9 +18,10 @@ Two counts, side by side (and with ``--link`` a third):
   census attractor of its period has every node within 1e-6 of each state's scale of the orbit's nodes, at some
   phase.
 - links (``--link``): of every fold and period doubling the branches locate inside the census' range, whether the
-  census has the stable orbit ending there at the census value beside it (by state) and marks its appearance or
-  disappearance across the step linked to that kind of event (a fold where the branch is a period-m orbit taken
-  twice is the birth at that orbit's period doubling: linked as a period doubling).
+  census has the stable orbit ending there at the census value beside it (by state) and marks an appearance or
+  disappearance across the step linked to that kind of event located within 1e-4 V of it (a fold where the branch
+  is a period-m orbit taken twice is the birth at that orbit's period doubling: linked as a period doubling; before
+  2026-11-26 18:00 the kind alone was compared).
 
 The census (V in 80-220 V, box x=0:0.03, v=-1.5:1.5, seed 1) gets no orbit from continuation: only its random starts
 and the seeding with the previous value's attractors.  Both use the thesis-orbits study's preset (`matlab-listing`):
@@ -161,9 +162,27 @@ def links(ds, bs, orbits, values, names, n_att) -> list:
         said = [str(ds.event_link.values[r, j]) for r in (i - 1, i) if int(ds.event.values[r, j])]
         if kind == "fold" and _birth(bs[b], sp, names):
             kind = "period_doubling"          # the daughter's branch folds where it is its parent taken twice
-        out.append((kind, value, "linked" if kind in said else
-                    f"census attractor {j} at {values[side]:g} V: " + (", ".join(said) or "no event across the step")))
+        named = [e for r in (i - 1, i) for jj in range(n_att) if int(ds.event.values[r, jj])
+                 for e in _named(str(ds.event_link.values[r, jj]), str(ds.event_evidence.values[r, jj]))]
+        hit = any(k == kind and lo - TOL_V <= value <= hi + TOL_V for k, lo, hi in named)
+        out.append((kind, value, "linked" if hit else f"census attractor {j} at {values[side]:g} V: "
+                    + (", ".join(said) or "no event across the step")))
     return out
+
+
+#: how far [V] a located event may lie from the one the census names (both located by Newton to 1e-8 or better)
+TOL_V = 1e-4
+
+
+def _named(link: str, evidence: str) -> list:
+    """The located event a census change is linked to: [(kind, low, high)], a value or a bracket "in V = a to b"
+    read from its evidence (none for "global")."""
+    bracket = re.search(r"bracketed in V = ([-\d.e+]+) to ([-\d.e+]+)", evidence)
+    at = re.search(r"V = ([-\d.e+]+)", evidence)
+    if link == "global" or not (bracket or at):
+        return []
+    return [(link, float(bracket.group(1)), float(bracket.group(2))) if bracket else
+            (link, float(at.group(1)), float(at.group(1)))]
 
 
 def _birth(br, point: int, names) -> bool:

@@ -736,3 +736,23 @@ def test_approaching_is_half_the_contraction_of_the_orbits_multiplier():
     unknown = Attractor(int(ClassCode.PERIODIC), 1, points=np.array([[5.0, 5.0]]))
     assert approaching(path(0.33), unknown, grid)
     assert approaching(path(0.99, 1e-7), a, grid) and not approaching(path(0.99), a, grid)
+
+
+def test_newton_at_a_multiple_of_the_period_gives_the_orbit_at_its_least_period():
+    """The logistic map as a kicked flow at r = 3.2: Newton at period 4 from a record on the stable 2-cycle converges
+    to the 2-cycle traversed twice; the census' polish returns it at period 2: its nodes the closed form
+    (r + 1 +- sqrt((r - 3)(r + 1))) / (2 r) to 1e-9 and its largest multiplier |r^2 (1 - 2 x1)(1 - 2 x2)| =
+    |-r^2 + 2 r + 4| = 0.16 (not its square, the period-4 product).  (thesis-1dof at 164 V: the 1:1 orbit
+    traversed twice was listed as a 2:2 attractor beside it.)"""
+    from bifurc.attractors.identify import Grid, _polish
+    from maps.poincare import StroboscopicMap
+    r = 3.2
+    smap = StroboscopicMap(maps.problem(KICKED, params={"r": r}), tol=1e-12)
+    state = smap.orbits([{}], [np.array([0.3, 0.0])], 400)[0].final
+    record = smap.orbits([{}], [state], 48, k0=[400])[0]
+    grid = Grid(np.array([0.0, -1.0]), np.array([0.01, np.inf]))
+    a = _polish(smap, record, 400, 4, grid, 1e-10, 1e-6, 1e-9)
+    cycle = (r + 1 + np.array([1.0, -1.0]) * math.sqrt((r - 3) * (r + 1))) / (2 * r)
+    assert a.period == 2 and len(a.points) == 2
+    assert np.allclose(np.sort(a.points[:, 0]), np.sort(cycle), atol=1e-9, rtol=0)
+    assert a.max_multiplier == pytest.approx(abs(-r * r + 2 * r + 4), abs=1e-7)
