@@ -118,8 +118,8 @@ def census_at(smap, starts: list, grid: Grid, settings: Settings, *, k0=0,
               memory: Memory | None = None) -> tuple[list, list[Attractor], list]:
     """Follow ``starts`` (states or HybridStates, from sample ``k0``: an int or one per start) under
     ``smap``'s parameters; returns (outcome per start: an attractor's index in
-    the list returned, or an :data:`OUTCOMES` id; the attractors found; the strobe periods each start was
-    integrated).  The chunks run as a bare ensemble (strobe points only, ``events=False``); a start that recurs
+    the list returned, or an :data:`OUTCOMES` id; the attractors found; the strobe periods of each start's path,
+    records run beside it not counted).  The chunks run as a bare ensemble (strobe points only, ``events=False``); a start that recurs
     is identified from its last chunk: by a known periodic attractor within two cells, else by Newton (once per
     distinct attractor), else by a record with a tangent vector (chaotic and quasi-periodic sets).  ``memory``
     (a :class:`Memory`, filled) shows what else was learnt: the saddles and long-lived transients with their

@@ -148,8 +148,8 @@ def approaching(points, a: Attractor, grid: Grid) -> bool:
     |multiplier| mu: the largest distance [cells] of their last period to its nodes is at most mu^(m/2) times that
     of their first, m the orbit's periods between the two, or below 1e-6 cells (True where mu is unknown: an orbit
     Newton did not polish).  On thesis-1dof at 136 V starts wandering over the stop for 2000 periods halved their
-    distance to the state at rest (mu 0.10) twice within a chunk by chance, or recurred beside it so that Newton
-    from their record converged to it: 44 of 200 outcomes differed between grids of 100 and 200 cells per side."""
+    distance to the state at rest (mu 0.10) twice within a chunk by chance: 10 of 200 outcomes differed between
+    grids of 100 and 200 cells per side for it."""
     d = _node_distances(points, a, grid, 2)
     if d is None:
         return False
@@ -381,11 +381,10 @@ def _polish(smap, orbit, k0, n, grid, tol, rtol, atol) -> Attractor | None:
 
 
 def _least_period(nodes, q: int, rtol: float, atol: float) -> int:
-    """The least d dividing the node count n (a multiple of the forcing's ``q`` samples) such that the nodes repeat
-    after d, each state within ``rtol`` of its
-    scale (plus ``atol``), as :func:`same_orbit` compares orbits (n itself if none): thesis-1dof at 164 V, Newton at
-    period 2 from a start settling on the 1:1 orbit converged to that orbit traversed twice, and the census listed a
-    2:2 attractor beside it."""
+    """The least d dividing the node count n (a multiple of the forcing's ``q`` samples) after which the nodes
+    repeat, each state within ``rtol`` of its scale (plus ``atol``) as :func:`same_orbit` compares orbits (n itself
+    if none): thesis-1dof at 164 V, Newton at period 2 from a start settling on the 1:1 orbit converged to that orbit
+    traversed twice, and the census listed a 2:2 attractor beside it."""
     n = len(nodes)
     tol = rtol * state_scale(nodes, atol) + atol
     return next(d for d in range(1, n + 1) if n % d == 0 and d % q == 0
