@@ -229,13 +229,13 @@ def _changes(before, now, prev: dict, here: dict, i: int) -> list:
 def _link_all(pb, param, links: list, tol: float, workers: int) -> dict:
     """{(value index, id): (what, kind, evidence)}: each change linked by continuing its orbit
     (:func:`.follow.link_event`), on ``workers`` processes when there are several (each link is independent)."""
-    from ..sweeps.executor import WorkerPool, submit_all
+    from ..sweeps.executor import WorkerPool, result_of, submit_all
     tasks = [(1.0, link_event, (pb, param, a, here, there, tol)) for _, _, a, here, there in links]
     periodic = sum(a.periodic for _, _, a, _, _ in links)
     from ..sweeps.sweep import travels
     if workers > 1 and periodic > 1 and travels(pb):
         with WorkerPool(None, min(workers, periodic)) as pool:
-            got = [f.result() for f in submit_all(tasks, pool)]
+            got = [result_of(f) for f in submit_all(tasks, pool)]
     else:
         got = [f.result() for f in submit_all(tasks)]
     return {key: (what, kind, why) for (key, what, *_), (kind, why) in zip(links, got)}

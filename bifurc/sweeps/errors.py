@@ -16,7 +16,7 @@ from maps.hybrid import HybridState
 
 from .classify import state_scale
 from ..codes import Status
-from .executor import submit_all, timed
+from .executor import result_of, submit_all, timed
 
 __all__ = ["error_estimate", "ErrorEstimate", "map_step_error"]
 
@@ -93,7 +93,7 @@ class ErrorEstimate:
     def result(self, futures) -> dict:
         """The keywords of :func:`bifurc.sweeps.dataset.add_error_estimate` from the tasks' Futures;
         ``seconds``: the tasks' run times summed."""
-        outputs = [f.result() for f in futures]
+        outputs = [result_of(f) for f in futures]
         seconds = sum(s for _, s in outputs)
         n = len(outputs) - len(self.idx)            # the re-runs' tasks, then one map step task per value
         reruns = outputs[0][0] if self.branch == "independent" and n else [out[0] for out, _ in outputs[:n]]

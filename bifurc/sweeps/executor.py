@@ -25,8 +25,8 @@ import numpy as np
 
 from maps.parameters import ParameterError
 
-__all__ = ["map_values", "WorkerPool", "MainGuardError", "submit_all", "timed", "chunks_of", "guided_chunks", "available_cores",
-           "default_workers", "MIN_VALUES_PER_WORKER"]
+__all__ = ["map_values", "WorkerPool", "MainGuardError", "submit_all", "result_of", "timed", "chunks_of", "guided_chunks",
+           "available_cores", "default_workers", "MIN_VALUES_PER_WORKER"]
 
 #: a worker process pays its start and one compilation (~1-2 s) before it helps: below this many
 #: values per worker the default stays in this process
@@ -173,7 +173,7 @@ class WorkerPool:
                 a, b = pending.pop()
                 running[self.submit(_run_chunk, self.job, values[a:b])] = a
                 self._seen.update(getattr(self._pool, "_processes", None) or {})   # their exit codes, if the pool breaks
-            finished, _ = wait(running, return_when=FIRST_COMPLETED)
+            finished = _first_done(running)
             for fut in finished:
                 take(running.pop(fut), self._result(fut))
 
@@ -188,6 +188,27 @@ class WorkerPool:
             if GUARD_EXIT in [proc.exitcode for proc in self._seen.values()]:
                 raise MainGuardError(_guard_message()) from None
             raise
+
+
+#: seconds a wait for workers blocks before the main thread looks at signals again
+TICK = 0.2
+
+
+def _first_done(futures) -> set:
+    """The finished ones of ``futures``, once at least one is: waited for in slices of :data:`TICK` seconds.  A
+    Ctrl-C the kernel hands to one of the pool's threads is run by the main thread only when it wakes, and a wait
+    without a timeout does not wake (the diagram command ignored Ctrl-C until a chunk finished, 10 s and more on a
+    loaded machine)."""
+    while True:
+        finished, _ = wait(futures, timeout=TICK, return_when=FIRST_COMPLETED)
+        if finished:
+            return finished
+
+
+def result_of(fut):
+    """``fut.result()``, waited for as :func:`_first_done` waits (so that Ctrl-C stops the wait)."""
+    _first_done([fut])
+    return fut.result()
 
 
 def timed(fn, *args):

@@ -33,7 +33,7 @@ from maps.provenance import recorded
 
 from ..codes import Status
 from .errors import ErrorEstimate
-from .executor import WorkerPool, default_workers, map_values, submit_all
+from .executor import WorkerPool, default_workers, map_values, result_of, submit_all
 from ..storage.files import guarded_output, write_netcdf
 from .grazing import GRAZING_GAP, GRAZING_SPEED, bracket_cost, grazing_brackets, locate_bracket
 from .anytime import BUDGET
@@ -155,7 +155,7 @@ def _start_tail(results, values, job, branch, grazing, xtol, error_sample, pool)
     futures = submit_all(tasks, pool)
 
     def finish():
-        located = [(br.branch, f.result()) for br, f in zip(brackets, futures)]
+        located = [(br.branch, result_of(f)) for br, f in zip(brackets, futures)]
         return ([(b, g) for b, g in located if g is not None],
                 est.result(futures[len(brackets):]) if est else None)
     return finish
