@@ -494,6 +494,21 @@ class HybridSystem:
             self._cfuncs[key] = hy.cfunc(exprs, vars=self.sym.state_vars, compact_mode=True, **kw)
         return self._cfuncs[key]
 
+    def on_mode_set(self, y, params, flags, t: float = 0.0) -> np.ndarray:
+        """``y`` moved onto the set of its mode, where the mode has one (``mode_projections``: a bar stuck on its
+        stop sits on it at rest), else ``y``: every run starts there, as its exact Jacobian assumes (it projects
+        the perturbations onto that set).  A stuck state off the set would stay where it is, a fixed point for any
+        position: Newton from a guess moved along a branch's tangent past a stick onset (thesis-1dof, 110.8 V)
+        "converged" to the bar stuck 7 um inside the stop moving at 0.2 mm/s."""
+        for (flag, value), name in self.mode_projections.items():
+            if flags.get(flag) == value:
+                key = ("mode set", name, tuple(sorted(flags.items())))
+                if key not in self._cfuncs:
+                    rows = self.projections[name](self.sym, flags)
+                    self._cfuncs[key] = hy.cfunc(rows, vars=self.sym.state_vars, compact_mode=True)
+                return call_cfunc(self._cfuncs[key], y, self.par_vector(params, flags), t)
+        return np.asarray(y, dtype=float)
+
     def evaluate(self, names: Sequence[str], y, params, flags, t=0.0) -> np.ndarray:
         """Evaluate named outputs at one state (numpy, double precision)."""
         return call_cfunc(self.cfunc(tuple(names)), y, self.par_vector(params, flags), t)

@@ -286,3 +286,36 @@ def test_the_settle_gate_never_skips_a_settle_that_acts(scene):
         stuck_by_speed += acts and flags["stuck_bar"] == 0 and abs(rate) > 0.5 * speed
     assert acted > 20 and skipped > 50        # both sides of the gate were exercised
     assert stuck_by_speed > 10                # sticks at gap rates within a factor 2 of stick_speed
+
+
+def test_a_stuck_state_off_the_stop_starts_on_it_as_its_exact_jacobian_assumes():
+    """thesis-1dof (`matlab-listing`, `measured`, 10 Hz) at 110.85 V: the bar at rest on the stop stays stuck
+    through the relay period.  Started stuck 7 um inside the stop at 0.2 mm/s (a state no run reaches: sticking
+    puts the bar at x = e, v = 0), a map step starts it at x = e, v = 0, so the step is the same as from the stop:
+    its derivative by central differences in x and v is 0, as the exact Jacobian (perturbations projected onto the
+    stuck set) says; the step from the off-stop state equals the step from the stop to round-off (on the scalar and
+    the batch engine); and Newton from
+    the off-stop guess converges to the state at rest on the stop, not to a stuck bar left where the guess put it
+    (the stick-onset passage at 110.799 V had "converged" so: x = -7.09 um, v = 0.21 mm/s)."""
+    import maps
+    from maps.hybrid import HybridState
+    from maps.poincare import StroboscopicMap
+    from bifurc.orbits.periodic import find_periodic_orbit
+    pb = maps.problem("thesis-1dof", preset="matlab-listing", params={"relay_hz": 10.0, "V": 110.85}, dc_law="measured")
+    smap = StroboscopicMap(pb, tol=1e-12)
+    e = smap.params["e"]
+    rest = smap.step(HybridState(np.array([e, 0.0, -0.1133, 13.58]), None), 0)
+    for _ in range(30):
+        rest = smap.step(rest, 0)
+    assert rest.flags["stuck_bar"] == 1.0 and rest.y[0] == e and rest.y[1] == 0.0
+    off = HybridState(rest.y + np.array([-7.09e-6, 2.1e-4, 0.0, 0.0]), dict(rest.flags))
+    assert np.allclose(smap.step(off, 0).y, smap.step(rest, 0).y, rtol=1e-12, atol=1e-15)
+    batch = smap.orbits([{}], [off], 1, batch_size=4, events=False)[0].final      # the batch engine likewise
+    assert np.allclose(batch.y, smap.step(rest, 0).y, rtol=1e-9, atol=1e-12)
+    J = smap.linearize(rest, 0).J
+    for j, h in ((0, 1e-7), (1, 1e-5)):
+        plus = smap.step(HybridState(rest.y + h * np.eye(4)[j], dict(rest.flags)), 0).y
+        minus = smap.step(HybridState(rest.y - h * np.eye(4)[j], dict(rest.flags)), 0).y
+        assert np.allclose((plus - minus) / (2 * h), J[:, j], atol=1e-6), j
+    po = find_periodic_orbit(smap, off, 1, k0=0, tol=1e-10)
+    assert po.nodes[0].y[0] == e and po.nodes[0].y[1] == 0.0 and po.impacts_per_period == 0

@@ -217,7 +217,8 @@ class BatchEngine(Engine):
         lane.start_clock = _time.perf_counter()
         hi[j], lo[j] = t0, 0.0
         self.state[:, j] = 0.0
-        self.state[:self.n, j] = job.y0
+        self.state[:self.n, j] = system.on_mode_set(job.y0, job.params, lane.flags, t0) if system.mode_projections \
+            else job.y0
         self.pars[:, j] = system.par_vector(job.params, lane.flags) + [min(lane.t_sw, lane.t_k, _FAR), 1.0 / job.period]
         self.ta.reset_cooldowns(j)
         target[j] = job.sample_time(lane.last + 1)     # never reached: the last sample ends the lane

@@ -119,11 +119,13 @@ class HybridRun:
             flags = x0.flags if flags is None else flags
             x0 = x0.y
         y0 = system.state_vector(x0)
+        self.flags = tr.start_flags(system, t0, y0, self.params, flags)
+        if system.mode_projections:
+            y0 = system.on_mode_set(y0, self.params, self.flags, float(t0))
         self.ta.time = _fp(t0, self.fp_type)
         self._y_view[:] = np.asarray(y0, dtype=_np_dtype(self.fp_type))
         if self.ta.with_events:          # a system without guards or switches has no event
             self.ta.reset_cooldowns()
-        self.flags = tr.start_flags(system, t0, y0, self.params, flags)
         self._load_pars()
         self._start_sensitivities(t0)
         self.events = []
