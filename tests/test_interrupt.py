@@ -42,9 +42,17 @@ def _interrupt(proc, when, group=True, timeout=120):
     return time.monotonic() - sent, err
 
 
+def _as_in_a_terminal():
+    """The child's SIGINT at its default, as a terminal's foreground command has it: a shell's background job
+    (``cmd &``, as a CI script may run the tests) starts with SIGINT ignored, Python then keeps it ignored, and
+    no Ctrl-C could reach the command (both tests here failed so)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def _cli(out, n):
     return subprocess.Popen([sys.executable, "-X", "faulthandler", "-m", "bifurc", "diagram", *GRID, "--n", str(n), "-o", str(out)],
-                            env=ENV, stderr=subprocess.PIPE, text=True, start_new_session=True)
+                            env=ENV, stderr=subprocess.PIPE, text=True, start_new_session=True,
+                            preexec_fn=_as_in_a_terminal)
 
 
 def test_ctrl_c_stops_the_command_within_a_second_and_names_what_it_kept(tmp_path):
@@ -72,7 +80,7 @@ def test_an_interrupt_before_the_first_chunk_says_nothing_was_kept(tmp_path):
     for path, want in ((str(tmp_path / "a.nc"), "interrupted: nothing completed yet, nothing kept in "),
                        ("", "interrupted after 0 of 400 values; nothing kept (pass path= to keep completed")):
         proc = subprocess.Popen([sys.executable, "-c", script, path], env=ENV, stdout=subprocess.PIPE,
-                                stderr=subprocess.PIPE, text=True)
+                                stderr=subprocess.PIPE, text=True, preexec_fn=_as_in_a_terminal)
         assert proc.stdout.readline().strip() == "go"
         time.sleep(0.5)
         latency, err = _interrupt(proc, lambda: True, group=False)
