@@ -80,7 +80,8 @@ def test_an_interrupt_before_the_first_chunk_says_nothing_was_kept(tmp_path):
     for path, want in ((str(tmp_path / "a.nc"), "interrupted: nothing completed yet, nothing kept in "),
                        ("", "interrupted after 0 of 400 values; nothing kept (pass path= to keep completed")):
         proc = subprocess.Popen([sys.executable, "-c", script, path], env=ENV, stdout=subprocess.PIPE,
-                                stderr=subprocess.PIPE, text=True, preexec_fn=_as_in_a_terminal)
+                                stderr=subprocess.PIPE, text=True, preexec_fn=_as_in_a_terminal,
+                                start_new_session=True)     # its own group: a failure ends its workers too
         assert proc.stdout.readline().strip() == "go"
         time.sleep(0.5)
         latency, err = _interrupt(proc, lambda: True, group=False)
