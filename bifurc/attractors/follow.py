@@ -24,7 +24,8 @@ from maps.hybrid import HybridState
 
 from ..orbits.special_points import BIRTH_MISMATCH, BIRTH_NOTE, nodes_mismatch
 from ..storage.schema import SPECIAL_KINDS
-from .identify import distance
+from ..codes import ClassCode
+from .identify import Attractor, distance, same_orbit
 
 __all__ = ["match", "continues", "link_event", "half_gaps", "collapse"]
 
@@ -66,17 +67,14 @@ def continues(smap, a, b, q: int = 1) -> bool:
     """Whether the periodic orbit ``a`` (polished at the previous value), corrected by Newton on ``smap`` (this
     value), is the orbit ``b`` (:func:`.identify.same_orbit`); True where Newton does not converge from ``a``'s
     nodes (a grazing between the values changes its transitions: the distance decides then)."""
-    from types import SimpleNamespace
-
     from ..orbits.periodic import OrbitNotFound, find_periodic_orbit
-    from .identify import same_orbit
     nodes = [HybridState(np.asarray(a.points[k], dtype=float), dict(a.flags[k]) if a.flags and a.flags[k] else None)
              for k in range(a.period)]
     try:
         po = find_periodic_orbit(smap, nodes, a.period, k0=a.k0, tol=1e-10)
     except OrbitNotFound:
         return True
-    got = SimpleNamespace(period=a.period, k0=po.k0, points=np.array([np.asarray(n.y, dtype=float) for n in po.nodes]))
+    got = Attractor(int(ClassCode.PERIODIC), a.period, k0=po.k0, points=np.array([n.y for n in po.nodes], dtype=float))
     return same_orbit(got, b, q)
 
 

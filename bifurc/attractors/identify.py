@@ -140,7 +140,7 @@ def converging(points, a: Attractor, grid: Grid) -> bool:
         return False
     m = (len(d) - n) // 2
     start, mid, end = float(d[:n].max()), float(d[m:m + n].max()), float(d[-n:].max())
-    return end <= 1e-6 or (end <= 0.5 * mid and mid <= 0.5 * start and approaching(points, a, grid))
+    return end <= 1e-6 or (end <= 0.5 * mid and mid <= 0.5 * start and _at_its_rate(d, a))
 
 
 def approaching(points, a: Attractor, grid: Grid) -> bool:
@@ -151,8 +151,11 @@ def approaching(points, a: Attractor, grid: Grid) -> bool:
     distance to the state at rest (mu 0.10) twice within a chunk by chance: 10 of 200 outcomes differed between
     grids of 100 and 200 cells per side for it."""
     d = _node_distances(points, a, grid, 2)
-    if d is None:
-        return False
+    return d is not None and _at_its_rate(d, a)
+
+
+def _at_its_rate(d, a: Attractor) -> bool:
+    """:func:`approaching` from the points' distances ``d`` [cells] to the nodes of ``a``."""
     n, mu = a.period, a.max_multiplier
     first, last = float(d[:n].max()), float(d[-n:].max())
     if last <= 1e-6 or not mu < 1.0:
