@@ -38,18 +38,18 @@ def _instrument(C):
             t.met = (t.periods, next(j for j, sd in enumerate(saddles) if sd.cells & cells))
         return hit
     C._on_saddle = on_saddle
-    new = C._is_new_saddle
+    new = C._saddle_of
 
-    def is_new_saddle(smap, a, record, k0, grid, s, found, q, saddles):
-        hit = new(smap, a, record, k0, grid, s, found, q, saddles)
-        if hit:
-            j = next(j for j, sd in enumerate(saddles) if sd.cells & a.cells)
+    def saddle_of(smap, a, record, k0, grid, s, found, q, saddles):
+        sd = new(smap, a, record, k0, grid, s, found, q, saddles)
+        if sd is not None:
+            j = next(j for j, x in enumerate(saddles) if x is sd)
             end = np.asarray(record.final_state, dtype=float)
             for t in tracks:        # the start just recorded: its state is the record's end
                 if t.met is None and t.last is not None and np.array_equal(np.asarray(t.state.y), end):
                     t.met = (t.periods, j)
-        return hit
-    C._is_new_saddle = is_new_saddle
+        return sd
+    C._saddle_of = saddle_of
     return tracks
 
 

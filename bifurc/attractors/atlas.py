@@ -64,9 +64,11 @@ def attractors(problem_or_scene="thesis-1dof", param: str = "V", values=None, *,
 
     Returns an xarray Dataset (``bifurc_kind`` "attractors"): dims (``param``, ``attractor``) with
     ``basin_fraction`` and its Wilson 95 % interval, class, periods, impacts, exponent, the polished strobe
-    states, the matching and the events; outcomes (escaped, not_converged, failed, and neutral: motion that
-    dissipates nothing, :func:`.census._neutral`) are attractor entries, so
-    the fractions sum to 1.  ``path``: also written as netCDF (refused if it exists unless ``overwrite``).
+    states, the matching and the events; outcomes (escaped, not_converged, failed, neutral: motion that
+    dissipates nothing, :func:`.census._neutral`, and transient: still on a chaotic saddle at ``max_periods``,
+    with the saddle's mean lifetime) are attractor entries, so the fractions sum to 1.  ``eventual_fraction`` and
+    its interval: the transient starts apportioned by where the starts that left their saddle went
+    (:mod:`.eventual`).  ``path``: also written as netCDF (refused if it exists unless ``overwrite``).
     """
     clock = _time.perf_counter()
     pb = problem(problem_or_scene, preset, params, circuit=circuit, ac_sign=ac_sign, dc_law=dc_law, soil=soil,
@@ -105,7 +107,8 @@ def attractors(problem_or_scene="thesis-1dof", param: str = "V", values=None, *,
                        "Newton (exact multipliers); seeding with the neighbouring values' periodic attractors (a "
                        "sweep up the values and one back down) and matching by state-space distance; basin "
                        "fractions with 95 % Wilson intervals; motion without impact or area contraction: neutral"}
-    ds = to_dataset(pb, param, values, per_value, outcomes, n_ids, events, st, n_node=int(n_node), attrs=attrs)
+    ds = to_dataset(pb, param, values, per_value, outcomes, n_ids, events, st, n_node=int(n_node), attrs=attrs,
+                    transients=[(f.via, f.saddles) for f in fresh])
     if path is not None:
         from ..storage.files import write_netcdf
         write_netcdf(ds, path, overwrite=overwrite)

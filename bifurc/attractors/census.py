@@ -19,8 +19,9 @@ an attractor only if its mean lifetime, estimated from perturbed copies started 
 periods (:func:`_persists`, :mod:`.lifetime`); else it is a chaotic saddle or a long-lived chaotic transient (its
 lifetime stored on it), and its starts run on to where they settle.  So whether a start ends chaotic, periodic
 or not converged does not hinge on when the grid's cells happened to recur.  A start that escapes or fails is that
-outcome; one still undecided after ``max_periods`` or ``max_tries`` undecided records (or on the cells of a start
-that was) is "not_converged".
+outcome; one still on a saddle at ``max_periods`` is "transient" (where such starts go: :mod:`.eventual`); one
+otherwise undecided after ``max_periods`` or ``max_tries`` undecided records (or on the cells of a start that was)
+is "not_converged".
 """
 from __future__ import annotations
 
@@ -39,8 +40,10 @@ from .identify import (Attractor, Grid, approaching, area_rate, contracting, con
 __all__ = ["Settings", "Track", "Memory", "census_at", "OUTCOMES"]
 
 #: outcome ids of a start that reached no attractor (attractor ids are 0, 1, ...): "neutral" is motion that
-#: dissipates nothing over its record (:func:`_neutral`), on which a start keeps its own amplitude
-OUTCOMES = {"escaped": -1, "not_converged": -2, "failed": -3, "neutral": -4}
+#: dissipates nothing over its record (:func:`_neutral`), on which a start keeps its own amplitude; "transient" a
+#: start still on a chaotic saddle or long-lived chaotic transient at ``max_periods`` (:func:`_still_on_saddle`:
+#: it is in chaotic motion there and will leave it; where it goes is estimated by :mod:`.eventual`)
+OUTCOMES = {"escaped": -1, "not_converged": -2, "failed": -3, "neutral": -4, "transient": -5}
 
 
 @dataclass(frozen=True)
@@ -80,18 +83,20 @@ class Track:
     last_keys: list = field(default_factory=list)
     quiet_until: int = 0         # no record before this age: the last one was on a chaotic saddle
     checked: int = 0             # its age when it was last a candidate (:data:`WANDER`)
+    saddle: object = None        # the chaotic saddle (an :class:`Attractor` of Memory.saddles) it was last seen on
 
 
 @dataclass
 class Memory:
     """What one value's census learnt besides its attractors: {(period, cell): (mismatch, failures)} where Newton
     failed (:func:`.identify.polish_once`), the chaotic saddles and long-lived transients (non-periodic sets whose
-    lifetime is not surely above the horizon), and the cells of starts recorded ``max_tries`` times without a
-    decision."""
+    lifetime is not surely above the horizon), the cells of starts recorded ``max_tries`` times without a
+    decision, and for each start the index in ``saddles`` of the saddle it was last seen on (-1: none)."""
 
     tried: dict = field(default_factory=dict)
     saddles: list = field(default_factory=list)
     undecided: list = field(default_factory=list)
+    via: list = field(default_factory=list)
 
 
 def _step_cells(t: Track, keys: list, owner: dict, s: Settings) -> str:
@@ -159,11 +164,12 @@ def census_at(smap, starts: list, grid: Grid, settings: Settings, *, k0=0,
         for i in active:
             t = tracks[i]
             if t.outcome is None and t.periods >= s.max_periods:
-                t.outcome = OUTCOMES["not_converged"]
+                t.outcome = OUTCOMES["transient" if _still_on_saddle(t, mem.saddles, near) else "not_converged"]
         done = [i for i in active if tracks[i].outcome is not None]
         if progress is not None and done:
             progress(len(done))
         active = [i for i in active if tracks[i].outcome is None]
+    mem.via = [next((j for j, sd in enumerate(mem.saddles) if sd is t.saddle), -1) for t in tracks]
     return [t.outcome for t in tracks], found, [t.periods for t in tracks]
 
 
@@ -277,15 +283,29 @@ def _mostly_in(keys: list, sets: list) -> bool:
 
 
 def _on_saddle(t: Track, saddles: list) -> bool:
-    """Whether the start's last chunk shares a cell with a known saddle (its cells then join the saddle's):
-    it runs on without a record, its recurrence counted afresh."""
+    """Whether the start's last chunk shares a cell with a known saddle (its cells then join the saddle's, and the
+    start is noted on it): it runs on without a record, its recurrence counted afresh."""
     cells = {c for c in t.last_keys if c is not None}
     for sd in saddles:
         if sd.cells & cells:
             sd.cells |= cells
-            t.recur, t.visits = 0, set()
+            t.recur, t.visits, t.saddle = 0, set(), sd
             return True
     return False
+
+
+def _still_on_saddle(t: Track, saddles: list, periods) -> bool:
+    """Whether a start at the periods' budget is in chaotic motion on a known saddle: the second half of its last
+    chunk shares a cell with one and does not repeat with any of ``periods`` (a start that fell onto an orbit in
+    that chunk is still approaching it, not on the saddle); the start is then noted on that saddle."""
+    half = t.last.points[len(t.last.points) // 2:]
+    if periodic_tail(half, periods):
+        return False
+    cells = {c for c in t.last_keys[len(t.last_keys) // 2:] if c is not None}
+    sd = next((sd for sd in saddles if sd.cells & cells), None)
+    if sd is not None:
+        t.saddle = sd
+    return sd is not None
 
 
 def _sharing(keys: list, found: list, owner: dict) -> int | None:
@@ -333,8 +353,9 @@ def _record_and_classify(smap, tracks, rest, grid, s: Settings, found: list, own
                 t.outcome = OUTCOMES["not_converged"]
                 mem.undecided.append({c for c in grid.keys(o.points) if c is not None})
             continue
-        if not a.periodic and _is_new_saddle(smap, a, o, t.k, grid, s, found, q, mem.saddles):
+        if not a.periodic and (sd := _saddle_of(smap, a, o, t.k, grid, s, found, q, mem.saddles)) is not None:
             t.quiet_until = t.periods + SADDLE_QUIET * s.chunk     # on a saddle: it runs on without records
+            t.saddle = sd
             continue
         aid = _register(a, found, owner, grid, q)
         if a.periodic:
@@ -370,18 +391,19 @@ def _neutral(smap, record, k0: int, a) -> bool:
 NEUTRAL_WIDTH = 0.2
 
 
-def _is_new_saddle(smap, a: Attractor, record, k0: int, grid, s: Settings, found: list, q: int,
-                   saddles: list) -> bool:
-    """Whether the non-periodic set ``a`` is not an attractor: one of the known ``saddles`` (sharing a cell) or a
-    new set, matching no attractor in ``found``, whose mean lifetime is not surely above ``s.persist`` periods
-    (:func:`_persists`): a saddle, or a long-lived chaotic transient (kept in ``saddles``, its lifetime on it;
-    either way its starts run on to where they settle, so that the two verdicts give the same fractions)."""
+def _saddle_of(smap, a: Attractor, record, k0: int, grid, s: Settings, found: list, q: int,
+               saddles: list) -> Attractor | None:
+    """The saddle the non-periodic set ``a`` is, or None where it is an attractor: one of the known ``saddles``
+    (sharing a cell) or a new set, matching no attractor in ``found``, whose mean lifetime is not surely above
+    ``s.persist`` periods (:func:`_persists`): a saddle, or a long-lived chaotic transient (appended to ``saddles``,
+    its lifetime on it; either way its starts run on to where they settle, so that the two verdicts give the same
+    fractions)."""
     for sd in saddles:
         if sd.cells & a.cells:
             sd.cells |= a.cells
-            return True
+            return sd
     if any(same_attractor(a, b, grid, q) for b in found):
-        return False
+        return None
     life = _persists(smap, record, k0, s)
     a.lifetime, a.lifetime_interval = life.tau, (life.low, life.high)
     verdict = life.verdict(s.persist)
@@ -389,9 +411,9 @@ def _is_new_saddle(smap, a: Attractor, record, k0: int, grid, s: Settings, found
                                      f"{s.persist} periods)", "long-lived": "a chaotic transient, not shown to "
                                      f"persist (its lifetime's interval reaches {s.persist} periods)"}[verdict]
     if verdict == "attractor":
-        return False
+        return None
     saddles.append(a)
-    return True
+    return a
 
 
 #: chunks a start recorded on a chaotic saddle runs before another record (it lands or recurs periodically

@@ -12,12 +12,13 @@ from ..codes import ClassCode
 from ..storage.build import coord, dataset, put
 from ..storage.schema import ATTRACTOR, ATTRACTOR_COORDS, ATTRACTOR_EVENTS, flag_variable, state_variable
 from .census import OUTCOMES, wilson
+from .eventual import eventual_fractions, saddle_groups
 
 __all__ = ["to_dataset", "attractor_count", "OUTCOME_CODES"]
 
 #: the class code stored for each outcome entry
 OUTCOME_CODES = {"escaped": ClassCode.ESCAPED, "not_converged": ClassCode.NOT_CONVERGED, "failed": ClassCode.FAILED,
-                 "neutral": ClassCode.NOT_CONVERGED}
+                 "neutral": ClassCode.NOT_CONVERGED, "transient": ClassCode.NOT_CONVERGED}
 assert list(OUTCOME_CODES) == list(OUTCOMES), "one class code per outcome, in the outcomes' order"
 
 
@@ -27,16 +28,21 @@ def attractor_count(ds) -> int:
     return int((ds.present.values[:, :ds.sizes["attractor"] - len(OUTCOMES)] > 0).any(axis=0).sum())
 
 
-def _columns(values, per_value, outcomes, n_ids, events):
-    """The ATTRACTOR rows as arrays (values, ids + 3 outcomes)."""
+def _columns(values, per_value, outcomes, n_ids, events, transients=None):
+    """The ATTRACTOR rows as arrays (values, ids + the outcomes)."""
     n_att = n_ids + len(OUTCOMES)
     sizes = {"v": len(values), "attractor": n_att}
     cols = {v.name: v.empty(sizes, "v") for v in ATTRACTOR}
+    keys = list(range(n_ids)) + list(OUTCOMES.values())
     for i, (found, out) in enumerate(zip(per_value, outcomes)):
         out = np.asarray(out)
         n = len(out)
+        via, saddles = transients[i] if transients else ([], [])
+        cols["eventual_fraction"][i], cols["eventual_fraction_low"][i], cols["eventual_fraction_high"][i] = \
+            eventual_fractions(out, via, saddles, keys)
+        _put_transient(cols, i, n_ids + list(OUTCOMES).index("transient"), out, via, saddles)
         for col in range(n_att):
-            key = col if col < n_ids else list(OUTCOMES.values())[col - n_ids]
+            key = keys[col]
             k = int(np.sum(out == key))
             lo, hi = wilson(k, n)
             cols["basin_fraction"][i, col], cols["basin_count"][i, col] = k / n, k
@@ -53,6 +59,21 @@ def _columns(values, per_value, outcomes, n_ids, events):
                 cols["event"][i, col] = ATTRACTOR_EVENTS.index(ev[0])
                 cols["event_link"][i, col], cols["event_evidence"][i, col] = ev[1], ev[2]
     return cols
+
+
+def _put_transient(cols, i, col, out, via, saddles) -> None:
+    """The "transient" entry's lifetime: that of the saddle (group, :func:`.eventual.saddle_groups`) most of the
+    value's transient starts are on, its first estimate (NaN: no transient start)."""
+    transient = [v for o, v in zip(out, via) if o == OUTCOMES["transient"] and v >= 0] if len(via) else []
+    if not transient:
+        return
+    group = saddle_groups(saddles)
+    top = max(sorted(set(group[v] for v in transient)), key=[group[v] for v in transient].count)
+    a = next((sd for j, sd in enumerate(saddles) if group[j] == top and np.isfinite(sd.lifetime_interval[0])), None)
+    if a is None:
+        return
+    cols["lifetime"][i, col] = a.lifetime
+    cols["lifetime_low"][i, col], cols["lifetime_high"][i, col] = a.lifetime_interval
 
 
 def _put_attractor(cols, i, col, a) -> None:
@@ -72,8 +93,9 @@ def _put_attractor(cols, i, col, a) -> None:
     cols["match_distance"][i, col] = getattr(a, "match_distance", np.nan)
 
 
-def to_dataset(pb, param, values, per_value, outcomes, n_ids, events, starts, *, n_node, attrs):
-    """The Dataset of a census: ``per_value[i]`` {id: Attractor}, ``outcomes[i]`` the fresh starts' ids."""
+def to_dataset(pb, param, values, per_value, outcomes, n_ids, events, starts, *, n_node, attrs, transients=None):
+    """The Dataset of a census: ``per_value[i]`` {id: Attractor}, ``outcomes[i]`` the fresh starts' ids,
+    ``transients[i]`` (each start's saddle index, the saddles) for the eventual fractions (:mod:`.eventual`)."""
     system = pb.system
     p = system.parameter(param)
     labels = [f"A{j}" for j in range(n_ids)] + list(OUTCOMES)
@@ -83,7 +105,7 @@ def to_dataset(pb, param, values, per_value, outcomes, n_ids, events, starts, *,
                                        "node": ("node", np.arange(n_node)),
                                        "start": ("start", np.arange(len(starts)))})
     ds["attractor_label"] = coord(ATTRACTOR_COORDS[1], labels)
-    cols = _columns(values, per_value, outcomes, n_ids, events)
+    cols = _columns(values, per_value, outcomes, n_ids, events, transients)
     for v in ATTRACTOR:
         put(ds, v, v.finish(cols[v.name]), param=param)
     _put_states(ds, system, param, per_value, len(labels), n_node)

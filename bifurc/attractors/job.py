@@ -21,20 +21,22 @@ from .identify import Attractor, Grid
 __all__ = ["CensusJob", "ValueCensus", "CensusParts", "census_manifest"]
 
 #: version of the census parts' layout (2: non-periodic sets judged by their lifetime, stored on them; 3: and their
-#: area rate, and each value's saddles; a resume from parts of an older layout is refused)
-CENSUS_PARTS_FORMAT = 3
+#: area rate, and each value's saddles; 4: and the saddle each start was last seen on; a resume from parts of an
+#: older layout is refused)
+CENSUS_PARTS_FORMAT = 4
 
 
 @dataclass
 class ValueCensus:
-    """One value's census: the outcome of each fresh start, the attractors found, the periods each start ran, and
-    the chaotic saddles and long-lived transients it met (so that the seeding does not estimate their lifetimes
-    again)."""
+    """One value's census: the outcome of each fresh start, the attractors found, the periods each start ran, the
+    chaotic saddles and long-lived transients it met (so that the seeding does not estimate their lifetimes
+    again), and each start's index among them of the one it was last seen on (-1: none; :mod:`.eventual`)."""
 
     outcomes: list
     found: list
     spent: list
     saddles: list = field(default_factory=list)
+    via: list = field(default_factory=list)
 
 
 @dataclass
@@ -65,7 +67,7 @@ class CensusJob:
         smap.set_params(**{self.param: float(value)})
         memory = Memory()
         out, found, spent = census_at(smap, list(self.starts), self.grid, self.settings, memory=memory)
-        return ValueCensus(out, found, spent, memory.saddles)
+        return ValueCensus(out, found, spent, memory.saddles, memory.via)
 
     def run_many(self, values) -> list:
         return [self(v) for v in values]
@@ -119,14 +121,15 @@ def _attractor_from(d: dict) -> Attractor:
 def encode(r: ValueCensus) -> str:
     """A value's census as JSON text (floats by repr: lossless)."""
     return json.dumps({"outcomes": [int(o) for o in r.outcomes], "spent": [int(s) for s in r.spent],
-                       "found": [_attractor_to(a) for a in r.found], "saddles": [_attractor_to(a) for a in r.saddles]},
+                       "found": [_attractor_to(a) for a in r.found], "saddles": [_attractor_to(a) for a in r.saddles],
+                       "via": [int(j) for j in r.via]},
                       default=lambda o: o.item())
 
 
 def decode(text: str) -> ValueCensus:
     d = json.loads(text)
     return ValueCensus(d["outcomes"], [_attractor_from(a) for a in d["found"]], d["spent"],
-                       [_attractor_from(a) for a in d["saddles"]])
+                       [_attractor_from(a) for a in d["saddles"]], d["via"])
 
 
 class CensusParts(Parts):

@@ -14,7 +14,8 @@ __all__ = ["plot_attractors", "plot_basins", "COLOURS"]
 #: one colour per attractor id (cycled); outcomes grey shades
 COLOURS = ("#0072B2", "#E69F00", "#009E73", "#CC79A7", "#56B4E9", "#D55E00", "#F0E442", "#332288", "#117733",
            "#882255")
-OUTCOME_COLOURS = {"escaped": "#000000", "not_converged": "#BBBBBB", "failed": "#777777", "neutral": "#DDCC77"}
+OUTCOME_COLOURS = {"escaped": "#000000", "not_converged": "#BBBBBB", "failed": "#777777", "neutral": "#DDCC77",
+                   "transient": "#EE99AA"}
 
 
 def _colour(label: str, j: int) -> str:

@@ -7,8 +7,10 @@ def register(subparsers):
                               description="Run an ensemble of starts at each value; find every attractor by recurrence "
                                           "on a state-space grid, its basin fraction with a 95 % Wilson interval, and "
                                           "follow the attractors across the values (seeding and matching). Outcomes "
-                                          "(escaped, not_converged, failed, neutral) are attractor entries, so the fractions "
-                                          "sum to 1. --from A --to A --n 1 is one value.")
+                                          "(escaped, not_converged, failed, neutral, transient: still on a chaotic "
+                                          "saddle at --max-periods) are attractor entries, so the fractions sum to 1; "
+                                          "eventual_fraction apportions the transient starts by where those that left "
+                                          "the saddle went. --from A --to A --n 1 is one value.")
     add_scene_options(p, default_tol=1e-10)
     p.add_argument("--param", default="V", help="parameter to vary (default V)")
     p.add_argument("--from", dest="start", type=float, required=True, help="first value")
@@ -25,7 +27,8 @@ def register(subparsers):
     p.add_argument("--seed", type=int, default=0, help="random seed of the starts (default 0)")
     p.add_argument("--cells", type=int, default=100, help="recurrence grid cells per box side (default 100)")
     p.add_argument("--max-periods", type=int, default=2000,
-                   help="strobe periods after which a start is not_converged (default 2000)")
+                   help="strobe periods after which a start is transient (on a chaotic saddle) or not_converged "
+                        "(default 2000)")
     p.add_argument("--max-period", type=int, default=16, help="longest period searched (default 16)")
     p.add_argument("--no-link", action="store_true",
                    help="do not continue appearing/disappearing orbits to link them to local bifurcations")

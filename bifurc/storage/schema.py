@@ -287,12 +287,19 @@ PA, A_ = (PARAM, "attractor"), ("attractor",)
 #: what became of an attractor between the previous value and this one (attractors dataset: bifurc.attractors)
 ATTRACTOR_EVENTS = ("none", "appeared", "disappeared")
 #: the attractor census (bifurc.attractors): one row per (value, attractor); every outcome is an attractor entry
-#: (escaped, not_converged, failed, neutral too), so basin_fraction sums to 1 at every value
+#: (escaped, not_converged, failed, neutral, transient too), so basin_fraction sums to 1 at every value
 ATTRACTOR = [
     Variable("basin_fraction", PA, float, np.nan, "1", "fraction of the fresh starts that reach the attractor"),
     Variable("basin_fraction_low", PA, float, np.nan, "1", "lower end of the 95 % Wilson interval of basin_fraction"),
     Variable("basin_fraction_high", PA, float, np.nan, "1", "upper end of the 95 % Wilson interval of basin_fraction"),
     Variable("basin_count", PA, np.int32, 0, "1", "fresh starts that reach the attractor"),
+    Variable("eventual_fraction", PA, float, np.nan, "1",
+             "basin_fraction with the starts still on a chaotic saddle at the budget (transient) apportioned by where "
+             "the starts that left the same saddle went (bifurc.attractors.eventual)"),
+    Variable("eventual_fraction_low", PA, float, np.nan, "1",
+             "lower end of eventual_fraction's 95 % interval (two 97.5 % Wilson intervals: the exits' shares, the "
+             "count)"),
+    Variable("eventual_fraction_high", PA, float, np.nan, "1", "upper end of eventual_fraction's 95 % interval"),
     Variable("present", PA, np.int8, 0, "1", "the attractor exists at this value", _yes_no("absent present")),
     Variable("class_code", PA, np.int8, -1, "1", "class of the attractor (-1: absent)", _flags(ClassCode)),
     Variable("period", PA, np.int16, -1, "1", "period in strobe periods (0: not periodic, -1: absent)"),
@@ -307,7 +314,8 @@ ATTRACTOR = [
     Variable("newton_residual", PA, float, np.nan, "1", "scaled shooting residual of the polished orbit"),
     Variable("lifetime", PA, float, np.nan, "1",
              "non-periodic attractor: mean lifetime on the set in strobe (relay) periods, from perturbed copies "
-             "(inf: none fell onto a period; NaN: periodic or an outcome)"),
+             "(inf: none fell onto a period; the transient entry: that of the saddle most of its starts are on; "
+             "NaN: periodic or another outcome)"),
     Variable("lifetime_low", PA, float, np.nan, "1", "lower end of the lifetime's 95 % interval [strobe periods]"),
     Variable("lifetime_high", PA, float, np.nan, "1", "upper end of the lifetime's 95 % interval [strobe periods]"),
     Variable("area_rate", PA, float, np.nan, "1",
@@ -329,7 +337,7 @@ ATTRACTOR = [
 ATTRACTOR_COORDS = [
     Variable("attractor", A_, np.int32, 0, "1", "attractor id, matched across values (outcomes last)"),
     Variable("attractor_label", A_, str, "", "1", "attractor name (A0, A1, ... or an outcome: escaped, "
-             "not_converged, failed, neutral)"),
+             "not_converged, failed, neutral, transient)"),
 ]
 
 T = ("time",)
