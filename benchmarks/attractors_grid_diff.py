@@ -39,8 +39,7 @@ def census(smap, pb, starts, box, cells) -> tuple[list, list, list]:
                                         C.Settings())
     finally:
         C._record_and_classify, C.Track = plain, plain_track
-    names = {k: n for n, k in C.OUTCOMES.items()}
-    return [names[o] if o < 0 else found[o].label() for o in out], spent, [ages.get(id(t), []) for t in made]
+    return C.outcome_labels(out, found), spent, [ages.get(id(t), []) for t in made]
 
 
 def main(argv=None):

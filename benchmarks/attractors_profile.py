@@ -41,9 +41,8 @@ def lanes() -> None:
 
 def _labels(r) -> list:
     """Each start's outcome in words: its attractor's label, or the outcome's name."""
-    from bifurc.attractors.census import OUTCOMES
-    names = {k: n for n, k in OUTCOMES.items()}
-    return [names[o] if o < 0 else r.found[o].label() for o in r.outcomes]
+    from bifurc.attractors.census import outcome_labels
+    return outcome_labels(r.outcomes, r.found)
 
 
 def _timed(smap) -> dict:

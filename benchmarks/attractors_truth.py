@@ -42,7 +42,7 @@ def census_labels(v: float, cells: int) -> tuple[Counter, list]:
     """The census' count by label at ``v`` on ``cells`` per side, and how each non-periodic set was judged (its
     mean lifetime; the saddles and long-lived transients, whose starts ran on, too)."""
     import maps
-    from bifurc.attractors.census import OUTCOMES, Memory, Settings, census_at
+    from bifurc.attractors.census import Memory, Settings, census_at, outcome_labels
     from bifurc.attractors.identify import Grid
     from bifurc.attractors.starts import make_starts
     from maps.poincare import StroboscopicMap
@@ -54,9 +54,8 @@ def census_labels(v: float, cells: int) -> tuple[Counter, list]:
     out, found, _ = census_at(smap, list(np.asarray(st.points, float)), Grid.over(st.box, pb.system, cells,
                                                                                  pb.state_vector()), Settings(),
                               memory=mem)
-    names = {k: n for n, k in OUTCOMES.items()}
     sets = [a.how for a in found if not a.periodic] + [a.how for a in mem.saddles]
-    return Counter(names[o] if o < 0 else found[o].label() for o in out), sets
+    return Counter(outcome_labels(out, found)), sets
 
 
 def main(argv=None):

@@ -673,7 +673,6 @@ def test_undamped_motion_is_neutral_not_an_attractor(oscillator_census):
     assert float(oscillator_census.basin_fraction.values[0, damped]) == 0.0
 
 
-OUTCOMES_NAMES = {k: n for n, k in OUTCOMES.items()}
 
 #: thesis-1dof box starts (x [m], v [m/s]; circuit at rest) that wander over the stop for hundreds to thousands of
 #: relay periods at 136 V (`matlab-listing`, `measured`, 10 Hz) beside the stable state at rest
@@ -690,7 +689,7 @@ def test_a_start_counts_for_an_orbit_only_where_its_own_path_settles_there():
     periods past the count stays within 1e-6 of each state's scale of the orbit's nodes.  (Counted from a chance
     halving of its distance to the state at rest, or from Newton run on a record beside its path, two of these
     starts were "at rest" on one grid and not on the other while their paths still wandered 1.5 mm over the stop.)"""
-    from bifurc.attractors.census import Settings, census_at
+    from bifurc.attractors.census import Settings, census_at, outcome_labels
     from bifurc.attractors.identify import Grid
     from bifurc.sweeps.classify import state_scale
     from maps.poincare import StroboscopicMap
@@ -702,7 +701,7 @@ def test_a_start_counts_for_an_orbit_only_where_its_own_path_settles_there():
     for cells in (100, 200):
         grid = Grid.over({"x": (0.0, 0.03), "v": (-1.5, 1.5)}, pb.system, cells, pb.state_vector())
         out, found, spent = census_at(smap, starts, grid, Settings(max_periods=1200))
-        got[cells] = [OUTCOMES_NAMES.get(o) or found[o].label() for o in out]
+        got[cells] = outcome_labels(out, found)
         for s0, o, n in zip(starts, out, spent):
             if o < 0 or not found[o].periodic:
                 continue

@@ -37,7 +37,7 @@ from .lifetime import Lifetime, estimate_lifetime, periodic_tail
 from .identify import (Attractor, Grid, approaching, area_rate, contracting, converging, from_chunk, identify,
                        near_periods, no_contraction, polish_once, same_attractor, same_orbit)
 
-__all__ = ["Settings", "Track", "Memory", "census_at", "OUTCOMES"]
+__all__ = ["Settings", "Track", "Memory", "census_at", "OUTCOMES", "outcome_labels"]
 
 #: outcome ids of a start that reached no attractor (attractor ids are 0, 1, ...): "neutral" is motion that
 #: dissipates nothing over its record (:func:`_neutral`), on which a start keeps its own amplitude; "transient" a
@@ -297,7 +297,9 @@ def _on_saddle(t: Track, saddles: list) -> bool:
 def _still_on_saddle(t: Track, saddles: list, periods) -> bool:
     """Whether a start at the periods' budget is in chaotic motion on a known saddle: the second half of its last
     chunk shares a cell with one and does not repeat with any of ``periods`` (a start that fell onto an orbit in
-    that chunk is still approaching it, not on the saddle); the start is then noted on that saddle."""
+    that chunk is still approaching it, not on the saddle); the start is then noted on that saddle.  (Whether the
+    chunk contracts towards a near period tells nothing here: on the open map of tests/test_eventual.py 11 of 300
+    starts on the saddle at the budget had chunks that did, by chance.)"""
     half = t.last.points[len(t.last.points) // 2:]
     if periodic_tail(half, periods):
         return False
@@ -427,6 +429,13 @@ def _persists(smap, record, k0: int, s: Settings) -> Lifetime:
     chaotic saddle's trajectories all fall onto periodic orbits, however long their chaos lasts (thesis-1dof at
     122 V: 5 of 200 starts still chaotic after 3000 relay periods, benchmarks/README.md)."""
     return estimate_lifetime(smap, record, k0, s.persist, max_period=s.max_period, batch_size=s.batch_size)
+
+
+def outcome_labels(outcomes, found: list) -> list:
+    """Each start's outcome in words: its attractor's label (``found`` as :func:`census_at` returns it), or the
+    outcome's name."""
+    names = {k: n for n, k in OUTCOMES.items()}
+    return [names[o] if o < 0 else found[o].label() for o in outcomes]
 
 
 def wilson(k, n, z: float = 1.959963984540054) -> tuple[float, float]:
