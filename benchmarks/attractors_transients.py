@@ -1,7 +1,7 @@
 """Are the census' "transient" starts in a chaotic transient, and does ``eventual_fraction`` say where they go?
 (issue 31).  Not run in CI.
 
-    python benchmarks/attractors_transients.py [V ...] [--more 6000]   # default 115 136 185 192 V
+    python benchmarks/attractors_transients.py [V ...] [--more 6000]   # default 115 136 185 190 192 V
 
 thesis-1dof as benchmarks/attractors.py runs it (`matlab-listing`, `measured` law, 10 Hz, 200 box starts x=0:0.03,
 v=-1.5:1.5, seed 1, 100 cells per side), one process, no seeding from neighbouring values.  At each value the census
@@ -9,7 +9,8 @@ runs (``max_periods`` 2000); each start it calls "transient" is then run ``--mor
 census left it (one batch call, strobe points only) and judged by a tolerance of the states
 (:func:`bifurc.attractors.lifetime.fall_index`: from which point it repeats with a period n <= 16 to 1e-6 of each
 state's scale over its last 64 points).  Printed: how many are still aperiodic at the end against the number the
-saddle's lifetime predicts (the sum over the starts of exp(-more / lifetime)); where the others settled (the census'
+saddle's lifetime predicts (the sum over the starts of exp(-more / lifetime), and at the ends of the lifetime's
+interval); where the others settled (the census'
 attractor whose nodes the last point lies on within 1e-3 cells, else "another orbit"); and, per attractor, the
 eventual fraction's interval beside the fraction the continued starts give (direct counts plus where the transient
 starts went; those still aperiodic counted neither way, so the latter is a range).
@@ -33,7 +34,7 @@ def _settled_on(point, found, grid) -> int | None:
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("values", nargs="*", type=float, default=[115.0, 136.0, 185.0, 192.0])
+    ap.add_argument("values", nargs="*", type=float, default=[115.0, 136.0, 185.0, 190.0, 192.0])
     ap.add_argument("--more", type=int, default=6000, help="relay periods each transient start runs on")
     a = ap.parse_args(argv)
     import maps
@@ -69,9 +70,10 @@ def main(argv=None):
         runs = smap.orbits([{}] * len(mine), [tracks[i].state for i in mine], a.more,
                            k0=[tracks[i].k for i in mine], batch_size=4, events=False)
         periods = candidate_periods(smap.forcing_period_steps, 16)
-        still, went, predicted = 0, {}, 0.0
+        still, went, predicted = 0, {}, np.zeros(3)
         for i, o in zip(mine, runs):
-            predicted += math.exp(-a.more / mem.saddles[mem.via[i]].lifetime)
+            sd = mem.saddles[mem.via[i]]
+            predicted += [math.exp(-a.more / tau) for tau in (sd.lifetime, *sd.lifetime_interval)]
             if o.status != "ok":
                 went[o.status] = went.get(o.status, 0) + 1
             elif fall_index(o.points, periods, 64) is None:
@@ -80,9 +82,11 @@ def main(argv=None):
                 j = _settled_on(o.points[-1], found, grid)
                 name = found[j].label() + f" (A{j})" if j is not None else "another orbit"
                 went[name] = went.get(name, 0) + 1
-        lives = sorted({round(mem.saddles[mem.via[i]].lifetime) for i in mine})
-        print(f"V = {v:g}: {len(mine)} of {len(out)} starts transient (saddle lifetimes {lives} relay periods); "
-              f"after {a.more} more periods {still} still aperiodic (lifetime predicts {predicted:.1f}); settled: "
+        lives = sorted({tuple(round(x) for x in (sd.lifetime, *sd.lifetime_interval))
+                        for sd in (mem.saddles[mem.via[i]] for i in mine)})
+        print(f"V = {v:g}: {len(mine)} of {len(out)} starts transient (saddle lifetimes {lives} relay periods: "
+              f"estimate, interval); after {a.more} more periods {still} still aperiodic (the lifetime predicts "
+              f"{predicted[0]:.1f}, its interval {predicted[1]:.1f}-{predicted[2]:.1f}); settled: "
               f"{went} ({time.perf_counter() - clock:.0f} s)")
         for j, f in enumerate(found):
             direct = sum(o == j for o in out)

@@ -124,3 +124,22 @@ def test_eventual_fractions_by_hand():
     ev, lo, hi = eventual_fractions(out, via, [Attractor(int(ClassCode.CHAOTIC), cells={(1, 1)})], keys)
     assert ev[:2] == pytest.approx([0.55, 0.45], abs=1e-12) and ev[keys.index(T)] == 0.0
     assert np.all(lo <= ev) and np.all(ev <= hi)
+
+
+def test_a_set_whose_records_decide_nothing_is_transient_where_its_lifetime_says_so(monkeypatch):
+    """The records made to decide nothing (identify returns None): after ``max_tries`` records of a start, the set's
+    lifetime from copies started on it (closed form 1 / h = 1000 steps, below the 4000-step horizon) shows it to be a
+    transient, so that its starts run on as on a saddle instead of being "not_converged" (the recorded start and every
+    later start on its cells were, at a few hundred steps): the transient fraction at the 2000-step budget contains the
+    fraction of the same starts numpy finds on the set (about exp(-2) = 0.14), and no start is "not_converged"."""
+    from bifurc.attractors import census as C
+    monkeypatch.setattr(C, "identify", lambda *args, **kw: None)
+    ds = bifurc.attractors(HOLE, "h", [H], n_starts=300, seed=3, max_periods=2000, progress=False, workers=1,
+                           link=False)
+    labels = list(ds.attractor_label.values)
+    t, nc = labels.index("transient"), labels.index("not_converged")
+    on = float(np.mean(_iterate(ds.start_x.values, 2000)[0] < 0))
+    assert 0.08 < on < 0.2
+    assert ds.basin_count.values[0, nc] == 0
+    assert ds.basin_fraction_low.values[0, t] <= on <= ds.basin_fraction_high.values[0, t]
+    assert ds.lifetime_low.values[0, t] <= 1.0 / H <= ds.lifetime_high.values[0, t]
