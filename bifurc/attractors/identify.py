@@ -267,7 +267,8 @@ def area_rate(smap, orbit, k0: int, skip: int = AREA_SKIP) -> tuple[float, float
             J = smap.linearize(orbit.state(j), k0 + j).J / scale[:, None] * scale[None, :]
             Q = np.eye(J.shape[0])[:, :2] if Q is None else Q
             Q, R = np.linalg.qr(J @ Q)
-            s.append(float(np.sum(np.log(np.abs(np.diag(R))))))
+            with np.errstate(divide="ignore"):         # a map constant along a direction: -inf, contraction to 0
+                s.append(float(np.sum(np.log(np.abs(np.diag(R))))))
     except (IntegrationFailure, ValueError, ZeroDivisionError, np.linalg.LinAlgError):
         return math.nan, math.nan, math.nan
     return exponent_interval(np.asarray(s[skip:]))
