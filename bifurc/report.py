@@ -307,12 +307,13 @@ def stability_report(ds) -> str:
 
 
 def attractors_report(ds) -> str:
-    """The attractor census: per value, each attractor present with its basin fraction and 95 % interval."""
+    """The attractor census: per value, each attractor present with its basin fraction and 95 % interval, the
+    eventual fraction where the transient starts' apportioning changes it, and its event."""
     from .sweeps.classify import describe
     par = ds.attrs["swept_parameter"]
     lines = [f"# Attractor census (attractors): {ds.attrs.get('scene', '')}, {ds.sizes[par]} values of {par} x "
-             f"{ds.sizes['start']} starts", "", f"| {par} | attractor | class | basin fraction | 95 % interval | event |",
-             "|---|---|---|---|---|---|"]
+             f"{ds.sizes['start']} starts", "", f"| {par} | attractor | class | basin fraction | 95 % interval | "
+             "eventual (95 %) | event |", "|---|---|---|---|---|---|---|"]
     events = ds.event.attrs["flag_meanings"].split()
     for i, v in enumerate(ds[par].values):
         for j, label in enumerate(ds.attractor_label.values):
@@ -320,12 +321,25 @@ def attractors_report(ds) -> str:
                 code = int(ds.class_code.values[i, j])
                 what = describe(code, int(ds.period.values[i, j]), int(ds.impacts_per_period.values[i, j])) \
                     if code >= 0 else "absent"
+                if label == "transient":
+                    life = float(ds.lifetime.values[i, j])
+                    what = "on a chaotic saddle at the budget" + (f" (mean lifetime {life:.0f} strobe periods)"
+                                                                  if np.isfinite(life) else "")
                 ev = int(ds.event.values[i, j])
                 ev_text = f"{events[ev]} ({ds.event_link.values[i, j]})" if ev else ""
                 lines.append(f"| {v:g} | {label} | {what} | {ds.basin_fraction.values[i, j]:.3f} | "
                              f"[{ds.basin_fraction_low.values[i, j]:.3f}, {ds.basin_fraction_high.values[i, j]:.3f}] "
-                             f"| {ev_text} |")
+                             f"| {_eventual(ds, i, j)} | {ev_text} |")
     return "\n".join(lines) + "\n"
+
+
+def _eventual(ds, i, j) -> str:
+    """An attractors dataset's eventual fraction and interval at (i, j) where it differs from the basin fraction
+    (datasets written before it existed: empty)."""
+    if "eventual_fraction" not in ds or ds.eventual_fraction.values[i, j] == ds.basin_fraction.values[i, j]:
+        return ""
+    return (f"{ds.eventual_fraction.values[i, j]:.3f} [{ds.eventual_fraction_low.values[i, j]:.3f}, "
+            f"{ds.eventual_fraction_high.values[i, j]:.3f}]")
 
 
 #: the report of each dataset kind

@@ -143,3 +143,17 @@ def test_a_set_whose_records_decide_nothing_is_transient_where_its_lifetime_says
     assert ds.basin_count.values[0, nc] == 0
     assert ds.basin_fraction_low.values[0, t] <= on <= ds.basin_fraction_high.values[0, t]
     assert ds.lifetime_low.values[0, t] <= 1.0 / H <= ds.lifetime_high.values[0, t]
+
+
+def test_the_report_names_the_transient_starts_and_their_eventual_fractions(hole_census):
+    """`ds.bifurc.report()` of the census: the transient row says where those starts are (a chaotic saddle, with its
+    mean lifetime), and the fixed points' rows carry their eventual fractions beside the basin fractions."""
+    from bifurc.report import attractors_report
+    ds = hole_census
+    text = attractors_report(ds)
+    row = next(line for line in text.splitlines() if "| transient |" in line)
+    life = float(ds.lifetime.values[0, list(ds.attractor_label.values).index("transient")])
+    assert f"on a chaotic saddle at the budget (mean lifetime {life:.0f} strobe periods)" in row
+    for j, label in enumerate(ds.attractor_label.values[:2]):
+        line = next(t for t in text.splitlines() if t.startswith(f"| {H:g} | {label} |"))
+        assert f"{ds.eventual_fraction.values[0, j]:.3f} [{ds.eventual_fraction_low.values[0, j]:.3f}, " in line
