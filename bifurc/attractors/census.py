@@ -284,16 +284,22 @@ def _mostly_in(keys: list, sets: list) -> bool:
     return bool(cells) and any(2 * len(cells & u) >= len(cells) for u in sets)
 
 
-def _on_saddle(t: Track, saddles: list) -> bool:
-    """Whether the start's last chunk shares a cell with a known saddle (its cells then join the saddle's, and the
-    start is noted on it): it runs on without a record, its recurrence counted afresh."""
-    cells = {c for c in t.last_keys if c is not None}
+def _known_saddle(cells: set, saddles: list) -> Attractor | None:
+    """The first of ``saddles`` sharing a grid cell with ``cells`` (which then join its cells), or None."""
     for sd in saddles:
         if sd.cells & cells:
             sd.cells |= cells
-            t.recur, t.visits, t.saddle = 0, set(), sd
-            return True
-    return False
+            return sd
+    return None
+
+
+def _on_saddle(t: Track, saddles: list) -> bool:
+    """Whether the start's last chunk shares a cell with a known saddle (its cells then join the saddle's, and the
+    start is noted on it): it runs on without a record, its recurrence counted afresh."""
+    sd = _known_saddle({c for c in t.last_keys if c is not None}, saddles)
+    if sd is not None:
+        t.recur, t.visits, t.saddle = 0, set(), sd
+    return sd is not None
 
 
 def _still_on_saddle(t: Track, saddles: list, periods) -> bool:
@@ -406,10 +412,8 @@ def _saddle_of(smap, a: Attractor, record, k0: int, grid, s: Settings, found: li
     ``s.persist`` periods (:func:`_persists`): a saddle, or a long-lived chaotic transient (appended to ``saddles``,
     its lifetime on it; either way its starts run on to where they settle, so that the two verdicts give the same
     fractions)."""
-    for sd in saddles:
-        if sd.cells & a.cells:
-            sd.cells |= a.cells
-            return sd
+    if (sd := _known_saddle(a.cells, saddles)) is not None:
+        return sd
     if any(same_attractor(a, b, grid, q) for b in found):
         return None
     life = _persists(smap, record, k0, s)
@@ -432,10 +436,8 @@ def _undecided_transient(smap, record, k0: int, grid, s: Settings, saddles: list
     orbit and 92 more starts on their cells were "not_converged" at 360-400 periods; run on, 39 of them settled
     within the 2000 periods' budget and 86 within 6000."""
     cells = {c for c in grid.keys(record.points) if c is not None}
-    for sd in saddles:
-        if sd.cells & cells:
-            sd.cells |= cells
-            return sd
+    if (sd := _known_saddle(cells, saddles)) is not None:
+        return sd
     life = _persists(smap, record, k0, s)
     if life.verdict(s.persist) == "attractor":
         return None
