@@ -309,6 +309,7 @@ def stability_report(ds) -> str:
 def attractors_report(ds) -> str:
     """The attractor census: per value, each attractor present with its basin fraction and 95 % interval, the
     eventual fraction where the transient starts' apportioning changes it, and its event."""
+    from .attractors.dataset import eventual_text
     from .sweeps.classify import describe
     par = ds.attrs["swept_parameter"]
     lines = [f"# Attractor census (attractors): {ds.attrs.get('scene', '')}, {ds.sizes[par]} values of {par} x "
@@ -329,17 +330,8 @@ def attractors_report(ds) -> str:
                 ev_text = f"{events[ev]} ({ds.event_link.values[i, j]})" if ev else ""
                 lines.append(f"| {v:g} | {label} | {what} | {ds.basin_fraction.values[i, j]:.3f} | "
                              f"[{ds.basin_fraction_low.values[i, j]:.3f}, {ds.basin_fraction_high.values[i, j]:.3f}] "
-                             f"| {_eventual(ds, i, j)} | {ev_text} |")
+                             f"| {eventual_text(ds, i, j)} | {ev_text} |")
     return "\n".join(lines) + "\n"
-
-
-def _eventual(ds, i, j) -> str:
-    """An attractors dataset's eventual fraction and interval at (i, j) where it differs from the basin fraction
-    (datasets written before it existed: empty)."""
-    if "eventual_fraction" not in ds or ds.eventual_fraction.values[i, j] == ds.basin_fraction.values[i, j]:
-        return ""
-    return (f"{ds.eventual_fraction.values[i, j]:.3f} [{ds.eventual_fraction_low.values[i, j]:.3f}, "
-            f"{ds.eventual_fraction_high.values[i, j]:.3f}]")
 
 
 #: the report of each dataset kind

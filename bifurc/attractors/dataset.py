@@ -14,7 +14,7 @@ from ..storage.schema import ATTRACTOR, ATTRACTOR_COORDS, ATTRACTOR_EVENTS, flag
 from .census import OUTCOMES, wilson
 from .eventual import eventual_fractions, saddle_groups
 
-__all__ = ["to_dataset", "attractor_count", "OUTCOME_CODES"]
+__all__ = ["to_dataset", "attractor_count", "eventual_text", "OUTCOME_CODES"]
 
 #: the class code stored for each outcome entry
 OUTCOME_CODES = {"escaped": ClassCode.ESCAPED, "not_converged": ClassCode.NOT_CONVERGED, "failed": ClassCode.FAILED,
@@ -26,6 +26,15 @@ def attractor_count(ds) -> int:
     """The distinct attractors an attractors Dataset holds: ids present at some value (the outcome entries, last,
     not counted)."""
     return int((ds.present.values[:, :ds.sizes["attractor"] - len(OUTCOMES)] > 0).any(axis=0).sum())
+
+
+def eventual_text(ds, i, j) -> str:
+    """An attractors dataset's eventual fraction and its interval at (value i, attractor j) as text, where it differs
+    from the basin fraction (else, and in datasets written before it existed, empty)."""
+    if "eventual_fraction" not in ds or ds.eventual_fraction.values[i, j] == ds.basin_fraction.values[i, j]:
+        return ""
+    return (f"{ds.eventual_fraction.values[i, j]:.3f} [{ds.eventual_fraction_low.values[i, j]:.3f}, "
+            f"{ds.eventual_fraction_high.values[i, j]:.3f}]")
 
 
 def _columns(values, per_value, outcomes, n_ids, events, transients=None):

@@ -92,15 +92,14 @@ def run(args) -> int:
 
 def _summary(ds, args) -> None:
     from ..attractors.plots import _legend
-    from ..attractors.dataset import attractor_count
+    from ..attractors.dataset import attractor_count, eventual_text
     n_att = attractor_count(ds)
     print(f"{ds.attrs['scene']}: {args.param} {args.start:g}..{args.stop:g} ({args.n} values x {args.starts} starts) "
           f"in {ds.attrs['census_seconds']:.1f} s: {n_att} attractor(s)")
-    last, ev = ds.basin_fraction.values[-1], ds.eventual_fraction.values[-1]
+    last = ds.basin_fraction.values[-1]
     for j in range(ds.sizes["attractor"]):
         if last[j] > 0:
-            lo, hi = ds.eventual_fraction_low.values[-1, j], ds.eventual_fraction_high.values[-1, j]
-            then = "" if ev[j] == last[j] else f", eventually {ev[j]:.3f} [{lo:.3f}, {hi:.3f}]"
+            then = f", eventually {text}" if (text := eventual_text(ds, -1, j)) else ""
             print(f"  {_legend(ds, j)}: basin fraction {last[j]:.3f} [{ds.basin_fraction_low.values[-1, j]:.3f}, "
                   f"{ds.basin_fraction_high.values[-1, j]:.3f}]{then} at {args.param} = {ds[args.param].values[-1]:g}")
     print(f"  wrote {args.output}" + (f" and {args.plot}" if args.plot else ""))
