@@ -274,6 +274,28 @@ def test_a_daughter_branch_continued_onto_its_doubled_parent_is_linked_to_the_pe
     assert low <= 204.27041 <= high and high - low < 0.2, why
 
 
+def test_the_link_is_the_event_past_which_the_orbit_is_no_longer_stable():
+    """A branch continued across a step that passes a stick onset stable (thesis-1dof's 3-impact orbit gains an
+    impact at 110.79918 V, studies/thesis_orbits/report.md) and then folds (110.94555 V) ends at the fold; with no
+    event ending its stability, the first event in the branch's order is the link, as before."""
+    import xarray as xr
+    from bifurc.attractors.follow import _ending_first
+    from bifurc.storage.schema import SPECIAL_KINDS
+    code = {k: SPECIAL_KINDS.index(k) for k in ("stick_onset", "fold", "grazing")}
+    V = [110.5, 110.7, 110.79918, 110.85, 110.94555, 110.9]
+
+    def branch(stable, kinds, at):
+        return xr.Dataset({"V": ("point", V), "stable": ("point", stable),
+                           "special_kind": ("special", [code[k] for k in kinds]),
+                           "special_value": ("special", [V[i] for i in at]), "special_point": ("special", at)})
+    got = _ending_first(branch([1, 1, 1, 1, 1, 0], ["fold", "stick_onset"], [4, 2]), 110.5, 111.0)
+    assert [(k, v) for k, v, _ in got] == [("fold", 110.94555), ("stick_onset", 110.79918)]
+    got = _ending_first(branch([1] * 6, ["grazing", "stick_onset"], [4, 2]), 110.5, 111.0)
+    assert [k for k, _, _ in got] == ["stick_onset", "grazing"]
+    assert _ending_first(branch([1, 1, 1, 1, 1, 0], ["fold", "stick_onset"], [4, 2]), 110.5, 110.9) == [
+        ("stick_onset", 110.79918, 2)]
+
+
 def _period_two(nodes, impacts):
     from bifurc.attractors.identify import Attractor
     return Attractor(code=0, period=2, period_mechanical=2, impacts=impacts, impacts_mechanical=impacts, lyapunov=0.0,

@@ -99,15 +99,13 @@ def link_event(pb, param: str, a, here: float, there: float, tol: float = 1e-10)
         return "global", f"its branch could not be continued from {here:g} ({type(exc).__name__}: {exc})"
     lo, hi = min(here, there), max(here, there)
     gaps = half_gaps(br, pb.system.state_names, a.period)
-    for k, v, at in zip(br.special_kind.values, br.special_value.values, br.special_point.values):
-        kind = SPECIAL_KINDS[int(k)] if k >= 0 else ""
-        if kind in LOCAL and lo - 1e-12 <= v <= hi + 1e-12:
-            if kind == "fold" and gaps is not None and gaps[int(at)] < BIRTH_MISMATCH:
-                return "period_doubling", (f"period_doubling: the period-{a.period} branch continued from {here:g} "
-                                           f"folds at {param} = {v:.10g} where it nearly repeats after {a.period // 2} "
-                                           f"periods (half-period mismatch {gaps[int(at)]:.2g} of the state): "
-                                           f"{BIRTH_NOTE} of a period-{a.period // 2} orbit")
-            return kind, f"{kind} located at {param} = {v:.10g} on the branch continued from {here:g}"
+    for kind, v, at in _ending_first(br, lo, hi)[:1]:
+        if kind == "fold" and gaps is not None and gaps[int(at)] < BIRTH_MISMATCH:
+            return "period_doubling", (f"period_doubling: the period-{a.period} branch continued from {here:g} "
+                                       f"folds at {param} = {v:.10g} where it nearly repeats after {a.period // 2} "
+                                       f"periods (half-period mismatch {gaps[int(at)]:.2g} of the state): "
+                                       f"{BIRTH_NOTE} of a period-{a.period // 2} orbit")
+        return kind, f"{kind} located at {param} = {v:.10g} on the branch continued from {here:g}"
     halved = collapse(gaps, br[param].values)
     if halved is not None and lo - 1e-12 <= min(halved) and max(halved) <= hi + 1e-12:
         return "period_doubling", (f"period_doubling bracketed in {param} = {halved[0]:.10g} to {halved[1]:.10g}: the "
@@ -118,6 +116,19 @@ def link_event(pb, param: str, a, here: float, there: float, tol: float = 1e-10)
     return "global", (f"no fold, period doubling, torus, grazing or stick onset on its branch between {here:g} and "
                       f"{there:g} (largest |multiplier| {mu:.3g} at {here:g}; branch: {reason}): a crisis or a "
                       f"basin-boundary collision")
+
+
+def _ending_first(br, lo: float, hi: float) -> list:
+    """The located events of kinds :data:`LOCAL` on the branch dataset ``br`` within [lo, hi] as (kind, value,
+    point), in the branch's order, the first one past which the branch is no longer stable put first: an orbit
+    continued across a step can pass a stick onset or a grazing and stay stable, and end at a fold further on
+    (thesis-1dof at 110.5-111 V: a stick onset at 110.799, the fold ending the orbit at 110.946 V)."""
+    stable = np.asarray(br.stable.values, dtype=bool)
+    got = sorted((int(at), SPECIAL_KINDS[int(k)], float(v)) for k, v, at in
+                 zip(br.special_kind.values, br.special_value.values, br.special_point.values)
+                 if k >= 0 and SPECIAL_KINDS[int(k)] in LOCAL and lo - 1e-12 <= v <= hi + 1e-12)
+    ends = [e for e in got if e[0] + 1 >= len(stable) or not stable[e[0] + 1]]
+    return [(kind, v, at) for at, kind, v in ends[:1] + [e for e in got if e not in ends[:1]]]
 
 
 def half_gaps(br, names, period: int):
