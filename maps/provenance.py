@@ -43,6 +43,8 @@ def git_commit() -> str | None:
 def _short(value) -> str:
     """A compact repr for history: arrays and long sequences summarised."""
     import numpy as np
+    if isinstance(value, (list, tuple)) and any(not isinstance(v, (int, float, str, np.number)) for v in value):
+        return f"<{len(value)} {'/'.join(sorted({type(v).__name__ for v in value}))}>"     # e.g. datasets
     if isinstance(value, (np.ndarray, list, tuple)) and np.size(value) > 4:
         a = np.asarray(value)
         if a.dtype.kind in "fiu":

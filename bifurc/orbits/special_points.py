@@ -142,13 +142,19 @@ def half_period_mismatch(pt: BranchPoint) -> float:
     return nodes_mismatch(np.array([np.asarray(s.y, dtype=float) for s in pt.nodes]))
 
 
+#: smallest state scale in :func:`nodes_mismatch`, relative to the orbit's largest state magnitude
+SCALE_FLOOR = 1e-9
+
+
 def nodes_mismatch(Y) -> float:
-    """:func:`half_period_mismatch` of an orbit's nodes given as an array (period x states)."""
+    """:func:`half_period_mismatch` of an orbit's nodes given as an array (period x states): each state's
+    mismatch relative to its largest magnitude on the orbit, at least :data:`SCALE_FLOOR` of the largest state's (a
+    state decayed to rounding noise, 1e-48 on a kicked map's y' = -y, would otherwise read a mismatch of 1)."""
     n = len(Y)
     if n < 2 or n % 2:
         return math.nan
     scale = np.max(np.abs(Y), axis=0)
-    scale[scale == 0] = 1.0
+    scale = np.maximum(scale, SCALE_FLOOR * np.max(scale)) if np.max(scale) > 0 else np.ones_like(scale)
     return float(np.max(np.abs(Y[:n // 2] - Y[n // 2:]) / scale))
 
 
