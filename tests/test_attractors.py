@@ -256,6 +256,72 @@ def test_a_period_doubling_links_the_parents_loss_and_the_daughters_birth():
         assert value == pytest.approx(3.0, abs=1e-6), str(ds.event_evidence.values[2, j])
 
 
+def _three_cycle_point(r: float) -> float:
+    """A point of the logistic map's 3-cycle near the one reached from x = 0.5 (iteration, then Newton)."""
+    from scipy.optimize import newton
+    x = 0.5
+    for _ in range(3000):
+        x = r * x * (1 - x)
+
+    def h(x):
+        y, d = x, 1.0
+        for _ in range(3):
+            d *= r * (1 - 2 * y)
+            y = r * y * (1 - y)
+        return y - x, d - 1.0
+    return newton(lambda z: h(z)[0], x, fprime=lambda z: h(z)[1], tol=1e-15, maxiter=50)
+
+
+def _three_cycle_doubling() -> float:
+    """r at which the logistic map's stable 3-cycle has multiplier -1: the cycle by iteration from x = 0.5 polished
+    by Newton on f(f(f(x))) = x (its derivative is the multiplier, near -1: well conditioned), the multiplier
+    prod r (1 - 2 x_i), the root by brentq."""
+    from scipy.optimize import brentq
+
+    def multiplier(r):
+        x = _three_cycle_point(r)
+        m = 1.0
+        for _ in range(3):
+            m *= r * (1 - 2 * x)
+            x = r * x * (1 - x)
+        return m + 1.0
+    return brentq(multiplier, 3.835, 3.8418, xtol=1e-13)
+
+
+def test_a_window_narrower_than_the_step_is_refined_at_its_events_and_linked():
+    """The logistic map's period-3 window (the kicked flow above) is born at a fold at r = 1 + sqrt(8) and loses
+    stability at a period doubling (scipy: the 3-cycle's multiplier -1 at r = 3.84149900...).  Census values 3.82
+    and 3.843 straddle the whole window: no 3-cycle is met.  Refined by the 3-cycle's branches from continuation,
+    the value between the fold and the period doubling is added; the census finds the 3-cycle there (to 1e-9 of
+    the cycle by iteration), its appearance linked to the fold and its loss (and the 6-cycle's birth) to the
+    period doubling, each to 1e-7."""
+    from bifurc.attractors.refine import event_values
+    r_fold, r_pd = 1 + math.sqrt(8), _three_cycle_doubling()
+    plain = bifurc.attractors(KICKED, "r", [3.82, 3.843], n_starts=20, seed=1, progress=False, workers=1)
+    assert not np.any(plain.period.values == 3)
+    branches = [bifurc.continue_orbit(KICKED, "r", span, period=3, x0={"x": 0.5}, error=False)
+                for span in ((3.835, 3.80), (3.835, 3.86))]
+    with pytest.raises(maps.ParameterError, match="not a branch dataset"):
+        event_values([plain], "r")
+    ds = bifurc.attractors(KICKED, "r", [3.82, 3.843], n_starts=20, seed=1, progress=False, workers=1,
+                           refine=branches)
+    r = ds.r.values
+    assert len(r) == 3 and r_fold < r[1] < r_pd and ds.attrs["values_added_at_events"] == f"{r[1]:.10g}"
+    three = [j for j in range(ds.sizes["attractor"] - len(OUTCOMES)) if ds.period.values[1, j] == 3]
+    assert len(three) == 1 and list(ds.present.values[:, three[0]]) == [0, 1, 0]
+    x = _three_cycle_point(r[1])
+    cycle = [x, r[1] * x * (1 - x)]
+    cycle.append(r[1] * cycle[1] * (1 - cycle[1]))
+    assert np.allclose(np.sort(ds.x.values[1, three[0], :3]), np.sort(cycle), atol=1e-9, rtol=0)
+    six = [j for j in range(ds.sizes["attractor"] - len(OUTCOMES)) if ds.period.values[2, j] == 6]
+    assert len(six) == 1
+    for i, j, kind, at in ((1, three[0], "fold", r_fold), (2, three[0], "period_doubling", r_pd),
+                           (2, six[0], "period_doubling", r_pd)):
+        assert str(ds.event_link.values[i, j]) == kind, str(ds.event_evidence.values[i, j])
+        value = float(str(ds.event_evidence.values[i, j]).split(" = ")[1].split()[0])
+        assert value == pytest.approx(at, abs=1e-7), str(ds.event_evidence.values[i, j])
+
+
 def test_a_daughter_branch_continued_onto_its_doubled_parent_is_linked_to_the_period_doubling():
     """thesis-1dof (`matlab-listing`, `measured`, 10 Hz): the 2:4 orbit the census finds at 204.5 V, continued
     down, passes the branch point at its parent's period doubling onto the 1:2 orbit taken twice (no fold or
@@ -381,6 +447,23 @@ def test_bad_box_is_one_line(box, words, tmp_path, capsys):
                  "--box", box, "-o", str(tmp_path / "a.nc")])
     err = capsys.readouterr().err
     assert code == 2 and err.startswith("bifurc: error: --box") and words in err and err.count("\n") == 1
+    assert not (tmp_path / "a.nc").exists()
+
+
+@pytest.mark.parametrize("extra, words", [(["--param", "F", "--from", "0.3", "--to", "0.3"],
+                                          "is a continuation in 'Omega', the census sweeps 'F'"),
+                                         (["--param", "Omega", "--from", "1.3", "--to", "1.3", "--set", "zeta=0.06"],
+                                          "computed at zeta = 0.05, the census at 0.06")])
+def test_refine_from_a_branch_of_another_parameter_or_model_is_one_line(extra, words, tmp_path, capsys):
+    from bifurc.cli import main
+    from bifurc.storage.files import write_netcdf
+    br = bifurc.continue_orbit("impact-oscillator", "Omega", (1.3, 1.31), params=OSC, max_points=4, error=False)
+    write_netcdf(br, tmp_path / "branch.nc")
+    sets = [a for k, v in OSC.items() if k != extra[1] for a in ("--set", f"{k}={v}")]      # the swept one apart
+    code = main(["attractors", "--scene", "impact-oscillator", *sets, *extra, "--refine-from",
+                 str(tmp_path / "branch.nc"), "-o", str(tmp_path / "a.nc")])
+    err = capsys.readouterr().err
+    assert code == 2 and err.startswith("bifurc: error: refine: branch 0") and words in err and err.count("\n") == 1
     assert not (tmp_path / "a.nc").exists()
 
 

@@ -37,7 +37,7 @@ def attractors(problem_or_scene="thesis-1dof", param: str = "V", values=None, *,
                cells: int = 100, chunk: int = 40, land: int = 6, recur: int = 20, locate: int = 48,
                max_periods: int = 2000, max_period: int = 16, match_threshold: float = 20.0, link: bool = True,
                n_node: int = 16, batch_size: int = 4, workers: int | None = None, scheduler=None, progress=True,
-               path=None, overwrite: bool = False,
+               path=None, overwrite: bool = False, refine=None,
                circuit=None, ac_sign=None, dc_law=None, soil=None, compaction=None):
     """Every attractor at each of ``values`` of ``param``, its basin fraction and how it continues.
 
@@ -56,6 +56,10 @@ def attractors(problem_or_scene="thesis-1dof", param: str = "V", values=None, *,
     match_threshold : largest distance [grid cells] at which an attractor continues one of the previous value.
     link : continue each appearing or disappearing periodic orbit across the step to link the change to a
         located fold, period doubling, torus, grazing or stick onset (else it is flagged "global").
+    refine : branch datasets from continuation in ``param`` (:func:`bifurc.continue_orbit`, one or a list, of this
+        model): a value is added between each two of their located events that share a step
+        (:mod:`.refine`), so that a stable window narrower than the step is a census value too; the added values
+        are in the attribute ``values_added_at_events``.
 
     workers : processes (default every available core, at least 4 values each); ``scheduler`` a Dask scheduler address or Client.  Each
         value's fresh starts are one task; the seeding with the neighbouring values' periodic attractors, the matching and
@@ -74,6 +78,10 @@ def attractors(problem_or_scene="thesis-1dof", param: str = "V", values=None, *,
     pb = problem(problem_or_scene, preset, params, circuit=circuit, ac_sign=ac_sign, dc_law=dc_law, soil=soil,
                  compaction=compaction)
     values = _values(param, values if values is not None else [pb.values[param]], pb.system)
+    added = None
+    if refine is not None:
+        from .refine import event_values, refined_values
+        values, added = refined_values(values, event_values(refine, param, pb))
     if path is not None:
         from ..storage.files import refuse_existing
         refuse_existing(path, overwrite)
@@ -107,6 +115,8 @@ def attractors(problem_or_scene="thesis-1dof", param: str = "V", values=None, *,
                        "Newton (exact multipliers); seeding with the neighbouring values' periodic attractors (a "
                        "sweep up the values and one back down) and matching by state-space distance; basin "
                        "fractions with 95 % Wilson intervals; motion without impact or area contraction: neutral"}
+    if added is not None:
+        attrs["values_added_at_events"] = ", ".join(f"{v:.10g}" for v in added) or "none"
     ds = to_dataset(pb, param, values, per_value, outcomes, n_ids, events, st, n_node=int(n_node), attrs=attrs,
                     transients=[(f.via, f.saddles) for f in fresh])
     if path is not None:

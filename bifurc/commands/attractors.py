@@ -32,6 +32,9 @@ def register(subparsers):
     p.add_argument("--max-period", type=int, default=16, help="longest period searched (default 16)")
     p.add_argument("--no-link", action="store_true",
                    help="do not continue appearing/disappearing orbits to link them to local bifurcations")
+    p.add_argument("--refine-from", nargs="+", default=None, metavar="BRANCH.nc",
+                   help="branch files from continuation in --param (bifurc branch -o ...): a value is added between "
+                        "each two of their located events that share a step")
     p.add_argument("--batch-size", type=int, default=4, help="starts per heyoka batch (SIMD lanes; default 4)")
     p.add_argument("--workers", type=int, default=None,
                    help="worker processes (default: every available core, at least 4 values each)")
@@ -74,13 +77,17 @@ def run(args) -> int:
         box = check_box(parse_box(args.box), pb.system, "--box")
     check_outputs(args, args.output)
     check_plot(args)
+    refine = None
+    if args.refine_from:
+        from ..storage.load import load
+        refine = [load(f, kind="branch") for f in args.refine_from]
     values = np.linspace(args.start, args.stop, args.n)
     params = dict(kw["params"])
     ds = attractors(args.scene, args.param, values, starts=args.starts_from or "box", n_starts=args.starts, box=box,
                     seed=args.seed, preset=kw["preset"], params=params or None, tol=kw["tol"], cells=args.cells,
                     max_periods=args.max_periods, max_period=args.max_period, link=not args.no_link,
                     batch_size=args.batch_size, workers=args.workers, scheduler=args.scheduler,
-                    progress=not args.quiet, path=args.output, overwrite=args.force,
+                    progress=not args.quiet, path=args.output, overwrite=args.force, refine=refine,
                     circuit=kw["circuit"], ac_sign=kw["ac_sign"], dc_law=kw["dc_law"], soil=kw["soil"],
                     compaction=kw["compaction"])
     if args.plot:
@@ -94,7 +101,8 @@ def _summary(ds, args) -> None:
     from ..attractors.plots import _legend
     from ..attractors.dataset import attractor_count, eventual_text
     n_att = attractor_count(ds)
-    print(f"{ds.attrs['scene']}: {args.param} {args.start:g}..{args.stop:g} ({args.n} values x {args.starts} starts) "
+    n = ds.sizes[args.param]
+    print(f"{ds.attrs['scene']}: {args.param} {args.start:g}..{args.stop:g} ({n} values x {args.starts} starts) "
           f"in {ds.attrs['census_seconds']:.1f} s: {n_att} attractor(s)")
     last = ds.basin_fraction.values[-1]
     for j in range(ds.sizes["attractor"]):
