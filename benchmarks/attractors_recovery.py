@@ -3,7 +3,7 @@
 section 5; not CI).
 
     python benchmarks/attractors_recovery.py [--n 21] [--starts 200] [--range 80 220] [-o census.nc | --census census.nc]
-                                             [--branches DIR | --save-branches DIR] [--link]
+                                             [--branches DIR | --save-branches DIR] [--link] [--refine]
 
 Two counts, side by side (and with ``--link`` a third):
 
@@ -21,7 +21,11 @@ Two counts, side by side (and with ``--link`` a third):
   census has the stable orbit ending there at the census value beside it (by state) and marks an appearance or
   disappearance across the step linked to that kind of event located within 1e-4 V of it (a fold where the branch
   is a period-m orbit taken twice is the birth at that orbit's period doubling: linked as a period doubling; before
-  2026-11-26 18:00 the kind alone was compared).
+  2026-11-26 18:00 the kind alone was compared).  A stable stretch between two located events that no branch
+  point samples (a fold and a period doubling 0.03-0.05 V apart) is polished from the branch points on either
+  side of them (since 2026-11-26 23:50; before, such orbits were "not on the branch").
+- ``--refine``: the census values are refined at the branches' events (``bifurc.attractors(..., refine=)``): a
+  value between each two located events sharing a step.  The census still takes no orbit from them.
 
 The census (V in 80-220 V, box x=0:0.03, v=-1.5:1.5, seed 1) gets no orbit from continuation: only its random starts
 and the seeding with the previous value's attractors.  Both use the thesis-orbits study's preset (`matlab-listing`):
@@ -96,23 +100,31 @@ def stable_orbits(bs, values, names, pb) -> dict:
     out: dict = {i: [] for i in range(len(values))}
     for b, ds in enumerate(bs):
         V, stable = ds["V"].values, ds.stable.values
+        events = _events_between_points(ds)
         for i, v in enumerate(values):
             for p in range(len(V) - 1):
-                if not (min(V[p], V[p + 1]) <= v <= max(V[p], V[p + 1])) or not (stable[p] or stable[p + 1]):
+                ends = [V[p], V[p + 1], *events.get(p, ())]
+                if not (min(ends) <= v <= max(ends)) or not (stable[p] or stable[p + 1] or p in events):
                     continue
-                q = p if stable[p] and (not stable[p + 1] or abs(V[p] - v) <= abs(V[p + 1] - v)) else p + 1
-                period, phase, k0 = int(ds.period.values[q]), float(ds.section_phase.values[q]), \
-                    int(ds.section_k0.values[q])
-                for ph in {0.0, phase}:
-                    if ph not in maps_at:
-                        maps_at[ph] = StroboscopicMap(pb, tol=1e-10, phase=ph)
-                    maps_at[ph].set_params(V=float(v))
-                try:
-                    po = find_periodic_orbit(maps_at[phase], HybridState(_nodes(ds, names, (q,), 1)[0]), period,
-                                             k0=k0, tol=1e-10)
-                except OrbitNotFound:
-                    continue
-                if not po.stable:
+                if stable[p] or stable[p + 1]:
+                    tries = [p if stable[p] and (not stable[p + 1] or abs(V[p] - v) <= abs(V[p + 1] - v)) else p + 1]
+                else:       # a stable stretch between two located events that no branch point samples
+                    tries = [p, p + 1]
+                for q in tries:
+                    period, phase, k0 = int(ds.period.values[q]), float(ds.section_phase.values[q]), \
+                        int(ds.section_k0.values[q])
+                    for ph in {0.0, phase}:
+                        if ph not in maps_at:
+                            maps_at[ph] = StroboscopicMap(pb, tol=1e-10, phase=ph)
+                        maps_at[ph].set_params(V=float(v))
+                    try:
+                        po = find_periodic_orbit(maps_at[phase], HybridState(_nodes(ds, names, (q,), 1)[0]), period,
+                                                 k0=k0, tol=1e-10)
+                    except OrbitNotFound:
+                        continue
+                    if po.stable:
+                        break
+                else:
                     continue
                 nodes = np.array([s.y for s in po.nodes]) if phase == 0.0 else np.array([
                     maps_at[phase].linearize(s, k0 + j, until=maps_at[0.0].sample_time(k0 + j + 1)).state.y
@@ -122,6 +134,16 @@ def stable_orbits(bs, values, names, pb) -> dict:
                     out[i].append((period, int(po.impacts_per_period), nodes, {b: q}))
                 else:
                     known[3].setdefault(b, q)
+    return out
+
+
+def _events_between_points(ds) -> dict:
+    """{branch point p: [values of the folds and period doublings located between points p and p + 1]}."""
+    from bifurc.storage.schema import SPECIAL_KINDS
+    out: dict = {}
+    for k in range(ds.sizes.get("special", 0)):
+        if SPECIAL_KINDS[int(ds.special_kind.values[k])] in ("fold", "period_doubling"):
+            out.setdefault(int(ds.special_point.values[k]), []).append(float(ds.special_value.values[k]))
     return out
 
 
@@ -215,6 +237,8 @@ def main(argv=None):
     ap.add_argument("--save-branches", metavar="DIR", help="write the branches continued here to DIR")
     ap.add_argument("--link", action="store_true", help="link the census' changes and count the located folds and "
                     "period doublings linked")
+    ap.add_argument("--refine", action="store_true", help="add a census value between each two events the branches "
+                    "locate in one step (bifurc.attractors' refine=)")
     a = ap.parse_args(argv)
 
     import bifurc
@@ -222,15 +246,15 @@ def main(argv=None):
     from bifurc.attractors.census import OUTCOMES
     sys.path.insert(0, str(ROOT))
     from studies.thesis_orbits import PRESET
+    bs = branches(a.branches) if a.refine else None
     clock = time.perf_counter()
     if a.census:
         ds = bifurc.load(a.census)
-        values = ds["V"].values
     else:
-        values = np.linspace(*a.range, a.n)
-        ds = bifurc.attractors("thesis-1dof", "V", values, preset=PRESET, params={"relay_hz": HZ}, dc_law=LAW,
-                               box={"x": (0.0, 0.03), "v": (-1.5, 1.5)}, n_starts=a.starts, seed=1, progress=False,
-                               link=a.link, path=a.out)
+        ds = bifurc.attractors("thesis-1dof", "V", np.linspace(*a.range, a.n), preset=PRESET,
+                               params={"relay_hz": HZ}, dc_law=LAW, box={"x": (0.0, 0.03), "v": (-1.5, 1.5)},
+                               n_starts=a.starts, seed=1, progress=False, link=a.link, path=a.out, refine=bs)
+    values = ds["V"].values
     sec = time.perf_counter() - clock
     assert ds.attrs.get("preset") == PRESET, ds.attrs.get("preset")
     n_att = ds.sizes["attractor"] - len(OUTCOMES)
@@ -238,6 +262,8 @@ def main(argv=None):
             for i in range(len(values)) for j in range(n_att) if ds.present.values[i, j]}
     want = expected(values)
     got = want & have
+    if "values_added_at_events" in ds.attrs:
+        print(f"values added between events the branches locate in one step: {ds.attrs['values_added_at_events']}")
     print(f"census {len(values)} values x {ds.sizes['start']} starts in {sec:.1f} s ({PRESET}, {LAW}, {HZ:g} Hz; "
           f"{ds.attrs.get('workers')} workers, {ds.attrs.get('periods_per_start_mean', float('nan')):.1f} relay "
           f"periods per start, linking {ds.attrs.get('linking_seconds', 0.0):.1f} s)")
@@ -246,7 +272,7 @@ def main(argv=None):
     pb = maps.problem("thesis-1dof", preset=PRESET, params={"relay_hz": HZ, "V": float(values[0])}, dc_law=LAW)
     names = list(pb.system.state_names)
     clock = time.perf_counter()
-    bs = branches(a.branches)
+    bs = bs if bs is not None else branches(a.branches)
     if a.save_branches:
         save_branches(bs, a.save_branches)
     orbits = stable_orbits(bs, values, names, pb)
