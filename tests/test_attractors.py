@@ -450,6 +450,15 @@ def test_bad_box_is_one_line(box, words, tmp_path, capsys):
     assert not (tmp_path / "a.nc").exists()
 
 
+def test_refined_values_split_each_step_between_its_distinct_events_in_the_values_order():
+    from bifurc.attractors.refine import refined_values
+    events = [1.2, 1.4, 1.40000001, 2.5, 2.7, 2.9, 3.5]         # 1.4 twice (a doubling and its daughter's birth)
+    got, added = refined_values([1.0, 2.0, 3.0], events)
+    assert np.allclose(got, [1.0, 1.3, 2.0, 2.6, 2.8, 3.0]) and np.allclose(added, [1.3, 2.6, 2.8])
+    got, added = refined_values([3.0, 2.0, 1.0], events)
+    assert np.allclose(got, [3.0, 2.8, 2.6, 2.0, 1.3, 1.0]) and np.allclose(added, [2.8, 2.6, 1.3])
+
+
 @pytest.mark.parametrize("extra, words", [(["--param", "F", "--from", "0.3", "--to", "0.3"],
                                           "is a continuation in 'Omega', the census sweeps 'F'"),
                                          (["--param", "Omega", "--from", "1.3", "--to", "1.3", "--set", "zeta=0.06"],
