@@ -122,7 +122,8 @@ def _ending_first(br, lo: float, hi: float) -> list:
     """The located events of kinds :data:`LOCAL` on the branch dataset ``br`` within [lo, hi] as (kind, value,
     point), in the branch's order, the first one past which the branch is no longer stable put first: an orbit
     continued across a step can pass a stick onset or a grazing and stay stable, and end at a fold further on
-    (thesis-1dof at 110.5-111 V: a stick onset at 110.799, the fold ending the orbit at 110.946 V)."""
+    (the thesis-orbits branch of thesis-1dof's 3-impact orbit: a stick onset at 110.799 V, where it gains an
+    impact, then the fold at 110.946 V where it ends)."""
     stable = np.asarray(br.stable.values, dtype=bool)
     got = sorted((int(at), SPECIAL_KINDS[int(k)], float(v)) for k, v, at in
                  zip(br.special_kind.values, br.special_value.values, br.special_point.values)
