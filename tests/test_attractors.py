@@ -362,6 +362,24 @@ def test_the_link_is_the_event_past_which_the_orbit_is_no_longer_stable():
         ("stick_onset", 110.79918, 2)]
 
 
+def test_an_orbit_that_passes_a_stick_onset_is_linked_to_the_fold_that_ends_it():
+    """thesis-1dof (`matlab-listing`, `measured`, 10 Hz): the 3-impact period-1 orbit at 110.5 V, continued up,
+    gains an impact at a stick onset (110.79918 V) and stays stable up to its fold at 110.94555 V
+    (studies/thesis_orbits/report.md, continued from 95 V), where it ends: its loss by 111 V is that fold's.  The
+    continuation over this short step had passed the onset onto the bar at rest on the stop, another attractor
+    (Newton 7.5e-6 V past the onset lands on it), and named the stick onset."""
+    from bifurc.attractors.follow import link_event
+    from bifurc.attractors.identify import Attractor
+    pb = maps.problem("thesis-1dof", preset="matlab-listing", params={"relay_hz": 10.0}, dc_law="measured")
+    node = [-1.43207171e-05, 6.24378803e-04, -1.12952968e-01, 1.35285428e+01]    # Newton at 110.5 V, 9 digits
+    a = Attractor(code=0, period=1, period_mechanical=1, impacts=3, impacts_mechanical=3, lyapunov=0.0,
+                  lyapunov_interval=(0.0, 0.0), max_multiplier=0.228, points=np.array([node]), flags=None,
+                  k0=400, cells=set(), min_flight_clearance=math.nan, residual=0.0, how="")
+    kind, why = link_event(pb, "V", a, 110.5, 111.0)
+    assert kind == "fold", why
+    assert float(why.split(" = ")[1].split()[0]) == pytest.approx(110.94555, abs=1e-4), why
+
+
 def _period_two(nodes, impacts):
     from bifurc.attractors.identify import Attractor
     return Attractor(code=0, period=2, period_mechanical=2, impacts=impacts, impacts_mechanical=impacts, lyapunov=0.0,

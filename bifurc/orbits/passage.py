@@ -6,7 +6,11 @@ Newton (:func:`~bifurc.orbits.periodic.find_periodic_orbit`) at p_e + dp on the 
 growing ladder of fractions of the span; at a grazing the guess adds Nordmark's predicted jump
 (:mod:`bifurc.orbits.nordmark`) and the ladder starts where the predicted impact speed is resolved.
 An orbit whose transition signature differs from the stopped piece's is the restart; none: the
-orbit does not persist there, and the reason says what was tried.
+orbit does not persist there, and the reason says what was tried.  Past a stick onset an orbit in flight is
+preferred to the bar at rest on the stop all period (no impact), which the chattering orbit meets at the section:
+on thesis-1dof at 110.79918 V Newton 7.5e-6 V past the onset landed on the bar at rest, 7.5e-4 V past on the
+4-impact orbit the branch continues as (the census meets that one).  The bar at rest is the restart only where
+no orbit in flight is found along the ladder in that direction.
 """
 from __future__ import annotations
 
@@ -58,6 +62,7 @@ def restart(problem, sp, last, lo: float, hi: float):
     old = transition_signature(last.signatures)
     tried = []
     for way in ((direction,) if pred is not None else (direction, -direction)):
+        rest = None
         for frac in LADDER:
             p = p_e + way * frac * problem.p_scale
             if not lo <= p <= hi:
@@ -71,10 +76,16 @@ def restart(problem, sp, last, lo: float, hi: float):
                 tried.append(f"{p:.10g} ({exc})")
                 continue
             if transition_signature(orbit.signatures) != old:
+                if sp.kind == "stick_onset" and orbit.impacts_per_period == 0 < last.impacts:
+                    rest = rest or (orbit, p)           # the restart only if no orbit in flight is found this way
+                    tried.append(f"{p:.10g} (the bar at rest on the stop all period)")
+                    continue
                 if impacting_side and sp.kind != "grazing":
                     _graze_from(problem, sp, orbit, p, way)
                 return SimpleNamespace(nodes=orbit.nodes, scale=orbit.scale), p, way, note
             tried.append(f"{p:.10g} (converged to the same signature)")
+        if rest is not None:
+            return SimpleNamespace(nodes=rest[0].nodes, scale=rest[0].scale), rest[1], way, note
     return None, ("no periodic orbit of period {} with another transition signature past the event: Newton "
                   "from the event's orbit at {} = {}".format(problem.n, problem.param, "; ".join(tried))), 0.0, note
 
