@@ -27,7 +27,7 @@ from ..storage.schema import SPECIAL_KINDS
 from ..codes import ClassCode
 from .identify import Attractor, distance, same_orbit
 
-__all__ = ["match", "continues", "link_event", "half_gaps", "collapse"]
+__all__ = ["match", "continues", "link_event", "local_events", "half_gaps", "collapse"]
 
 
 def alike(a, b) -> bool:
@@ -118,6 +118,16 @@ def link_event(pb, param: str, a, here: float, there: float, tol: float = 1e-10)
                       f"basin-boundary collision")
 
 
+def local_events(br) -> list:
+    """(branch point, kind, value) of each event of a kind in :data:`LOCAL` located on the branch dataset ``br``
+    (:func:`bifurc.continue_orbit`'s output), in the branch's order."""
+    if "special_kind" not in br:
+        return []
+    return sorted((int(at), SPECIAL_KINDS[int(k)], float(v)) for k, v, at in
+                  zip(br.special_kind.values, br.special_value.values, br.special_point.values)
+                  if k >= 0 and SPECIAL_KINDS[int(k)] in LOCAL and np.isfinite(v))
+
+
 def _ending_first(br, lo: float, hi: float) -> list:
     """The located events of kinds :data:`LOCAL` on the branch dataset ``br`` within [lo, hi] as (kind, value,
     point), in the branch's order, the first one past which the branch is no longer stable put first: an orbit
@@ -125,9 +135,7 @@ def _ending_first(br, lo: float, hi: float) -> list:
     (the thesis-orbits branch of thesis-1dof's 3-impact orbit: a stick onset at 110.799 V, where it gains an
     impact, then the fold at 110.946 V where it ends)."""
     stable = np.asarray(br.stable.values, dtype=bool)
-    got = sorted((int(at), SPECIAL_KINDS[int(k)], float(v)) for k, v, at in
-                 zip(br.special_kind.values, br.special_value.values, br.special_point.values)
-                 if k >= 0 and SPECIAL_KINDS[int(k)] in LOCAL and lo - 1e-12 <= v <= hi + 1e-12)
+    got = [e for e in local_events(br) if lo - 1e-12 <= e[2] <= hi + 1e-12]
     ends = [e for e in got if e[0] + 1 >= len(stable) or not stable[e[0] + 1]]
     return [(kind, v, at) for at, kind, v in ends[:1] + [e for e in got if e not in ends[:1]]]
 

@@ -3,8 +3,8 @@ one step, is seen by the census only at a value between its events.
 
 On thesis-1dof (`matlab-listing`, `measured`, 10 Hz) at 0.5 V steps the thesis-orbits branches hold stable
 period-1 and period-2 windows 0.03-0.29 V wide between a fold and a period doubling (124.40-124.43, 128.43-128.48,
-135.67-135.71, 164.60-164.82 V) and five events in 110.5-111 V; no census value lies in those windows, so no appearance or
-disappearance marks them.  Given branches from continuation (:func:`bifurc.continue_orbit`), a value is added
+135.67-135.71, 164.60-164.82 V) and five events in 110.5-111 V; no census value lies in those windows, so no
+appearance or disappearance marks them.  Given branches from continuation (:func:`bifurc.continue_orbit`), a value is added
 between each two consecutive distinct located events that share a step, so that each step holds at most one.
 The added values are census values like the others (fresh starts and seeds from their neighbours): no orbit is
 taken from the branches.
@@ -15,8 +15,7 @@ import numpy as np
 
 from maps.parameters import ParameterError
 
-from ..storage.schema import SPECIAL_KINDS
-from .follow import LOCAL
+from .follow import local_events
 
 __all__ = ["event_values", "refined_values"]
 
@@ -27,7 +26,7 @@ MODEL_ATTRS = ("scene", "circuit", "ac_sign", "relay", "dc_law", "soil", "soil_c
 def event_values(branches, param: str, problem=None) -> np.ndarray:
     """The sorted values of ``param`` [its unit] at which the branch datasets ``branches`` (one or a list, as
     :func:`bifurc.continue_orbit` returns) locate a fold, period doubling, torus, grazing, impact loss or stick
-    onset (:data:`.follow.LOCAL`); each branch must be a continuation in ``param`` and, with ``problem``, of the
+    onset (:func:`.follow.local_events`); each branch must be a continuation in ``param`` and, with ``problem``, of the
     same model and the same other parameter values."""
     bs = [branches] if hasattr(branches, "attrs") else list(branches)
     out = []
@@ -39,11 +38,7 @@ def event_values(branches, param: str, problem=None) -> np.ndarray:
             raise ParameterError(f"refine: branch {k} is a continuation in {got!r}, the census sweeps {param!r}")
         if problem is not None:
             _same_model(br, k, problem, param)
-        if "special_kind" not in br:
-            continue
-        for code, v in zip(br.special_kind.values, br.special_value.values):
-            if code >= 0 and SPECIAL_KINDS[int(code)] in LOCAL and np.isfinite(v):
-                out.append(float(v))
+        out += [v for _, _, v in local_events(br)]
     return np.sort(np.asarray(out, dtype=float))
 
 
