@@ -4,8 +4,9 @@ one step, is seen by the census only at a value between its events.
 On thesis-1dof (`matlab-listing`, `measured`, 10 Hz) at 0.5 V steps the thesis-orbits branches hold stable
 period-1 and period-2 windows 0.03-0.29 V wide between a fold and a period doubling (124.40-124.43, 128.43-128.48,
 135.67-135.71, 164.60-164.82 V) and five events in 110.5-111 V; no census value lies in those windows, so no
-appearance or disappearance marks them.  Given branches from continuation (:func:`bifurc.continue_orbit`), a value is added
-between each two consecutive distinct located events that share a step, so that each step holds at most one.
+appearance or disappearance marks them.  Given branches from continuation (:func:`bifurc.continue_orbit`), a value
+is added between each two consecutive distinct located events that share a step, so that each step holds at most
+one.
 The added values are census values like the others (fresh starts and seeds from their neighbours): no orbit is
 taken from the branches.
 """

@@ -1,7 +1,8 @@
 """The 2:6 window orbits the 281 x 200 census never met (128.43-128.48 V, 177.69-178.06 V; thesis-1dof, matlab-listing,
 measured, 10 Hz): a census at 1000 starts at the window values and their neighbours, linked, with the thesis-orbits
 branches' stable orbits and link verdicts from benchmarks/attractors_recovery.py.  Ran at d1223fb, 2026-11-26
-23:14-23:17 UTC, 2 workers, idle: python benchmarks/reports/attractors-recovery/windows_1000.py > windows-1000-d1223fb.txt
+23:14-23:17 UTC, 2 workers, idle:
+python benchmarks/reports/attractors-recovery/windows_1000.py DIR > windows-1000-d1223fb.txt
 (the branch folder /tmp/x/br: thesis-orbits branches saved by attractors_recovery.py --save-branches)."""
 import pathlib, sys, time
 import numpy as np
