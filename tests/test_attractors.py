@@ -256,6 +256,32 @@ def test_a_period_doubling_links_the_parents_loss_and_the_daughters_birth():
         assert value == pytest.approx(3.0, abs=1e-6), str(ds.event_evidence.values[2, j])
 
 
+def test_a_slowly_approached_daughter_cycle_is_polished_at_its_own_period_on_a_coarse_grid():
+    """The logistic map (the kicked flow above) at r = 3.46, just past the 2-cycle's doubling at 1 + sqrt 6: the
+    stable 4-cycle (by plain iteration here, its multiplier the product of r (1 - 2 x) over it: 0.79) is approached
+    slowly, and on a grid of 3 cells per side its fixed point, 2-cycle and 4-cycle all recur within two cells, where
+    Newton at periods 1 and 2 finds the unstable ones.  Every start is the 4-cycle, polished at period 4: its nodes
+    and multiplier those of the iteration.  (Tried at the two shortest near periods only, all 50 starts were
+    "not_converged" after 2000 periods; thesis-1dof at 211.5 V, 125 of 1000 starts on a 4:8 orbit.)"""
+    r = 3.46
+    assert 1 + math.sqrt(6) < r
+    x = 0.3
+    for _ in range(100_000):
+        x = r * x * (1.0 - x)
+    cycle = [x]
+    for _ in range(3):
+        cycle.append(r * cycle[-1] * (1.0 - cycle[-1]))
+    mu = abs(np.prod([r * (1.0 - 2.0 * c) for c in cycle]))
+    assert abs(cycle[0] - cycle[2]) > 0.04 and 0.7 < mu < 0.9
+    ds = bifurc.attractors(KICKED, "r", [r], n_starts=50, seed=1, cells=3, progress=False, workers=1)
+    ids = [j for j in range(ds.sizes["attractor"]) if float(ds.basin_fraction.values[0, j]) > 0]
+    assert len(ids) == 1 and float(ds.basin_fraction.values[0, ids[0]]) == 1.0
+    j = ids[0]
+    assert int(ds.period.values[0, j]) == 4
+    assert np.allclose(np.sort(ds.x.values[0, j, :4]), np.sort(cycle), atol=1e-9, rtol=0)
+    assert float(ds.max_multiplier.values[0, j]) == pytest.approx(mu, abs=1e-7)
+
+
 def _three_cycle_point(r: float) -> float:
     """A point of the logistic map's 3-cycle near the one reached from x = 0.5 (iteration, then Newton)."""
     from scipy.optimize import newton

@@ -37,7 +37,7 @@ from ..codes import ClassCode
 from ..sweeps.classify import candidate_periods
 from .lifetime import Lifetime, estimate_lifetime, periodic_tail
 from .identify import (Attractor, Grid, approaching, area_rate, contracting, converging, from_chunk, identify,
-                       near_periods, no_contraction, polish_once, same_attractor, same_orbit)
+                       newton_periods, no_contraction, polish_once, same_attractor, same_orbit)
 
 __all__ = ["Settings", "Track", "Memory", "census_at", "OUTCOMES", "outcome_labels"]
 
@@ -248,7 +248,7 @@ def _identify_candidates(smap, tracks, candidates, grid, s: Settings, found: lis
             t.outcome = OUTCOMES["not_converged"]
         elif quiet:
             t.recur = 0              # on a chaotic saddle at its last record: it runs on
-        elif near := near_periods(t.last.points, grid, candidate_periods(q, s.max_period))[:2]:
+        elif near := newton_periods(t.last.points, grid, candidate_periods(q, s.max_period)):
             if _chance_return(t, near, grid, mem.saddles):
                 t.quiet_until = t.periods + SADDLE_QUIET * s.chunk      # as a record there would find
             else:
