@@ -51,7 +51,8 @@ def attractors(problem_or_scene="thesis-1dof", param: str = "V", values=None, *,
     cells : grid cells per box side (the recurrence grid; other states: their start's magnitude / cells).
     chunk, land, recur, locate, max_periods : strobe periods per batch call; consecutive points in one
         attractor's cells to land on it; consecutive revisits of a start's own cells to call an attractor
-        found; periods recorded to identify it; periods after which a start is "not_converged".
+        found; periods of a start's first record to identify it (doubled at each undecided one); periods after
+        which a start is "not_converged".
     max_period : longest period searched [strobe periods]; tol : heyoka tolerance.
     match_threshold : largest distance [grid cells] at which an attractor continues one of the previous value.
     link : continue each appearing or disappearing periodic orbit across the step to link the change to a

@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from types import SimpleNamespace
 
 import numpy as np
 
@@ -52,9 +53,9 @@ OUTCOMES = {"escaped": -1, "not_converged": -2, "failed": -3, "neutral": -4, "tr
 class Settings:
     """Census settings: periods per chunk, consecutive points to land or recur, periods recorded to
     identify, the budget per start [strobe periods], the period search, Newton's tolerance, SIMD lanes,
-    the records (``locate`` periods each) after which a start still undecided is "not_converged", and the
-    mean lifetime [strobe periods] that a new non-periodic set's interval must lie above for the set to be an
-    attractor (:func:`_persists`; also the periods its copies run at most)."""
+    the records (``locate`` periods, doubled at each undecided one) after which a start still undecided is
+    "not_converged", and the mean lifetime [strobe periods] that a new non-periodic set's interval must lie above
+    for the set to be an attractor (:func:`_persists`; also the periods its copies run at most)."""
 
     chunk: int = 40
     land: int = 6
@@ -336,24 +337,35 @@ def _sharing(keys: list, found: list, owner: dict) -> int | None:
     return aid
 
 
+def record_length(tries: int, s: Settings) -> int:
+    """Strobe periods of a start's record after ``tries`` undecided ones: ``locate`` doubled at each (at most
+    ``max_periods``), so that an exponent the shorter records' intervals straddled is resolved by a longer one, as a
+    diagram's anytime labels extend an undecided record.  Thesis-1dof (`matlab-listing`, `measured`, 10 Hz): at
+    99.5 V a chaotic set chattering on the stop (exponent 0.14 per period) is chaotic over 200 periods, at 179.5 V
+    a thin one beside the 4:12 orbit (0.041) over 1000; over 48 both were undecided, and 83 and 82 of 1000 starts
+    "not_converged"."""
+    return int(min(s.locate * 2 ** tries, max(s.locate, s.max_periods)))
+
+
 def _record_and_classify(smap, tracks, rest, grid, s: Settings, found: list, owner: dict, mem: Memory) -> None:
-    """Record the starts ``rest`` ``locate`` periods with a tangent vector (one batch call, beside their paths) and
-    identify each (:func:`.identify.identify`): a start on a non-periodic attractor counts for it (and its record's
-    periods for it); a periodic orbit found is registered and the start runs on from where its record began, to
-    land there along its own path; an undecided one runs on, "not_converged" after ``max_tries`` records; a new
-    non-periodic set is an attractor only if it persists (:func:`_persists`), else a saddle the start runs on
+    """Record the starts ``rest`` (:func:`record_length` periods) with a tangent vector (one batch call, beside their
+    paths) and identify each (:func:`.identify.identify`): a start on a non-periodic attractor counts for it (and
+    its record's periods for it); a periodic orbit found is registered and the start runs on from where its record
+    began, to land there along its own path; an undecided one runs on, "not_converged" after ``max_tries`` records;
+    a new non-periodic set is an attractor only if it persists (:func:`_persists`), else a saddle the start runs on
     from."""
     q = smap.forcing_period_steps
-    recs = smap.orbits([{}] * len(rest), [tracks[i].state for i in rest], s.locate,
+    lengths = [record_length(tracks[i].tries, s) for i in rest]
+    recs = smap.orbits([{}] * len(rest), [tracks[i].state for i in rest], lengths,
                        k0=[tracks[i].k for i in rest], batch_size=s.batch_size, tangent=True)
-    for i, o in zip(rest, recs):
+    for i, o, length in zip(rest, recs, lengths):
         t = tracks[i]
         if o.status != "ok":
             t.outcome = OUTCOMES["escaped" if o.status == "escaped" else "failed"]
             continue
         a = identify(smap, o, t.k, grid, max_period=s.max_period, tol=s.newton_tol, tried=mem.tried)
         if _neutral(smap, o, t.k, a):
-            t.outcome, t.periods = OUTCOMES["neutral"], t.periods + s.locate
+            t.outcome, t.periods = OUTCOMES["neutral"], t.periods + length
             continue
         # an undecided start runs on from where its record began (the record ran beside its path: :func:`census_at`)
         t.recur, t.visits = 0, set()
@@ -374,7 +386,7 @@ def _record_and_classify(smap, tracks, rest, grid, s: Settings, found: list, own
         aid = _register(a, found, owner, grid, q)
         if a.periodic:
             continue                 # its path, not the record beside it, must land there (it runs on)
-        t.outcome, t.periods = aid, t.periods + s.locate
+        t.outcome, t.periods = aid, t.periods + length
         if found[aid] is a and math.isnan(a.area_rate):
             _with_area_rate(smap, a, o, t.k)          # once per new non-periodic attractor
 
@@ -457,8 +469,11 @@ def _persists(smap, record, k0: int, s: Settings) -> Lifetime:
     :data:`.lifetime.COPIES` perturbed copies started on its points (:func:`.lifetime.estimate_lifetime`, horizon
     ``s.persist``): its verdict is "attractor" only where the lifetime's interval lies above ``s.persist``.  A
     chaotic saddle's trajectories all fall onto periodic orbits, however long their chaos lasts (thesis-1dof at
-    122 V: 5 of 200 starts still chaotic after 3000 relay periods, benchmarks/README.md)."""
-    return estimate_lifetime(smap, record, k0, s.persist, max_period=s.max_period, batch_size=s.batch_size)
+    122 V: 5 of 200 starts still chaotic after 3000 relay periods, benchmarks/README.md).  The copies start on the
+    record's first ``locate`` periods: a longer record (:func:`record_length`) may have left the set (on the open map
+    of tests/test_eventual.py, copies spread over 1536 periods put the mean lifetime below 82 steps, for 1000)."""
+    head = SimpleNamespace(points=record.points[:s.locate + 1], state=record.state)
+    return estimate_lifetime(smap, head, k0, s.persist, max_period=s.max_period, batch_size=s.batch_size)
 
 
 def outcome_labels(outcomes, found: list) -> list:

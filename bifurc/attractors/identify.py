@@ -194,6 +194,8 @@ def identify(smap, orbit, k0: int, grid: Grid, *, max_period: int = 16, tol: flo
         whole = _whole_periods(stretch, int(cls["period"]))
         if whole[2] < 0.0:
             return _unpolished(smap, orbit, k0, cls, grid, whole, rtol, atol)
+    if cls["label"] == "quasi-periodic" and len(imp) < QP_RECORD:
+        return None          # an exponent below a short record's bound is no evidence that it is 0: a longer decides
     if cls["label"] in ("chaotic", "quasi-periodic"):
         return Attractor(int(cls["code"]), lyapunov=lam, lyapunov_interval=(lo, hi), points=pts.copy(),
                          flags=[orbit.state(j).flags for j in range(len(pts))], k0=k0,
@@ -201,6 +203,13 @@ def identify(smap, orbit, k0: int, grid: Grid, *, max_period: int = 16, tol: flo
                          min_flight_clearance=float(np.min(orbit.min_flight_clearance_per_step)),
                          how=f"recurrence on the grid; classified {cls['label']} over {len(imp)} periods")
     return None
+
+
+#: the shortest record [strobe periods] from which a set is quasi-periodic (its exponent's |value| below
+#: :func:`bifurc.sweeps.classify.lyapunov_threshold`, 2 ln(768) / 768 = 0.017 per period; over 48 periods 0.16):
+#: thesis-1dof (`matlab-listing`, `measured`, 10 Hz) at 179.5 V a set beside the 4:12 orbit read quasi-periodic
+#: over 48 periods, whose exponent is 0.041 (0.032-0.053) over 1000 and 0.041 (0.034-0.049) over 3000: chaotic
+QP_RECORD = 768
 
 
 def _whole_periods(stretch, n: int) -> tuple[float, float, float]:
@@ -358,17 +367,17 @@ def _mismatches(pts, grid: Grid, periods) -> list:
 def newton_periods(pts, grid: Grid, periods) -> list:
     """The periods at which Newton is tried from a record: its two shortest near periods (:func:`near_periods`; a
     stable period-2 orbit close to its period doubling also nearly repeats after one period, where Newton finds the
-    unstable period-1 orbit), and the near period at which it repeats most closely if that is longer and repeats
-    CLOSER times more closely than both.  Thesis-1dof (`matlab-listing`, `measured`, 10 Hz) at 211.5 V: starts
-    approaching a stable 4:8 orbit (largest |multiplier| 0.976, born at the 2:4 orbit's doubling) repeat after 2
-    periods to 3e-4 cells, where Newton finds the unstable 2:4 orbit, and after 4 far more closely; tried at 1 and
-    2 only, 125 of 1000 starts were "not_converged"."""
+    unstable period-1 orbit), and the shortest longer near period at which it repeats CLOSER times more closely than
+    at both (the shortest: on an orbit reached to round-off every multiple of its period repeats about as closely,
+    and Newton over a multiple is a larger system that may fail where the period's does).  Thesis-1dof
+    (`matlab-listing`, `measured`, 10 Hz) at 211.5 V: starts approaching a stable 4:8 orbit (largest |multiplier|
+    0.976, born at the 2:4 orbit's doubling) repeat after 2 periods to 3e-4 cells, where Newton finds the unstable
+    2:4 orbit, and after 4 far more closely; tried at 1 and 2 only, 125 of 1000 starts were "not_converged"."""
     near = _mismatches(pts, grid, periods)
     out = [n for n, _ in near[:2]]
     if len(near) > 2:
-        n, m = min(near[2:], key=lambda nm: nm[1])
-        if m * CLOSER < min(mm for _, mm in near[:2]):
-            out.append(n)
+        bar = min(m for _, m in near[:2]) / CLOSER
+        out += [n for n, m in near[2:] if m < bar][:1]
     return out
 
 
