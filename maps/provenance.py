@@ -16,7 +16,7 @@ from pathlib import Path
 
 from ._version import __version__
 
-__all__ = ["CONVENTIONS", "cf_attrs", "command", "current_call", "git_commit", "recorded"]
+__all__ = ["CONVENTIONS", "cf_attrs", "code_version", "command", "current_call", "git_commit", "recorded"]
 
 CONVENTIONS = "CF-1.10"
 _CALL: contextvars.ContextVar = contextvars.ContextVar("bifurc_call", default=None)
@@ -90,11 +90,17 @@ def recorded(name: str):
     return wrap
 
 
+def code_version() -> str:
+    """This code: "bifurc <version>", with ", git <commit>" when it runs from a checkout (``-dirty``: with local
+    changes)."""
+    commit = git_commit()
+    return f"bifurc {__version__}" + (f", git {commit}" if commit else "")
+
+
 def cf_attrs(source: str = "") -> dict:
     """``Conventions``, ``history`` (UTC time, call, version, commit) and ``source`` for a new dataset."""
     now = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
-    commit = git_commit()
-    version = f"bifurc {__version__}" + (f", git {commit}" if commit else "")
+    version = code_version()
     call = current_call() or "Python API"
     import heyoka as hy
     return {"Conventions": CONVENTIONS, "history": f"{now}: {call} ({version})",

@@ -364,6 +364,31 @@ def test_resume_refuses_parts_of_another_format(tmp_path):
     assert (parts / "independent-000000.pkl").exists()     # nothing lost
 
 
+def test_resume_refuses_parts_another_version_of_the_code_computed(tmp_path, monkeypatch):
+    """Parts written by another version or commit of the code are not mixed with this one's results: the resume is
+    refused in one line naming both, and the parts stay (a census resumed after a change of the code had kept 75
+    values of the old code's)."""
+    from bifurc.sweeps import resume
+    args = dict(transient=1, record=3, lyapunov=False, grazing=False, error_sample=0, progress=False, batch_size=1,
+                path=tmp_path / "d.nc")
+    original = ValueJob.__call__
+
+    def stop_at_the_second(self, value, start=None):
+        if value > 5.0:
+            raise KeyboardInterrupt
+        return original(self, value, start)
+    monkeypatch.setattr(ValueJob, "__call__", stop_at_the_second)
+    with pytest.raises(KeyboardInterrupt):
+        sweep("thesis-1dof", "relay_hz", [5.0, 6.0], **args)
+    monkeypatch.setattr(ValueJob, "__call__", original)
+    parts = sorted((tmp_path / "d.nc.parts").iterdir())
+    assert _completed(tmp_path / "d.nc.parts") == 1
+    monkeypatch.setattr(resume, "code_version", lambda: "bifurc 9.9.9, git 0000000")
+    with pytest.raises(maps.ParameterError, match="code = .*this run has code = bifurc 9.9.9, git 0000000"):
+        sweep("thesis-1dof", "relay_hz", [5.0, 6.0], **args)
+    assert sorted((tmp_path / "d.nc.parts").iterdir()) == parts
+
+
 def test_the_exponent_uses_the_whole_recorded_window_with_an_interval_and_reasons():
     """record = 200: the exponent is the mean over all 200 recorded periods (the same tangent stretch
     series recomputed here by the exact one-period Jacobians at the stored points, each an exact

@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from maps.parameters import ParameterError
+from maps.provenance import code_version
 
 from ..codes import ClassCode, Status
 from .job import ValueResult
@@ -33,14 +34,15 @@ _CODES = {"class_code": ClassCode, "status": Status}
 def manifest(job, values, mode) -> dict:
     """What identifies a sweep's results: the job's fields (not ``batch_size``: no effect on results; not
     the time budget's ``deadline``: values it cut are kept as they were stored),
-    the grid, the mode and the parts' format version."""
+    the grid, the mode, the code (:func:`maps.provenance.code_version`: parts another version or commit computed
+    are not mixed with this one's) and the parts' format version."""
     args = {f.name: getattr(job, f.name) for f in fields(job) if f.name not in ("batch_size", "problem", "deadline")}
     pb = job.problem
     b = pb.scene.builder
     builder = None if b is None else (f"{b.__module__}.{b.__qualname__}" if hasattr(b, "__qualname__")
                                       else repr(getattr(b, "system", b)))
     args.update(scene=pb.name, builder=builder, options=repr(pb.options), preset=pb.preset, params=dict(pb.values),
-                x0=dict(pb.x0), flags0=pb.flags0)
+                x0=dict(pb.x0), flags0=pb.flags0, code=code_version())
     return {"format": "bifurc sweep parts", "version": PARTS_FORMAT,
             "arguments": dict(args, values=[float(v) for v in values], mode=mode)}
 
