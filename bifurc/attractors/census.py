@@ -340,10 +340,10 @@ def _sharing(keys: list, found: list, owner: dict) -> int | None:
 def record_length(tries: int, s: Settings) -> int:
     """Strobe periods of a start's record after ``tries`` undecided ones: ``locate`` doubled at each (at most
     ``max_periods``), so that an exponent the shorter records' intervals straddled is resolved by a longer one, as a
-    diagram's anytime labels extend an undecided record.  Thesis-1dof (`matlab-listing`, `measured`, 10 Hz): at
-    99.5 V a chaotic set chattering on the stop (exponent 0.14 per period) is chaotic over 200 periods, at 179.5 V
-    a thin one beside the 4:12 orbit (0.041) over 1000; over 48 both were undecided, and 83 and 82 of 1000 starts
-    "not_converged"."""
+    diagram's anytime labels extend an undecided record.  Thesis-1dof (`matlab-listing`, `measured`, 10 Hz, 1000
+    box starts): at 99.5 V 83 starts on a chaotic set chattering on the stop, which records of 48 periods (bound
+    0.16 per period) left undecided, were "not_converged"; at 179.5 V a set is chaotic over 384 periods (exponent
+    0.055, 0.032-0.078) (benchmarks/reports/attractors-recovery/undecided-f537126.txt)."""
     return int(min(s.locate * 2 ** tries, max(s.locate, s.max_periods)))
 
 

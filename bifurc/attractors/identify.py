@@ -207,8 +207,8 @@ def identify(smap, orbit, k0: int, grid: Grid, *, max_period: int = 16, tol: flo
 
 #: the shortest record [strobe periods] from which a set is quasi-periodic (its exponent's |value| below
 #: :func:`bifurc.sweeps.classify.lyapunov_threshold`, 2 ln(768) / 768 = 0.017 per period; over 48 periods 0.16):
-#: thesis-1dof (`matlab-listing`, `measured`, 10 Hz) at 179.5 V a set beside the 4:12 orbit read quasi-periodic
-#: over 48 periods, whose exponent is 0.041 (0.032-0.053) over 1000 and 0.041 (0.034-0.049) over 3000: chaotic
+#: thesis-1dof (`matlab-listing`, `measured`, 10 Hz) at 179.5 V a set read quasi-periodic over 48 periods (exponent
+#: 0.047, -0.066-0.160) is chaotic over 384 (0.055, 0.032-0.078; benchmarks/reports/attractors-recovery/undecided-*)
 QP_RECORD = 768
 
 

@@ -81,9 +81,10 @@ def census_manifest(job: CensusJob, values, extra: dict) -> dict:
     """What identifies a census' parts: the problem, the starts, the grid, the settings, the values and the code
     (:func:`maps.provenance.code_version`: a census resumed after a change of the code would mix two censuses)."""
     pb = job.problem
-    args = dict(code=code_version(), scene=pb.name, options=repr(pb.options), preset=pb.preset, params=dict(pb.values), x0=dict(pb.x0),
-                param=job.param, starts=np.asarray(job.starts).tolist(), grid_low=job.grid.low.tolist(),
-                grid_width=job.grid.width.tolist(), settings=repr(job.settings), tol=job.tol,
+    args = dict(code=code_version(), scene=pb.name, options=repr(pb.options), preset=pb.preset,
+                params=dict(pb.values), x0=dict(pb.x0), param=job.param, starts=np.asarray(job.starts).tolist(),
+                grid_low=job.grid.low.tolist(), grid_width=job.grid.width.tolist(), settings=repr(job.settings),
+                tol=job.tol,
                 values=[float(v) for v in values], **extra)
     return {"format": "bifurc attractor census parts", "version": CENSUS_PARTS_FORMAT, "arguments": args}
 
