@@ -343,6 +343,33 @@ def test_an_attracting_torus_is_quasi_periodic_only_from_a_long_record():
     assert float(ds.area_rate.values[0, j]) == pytest.approx(-1.0, abs=1e-6)
 
 
+def _spiral():
+    """x' = a x - w0 v, v' = w0 x + a v, sampled every 1/f_sw: a spiral onto the origin, whose sampled map's
+    multipliers are exp(a / f_sw) exp(+-i w0 / f_sw)."""
+    return HybridSystem("spiral", states=[State("x", "1", "first coordinate"), State("v", "1", "second")],
+                        parameters=[Parameter("a", "s-1", "growth rate", -10, 10),
+                                    Parameter("w0", "rad s-1", "angular frequency", 0, 100, low_open=True),
+                                    Parameter("f_sw", "Hz", "sampling switch", 0, 100, low_open=True)],
+                        flags={"P": 1.0}, rhs=lambda s: [s.a * s.x - s.w0 * s.v, s.w0 * s.x + s.a * s.v],
+                        switches=[PeriodicSwitch("P", "f_sw")])
+
+
+def test_a_slow_spiral_onto_a_fixed_point_is_not_quasi_periodic():
+    """The spiral above sampled at f_sw = 2 Hz with 1 + (3 - sqrt 5) / 2 turns per sample and multipliers of modulus
+    0.997: its exponent over a 768-period record, ln 0.997 = -0.003, lies within the 0.017 that tells a torus's 0,
+    yet the samples spiral in (their extent shrinks 10-fold from one half of the record to the other).  Every start
+    is the fixed point at the origin, its exponent ln 0.997.  (Labelled on the exponent alone, 8 of the 20 starts
+    were a "quasi-periodic" attractor, the other 12 the fixed point.)"""
+    f, mod = 2.0, 0.997
+    params = {"a": f * math.log(mod), "w0": 2 * math.pi * f * (1 + (3 - math.sqrt(5)) / 2), "f_sw": f}
+    ds = bifurc.attractors(_spiral(), "f_sw", [f], params=params, n_starts=20, seed=1,
+                           box={"x": (-1.5, 1.5), "v": (-1.5, 1.5)}, progress=False, workers=1)
+    j = _sole_outcome(ds)
+    assert int(ds.class_code.values[0, j]) == int(ClassCode.PERIODIC_NO_IMPACT)
+    assert int(ds.period.values[0, j]) == 1
+    assert float(ds.lyapunov.values[0, j]) == pytest.approx(math.log(mod), abs=1e-8)
+
+
 def _three_cycle_point(r: float) -> float:
     """A point of the logistic map's 3-cycle near the one reached from x = 0.5 (iteration, then Newton)."""
     from scipy.optimize import newton

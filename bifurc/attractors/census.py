@@ -28,7 +28,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from types import SimpleNamespace
 
 import numpy as np
 
@@ -472,8 +471,8 @@ def _persists(smap, record, k0: int, s: Settings) -> Lifetime:
     122 V: 5 of 200 starts still chaotic after 3000 relay periods, benchmarks/README.md).  The copies start on the
     record's first ``locate`` periods: a longer record (:func:`record_length`) may have left the set (on the open map
     of tests/test_eventual.py, copies spread over 1536 periods put the mean lifetime below 82 steps, for 1000)."""
-    head = SimpleNamespace(points=record.points[:s.locate + 1], state=record.state)
-    return estimate_lifetime(smap, head, k0, s.persist, max_period=s.max_period, batch_size=s.batch_size)
+    return estimate_lifetime(smap, record, k0, s.persist, max_period=s.max_period, batch_size=s.batch_size,
+                             window=s.locate)
 
 
 def outcome_labels(outcomes, found: list) -> list:

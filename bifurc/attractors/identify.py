@@ -17,10 +17,12 @@ from maps.hybrid import HybridState, IntegrationFailure
 from ..codes import ClassCode
 from ..orbits.periodic import OrbitNotFound, find_periodic_orbit
 from ..sweeps.classify import candidate_periods, classify_orbit, lyapunov_threshold, mechanical_period, state_scale
+from ..sweeps.evidence import torus_evidence
 from ..sweeps.lyapunov import exponent_interval
 
 __all__ = ["Grid", "Attractor", "identify", "area_rate", "no_contraction", "from_chunk", "distance", "same_attractor",
-           "same_orbit", "converging", "approaching", "contracting", "near_periods", "newton_periods", "polish_once"]
+           "same_orbit", "converging", "approaching", "contracting", "near_periods", "newton_periods", "polish_once",
+           "torus_of"]
 
 
 @dataclass(frozen=True)
@@ -185,24 +187,40 @@ def identify(smap, orbit, k0: int, grid: Grid, *, max_period: int = 16, tol: flo
     cls = classify_orbit(pts, imp, max_period=max_period, rtol=rtol, atol=atol,
                          periods=candidate_periods(q, max_period), lyapunov=lam,
                          lyap_tol=lyapunov_threshold(len(imp)), lyapunov_interval=(lo, hi))
-    if cls["label"] in ("periodic", "periodic-no-impact", "not-converged"):
+    label, how = cls["label"], f"recurrence on the grid; classified {cls['label']} over {len(imp)} periods"
+    if label == "quasi-periodic":
+        torus = torus_of(pts, grid, max_period) if len(imp) >= QP_RECORD and not hi < 0.0 else None
+        if torus is None:    # an exponent about 0 (or below it) is no evidence of a torus: an orbit approached
+            label = "not-converged"          # slowly is tried by Newton, else a longer record decides
+        else:
+            how += f"; {torus}"
+    if label in ("periodic", "periodic-no-impact", "not-converged"):
         for n in newton_periods(pts, grid, candidate_periods(q, max_period)):
             found = polish_once(smap, orbit, k0, n, grid, tol, rtol, atol, tried)
             if found is not None:
                 return found
-    if cls["label"] in ("periodic", "periodic-no-impact") and stretch is not None:
+    if label in ("periodic", "periodic-no-impact") and stretch is not None:
         whole = _whole_periods(stretch, int(cls["period"]))
         if whole[2] < 0.0:
             return _unpolished(smap, orbit, k0, cls, grid, whole, rtol, atol)
-    if cls["label"] == "quasi-periodic" and len(imp) < QP_RECORD:
-        return None          # an exponent below a short record's bound is no evidence that it is 0: a longer decides
-    if cls["label"] in ("chaotic", "quasi-periodic"):
+    if label in ("chaotic", "quasi-periodic"):
         return Attractor(int(cls["code"]), lyapunov=lam, lyapunov_interval=(lo, hi), points=pts.copy(),
                          flags=[orbit.state(j).flags for j in range(len(pts))], k0=k0,
                          cells={c for c in grid.keys(pts) if c is not None},
-                         min_flight_clearance=float(np.min(orbit.min_flight_clearance_per_step)),
-                         how=f"recurrence on the grid; classified {cls['label']} over {len(imp)} periods")
+                         min_flight_clearance=float(np.min(orbit.min_flight_clearance_per_step)), how=how)
     return None
+
+
+def torus_of(pts, grid: Grid, max_period: int) -> str | None:
+    """The positive evidence that a record ``pts`` whose exponent lies about 0 is on a torus, in words, or None:
+    :func:`bifurc.sweeps.evidence.torus_evidence` on its points in grid cells (the gridded states; 0-1 test K below
+    its bound, a steady rotation number, no recurrence at the period a nearby fraction up to ``max_period``
+    suggests), as a diagram's anytime label requires.  An exponent interval about 0 alone also holds for a slow
+    approach to an orbit (thesis-1dof, `matlab-listing`, `measured`, 10 Hz, 136 V: one start whose 1536-period
+    record has exponent -0.0026, -0.0086-0.0034; benchmarks/reports/attractors-recovery/undecided-*)."""
+    P = grid.scaled(pts)[:, np.isfinite(grid.width)]
+    torus, _, k01, rho = torus_evidence(P, max_period)
+    return f"torus evidence: 0-1 test K = {k01:.2f}, rotation number {rho:.4f}" if torus else None
 
 
 #: the shortest record [strobe periods] from which a set is quasi-periodic (its exponent's |value| below

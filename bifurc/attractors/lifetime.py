@@ -92,11 +92,12 @@ def fall_index(points, periods, tail: int, rtol: float = 1e-6, atol: float = 1e-
     return best
 
 
-def _copies(record, k0: int, copies: int, perturb: float, rng) -> list:
-    """``copies`` (state, sample) pairs on the record's points, spread over it, each multiplied by 1 + perturb *
-    N(0, 1) per state (exact zeros, a bar on its stop, stay zero)."""
+def _copies(record, k0: int, copies: int, perturb: float, rng, window: int | None = None) -> list:
+    """``copies`` (state, sample) pairs on the record's points, spread over its first ``window`` periods (None: all
+    of it), each multiplied by 1 + perturb * N(0, 1) per state (exact zeros, a bar on its stop, stay zero)."""
     from maps.hybrid import HybridState
-    idx = np.linspace(0, len(record.points) - 1, copies).astype(int)
+    last = len(record.points) - 1 if window is None else min(int(window), len(record.points) - 1)
+    idx = np.linspace(0, last, copies).astype(int)
     out = []
     for j in idx:
         st = record.state(int(j))
@@ -106,17 +107,19 @@ def _copies(record, k0: int, copies: int, perturb: float, rng) -> list:
 
 
 def estimate_lifetime(smap, record, k0: int, horizon: int, *, max_period: int = 16, batch_size: int = 4,
-                      copies: int = COPIES, perturb: float = PERTURB, leg: int = LEG, seed: int = 0) -> Lifetime:
+                      copies: int = COPIES, perturb: float = PERTURB, leg: int = LEG, seed: int = 0,
+                      window: int | None = None) -> Lifetime:
     """The mean lifetime of the non-periodic set recorded in ``record`` (a MapOrbit from sample ``k0``) under
-    ``smap``: copies run in legs of ``leg`` periods up to ``horizon`` periods each, stopped once the verdict
-    against ``horizon`` is decided, once "attractor" is ruled out, or when every copy has fallen (module
-    docstring).  Reproducible: the perturbations
+    ``smap``: copies started on the record's first ``window`` periods (None: all of it) run in legs of ``leg``
+    periods up to ``horizon`` periods each, stopped once the verdict against ``horizon`` is decided, once
+    "attractor" is ruled out, or when every copy has fallen (module docstring).  Reproducible: the perturbations
     come from ``seed``."""
     periods = candidate_periods(smap.forcing_period_steps, max_period)
     tail = 4 * max_period
     looks = max(1, math.ceil(horizon / leg))
     level = 1.0 - (1.0 - LEVEL) / looks
-    live = [(x, k, np.empty((0, 0))) for x, k in _copies(record, k0, copies, perturb, np.random.default_rng(seed))]
+    starts = _copies(record, k0, copies, perturb, np.random.default_rng(seed), window)
+    live = [(x, k, np.empty((0, 0))) for x, k in starts]
     done, fallen, got = 0, [], None
     while live and done < horizon:
         n = min(leg, horizon - done)

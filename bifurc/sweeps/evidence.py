@@ -23,7 +23,7 @@ import numpy as np
 from .lyapunov import _student_t, exponent_interval
 
 __all__ = ["halves_differ", "exponent_estimate", "zero_one_test", "rotation_number", "near_period", "torus_evidence",
-           "TORUS_K", "MIN_HALF", "QP_SAMPLES"]
+           "extent_drift", "locked_lag", "TORUS_K", "EXTENT_DRIFT", "LOCK_TOL", "MIN_HALF", "QP_SAMPLES"]
 
 #: 0-1 test statistic below which motion counts as regular (Gottwald and Melbourne report K < 0.1
 #: for regular and K > 0.9 for chaotic records of a few thousand samples; records here may be shorter)
@@ -126,21 +126,32 @@ def rotation_number(points) -> tuple[float, float]:
     p = np.asarray(points, dtype=float)
     if p.shape[0] < 8 or not np.all(np.isfinite(p)):
         return math.nan, math.nan
-    span = np.ptp(p, axis=0)
-    p = (p - p.mean(axis=0)) / np.where(span > 0, span, 1.0)
-    _, _, vt = np.linalg.svd(p, full_matrices=False)
-    xy = p @ vt[:2].T if vt.shape[0] >= 2 else np.c_[p[:, 0], np.zeros(p.shape[0])]
-    turn = np.angle(np.exp(1j * np.diff(np.arctan2(xy[:, 1], xy[:, 0])))) / (2 * math.pi)
+    turn = np.angle(np.exp(1j * np.diff(_angles(p)))) / (2 * math.pi)
     h = turn.size // 2
     rho = float(np.mean(turn)) % 1.0
     return min(rho, 1.0 - rho), abs(float(np.mean(turn[:h]) - np.mean(turn[h:])))
 
 
+def _angles(p) -> np.ndarray:
+    """Each sample's angle [rad] about the samples' centre in their principal plane (the first two principal
+    components of the samples, each state scaled by its range)."""
+    span = np.ptp(p, axis=0)
+    p = (p - p.mean(axis=0)) / np.where(span > 0, span, 1.0)
+    _, _, vt = np.linalg.svd(p, full_matrices=False)
+    xy = p @ vt[:2].T if vt.shape[0] >= 2 else np.c_[p[:, 0], np.zeros(p.shape[0])]
+    return np.arctan2(xy[:, 1], xy[:, 0])
+
+
 def near_period(samples, rho: float, max_period: int) -> str:
     """Why samples (N, d) with rotation number ``rho`` look like a periodic orbit still converging
     rather than a torus ("": they do not): rho within 1e-4 of a fraction a/b with b <= max_period
-    and the samples recurring at lag b to 1 % of their extent."""
+    and the samples recurring at lag b to 1 % of their extent or their lag-b distance decaying; or the
+    second half of the samples recurring at some lag up to N/4 to LOCK_TOL of its extent (:func:`locked_lag`)."""
     from fractions import Fraction
+    lag, how_close = locked_lag(samples)
+    if lag:
+        return (f"the samples recur at lag {lag} to {how_close:.2g} of their extent: periodic or locked with period "
+                f"{lag}, not shown to be a torus")
     if not math.isfinite(rho):
         return ""
     f = Fraction(rho).limit_denominator(max(1, int(max_period)))
@@ -162,14 +173,45 @@ def near_period(samples, rho: float, max_period: int) -> str:
     return ""
 
 
+#: recurrence [fraction of the samples' extent] at a lag up to N/4 that shows samples locked (periodic, or on a
+#: circle within LOCK_TOL of a resonance: in a dissipative map, a periodic orbit approached slowly) rather than shown to
+#: be on a torus.  On a circle the lag-L chord is about pi ||L rho|| of the extent, so a torus of random rotation
+#: number rho passes for locked with probability at most N LOCK_TOL / (2 pi): 2.4 % over 1536 samples; one at the
+#: golden mean recurs at best to 4e-3 of its extent within 384 samples.  Thesis-1dof (`matlab-listing`, `measured`,
+#: 10 Hz) at 136 V, a set whose 1536-period record has exponent -0.0026 (-0.0086-0.0034) and rotation number 1/3
+#: about its centre recurs at lag 24 to 2e-5 of its extent (an 8000-period record: exponent -0.0031, -0.0044 to
+#: -0.0018: a stable orbit of period above the census' 16); at 203 V one recurs at lag 4 to 1e-6
+LOCK_TOL = 1e-4
+
+
+def locked_lag(samples) -> tuple[int, float]:
+    """(the least lag L <= N/4 at which the second half of samples (N, d) recurs to LOCK_TOL of its extent, that
+    recurrence as a fraction of the extent), or (0, NaN) where none does."""
+    p = np.asarray(samples, dtype=float)
+    q = p[p.shape[0] // 2:]
+    extent = float(np.max(np.ptp(q, axis=0))) if q.size else 0.0
+    if extent <= 0 or not np.all(np.isfinite(q)):
+        return 0, math.nan
+    for lag in range(1, p.shape[0] // 4 + 1):
+        d = float(np.max(np.abs(q[lag:] - q[:-lag])))
+        if d <= LOCK_TOL * extent:
+            return lag, d / extent
+    return 0, math.nan
+
+
 def torus_evidence(samples, max_period: int = 100) -> tuple[bool, str, float, float]:
     """(a torus?, why not, 0-1 test K, rotation number) of stroboscopic samples (N, d), each state
     scaled: positive evidence of quasi-periodic motion needs at least ``QP_SAMPLES`` samples, the 0-1
-    test's K below ``TORUS_K`` (regular motion), a rotation number whose halves agree to 1e-2, and no
-    recurrence at the period a nearby fraction suggests (:func:`near_period`)."""
+    test's K below ``TORUS_K`` (regular motion), a rotation number whose halves agree to 1e-2, halves of one
+    extent where each covers the circle (:func:`extent_drift`), and no recurrence at the period a nearby fraction suggests
+    (:func:`near_period`)."""
     p = np.asarray(samples, dtype=float)
     if p.shape[0] < QP_SAMPLES:
         return False, f"a torus test needs {QP_SAMPLES} samples, the window has {p.shape[0]}", math.nan, math.nan
+    drift = extent_drift(p)
+    if drift > EXTENT_DRIFT:             # NaN (halves covering other arcs of the circle): not compared
+        return (False, f"the samples' extent changes by {drift:.2g} between the window's halves: a spiral onto an "
+                       f"orbit or a transient, not a torus", math.nan, math.nan)
     k01 = zero_one_test(p @ np.linspace(1.0, 0.5, p.shape[1]))
     rho, drift = rotation_number(p)
     near = near_period(p, rho, max_period)
@@ -178,3 +220,35 @@ def torus_evidence(samples, max_period: int = 100) -> tuple[bool, str, float, fl
     if not (k01 < TORUS_K and drift < 1e-2):
         return False, f"no torus (0-1 test K = {k01:.2f}, rotation number drift {drift:.2g})", k01, rho
     return True, "", k01, rho
+
+
+#: relative change of the samples' extent between a window's halves above which they are no torus: an invariant
+#: circle's halves of 200 or more samples each cover it (extents within a few 1e-4); a spiral onto a fixed point with
+#: multipliers of modulus 0.997 at a golden-mean rotation, which passes the 0-1 and rotation tests over 1536 samples,
+#: shrinks by 0.997^768 = 0.1 from one half to the other
+EXTENT_DRIFT = 0.05
+#: widest gap [turns] in a half's angles for the halves' extents to be compared: near a resonance a/b the samples
+#: sweep b arcs slowly, and each half covers other parts of the circle (thesis-1dof, `matlab-listing`, 90 V, 10 Hz:
+#: rotation number 0.16670, within 4e-5 of 1/6, whose halves of 2750 samples cover 58 % of the circle each and
+#: differ in extent by 7 %)
+COVER_GAP = 0.02
+
+
+def extent_drift(samples) -> float:
+    """The largest relative change, over the states, of the samples' (N, d) range between the first and second
+    halves, |range_2 - range_1| / max(range_1, range_2) (0 for states constant in both), where each half covers
+    its circle: NaN where a half's angles about the samples' centre in their principal plane leave a gap wider
+    than COVER_GAP turns (or the samples are not finite)."""
+    p = np.asarray(samples, dtype=float)
+    h = p.shape[0] // 2
+    if h < 8 or not np.all(np.isfinite(p)):
+        return math.nan
+    turns = _angles(p) / (2 * math.pi) % 1.0
+    for half in (turns[:h], turns[h:2 * h]):
+        t = np.sort(half)
+        if max(float(np.max(np.diff(t))), float(t[0] + 1.0 - t[-1])) > COVER_GAP:
+            return math.nan
+    a, b = np.ptp(p[:h], axis=0), np.ptp(p[h:2 * h], axis=0)
+    big = np.maximum(a, b)
+    ok = big > 0
+    return float(np.max(np.abs(a - b)[ok] / big[ok])) if ok.any() else 0.0
