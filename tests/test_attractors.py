@@ -752,6 +752,17 @@ def test_same_orbit_and_converging_are_tolerances_of_the_states():
     assert not converging(circling, a, grid)
 
 
+def test_the_cells_around_points_step_the_gridded_states_only():
+    """Two gridded states (widths 0.1 and 1) and one not gridded (width inf: one cell): the cells around a point are
+    its cell and its 8 neighbours in the gridded states; two points a cell apart share 6 of their 9 each."""
+    from bifurc.attractors.identify import Grid
+    grid = Grid(np.zeros(3), np.array([0.1, 1.0, np.inf]))
+    (c,) = grid.keys([[0.25, 3.5, 7.0]])
+    got = grid.around([[0.25, 3.5, 7.0]])
+    assert got == {(c[0] + i, c[1] + j, c[2]) for i in (-1, 0, 1) for j in (-1, 0, 1)} and c == (2, 3, 0)
+    assert len(grid.around([[0.25, 3.5, 7.0], [0.35, 3.5, -7.0]])) == 12
+
+
 def test_contracting_tells_an_approach_from_chance_near_returns():
     """A trajectory x* + mu^k (1, -1) approaches the fixed point x* (period 1) and the period-2 orbit around it for
     |mu| < 1: over 41 points its distance to the points n before shrinks by |mu|^(41 - 2n), below half for mu =

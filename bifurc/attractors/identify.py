@@ -51,6 +51,20 @@ class Grid:
         idx = np.floor((np.where(ok[:, None], p, 0.0) - self.low) / self.width).astype(np.int64)
         return [tuple(r) if g else None for r, g in zip(idx.tolist(), ok)]
 
+    def around(self, points) -> set:
+        """The cells of ``points`` and their neighbours (one cell either way along each gridded state)."""
+        free = np.flatnonzero(np.isfinite(self.width))
+        steps = np.array(np.meshgrid(*[[-1, 0, 1]] * len(free), indexing="ij")).reshape(len(free), -1).T
+        out = set()
+        for c in self.keys(points):
+            if c is not None:
+                for st in steps:
+                    k = list(c)
+                    for j, dj in zip(free, st):
+                        k[j] += int(dj)
+                    out.add(tuple(k))
+        return out
+
     def scaled(self, points) -> np.ndarray:
         return np.asarray(points, dtype=float) / self.width
 
@@ -353,9 +367,16 @@ def polish_once(smap, orbit, k0, n, grid, tol, rtol, atol, tried: dict | None):
     before = tried.get(key) if tried is not None else None
     if before is not None and (before[1] >= RETRIES or not mismatch * RETRY_CLOSER < before[0]):
         return None
-    a = _polish(smap, orbit, k0, n, grid, tol, rtol, atol)
+    unstable: list = []
+    a = _polish(smap, orbit, k0, n, grid, tol, rtol, atol, unstable)
     if a is None and tried is not None:
         tried[key] = (min(mismatch, before[0]), before[1] + 1) if before else (mismatch, 1)
+        # an unstable orbit found is noted in the cells about its nodes too (where no failure is noted yet): a record
+        # nearing it at another phase would find it again, unless it repeats RETRY_CLOSER times more closely (a
+        # stable orbit beside it; thesis-1dof, 200 box starts: at 192 V, 101 Newton runs found a few unstable
+        # period-3, 6 and 9 orbits, 35 with this note, the outcomes unchanged: newton-calls-*.txt)
+        for c in grid.around(unstable[0]) if unstable else ():
+            tried.setdefault((n, c), (mismatch, 1))
     return a
 
 
@@ -403,9 +424,10 @@ def newton_periods(pts, grid: Grid, periods) -> list:
 CLOSER = 10.0
 
 
-def _polish(smap, orbit, k0, n, grid, tol, rtol, atol) -> Attractor | None:
+def _polish(smap, orbit, k0, n, grid, tol, rtol, atol, unstable: list | None = None) -> Attractor | None:
     """The period-n orbit through the record's last point polished by Newton, if it converges, is stable and
-    lies within two cells of the record (else None: not this trajectory's attractor)."""
+    lies within two cells of the record (else None: not this trajectory's attractor; the nodes of an unstable one
+    found are appended to ``unstable``)."""
     j = len(orbit.points) - 1 - n     # the last whole period of the record
     try:
         po = find_periodic_orbit(smap, orbit.state(j), n, k0=k0 + j, tol=tol, atol=atol, max_iter=NEWTON_ITER)
@@ -417,7 +439,11 @@ def _polish(smap, orbit, k0, n, grid, tol, rtol, atol) -> Attractor | None:
             nodes = np.array([s.y for s in po.nodes])
     except (OrbitNotFound, IntegrationFailure, ZeroDivisionError, ValueError):
         return None
-    if not po.stable or np.max(np.abs(grid.scaled(nodes) - grid.scaled(orbit.points[j:j + n]))) > 2.0:
+    if not po.stable:
+        if unstable is not None:
+            unstable.append(nodes)
+        return None
+    if np.max(np.abs(grid.scaled(nodes) - grid.scaled(orbit.points[j:j + n]))) > 2.0:
         return None
     mu = float(np.max(np.abs(po.multipliers)))
     if not approaching(orbit.points, Attractor(int(ClassCode.PERIODIC), n, max_multiplier=mu, points=nodes), grid):
