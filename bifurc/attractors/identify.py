@@ -228,8 +228,8 @@ def identify(smap, orbit, k0: int, grid: Grid, *, max_period: int = 16, tol: flo
 def torus_of(pts, grid: Grid, max_period: int) -> str | None:
     """The positive evidence that a record ``pts`` whose exponent lies about 0 is on a torus, in words, or None:
     :func:`bifurc.sweeps.evidence.torus_evidence` on its points in grid cells (the gridded states; 0-1 test K below
-    its bound, a steady rotation number, no recurrence at the period a nearby fraction up to ``max_period``
-    suggests), as a diagram's anytime label requires.  An exponent interval about 0 alone also holds for a slow
+    its bound, a steady rotation number, halves of one extent, no recurrence at any lag up to a quarter of the
+    record), as a diagram's anytime label requires.  An exponent interval about 0 alone also holds for a slow
     approach to an orbit (thesis-1dof, `matlab-listing`, `measured`, 10 Hz, 136 V: one start whose 1536-period
     record has exponent -0.0026, -0.0086-0.0034; benchmarks/reports/attractors-recovery/undecided-*)."""
     P = grid.scaled(pts)[:, np.isfinite(grid.width)]

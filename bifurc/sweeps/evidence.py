@@ -144,7 +144,7 @@ def _angles(p) -> np.ndarray:
 
 def near_period(samples, rho: float, max_period: int) -> str:
     """Why samples (N, d) with rotation number ``rho`` look like a periodic orbit still converging
-    rather than a torus ("": they do not): rho within 1e-4 of a fraction a/b with b <= max_period
+    rather than a torus ("": they do not): rho within 1e-3 of a fraction a/b with b <= max_period
     and the samples recurring at lag b to 1 % of their extent or their lag-b distance decaying; or the
     second half of the samples recurring at some lag up to N/4 to LOCK_TOL of its extent (:func:`locked_lag`)."""
     from fractions import Fraction
@@ -203,8 +203,8 @@ def torus_evidence(samples, max_period: int = 100) -> tuple[bool, str, float, fl
     """(a torus?, why not, 0-1 test K, rotation number) of stroboscopic samples (N, d), each state
     scaled: positive evidence of quasi-periodic motion needs at least ``QP_SAMPLES`` samples, the 0-1
     test's K below ``TORUS_K`` (regular motion), a rotation number whose halves agree to 1e-2, halves of one
-    extent where each covers the circle (:func:`extent_drift`), and no recurrence at the period a nearby fraction suggests
-    (:func:`near_period`)."""
+    extent where each covers the circle (:func:`extent_drift`), and no recurrence at the period a nearby
+    fraction suggests nor at any lag up to N/4 (:func:`near_period`, :func:`locked_lag`)."""
     p = np.asarray(samples, dtype=float)
     if p.shape[0] < QP_SAMPLES:
         return False, f"a torus test needs {QP_SAMPLES} samples, the window has {p.shape[0]}", math.nan, math.nan
