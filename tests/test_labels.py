@@ -59,12 +59,17 @@ def test_the_torus_tests_on_closed_forms():
     assert zero_one_test(np.array(chaos)) > 0.9 and abs(zero_one_test(circle[:, 0])) < 0.1
 
 
+def _turning(rho: float, r: float = 1.0, n: int = 1536) -> np.ndarray:
+    """n samples r^k (cos 2 pi rho k, sin 2 pi rho k): a circle turned by rho per sample (r = 1) or a spiral."""
+    k = np.arange(n)
+    return (r ** k)[:, None] * np.c_[np.cos(2 * math.pi * rho * k), np.sin(2 * math.pi * rho * k)]
+
+
 def test_a_spiral_is_no_torus_though_it_turns_steadily():
     """Samples r^k (cos 2 pi rho k, sin 2 pi rho k) at the golden-mean rotation: with r = 1 an invariant circle (a
     torus), with r = 0.997 a spiral onto a fixed point whose rotation number and 0-1 test are a circle's; its extent
     shrinks by r^(N/2) from one half of N = 1536 samples to the other: 1 - 0.997^768 = 0.90."""
-    k = np.arange(1536)
-    spiral = lambda r: (r ** k)[:, None] * np.c_[np.cos(2 * math.pi * RHO * k), np.sin(2 * math.pi * RHO * k)]  # noqa
+    spiral = lambda r: _turning(RHO, r)  # noqa: E731
     torus, why, _, rho = torus_evidence(spiral(1.0), 16)
     assert torus and why == "" and abs(rho - RHO) < 1e-3
     assert extent_drift(spiral(1.0)) < 1e-3
@@ -74,16 +79,14 @@ def test_a_spiral_is_no_torus_though_it_turns_steadily():
     assert abs(rotation_number(spiral(0.997))[0] - RHO) < 1e-3 and abs(zero_one_test(spiral(0.997)[:, 0])) < 0.25
     # near 1/6 each half of 768 samples sweeps six arcs of 768 x 1e-4 turns: the halves cover other parts of the
     # circle (gaps of 1/6 - 0.077 turns) and their extents are not compared
-    slow = np.c_[np.cos(2 * math.pi * (1 / 6 + 1e-4) * k), np.sin(2 * math.pi * (1 / 6 + 1e-4) * k)]
-    assert math.isnan(extent_drift(slow))
+    assert math.isnan(extent_drift(_turning(1 / 6 + 1e-4)))
 
 
 def test_a_circle_locked_near_a_resonance_is_not_shown_to_be_a_torus():
     """On a circle turned by rho per sample the lag-L distance of the samples reaches sin(pi ||L rho||) of their
     extent (the diameter): at the golden mean above 3.7e-3 for every L <= 384 (its closest return, ||377 rho|| =
     1.2e-3), far above LOCK_TOL; at rho = 7/24 + 1e-7 it is sin(pi 24e-7) = 7.5e-6 at lag 24, below it."""
-    k = np.arange(1536)
-    circle = lambda rho: np.c_[np.cos(2 * math.pi * rho * k), np.sin(2 * math.pi * rho * k)]  # noqa: E731
+    circle = _turning
     assert locked_lag(circle(RHO)) == (0, pytest.approx(math.nan, nan_ok=True))
     lag, close = locked_lag(circle(7 / 24 + 1e-7))
     assert lag == 24 and close == pytest.approx(math.sin(math.pi * 24e-7), rel=0.05)

@@ -7,6 +7,7 @@ Distances are measured in grid cells (each state divided by its cell width).
 """
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass, field
 
@@ -54,16 +55,9 @@ class Grid:
     def around(self, points) -> set:
         """The cells of ``points`` and their neighbours (one cell either way along each gridded state)."""
         free = np.flatnonzero(np.isfinite(self.width))
-        steps = np.array(np.meshgrid(*[[-1, 0, 1]] * len(free), indexing="ij")).reshape(len(free), -1).T
-        out = set()
-        for c in self.keys(points):
-            if c is not None:
-                for st in steps:
-                    k = list(c)
-                    for j, dj in zip(free, st):
-                        k[j] += int(dj)
-                    out.add(tuple(k))
-        return out
+        steps = np.zeros((3 ** len(free), len(self.width)), dtype=np.int64)
+        steps[:, free] = list(itertools.product((-1, 0, 1), repeat=len(free)))
+        return {tuple(r) for c in self.keys(points) if c is not None for r in (np.asarray(c) + steps).tolist()}
 
     def scaled(self, points) -> np.ndarray:
         return np.asarray(points, dtype=float) / self.width

@@ -84,8 +84,7 @@ def census_manifest(job: CensusJob, values, extra: dict) -> dict:
     args = dict(code=code_version(), scene=pb.name, options=repr(pb.options), preset=pb.preset,
                 params=dict(pb.values), x0=dict(pb.x0), param=job.param, starts=np.asarray(job.starts).tolist(),
                 grid_low=job.grid.low.tolist(), grid_width=job.grid.width.tolist(), settings=repr(job.settings),
-                tol=job.tol,
-                values=[float(v) for v in values], **extra)
+                tol=job.tol, values=[float(v) for v in values], **extra)
     return {"format": "bifurc attractor census parts", "version": CENSUS_PARTS_FORMAT, "arguments": args}
 
 

@@ -145,13 +145,8 @@ def _angles(p) -> np.ndarray:
 def near_period(samples, rho: float, max_period: int) -> str:
     """Why samples (N, d) with rotation number ``rho`` look like a periodic orbit still converging
     rather than a torus ("": they do not): rho within 1e-3 of a fraction a/b with b <= max_period
-    and the samples recurring at lag b to 1 % of their extent or their lag-b distance decaying; or the
-    second half of the samples recurring at some lag up to N/4 to LOCK_TOL of its extent (:func:`locked_lag`)."""
+    and the samples recurring at lag b to 1 % of their extent or their lag-b distance decaying."""
     from fractions import Fraction
-    lag, how_close = locked_lag(samples)
-    if lag:
-        return (f"the samples recur at lag {lag} to {how_close:.2g} of their extent: periodic or locked with period "
-                f"{lag}, not shown to be a torus")
     if not math.isfinite(rho):
         return ""
     f = Fraction(rho).limit_denominator(max(1, int(max_period)))
@@ -214,6 +209,10 @@ def torus_evidence(samples, max_period: int = 100) -> tuple[bool, str, float, fl
                        f"orbit or a transient, not a torus", math.nan, math.nan)
     k01 = zero_one_test(p @ np.linspace(1.0, 0.5, p.shape[1]))
     rho, drift = rotation_number(p)
+    lag, how_close = locked_lag(p)
+    if lag:
+        return (False, f"the samples recur at lag {lag} to {how_close:.2g} of their extent: periodic or locked with "
+                       f"period {lag}, not shown to be a torus", k01, rho)
     near = near_period(p, rho, max_period)
     if near:
         return False, near, k01, rho
