@@ -343,6 +343,44 @@ def test_an_attracting_torus_is_quasi_periodic_only_from_a_long_record():
     assert float(ds.area_rate.values[0, j]) == pytest.approx(-1.0, abs=1e-6)
 
 
+@pytest.mark.parametrize("volts", [80.0, 95.0])
+def test_the_neutral_sets_met_at_switch_on_are_quasi_periodic_as_a_longer_record_agrees(volts):
+    """thesis-1dof (`matlab-listing`, `listing` law, 10 Hz): every switch-on start lands on one set turning about
+    1/6 per period whose census record was "not_converged" at the budget: at 80 V its 768-period exponent (0.0066)
+    lay within the threshold 0.0173 while its interval reached above it; at 95 V the samples recur at lag 6 to 0.7 %
+    of their extent, an island chain taken for a period-6 orbit still converging.  A record 8 times longer, from
+    the census' own point of the set, agrees with a torus: its exponent's interval holds 0 within
+    2 ln(6144) / 6144 = 0.0028; at 80 V its lag-6 distance neither decays nor grows (the last quarter's largest
+    within 5 % of the first's); at 95 V the period-6 orbit Newton finds from it, the chain's centre, is unstable
+    (multipliers 1.0008 e^(+-i theta)): the record cannot be converging onto it."""
+    from bifurc.orbits.periodic import find_periodic_orbit
+    from bifurc.sweeps.classify import lyapunov_threshold
+    from bifurc.sweeps.lyapunov import exponent_interval
+    from maps.poincare import StroboscopicMap
+    pb = maps.problem("thesis-1dof", preset="matlab-listing", params={"relay_hz": 10.0}, dc_law="listing")
+    ds = bifurc.attractors(pb, "V", [volts], starts="switch-on", n_starts=8, seed=1, progress=False, workers=1,
+                           link=False)
+    j = _sole_outcome(ds)
+    assert int(ds.class_code.values[0, j]) == int(ClassCode.QUASI_PERIODIC)
+    smap = StroboscopicMap(pb, tol=1e-10)
+    smap.set_params(V=volts)
+    names = list(pb.system.state_names)
+    start = [float(ds[name].values[0, j, 0]) for name in names]      # its first node, at attractor_k0
+    k0 = int(ds.attractor_k0.values[0, j])
+    o = smap.orbits([{}], [start], 6144, k0=k0, tangent=True)[0]
+    lam, lo, hi = exponent_interval(o.tangent_stretch(np.maximum(np.max(np.abs(o.points), axis=0), 1e-9)))
+    bound = lyapunov_threshold(6144)
+    assert -bound <= lo <= 0.0 <= hi <= bound, (lam, lo, hi)
+    if volts == 80.0:
+        p = o.points[:, [names.index("x"), names.index("v")]] / np.array([0.03, 3.0])
+        d = np.max(np.abs(p[6:] - p[:-6]), axis=1)
+        q = d.size // 4
+        assert abs(d[-q:].max() / d[:q].max() - 1.0) < 0.05
+    else:
+        centre = find_periodic_orbit(smap, o.state(2000), 6, k0=k0 + 2000, tol=1e-10, atol=1e-9)
+        assert not centre.stable and np.max(np.abs(centre.multipliers)) > 1.0005
+
+
 def _spiral():
     """x' = a x - w0 v, v' = w0 x + a v, sampled every 1/f_sw: a spiral onto the origin, whose sampled map's
     multipliers are exp(a / f_sw) exp(+-i w0 / f_sw)."""

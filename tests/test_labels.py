@@ -94,6 +94,27 @@ def test_a_circle_locked_near_a_resonance_is_not_shown_to_be_a_torus():
     assert not torus and "lag 24" in why
 
 
+def _island_chain(r: float, decay: float = 1.0, n: int = 1536) -> np.ndarray:
+    """n samples e^(2 pi i k / 6) + r decay^k e^(2 pi i k rho / 6), rho the golden mean's complement: six small
+    circles turned by rho per six samples about a period-6 orbit (decay = 1: an island chain, a torus), or six
+    spirals onto it.  The lag-6 distance is 2 r decay^k sin(pi rho) (0.92 % of the extent 2 + 2 r at r = 0.01); the
+    best lag-6m return within a quarter of the record (m = 55: ||55 rho|| = 8.1e-3) leaves 5e-4 of the extent."""
+    k = np.arange(n)
+    z = np.exp(2j * math.pi * k / 6) + r * decay ** k * np.exp(2j * math.pi * RHO * k / 6)
+    return np.c_[z.real, z.imag]
+
+
+def test_an_island_chain_is_a_torus_a_chain_of_spirals_is_not():
+    """A small lag-6 distance (0.92 % of the extent) that does not decay is an island chain: thesis-1dof
+    (`matlab-listing`, `listing`, 10 Hz, 95 V) has one, lag-6 distance 0.73 % steady over 6000 periods (it was
+    "a period-6 orbit still converging").  Spirals decaying 0.997 per sample onto the same period-6 orbit are not."""
+    torus, why, _, rho = torus_evidence(_island_chain(0.01), 16)
+    assert torus and why == "" and abs(rho - 1 / 6) < 1e-4
+    assert locked_lag(_island_chain(0.01))[0] == 0
+    torus, why, _, _ = torus_evidence(_island_chain(0.01, 0.997), 16)
+    assert not torus and "lag-6 distance decays (0.9970 per period)" in why
+
+
 def test_the_mechanical_period_where_the_current_flips_sign():
     """4 Hz, 130 V, matlab-listing (listing law): the bar's position and speed repeat every relay period
     with one impact while the coil's current and charge flip sign: full period 2 with 2 impacts,

@@ -23,7 +23,8 @@ decide, the label is "not-converged", never a guess):
    lambda > +lyap_tol: "chaotic"; |lambda| <= lyap_tol: "quasi-periodic";
    lambda < -lyap_tol (contracting, yet not periodic within max_period) or NaN:
    "not-converged".  With an interval for lambda (``lyapunov_interval``), a threshold
-   (+lyap_tol or -lyap_tol) inside it decides nothing: "not-converged".  Every
+   (+lyap_tol or -lyap_tol) inside it decides nothing: "not-converged", with that threshold as
+   ``threshold_in_interval`` (other evidence may decide: :func:`bifurc.attractors.identify.identify`).  Every
    "not-converged" result says why (``reason``).  A finite window of n steps biases lambda upward on a
    sheared torus (separation growing like n, so lambda ~ ln(n)/n), hence
    ``lyap_tol`` defaults to ``lyapunov_threshold(n) = max(2e-3, 2 ln(n)/n)``.
@@ -146,9 +147,9 @@ def classify_orbit(points, impacts_per_step, *, max_period: int = 16, rtol: floa
         lo, hi = lyapunov_interval if lyapunov_interval is not None else (math.nan, math.nan)
         for thr, what in ((lyap_tol, "chaotic from quasi-periodic"), (-lyap_tol, "quasi-periodic from contracting")):
             if lo <= thr <= hi:
-                return _result("not-converged", best_n, -1, best_d, rate, rtol, atol,
-                               f"the exponent's interval [{lo:.3g}, {hi:.3g}] contains the threshold {thr:.3g} "
-                               f"that separates {what}")
+                return dict(_result("not-converged", best_n, -1, best_d, rate, rtol, atol,
+                                    f"the exponent's interval [{lo:.3g}, {hi:.3g}] contains the threshold {thr:.3g} "
+                                    f"that separates {what}"), threshold_in_interval=thr)
         if lyapunov > lyap_tol:
             return _result("chaotic", 0, -1, best_d, rate, rtol, atol)
         if abs(lyapunov) <= lyap_tol:
