@@ -5,7 +5,8 @@
 thesis-1dof, `matlab-listing`, 10 Hz relay.  (1) For each (law, V): 8 box starts (x = 0-30 mm, v = -1.5-1.5 m/s,
 seed 2) run 300 periods, then 6144 periods with a tangent vector, cut into 768-period windows.  Each window's
 exponent verdict as the census' classifier reads it (C: its interval above the threshold 2 ln(768)/768, Q: within
-+-threshold, S: the exponent within it but its interval reaching above it, O: otherwise, F: a fixed point) and
++-threshold, S: the exponent within it but its interval reaching above it, P: its interval below -threshold
+(contracting), O: otherwise, F: x constant to 1e-6, a fixed point) and
 whether it shows the torus evidence (t) or not (-), one row per trajectory.  (2) The switch-on sets at 80 and 95 V
 under `listing`: per window the rotation number, the lag-b distance (b the denominator of the nearest fraction with
 b <= 16) and its fitted rate per period, and the torus verdict; at 95 V the period-6 orbit Newton finds from the
@@ -54,7 +55,8 @@ def windows(law: str, volts: float, n_starts: int = 8) -> None:
         for a in range(0, N - W + 1, W):
             lam, lo, hi = exponent_interval(s[a:a + W])
             kind = ("F" if np.ptp(p[a:a + W, 0]) < 1e-6 else "C" if lo > thr else
-                    "Q" if -thr <= lo and hi <= thr else "S" if lo <= thr <= hi and abs(lam) <= thr else "O")
+                    "Q" if -thr <= lo and hi <= thr else "S" if lo <= thr <= hi and abs(lam) <= thr else
+                    "P" if hi < -thr else "O")
             key = kind + ("t" if torus_evidence(p[a:a + W], 16)[0] else "-")
             tally[key] = tally.get(key, 0) + 1
             row.append(key)
