@@ -234,12 +234,15 @@ def torus_of(pts, grid: Grid, max_period: int) -> str | None:
     record has exponent -0.0026, -0.0086-0.0034; benchmarks/reports/attractors-recovery/undecided-*).
 
     The evidence also decides a record whose exponent lies within the threshold
-    (:func:`bifurc.sweeps.classify.lyapunov_threshold`) while its interval reaches above it: thesis-1dof
-    (`matlab-listing`, 10 Hz, 768-period windows of 6144-period records from 8 box starts) under `listing` at
-    80 V, 8 of the 64 windows of its one set are such (the switch-on starts' records at the census' budget were:
-    exponent 0.0066, -0.0095 to 0.0227, threshold 0.0173), every one with the evidence; at 220 V 4, all on
-    trajectories whose other windows are quasi-periodic; none of the 40 windows of the chaotic trajectories there
-    nor of the 64 at 213 V under `measured` shows the evidence (benchmarks/reports/attractors-recovery/torus-windows-*)."""
+    (:func:`bifurc.sweeps.classify.lyapunov_threshold`) while its interval reaches above it.  Thesis-1dof
+    (`matlab-listing`, 10 Hz; 768-period windows of 6144-period records from 24 box starts;
+    benchmarks/reports/attractors-recovery/torus-windows-*): under `listing` at 80 V, where every switch-on start's
+    record at the census' budget was such (exponent 0.0066, -0.0095 to 0.0227, threshold 0.0173), 33 of the 192
+    windows of its one torus are, 26 with the evidence; at 220 V 33 windows, 26 with it, 3 of those on trajectories
+    that turn chaotic after 768-1536 periods (sticky transients, which the lifetime test refuses as attractors, as
+    it does windows read quasi-periodic the older way).  The evidence alone does not exclude chaos: under `measured`
+    at 179.5 V a small chaotic set (exponent 0.03-0.05, above the threshold in each window; rotation number 6e-4)
+    shows it in all 32 windows: the exponent within the threshold is what the evidence must come with."""
     P = grid.scaled(pts)[:, np.isfinite(grid.width)]
     torus, _, k01, rho = torus_evidence(P, max_period)
     return f"torus evidence: 0-1 test K = {k01:.2f}, rotation number {rho:.4f}" if torus else None
