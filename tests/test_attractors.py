@@ -381,6 +381,39 @@ def test_the_neutral_sets_met_at_switch_on_are_quasi_periodic_as_a_longer_record
         assert not centre.stable and np.max(np.abs(centre.multipliers)) > 1.0005
 
 
+def test_an_orbit_of_a_period_beyond_the_search_is_found_where_the_record_repeats_at_that_lag():
+    """thesis-1dof (`matlab-listing`, `listing` law, 10 Hz, 160 V): 4 of 24 switch-on starts settle on stable
+    orbits of period 18, beyond the census' search (max_period 16): their records were "contracting yet no period up
+    to 16" and they ended not_converged.  Each start's own trajectory, 1500 relay periods, repeats at lag 18 to 1e-7
+    of each state's scale and at no lag below it (the least period, from the map alone), with the impacts per period
+    the census states; no start is not_converged."""
+    from maps.poincare import StroboscopicMap
+    from bifurc.attractors.starts import make_starts
+    pb = maps.problem("thesis-1dof", preset="matlab-listing", params={"relay_hz": 10.0}, dc_law="listing")
+    starts = make_starts(pb, "switch-on", n=24, seed=1)
+    ds = bifurc.attractors(pb, "V", [160.0], starts=starts, progress=False, workers=1, link=False)
+    labels = [str(x) for x in ds.attractor_label.values]
+    outcome = ds.start_attractor.values[0]
+    assert "not_converged" not in [labels[k] for k in outcome]
+    long = [i for i, k in enumerate(outcome) if int(ds.period.values[0, k]) > 16]
+    assert len(long) >= 3
+    smap = StroboscopicMap(pb, tol=1e-10)
+    smap.set_params(V=160.0)
+    runs = smap.orbits([{}] * len(long), [np.asarray(starts.points)[i] for i in long], 1500)
+    for i, o in zip(long, runs):
+        k = outcome[i]
+        p = o.points[-200:]
+        scale = np.max(np.abs(p), axis=0)
+        lags = [n for n in range(1, 40) if np.all(np.abs(p[n:] - p[:-n]) <= 1e-7 * scale)]
+        assert lags and lags[0] == int(ds.period.values[0, k]) == 18
+        assert int(np.sum(o.impacts_per_step[-18:])) == int(ds.impacts_per_period.values[0, k])
+
+
+def test_an_empty_ensemble_is_one_error():
+    with pytest.raises(maps.ParameterError, match="N >= 1"):
+        bifurc.attractors("thesis-1dof", "V", [160.0], starts=np.zeros((0, 4)), progress=False)
+
+
 def _spiral():
     """x' = a x - w0 v, v' = w0 x + a v, sampled every 1/f_sw: a spiral onto the origin, whose sampled map's
     multipliers are exp(a / f_sw) exp(+-i w0 / f_sw)."""

@@ -383,10 +383,14 @@ def _record_and_classify(smap, tracks, rest, grid, s: Settings, found: list, own
             t.saddle = sd
             continue
         aid = _register(a, found, owner, grid, q)
-        if a.periodic:
+        if a.periodic and a.period <= s.max_period:
             continue                 # its path, not the record beside it, must land there (it runs on)
+        # a non-periodic attractor, or an orbit of a period beyond the search (:func:`.identify.identify` polishes it
+        # where the record repeats at that lag; the record approaches it, :func:`.identify.polish_once`), which no
+        # chunk is matched to (:func:`.identify.from_chunk`) and whose cells may be shared with an orbit beside it:
+        # thesis-1dof (`matlab-listing`, `listing`, 10 Hz, 160 V), a 12-impact and a 10-impact period-18 orbit
         t.outcome, t.periods = aid, t.periods + length
-        if found[aid] is a and math.isnan(a.area_rate):
+        if found[aid] is a and not a.periodic and math.isnan(a.area_rate):
             _with_area_rate(smap, a, o, t.k)          # once per new non-periodic attractor
 
 

@@ -140,8 +140,8 @@ def make_starts(pb, starts=None, *, n: int = 100, box: dict | None = None, seed:
         return starts
     if starts is not None and not isinstance(starts, str):
         pts = np.atleast_2d(np.asarray(starts, dtype=float))
-        if pts.shape[1] != len(pb.system.state_names) or not np.all(np.isfinite(pts)):
-            raise ParameterError(f"starts: an (N, {len(pb.system.state_names)}) array of finite states "
+        if pts.shape[0] < 1 or pts.shape[1] != len(pb.system.state_names) or not np.all(np.isfinite(pts)):
+            raise ParameterError(f"starts: an (N, {len(pb.system.state_names)}) array of N >= 1 finite states "
                                  f"({', '.join(pb.system.state_names)}); got shape {pts.shape}")
         return Starts(pts, "given")
     kind = starts or "box"
