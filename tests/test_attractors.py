@@ -409,6 +409,36 @@ def test_an_orbit_of_a_period_beyond_the_search_is_found_where_the_record_repeat
         assert int(np.sum(o.impacts_per_step[-18:])) == int(ds.impacts_per_period.values[0, k])
 
 
+def test_a_slowly_approached_orbit_of_period_45_is_found_and_newton_is_not_tried_from_a_shorter_chunk():
+    """thesis-1dof (`matlab-listing`, `fit` law, 10 Hz, 170 V): switch-on starts settle, slowly, on a stable orbit of
+    period 45 with 24 impacts (largest |multiplier| 0.93).  A start landing in its cells from a chunk of 40 periods
+    had Newton tried at period 45 from it (a crash: the chunk is shorter than the period).  Of 8 starts the census
+    counts for it, 4: each one's own trajectory repeats at lag 45 ever more closely, from period 3000 to 3900 (20
+    periods of the orbit) at least at half the rate mu^20 = 0.23 its multiplier predicts, and not at lag 15 (the 15:8
+    orbit beside it) to 1e-3 of the scale."""
+    from maps.poincare import StroboscopicMap
+    from bifurc.attractors.identify import Grid, polish_once
+    from bifurc.attractors.starts import make_starts
+    pb = maps.problem("thesis-1dof", preset="matlab-listing", params={"relay_hz": 10.0}, dc_law="fit")
+    smap = StroboscopicMap(pb, tol=1e-10)
+    smap.set_params(V=170.0)
+    chunk = smap.orbits([{}], [pb.state_vector()], 40)[0]
+    grid = Grid(np.zeros(4), np.array([3e-4, 0.03, np.inf, np.inf]))
+    assert polish_once(smap, chunk, 0, 45, grid, 1e-10, 1e-6, 1e-9, None) is None
+    starts = np.asarray(make_starts(pb, "switch-on", n=100, seed=1).points)[[5, 14, 21, 26, 49, 58, 68, 96]]
+    ds = bifurc.attractors(pb, "V", [170.0], starts=starts, progress=False, workers=1, link=False)
+    outcome = ds.start_attractor.values[0]
+    on = [i for i, k in enumerate(outcome) if int(ds.period.values[0, k]) == 45]
+    assert len(on) >= 6 and all(int(ds.impacts_per_period.values[0, outcome[i]]) == 24 for i in on)
+    mu = float(ds.max_multiplier.values[0, outcome[on[0]]])
+    assert 0.9 < mu < 0.95
+    for o in smap.orbits([{}] * 4, [starts[i] for i in on[:4]], 3946):
+        p = o.points
+        scale = np.max(np.abs(p[-400:]), axis=0)
+        lag = lambda t, n: float(np.max(np.abs(p[t + n] - p[t]) / scale))  # noqa: E731
+        assert lag(3900, 45) <= 2 * mu ** 20 * lag(3000, 45) and lag(3900, 15) > 1e-3
+
+
 def test_an_empty_ensemble_is_one_error():
     with pytest.raises(maps.ParameterError, match="N >= 1"):
         bifurc.attractors("thesis-1dof", "V", [160.0], starts=np.zeros((0, 4)), progress=False)

@@ -454,6 +454,8 @@ def _polish(smap, orbit, k0, n, grid, tol, rtol, atol, unstable: list | None = N
     lies within two cells of the record (else None: not this trajectory's attractor; the nodes of an unstable one
     found are appended to ``unstable``)."""
     j = len(orbit.points) - 1 - n     # the last whole period of the record
+    if j < 0:                         # a chunk shorter than the period (an orbit found beyond the search)
+        return None
     try:
         po = find_periodic_orbit(smap, orbit.state(j), n, k0=k0 + j, tol=tol, atol=atol, max_iter=NEWTON_ITER)
         nodes = np.array([s.y for s in po.nodes])
