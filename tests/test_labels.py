@@ -82,6 +82,15 @@ def test_a_spiral_is_no_torus_though_it_turns_steadily():
     assert math.isnan(extent_drift(_turning(1 / 6 + 1e-4)))
 
 
+def test_an_arc_is_not_shown_to_be_a_torus():
+    """A circle turned by 1e-3 per sample: 400 samples sweep 0.4 turns of it, an arc (about the arc's own centre, which
+    the test knows, under one turn: refused); 1536 samples sweep 1.5 turns (a torus, its rotation number 1e-3)."""
+    torus, why, _, _ = torus_evidence(_turning(1e-3, n=400), 16)
+    assert not torus and "no closed curve shown" in why
+    torus, _, _, rho = torus_evidence(_turning(1e-3), 16)
+    assert torus and rho == pytest.approx(1e-3, rel=0.1)
+
+
 def test_a_circle_locked_near_a_resonance_is_not_shown_to_be_a_torus():
     """On a circle turned by rho per sample the lag-L distance of the samples reaches sin(pi ||L rho||) of their
     extent (the diameter): at the golden mean above 3.7e-3 for every L <= 384 (its closest return, ||377 rho|| =
