@@ -254,9 +254,10 @@ def torus_of(pts, grid: Grid, max_period: int) -> str | None:
     record at the census' budget was such (exponent 0.0066, -0.0095 to 0.0227, threshold 0.0173), 33 of the 192
     windows of its one torus are, 26 with the evidence; at 220 V 33 windows, 26 with it, 3 of those on trajectories
     that turn chaotic after 768-1536 periods (sticky transients, which the lifetime test refuses as attractors, as
-    it does windows read quasi-periodic the older way).  The evidence alone does not exclude chaos: under `measured`
+    it does windows read quasi-periodic the older way).  The evidence alone need not exclude chaos: under `measured`
     at 179.5 V a small chaotic set (exponent 0.03-0.05, above the threshold in each window; rotation number 6e-4)
-    shows it in all 32 windows: the exponent within the threshold is what the evidence must come with."""
+    showed it in all 32 windows (torus-windows-1ef1b6e) until the evidence asked the samples to turn once about
+    their centre (none at 8dc852c): the exponent within the threshold is what the evidence must come with."""
     P = grid.scaled(pts)[:, np.isfinite(grid.width)]
     torus, _, k01, rho = torus_evidence(P, max_period)
     return f"torus evidence: 0-1 test K = {k01:.2f}, rotation number {rho:.4f}" if torus else None

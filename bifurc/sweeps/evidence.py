@@ -146,8 +146,8 @@ def near_period(samples, rho: float, max_period: int) -> str:
     """Why samples (N, d) with rotation number ``rho`` look like a periodic orbit still converging
     rather than a torus ("": they do not): rho within 1e-3 of a fraction a/b with b <= max_period
     and the samples' lag-b distance decaying (a fitted rate below 0.999 per sample).  A small lag-b distance
-    alone is no evidence of convergence: about an elliptic period-b orbit of the undamped flight the samples
-    lie on b small circles, an island chain (thesis-1dof, `matlab-listing`, `listing` law, 10 Hz, 95 V: rotation
+    alone is no evidence of convergence: about a period-b orbit that is not stable the samples may lie on b small
+    circles, an island chain (thesis-1dof, `matlab-listing`, `listing` law, 10 Hz, 95 V: rotation
     number 0.1667, lag-6 distance 0.73 % of the extent, its fitted rate within 1.5e-4 of 1 per period in each
     768-period window after the first 1536; the period-6 orbit at its centre is unstable, multipliers of modulus
     1.0008: benchmarks/reports/attractors-recovery/torus-windows-*).  An orbit approached more slowly than 1e-3
