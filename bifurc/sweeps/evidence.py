@@ -213,10 +213,6 @@ def torus_evidence(samples, max_period: int = 100) -> tuple[bool, str, float, fl
                        f"orbit or a transient, not a torus", math.nan, math.nan)
     k01 = zero_one_test(p @ np.linspace(1.0, 0.5, p.shape[1]))
     rho, drift = rotation_number(p)
-    turns = rho * (p.shape[0] - 1)
-    if turns < 1.0:      # an arc: neither a closed curve nor the halves' extents (extent_drift) are shown
-        return (False, f"the samples turn {turns:.2g} times about their centre (rotation number {rho:.2g}): no closed "
-                       f"curve shown", k01, rho)
     lag, how_close = locked_lag(p)
     if lag:
         return (False, f"the samples recur at lag {lag} to {how_close:.2g} of their extent: periodic or locked with "
@@ -224,6 +220,10 @@ def torus_evidence(samples, max_period: int = 100) -> tuple[bool, str, float, fl
     near = near_period(p, rho, max_period)
     if near:
         return False, near, k01, rho
+    turns = rho * (p.shape[0] - 1)
+    if turns < 1.0:      # an arc: neither a closed curve nor the halves' extents (extent_drift) are shown
+        return (False, f"the samples turn {turns:.2g} times about their centre (rotation number {rho:.2g}): no closed "
+                       f"curve shown", k01, rho)
     if not (k01 < TORUS_K and drift < 1e-2):
         return False, f"no torus (0-1 test K = {k01:.2f}, rotation number drift {drift:.2g})", k01, rho
     return True, "", k01, rho
