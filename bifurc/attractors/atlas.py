@@ -53,7 +53,8 @@ def attractors(problem_or_scene="thesis-1dof", param: str = "V", values=None, *,
         attractor's cells to land on it; consecutive revisits of a start's own cells to call an attractor
         found; periods of a start's first record to identify it (doubled at each undecided one); periods after
         which a start is "not_converged".
-    max_period : longest period searched [strobe periods]; tol : heyoka tolerance.
+    max_period : longest period searched [strobe periods] (a contracting record that repeats at a longer lag, up to
+        a quarter of its length, is polished by Newton at that lag); tol : heyoka tolerance.
     match_threshold : largest distance [grid cells] at which an attractor continues one of the previous value.
     link : continue each appearing or disappearing periodic orbit across the step to link the change to a
         located fold, period doubling, torus, grazing or stick onset (else it is flagged "global").

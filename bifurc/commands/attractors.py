@@ -29,7 +29,8 @@ def register(subparsers):
     p.add_argument("--max-periods", type=int, default=2000,
                    help="strobe periods after which a start is transient (on a chaotic saddle) or not_converged "
                         "(default 2000)")
-    p.add_argument("--max-period", type=int, default=16, help="longest period searched (default 16)")
+    p.add_argument("--max-period", type=int, default=16, help="longest period searched (default 16; a contracting "
+                   "record that repeats at a longer lag, up to a quarter of its length, is polished at that lag)")
     p.add_argument("--no-link", action="store_true",
                    help="do not continue appearing/disappearing orbits to link them to local bifurcations")
     p.add_argument("--refine-from", nargs="+", default=None, metavar="BRANCH.nc",
