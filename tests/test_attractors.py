@@ -343,6 +343,15 @@ def test_an_attracting_torus_is_quasi_periodic_only_from_a_long_record():
     assert float(ds.area_rate.values[0, j]) == pytest.approx(-1.0, abs=1e-6)
 
 
+def _thesis_map(law: str, volts: float):
+    """thesis-1dof (`matlab-listing`, 10 Hz relay) under DC law ``law``, and its stroboscopic map at ``volts``."""
+    from maps.poincare import StroboscopicMap
+    pb = maps.problem("thesis-1dof", preset="matlab-listing", params={"relay_hz": 10.0}, dc_law=law)
+    smap = StroboscopicMap(pb, tol=1e-10)
+    smap.set_params(V=volts)
+    return pb, smap
+
+
 @pytest.mark.parametrize("volts", [80.0, 95.0])
 def test_the_neutral_sets_met_at_switch_on_are_quasi_periodic_as_a_longer_record_agrees(volts):
     """thesis-1dof (`matlab-listing`, `listing` law, 10 Hz): every switch-on start lands on one set turning about
@@ -356,14 +365,11 @@ def test_the_neutral_sets_met_at_switch_on_are_quasi_periodic_as_a_longer_record
     from bifurc.orbits.periodic import find_periodic_orbit
     from bifurc.sweeps.classify import lyapunov_threshold
     from bifurc.sweeps.lyapunov import exponent_interval
-    from maps.poincare import StroboscopicMap
-    pb = maps.problem("thesis-1dof", preset="matlab-listing", params={"relay_hz": 10.0}, dc_law="listing")
+    pb, smap = _thesis_map("listing", volts)
     ds = bifurc.attractors(pb, "V", [volts], starts="switch-on", n_starts=8, seed=1, progress=False, workers=1,
                            link=False)
     j = _sole_outcome(ds)
     assert int(ds.class_code.values[0, j]) == int(ClassCode.QUASI_PERIODIC)
-    smap = StroboscopicMap(pb, tol=1e-10)
-    smap.set_params(V=volts)
     names = list(pb.system.state_names)
     start = [float(ds[name].values[0, j, 0]) for name in names]      # its first node, at attractor_k0
     k0 = int(ds.attractor_k0.values[0, j])
@@ -387,9 +393,8 @@ def test_an_orbit_of_a_period_beyond_the_search_is_found_where_the_record_repeat
     to 16" and they ended not_converged.  Each start's own trajectory, 1500 relay periods, repeats at lag 18 to 1e-7
     of each state's scale and at no lag below it (the least period, from the map alone), with the impacts per period
     the census states; no start is not_converged."""
-    from maps.poincare import StroboscopicMap
     from bifurc.attractors.starts import make_starts
-    pb = maps.problem("thesis-1dof", preset="matlab-listing", params={"relay_hz": 10.0}, dc_law="listing")
+    pb, smap = _thesis_map("listing", 160.0)
     starts = make_starts(pb, "switch-on", n=24, seed=1)
     ds = bifurc.attractors(pb, "V", [160.0], starts=starts, progress=False, workers=1, link=False)
     labels = [str(x) for x in ds.attractor_label.values]
@@ -397,8 +402,6 @@ def test_an_orbit_of_a_period_beyond_the_search_is_found_where_the_record_repeat
     assert "not_converged" not in [labels[k] for k in outcome]
     long = [i for i, k in enumerate(outcome) if int(ds.period.values[0, k]) > 16]
     assert len(long) >= 3
-    smap = StroboscopicMap(pb, tol=1e-10)
-    smap.set_params(V=160.0)
     runs = smap.orbits([{}] * len(long), [np.asarray(starts.points)[i] for i in long], 1500)
     for i, o in zip(long, runs):
         k = outcome[i]
@@ -416,12 +419,9 @@ def test_a_slowly_approached_orbit_of_period_45_is_found_and_newton_is_not_tried
     counts for it, 4: each one's own trajectory repeats at lag 45 ever more closely, from period 3000 to 3900 (20
     periods of the orbit) at least at half the rate mu^20 = 0.23 its multiplier predicts, and not at lag 15 (the 15:8
     orbit beside it) to 1e-3 of the scale."""
-    from maps.poincare import StroboscopicMap
     from bifurc.attractors.identify import Grid, polish_once
     from bifurc.attractors.starts import make_starts
-    pb = maps.problem("thesis-1dof", preset="matlab-listing", params={"relay_hz": 10.0}, dc_law="fit")
-    smap = StroboscopicMap(pb, tol=1e-10)
-    smap.set_params(V=170.0)
+    pb, smap = _thesis_map("fit", 170.0)
     chunk = smap.orbits([{}], [pb.state_vector()], 40)[0]
     grid = Grid(np.zeros(4), np.array([3e-4, 0.03, np.inf, np.inf]))
     assert polish_once(smap, chunk, 0, 45, grid, 1e-10, 1e-6, 1e-9, None) is None

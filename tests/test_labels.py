@@ -83,8 +83,8 @@ def test_a_spiral_is_no_torus_though_it_turns_steadily():
 
 
 def test_an_arc_is_not_shown_to_be_a_torus():
-    """A circle turned by 1e-3 per sample: 400 samples sweep 0.4 turns of it, an arc (about the arc's own centre, which
-    the test knows, under one turn: refused); 1536 samples sweep 1.5 turns (a torus, its rotation number 1e-3)."""
+    """A circle turned by 1e-3 per sample: 400 samples sweep 0.4 turns of it, an arc (under one turn about the arc's
+    own centre too: refused); 1536 samples sweep 1.5 turns (a torus, its rotation number 1e-3)."""
     torus, why, _, _ = torus_evidence(_turning(1e-3, n=400), 16)
     assert not torus and "no closed curve shown" in why
     torus, _, _, rho = torus_evidence(_turning(1e-3), 16)

@@ -62,6 +62,10 @@ class Grid:
     def scaled(self, points) -> np.ndarray:
         return np.asarray(points, dtype=float) / self.width
 
+    def gridded(self, points) -> np.ndarray:
+        """``points`` in cell widths, the gridded states only (those of finite width)."""
+        return self.scaled(points)[:, np.isfinite(self.width)]
+
 
 @dataclass
 class Attractor:
@@ -234,7 +238,7 @@ def _lag_beyond(pts, grid: Grid, q: int, max_period: int, label: str, lam: float
     "contracting (exponent -0.033) yet no period up to 16", on a stable period-18 orbit with 10 impacts (largest
     |multiplier| 0.52) that their records repeat to 4e-11 of their extent."""
     if label == "not-converged" and lam < 0.0:
-        lag = locked_lag(grid.scaled(pts)[:, np.isfinite(grid.width)])[0]
+        lag = locked_lag(grid.gridded(pts))[0]
         if lag > max_period and lag % q == 0:
             yield lag
 
@@ -258,8 +262,7 @@ def torus_of(pts, grid: Grid, max_period: int) -> str | None:
     at 179.5 V a small chaotic set (exponent 0.03-0.05, above the threshold in each window; rotation number 6e-4)
     showed it in all 32 windows (torus-windows-1ef1b6e) until the evidence asked the samples to turn once about
     their centre (none at 8dc852c): the exponent within the threshold is what the evidence must come with."""
-    P = grid.scaled(pts)[:, np.isfinite(grid.width)]
-    torus, _, k01, rho = torus_evidence(P, max_period)
+    torus, _, k01, rho = torus_evidence(grid.gridded(pts), max_period)
     return f"torus evidence: 0-1 test K = {k01:.2f}, rotation number {rho:.4f}" if torus else None
 
 

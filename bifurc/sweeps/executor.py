@@ -149,12 +149,16 @@ class WorkerPool:
     def terminate(self) -> None:
         """Stop at once (Ctrl-C, a kernel interrupt): cancel the tasks not started and end the worker
         processes with the chunks they are running (their results are lost; finished ones were kept)."""
-        procs = list((getattr(self._pool, "_processes", None) or {}).values())
+        procs = list(self._processes().values())
         self._pool.shutdown(wait=False, cancel_futures=True)
         for proc in procs:
             proc.terminate()
         for proc in procs:
             proc.join(1)
+
+    def _processes(self) -> dict:
+        """The pool's worker processes now, {pid: Process} (the executor's private table; empty if it has none)."""
+        return getattr(self._pool, "_processes", None) or {}
 
     def submit(self, fn, *args) -> Future:
         """Run ``fn(*args)`` on a worker (``fn`` and ``args`` picklable); returns its Future."""
@@ -172,7 +176,7 @@ class WorkerPool:
             while pending and len(running) < 2 * self.workers:
                 a, b = pending.pop()
                 running[self.submit(_run_chunk, self.job, values[a:b])] = a
-                self._seen.update(getattr(self._pool, "_processes", None) or {})   # their exit codes, if the pool breaks
+                self._seen.update(self._processes())      # their exit codes, if the pool breaks
             finished = _first_done(running)
             for fut in finished:
                 take(running.pop(fut), self._result(fut))
@@ -183,7 +187,7 @@ class WorkerPool:
         try:
             return fut.result()
         except BrokenProcessPool:
-            self._seen.update(getattr(self._pool, "_processes", None) or {})
+            self._seen.update(self._processes())
             for proc in self._seen.values():
                 proc.join(EXIT_WAIT)
             if GUARD_EXIT in [proc.exitcode for proc in self._seen.values()]:
