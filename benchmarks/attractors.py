@@ -101,7 +101,7 @@ def duffing(side: int) -> None:
 def by_label(ds) -> dict:
     """{(value index, label): starts} of one census: attractors with the same class, period and impacts at a value
     are summed (their ids differ between two censuses), outcomes by name."""
-    from bifurc.sweeps.classify import describe
+    from bifurc.labels.classify import describe
     n = ds.sizes["start"]
     from bifurc.attractors.census import OUTCOMES
     out = {}

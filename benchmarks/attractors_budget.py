@@ -22,7 +22,7 @@ def by_label(ds, i) -> dict:
     """{label: (eventual, low, high)} at value index ``i``, the attractors of one label summed (bounds summed: a
     conservative interval of the sum)."""
     from bifurc.attractors.census import OUTCOMES
-    from bifurc.sweeps.classify import describe
+    from bifurc.labels.classify import describe
     out = {}
     n_ids = ds.sizes["attractor"] - len(OUTCOMES)
     for j, name in enumerate(ds.attractor_label.values):

@@ -23,9 +23,9 @@ import numpy as np
 import maps
 from bifurc.attractors.starts import make_starts
 from bifurc.orbits.periodic import find_periodic_orbit
-from bifurc.sweeps.classify import lyapunov_threshold
-from bifurc.sweeps.evidence import locked_lag, rotation_number, torus_evidence
-from bifurc.sweeps.lyapunov import exponent_interval
+from bifurc.labels.classify import lyapunov_threshold
+from bifurc.labels.evidence import locked_lag, rotation_number, torus_evidence
+from bifurc.labels.lyapunov import exponent_interval
 from maps.poincare import StroboscopicMap
 
 W, N, BOX = 768, 6144, {"x": (0.0, 0.03), "v": (-1.5, 1.5)}

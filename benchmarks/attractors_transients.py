@@ -43,7 +43,7 @@ def main(argv=None):
     from bifurc.attractors.identify import Grid
     from bifurc.attractors.lifetime import fall_index
     from bifurc.attractors.starts import make_starts
-    from bifurc.sweeps.classify import candidate_periods
+    from bifurc.labels.classify import candidate_periods
     from maps.poincare import StroboscopicMap
     from attractors import BOX, MODEL       # the census of benchmarks/attractors.py
     pb = maps.problem("thesis-1dof", **MODEL)

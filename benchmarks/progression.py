@@ -47,7 +47,7 @@ import maps
 from maps.hybrid import settle_may_act
 from maps.poincare import forcing_period_steps
 from bifurc.sweeps.job import ValueJob
-from bifurc.sweeps.executor import map_values
+from bifurc.run.executor import map_values
 from bifurc.sweeps.sweep import sweep
 from frequency_diagram import BareBatch, _Same
 

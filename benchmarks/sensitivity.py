@@ -28,7 +28,7 @@ import numpy as np
 def one_sample(S, row):
     """(seconds of the map, strokes, prototype; strokes old and new [mm] with their seconds)."""
     import maps
-    from bifurc.codes import ClassCode
+    from bifurc.labels.codes import ClassCode
     from bifurc.sweeps.regime import regime_map
     size = S.FULL
     sample = dict(zip(size["inputs"], map(float, row)))

@@ -107,7 +107,7 @@ class BifurcAccessor:
         A tidy pandas DataFrame (``ds.to_dataframe()`` has no rows when a dimension such as
         ``grazing`` is empty). ``df.attrs["units"]`` maps each column to its units.
         """
-        from .sweeps.classify import CLASS_LABELS, describe
+        from .labels.classify import CLASS_LABELS, describe
         self._need("diagram")
         ds = self._ds
         par = ds.attrs["swept_parameter"]

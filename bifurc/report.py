@@ -10,7 +10,7 @@ import numpy as np
 
 from .storage.grid import OffGridWarning, nearest_index
 from .storage.load import in_convention, require_kind
-from .sweeps.classify import CLASS_LABELS, describe
+from .labels.classify import CLASS_LABELS, describe
 
 __all__ = ["classification_report", "class_at", "undecided_summary", "report", "map_report", "history_report", "orbit_report",
            "branch_report", "accuracy_report", "stability_report", "REPORTS"]
@@ -310,7 +310,7 @@ def attractors_report(ds) -> str:
     """The attractor census: per value, each attractor present with its basin fraction and 95 % interval, the
     eventual fraction where the transient starts' apportioning changes it, and its event."""
     from .attractors.dataset import eventual_text
-    from .sweeps.classify import describe
+    from .labels.classify import describe
     par = ds.attrs["swept_parameter"]
     lines = [f"# Attractor census (attractors): {ds.attrs.get('scene', '')}, {ds.sizes[par]} values of {par} x "
              f"{ds.sizes['start']} starts", "", f"| {par} | attractor | class | basin fraction | 95 % interval | "

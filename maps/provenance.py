@@ -81,9 +81,16 @@ def recorded(name: str):
             if _CALL.get() is not None:
                 return func(*args, **kwargs)
             bound = sig.bind_partial(*args, **kwargs)
-            text = f"{name}(" + ", ".join(
-                _short(v) if sig.parameters[k].kind == inspect.Parameter.POSITIONAL_OR_KEYWORD
-                and i < len(args) else f"{k}={_short(v)}" for i, (k, v) in enumerate(bound.arguments.items())) + ")"
+            items = []
+            for i, (k, v) in enumerate(bound.arguments.items()):
+                kind = sig.parameters[k].kind
+                if kind == inspect.Parameter.VAR_KEYWORD:      # **options: each by its name
+                    items += [f"{kk}={_short(vv)}" for kk, vv in v.items()]
+                elif kind == inspect.Parameter.POSITIONAL_OR_KEYWORD and i < len(args):
+                    items.append(_short(v))
+                else:
+                    items.append(f"{k}={_short(v)}")
+            text = f"{name}(" + ", ".join(items) + ")"
             with command(text):
                 return func(*args, **kwargs)
         return inner

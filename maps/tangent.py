@@ -1,7 +1,7 @@
 """Tangent growth along an orbit, one direction at a time (Benettin et al., Meccanica 15 (1980) 9-20).
 
 Two ways, both integrated by the engines (:mod:`maps.engines`); the exponent and its spread
-are analysis (:mod:`bifurc.sweeps.lyapunov`):
+are analysis (:mod:`bifurc.labels.lyapunov`):
 
 - a *tangent vector* u integrated with the flow (u' = (df/dy) u, the saltation rule applied to
   u at every state event, :meth:`maps.variational.Derivatives.transition`) and renormalised to

@@ -23,7 +23,7 @@ import pytest
 import bifurc
 import maps
 from bifurc.attractors.census import OUTCOMES
-from bifurc.codes import ClassCode
+from bifurc.labels.codes import ClassCode
 from maps import HybridSystem, Parameter, PeriodicSwitch, State
 from one_dim_map import OneDimMap
 
@@ -330,7 +330,7 @@ def test_an_attracting_torus_is_quasi_periodic_only_from_a_long_record():
     over 384 periods, exponent 0.055), and its area rate the divergence 2 - 4 r^2 = -2 on the circle times the
     0.5 s period: -1."""
     from bifurc.attractors.identify import QP_RECORD
-    from bifurc.sweeps.classify import lyapunov_threshold
+    from bifurc.labels.classify import lyapunov_threshold
     f = 2.0
     w0 = 2 * math.pi * f * (1 + (3 - math.sqrt(5)) / 2)
     ds = bifurc.attractors(_limit_cycle(), "f_sw", [f], params={"w0": w0, "f_sw": f}, n_starts=20, seed=1,
@@ -363,8 +363,8 @@ def test_the_neutral_sets_met_at_switch_on_are_quasi_periodic_as_a_longer_record
     within 5 % of the first's); at 95 V the period-6 orbit Newton finds from it, the chain's centre, is unstable
     (multipliers 1.0008 e^(+-i theta)): the record cannot be converging onto it."""
     from bifurc.orbits.periodic import find_periodic_orbit
-    from bifurc.sweeps.classify import lyapunov_threshold
-    from bifurc.sweeps.lyapunov import exponent_interval
+    from bifurc.labels.classify import lyapunov_threshold
+    from bifurc.labels.lyapunov import exponent_interval
     pb, smap = _thesis_map("listing", volts)
     ds = bifurc.attractors(pb, "V", [volts], starts="switch-on", n_starts=8, seed=1, progress=False, workers=1,
                            link=False)
@@ -728,7 +728,7 @@ def test_matching_pairs_like_with_like_only():
     never its continuation; an orbit of its period 3 cells away is (distances by hand: cells of 1e-3 and 1e-2)."""
     from bifurc.attractors.follow import match
     from bifurc.attractors.identify import Attractor, Grid
-    from bifurc.codes import ClassCode
+    from bifurc.labels.codes import ClassCode
     grid = Grid(np.zeros(2), np.array([1e-3, 1e-2]))
     p1 = Attractor(int(ClassCode.PERIODIC), 1, points=np.array([[0.010, 0.5]]))
     p1_moved = Attractor(int(ClassCode.PERIODIC), 1, points=np.array([[0.013, 0.5]]))       # 3 cells in x
@@ -840,7 +840,7 @@ def test_same_orbit_and_converging_are_tolerances_of_the_states():
     orbit at the other phase is one; a trajectory x* + 0.8^k (1, 1) approaches x*, one circling at 0.1 cell does
     not."""
     from bifurc.attractors.identify import Attractor, Grid, converging, same_orbit
-    from bifurc.codes import ClassCode
+    from bifurc.labels.codes import ClassCode
     P = int(ClassCode.PERIODIC)
     grid = Grid(np.zeros(2), np.ones(2))
     a, b = Attractor(P, 1, points=np.array([[5.0, 5.0]])), Attractor(P, 1, points=np.array([[5.1, 5.0]]))
@@ -888,7 +888,7 @@ def test_a_start_settling_at_rest_in_a_chaotic_sets_cell_is_the_state_at_rest():
     the state at rest (period 1, no impact: x = 0 = e, v = 0, the map's fixed point to 1e-8, stable), not the set."""
     from bifurc.attractors.census import Settings, census_at
     from bifurc.attractors.identify import Attractor, Grid
-    from bifurc.codes import ClassCode
+    from bifurc.labels.codes import ClassCode
     from maps.hybrid import HybridState
     from maps.poincare import StroboscopicMap
     pb = maps.problem("thesis-1dof", None, {"relay_hz": 10.0, "V": 192.0}, dc_law="measured")
@@ -914,7 +914,7 @@ def test_a_periodic_record_newton_cannot_polish_is_that_periodic_attractor(monke
     from types import SimpleNamespace
 
     from bifurc.attractors import identify as idf
-    from bifurc.codes import ClassCode
+    from bifurc.labels.codes import ClassCode
     from bifurc.orbits.periodic import OrbitNotFound
     from maps.hybrid import HybridState
 
@@ -1049,7 +1049,7 @@ def test_a_start_counts_for_an_orbit_only_where_its_own_path_settles_there():
     starts were "at rest" on one grid and not on the other while their paths still wandered 1.5 mm over the stop.)"""
     from bifurc.attractors.census import Settings, census_at, outcome_labels
     from bifurc.attractors.identify import Grid
-    from bifurc.sweeps.classify import state_scale
+    from bifurc.labels.classify import state_scale
     from maps.poincare import StroboscopicMap
     pb = maps.problem("thesis-1dof", preset="matlab-listing", params={"relay_hz": 10.0, "V": 136.0},
                       dc_law="measured")
@@ -1082,7 +1082,7 @@ def test_approaching_is_half_the_contraction_of_the_orbits_multiplier():
     points: the old test).  With mu
     unknown (NaN: not polished) any trajectory passes; one already within 1e-6 cells passes whatever mu."""
     from bifurc.attractors.identify import Attractor, Grid, approaching, converging
-    from bifurc.codes import ClassCode
+    from bifurc.labels.codes import ClassCode
     grid = Grid(np.zeros(2), np.ones(2))
     a = Attractor(int(ClassCode.PERIODIC), 1, max_multiplier=0.1, points=np.array([[5.0, 5.0]]))
     k = np.arange(11)[:, None]

@@ -214,7 +214,8 @@ def test_a_normal_job_is_within_the_budget_and_the_estimate_is_an_upper_bound(tm
     and the estimated run time is within 10x of a measured one on this machine."""
     import argparse
 
-    from bifurc.commands._guards import check_budget, estimate
+    from bifurc.commands._guards import check_budget
+    from bifurc.run.guard import estimate
     args = argparse.Namespace(transient=300, record=100, workers=1, yes=False)
     est = check_budget(args, 81)
     assert est["memory"] < 50e6 and est["seconds"] < 60
@@ -229,7 +230,7 @@ def test_a_normal_job_is_within_the_budget_and_the_estimate_is_an_upper_bound(tm
 
 
 def test_yes_runs_what_the_budget_refuses(monkeypatch, tmp_path, capsys):
-    import bifurc.commands._guards as guards
+    import bifurc.run.guard as guards
     monkeypatch.setattr(guards, "available_memory", lambda: 1000.0)   # a machine with 1 kB free
     argv = [*D, "--n", "1", "--from", "5", "--to", "5", "-o", str(tmp_path / "y.nc")]
     assert main(argv) == 2 and "pass --yes" in capsys.readouterr().err

@@ -12,7 +12,7 @@ import pytest
 
 import maps
 from bifurc.sweeps.job import ValueJob
-from bifurc.sweeps.lyapunov import exponent_interval, lyapunov_along
+from bifurc.labels.lyapunov import exponent_interval, lyapunov_along
 from bifurc.sweeps.sweep import sweep
 from maps.engines import BatchEngine, OrbitJob, engine_for
 from maps.hybrid import HybridSystem, PeriodicSwitch, State

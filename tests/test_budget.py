@@ -3,9 +3,9 @@ periods integrated and grows as values are extended."""
 import numpy as np
 
 import bifurc
-from bifurc.codes import ClassCode
+from bifurc.labels.codes import ClassCode
 from bifurc.report import undecided_summary
-from bifurc.sweeps.sweep import _PeriodBar
+from bifurc.run.progress import PeriodBar as _PeriodBar
 
 
 def test_a_spent_time_budget_leaves_undecided_values_not_converged_with_that_reason():

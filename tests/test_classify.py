@@ -4,9 +4,9 @@ import math
 import numpy as np
 import pytest
 
-from bifurc.sweeps.classify import CLASS_LABELS, classify_orbit, describe, lyapunov_threshold
+from bifurc.labels.classify import CLASS_LABELS, classify_orbit, describe, lyapunov_threshold
 from bifurc.sweeps.grazing import locate_grazing
-from bifurc.sweeps.lyapunov import largest_lyapunov
+from bifurc.labels.lyapunov import largest_lyapunov
 from maps.parameters import ParameterError
 
 
@@ -126,7 +126,7 @@ def test_bisection_brackets_the_root_to_xtol():
 
 
 def test_labels_and_flag_meanings_agree():
-    from bifurc.sweeps.classify import FLAG_MEANINGS
+    from bifurc.labels.classify import FLAG_MEANINGS
     assert FLAG_MEANINGS.split() == list(CLASS_LABELS)
 
 
@@ -134,7 +134,7 @@ def test_exponent_interval_of_the_logistic_map_contains_ln2():
     """x -> 4x(1-x): the Lyapunov exponent is ln 2 exactly (its invariant density is known); the
     per-step log stretch is log|4 - 8x| along an orbit.  The batch-means interval over 2000 steps
     contains ln 2 and is narrow; over 20 steps it is wider."""
-    from bifurc.sweeps.lyapunov import exponent_interval
+    from bifurc.labels.lyapunov import exponent_interval
     x, logs = 0.1234567, []
     for _ in range(2000):
         logs.append(math.log(abs(4 - 8 * x)))
@@ -164,7 +164,7 @@ def test_the_student_t_table_of_the_exponent_interval_equals_scipy():
     """The batch-means interval uses a table of t_{0.975, df} (no scipy.stats import in workers)."""
     from scipy.stats import t
 
-    from bifurc.sweeps.lyapunov import T975, _student_t
+    from bifurc.labels.lyapunov import T975, _student_t
     for df in range(1, 10):
         assert T975[df - 1] == pytest.approx(float(t.ppf(0.975, df)), rel=1e-14)
     assert _student_t(0.95, 4) == pytest.approx(float(t.ppf(0.95, 4)), rel=1e-12)     # off the table: scipy.special

@@ -106,7 +106,7 @@ def test_transient_starts_apportioned_by_the_saddles_exits(hole_census):
 
 def test_saddles_sharing_a_cell_through_another_are_one_group():
     from bifurc.attractors.identify import Attractor
-    from bifurc.codes import ClassCode
+    from bifurc.labels.codes import ClassCode
     sets = [{(0, 0)}, {(5, 5)}, {(0, 0), (5, 5)}, {(9, 9)}]
     saddles = [Attractor(int(ClassCode.CHAOTIC), cells=c) for c in sets]
     assert saddle_groups(saddles) == [0, 0, 0, 3]
@@ -116,7 +116,7 @@ def test_eventual_fractions_by_hand():
     """100 starts: 50 on attractor 0, 30 on 1, 20 transient on saddle 0; of the 40 starts seen on saddle 0 that
     settled, 10 went to 0 and 30 to 1: eventual 50 + 20 x 1/4 = 55 and 30 + 20 x 3/4 = 45 of 100."""
     from bifurc.attractors.identify import Attractor
-    from bifurc.codes import ClassCode
+    from bifurc.labels.codes import ClassCode
     T = OUTCOMES["transient"]
     out = [0] * 50 + [1] * 30 + [T] * 20
     via = [0] * 10 + [-1] * 40 + [0] * 30 + [0] * 20

@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 import maps
-from bifurc.sweeps.executor import MIN_VALUES_PER_WORKER, chunks_of, default_workers, map_values
-from bifurc.codes import ClassCode
+from bifurc.run.executor import MIN_VALUES_PER_WORKER, chunks_of, default_workers, map_values
+from bifurc.labels.codes import ClassCode
 from bifurc.sweeps.sweep import sweep
 
 STATES = ("x", "v", "i", "z")
@@ -93,7 +93,7 @@ def test_map_values_returns_grid_order_and_streams_every_chunk():
 
 
 def test_default_workers_use_every_core_once_there_is_work_for_them(monkeypatch):
-    import bifurc.sweeps.executor as ex
+    import bifurc.run.executor as ex
     monkeypatch.setattr(ex, "available_cores", lambda: 8)
     assert default_workers(1000) == 8
     assert default_workers(3 * MIN_VALUES_PER_WORKER) == 3
@@ -101,7 +101,7 @@ def test_default_workers_use_every_core_once_there_is_work_for_them(monkeypatch)
 
 
 def test_submit_all_starts_the_longest_task_first_and_answers_in_task_order():
-    from bifurc.sweeps.executor import submit_all
+    from bifurc.run.executor import submit_all
     started = []
 
     def task(name):
@@ -120,7 +120,7 @@ def test_submit_all_starts_the_longest_task_first_and_answers_in_task_order():
 def test_a_worker_pool_serves_chunks_and_other_tasks_on_the_same_processes():
     import os
 
-    from bifurc.sweeps.executor import WorkerPool
+    from bifurc.run.executor import WorkerPool
     with WorkerPool(abs, 2) as pool:
         assert pool.map_values(np.arange(-5.0, 0.0), chunk_size=2) == [5.0, 4.0, 3.0, 2.0, 1.0]
         assert map_values(abs, [-3.0], pool=pool) == [3.0]

@@ -13,7 +13,7 @@ import xarray as xr
 import bifurc
 import maps
 from bifurc.cli import main
-from bifurc.storage.files import OutputBusy, guarded_output, output_lock, write_netcdf
+from bifurc.storage.files import OutputBusy, output_guard, output_lock, write_netcdf
 
 ARGS = dict(preset="matlab-listing", params={"V": 90}, transient=10, record=6, lyapunov=False, grazing=False,
             error_sample=0, progress=False, batch_size=1)
@@ -53,14 +53,14 @@ def test_a_refused_argument_leaves_no_parts_that_block_the_corrected_command(tmp
 
 
 def test_a_failure_after_the_parts_folder_is_made_removes_it_only_if_nothing_was_completed(tmp_path):
-    @guarded_output("path")
     def work(path, completed, overwrite=False):
-        parts = tmp_path / (path.name + ".parts")
-        parts.mkdir()
-        (parts / "manifest.json").write_text("{}")
-        if completed:
-            (parts / "independent-000000.nc").write_bytes(b"done")
-        raise maps.ParameterError("refused")
+        with output_guard(path, overwrite):
+            parts = tmp_path / (path.name + ".parts")
+            parts.mkdir()
+            (parts / "manifest.json").write_text("{}")
+            if completed:
+                (parts / "independent-000000.nc").write_bytes(b"done")
+            raise maps.ParameterError("refused")
 
     with pytest.raises(maps.ParameterError):
         work(tmp_path / "a.nc", False)

@@ -73,7 +73,7 @@ def test_an_interrupt_before_the_first_chunk_says_nothing_was_kept(tmp_path):
     """A kernel interrupt (the process alone) during the workers' start: nothing completed yet; without
     ``path=`` the message says how to make a sweep resumable."""
     script = ("import sys, numpy as np, bifurc\n"     # what the sweep imports, before the signal can come
-              "import bifurc.sweeps.sweep, bifurc.sweeps.executor, bifurc.sweeps.job, bifurc.sweeps.dataset\n"
+              "import bifurc.sweeps.sweep, bifurc.run.executor, bifurc.sweeps.job, bifurc.sweeps.dataset\n"
               "print('go', flush=True)\n"
               "bifurc.sweep('thesis-1dof', 'relay_hz', np.linspace(2, 10, 400), preset='matlab-listing', "
               "transient=100, record=30, workers=2, progress=False, path=sys.argv[1] or None)\n")
@@ -86,7 +86,7 @@ def test_an_interrupt_before_the_first_chunk_says_nothing_was_kept(tmp_path):
         time.sleep(0.5)
         latency, err = _interrupt(proc, lambda: True, group=False)
         last = err.strip().splitlines()[-1]
-        assert last.startswith("bifurc.sweeps.sweep.Interrupted: " + want), err
+        assert last.startswith("bifurc.run.grid.Interrupted: " + want), err
         assert latency < 1.5, latency
 
 

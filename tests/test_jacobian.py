@@ -287,8 +287,8 @@ def test_tangent_exponent_agrees_with_the_companion_along_the_same_record():
     value the per-period stretches agree to a median 5e-3 (the companion's own noise: its 1e-8
     separation carries the 1e-10 integration error; without the saltation of the tangent vector at
     contacts the median difference is 0.014-0.30, measured)."""
-    from bifurc.sweeps.classify import state_scale
-    from bifurc.sweeps.lyapunov import exponent_interval
+    from bifurc.labels.classify import state_scale
+    from bifurc.labels.lyapunov import exponent_interval
     sc = maps.get_scene("thesis-1dof").with_options(dc_law="listing")
     smap = maps.StroboscopicMap(sc, sc.parameters(preset="matlab-listing", V=90.0), tol=1e-10)
     over = [{"relay_hz": f} for f in (4.1, 4.7, 8.6)]
@@ -309,7 +309,7 @@ def test_tangent_exponent_agrees_with_the_companion_along_the_same_record():
 def test_sweep_stores_the_exponent_method_and_both_methods_agree():
     """The product path (sweep) with either method at chaotic 4.7 Hz: the method is stored, and the
     two exponents (over records that part by chaos-amplified round-off) agree within their spread."""
-    from bifurc.sweeps.classify import ClassCode
+    from bifurc.labels.classify import ClassCode
     from bifurc.sweeps.sweep import sweep
     kw = dict(preset="matlab-listing", params={"V": 90}, grazing=False, error_sample=0, progress=False, workers=1)
     ds = {m: sweep("thesis-1dof", "relay_hz", np.array([4.7]), lyapunov_method=m, **kw).isel(branch=0, relay_hz=0)

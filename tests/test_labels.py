@@ -13,10 +13,10 @@ import pytest
 
 import bifurc
 import maps
-from bifurc.codes import ClassCode
-from bifurc.sweeps.anytime import Value, judge
-from bifurc.sweeps.classify import classify_orbit
-from bifurc.sweeps.evidence import (exponent_estimate, extent_drift, locked_lag, rotation_number, torus_evidence,
+from bifurc.labels.codes import ClassCode
+from bifurc.labels.anytime import Value, judge
+from bifurc.labels.classify import classify_orbit
+from bifurc.labels.evidence import (exponent_estimate, extent_drift, locked_lag, rotation_number, torus_evidence,
                                     zero_one_test)
 from maps import HybridSystem, Parameter, PeriodicSwitch, State
 
@@ -150,7 +150,7 @@ def test_the_chaotic_exponent_interval_holds_an_extended_precision_estimate():
     assert ClassCode(int(ds.class_code)) == ClassCode.CHAOTIC
     lo, hi, m = float(ds.lyapunov_low), float(ds.lyapunov_high), int(ds.record_used)
     smap = maps.StroboscopicMap(maps.problem("impact-oscillator", params=osc), tol=1e-16, fp_type=np.longdouble)
-    from bifurc.sweeps.lyapunov import largest_lyapunov
+    from bifurc.labels.lyapunov import largest_lyapunov
     start = smap.orbit({"x": 0.3, "v": 0.1}, 1, transient=400).state(0)      # another start, same attractor
     lam = largest_lyapunov(smap.step, start.y, min(m, 300), scale=np.array([1.0, 1.0]), k0=400)
     assert lo <= lam <= hi, (lo, lam, hi)

@@ -97,7 +97,7 @@ def test_the_lifetime_is_stored_and_survives_a_resume_part():
     from bifurc.attractors.dataset import _columns
     from bifurc.attractors.identify import Attractor
     from bifurc.attractors.job import ValueCensus, decode, encode
-    from bifurc.codes import ClassCode
+    from bifurc.labels.codes import ClassCode
     chaos = Attractor(int(ClassCode.CHAOTIC), points=np.zeros((3, 2)), lifetime=math.inf,
                       lifetime_interval=(5000.0, math.inf))
     orbit = Attractor(int(ClassCode.PERIODIC), 1, points=np.zeros((1, 2)))

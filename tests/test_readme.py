@@ -100,7 +100,7 @@ def test_a_script_without_a_main_guard_gets_one_error_naming_it(tmp_path):
                        timeout=300)
     last = r.stderr.strip().splitlines()[-1]
     assert r.returncode == 1 and last == (
-        f"bifurc.sweeps.executor.MainGuardError: worker processes could not start: they re-import {script}, which "
+        f"bifurc.run.executor.MainGuardError: worker processes could not start: they re-import {script}, which "
         'starts a sweep at its top level; put the script\'s code under `if __name__ == "__main__":`, or pass workers=1')
     assert "BrokenProcessPool" not in r.stderr and "freeze_support" not in r.stderr
 

@@ -18,7 +18,7 @@ import xarray as xr
 
 from bifurc import regime_map, sweep
 from bifurc.cli import main
-from bifurc.codes import ClassCode, Status
+from bifurc.labels.codes import ClassCode, Status
 from bifurc.sweeps.regime import CELL_VARIABLES, CellJob
 from conftest import kill_when_parts
 

@@ -13,7 +13,7 @@ import pytest
 
 import bifurc
 import maps
-from bifurc.sweeps.classify import ClassCode, classify_orbit, state_scale
+from bifurc.labels.classify import ClassCode, classify_orbit, state_scale
 from maps.poincare import StroboscopicMap
 from maps.translation import advance_per_step, reduce_jacobian, reduce_points, translation_basis
 
@@ -90,7 +90,7 @@ def test_reduced_exponent_and_jacobian_agree_with_newtons_multipliers():
 
 
 def test_description_names_the_progression_per_period():
-    from bifurc.sweeps.classify import describe
+    from bifurc.labels.classify import describe
     assert describe(ClassCode.PERIODIC, 2, 3, progression=0.001) == "period-2, 3 impacts (2:3), progression 2 mm per period"
     assert describe(ClassCode.PERIODIC, 1, 1) == "period-1, 1 impact (1:1)"
 

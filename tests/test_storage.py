@@ -8,7 +8,7 @@ import xarray as xr
 
 import maps
 from bifurc.storage import files, load as storage
-from bifurc.sweeps.classify import CLASS_LABELS
+from bifurc.labels.classify import CLASS_LABELS
 from bifurc.sweeps.sweep import sweep
 
 OSC = dict(w0=1.0, zeta=0.02, F=0.1, Omega=0.7, e=-1.0, r=0.8)

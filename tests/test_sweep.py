@@ -8,7 +8,7 @@ import xarray as xr
 import bifurc
 import maps
 from bifurc.storage import files, load as storage
-from bifurc.sweeps.classify import CLASS_LABELS
+from bifurc.labels.classify import CLASS_LABELS
 from bifurc.sweeps.job import ValueJob
 from bifurc.sweeps.sweep import sweep
 from conftest import completed_values, kill_when_parts
@@ -180,7 +180,7 @@ def test_interrupted_sweep_resumes_to_the_same_dataset(tmp_path, monkeypatch):
 
 
 def test_an_unreadable_resume_part_is_recomputed_with_a_warning(tmp_path, monkeypatch):
-    from bifurc.sweeps.resume import Parts
+    from bifurc.run.parts import Parts
     args = dict(preset="matlab-listing", params={"V": 90}, transient=20, record=10, lyapunov=False, grazing=False,
                 error_sample=0, progress=False, batch_size=1, workers=1, chunk_size=1)
     values = np.linspace(4, 9, 4)
@@ -204,7 +204,7 @@ def test_a_resumed_value_keeps_the_time_spent_computing_it(tmp_path, monkeypatch
     """Every value done before the interruption: the resumed dataset stores (and the command prints)
     the time spent on the values when they were computed, not the moment it took to load them."""
     from bifurc.cli import main
-    from bifurc.sweeps.resume import Parts
+    from bifurc.run.parts import Parts
     argv = ["diagram", "--preset", "matlab-listing", "--set", "V=90", "--from", "4", "--to", "9", "--n", "4",
             "--transient", "1500", "--record", "20", "--no-lyapunov", "--quiet", "--workers", "1"]
     path = tmp_path / "d.nc"
@@ -224,14 +224,10 @@ def test_a_resumed_value_keeps_the_time_spent_computing_it(tmp_path, monkeypatch
     assert printed in out and printed in capsys.readouterr().out
 
 
-def test_continuation_is_a_deprecated_alias_of_follow(osc):
-    kw = dict(params=dict(OSC, Omega=0.7, e=-5.0), transient=5, record=4, lyapunov=False, grazing=False,
-              error_sample=0, progress=False)
-    with pytest.warns(DeprecationWarning, match="follow"):
-        old = sweep(osc, "Omega", [0.7, 0.8], mode="continuation", **kw)
-    new = sweep(osc, "Omega", [0.7, 0.8], mode="follow", **kw)
-    assert old.attrs["mode"] == new.attrs["mode"] == "follow" and list(old.branch.values) == ["up", "down"]
-    np.testing.assert_array_equal(old.x.values, new.x.values)
+def test_the_removed_mode_continuation_is_refused_in_one_line_naming_follow(osc):
+    """"continuation" was a deprecated alias of "follow" up to 0.2.0 (CHANGELOG's migration table)."""
+    with pytest.raises(maps.ParameterError, match="allowed: independent, follow"):
+        sweep(osc, "Omega", [0.7, 0.8], mode="continuation", progress=False)
 
 
 def test_netcdf_round_trip_is_lossless(tmp_path):
@@ -368,7 +364,7 @@ def test_resume_refuses_parts_another_version_of_the_code_computed(tmp_path, mon
     """Parts written by another version or commit of the code are not mixed with this one's results: the resume is
     refused in one line naming both, and the parts stay (a census resumed after a change of the code had kept 75
     values of the old code's)."""
-    from bifurc.sweeps import resume
+    from bifurc.run import parts as resume
     args = dict(transient=1, record=3, lyapunov=False, grazing=False, error_sample=0, progress=False, batch_size=1,
                 path=tmp_path / "d.nc")
     original = ValueJob.__call__
@@ -437,8 +433,8 @@ def test_periods_are_searched_among_multiples_of_the_forcing_period():
     impacts (before, periods stopped at 16 and the value read quasi-periodic).  At 8.537 Hz the
     forcing never repeats (q = 0): no period is searched, and without an exponent the value is
     not-converged with that reason stored."""
-    from bifurc.sweeps.classify import candidate_periods
-    from bifurc.codes import ClassCode
+    from bifurc.labels.classify import candidate_periods
+    from bifurc.labels.codes import ClassCode
     assert candidate_periods(17, 100) == [17, 34, 51, 68, 85] and candidate_periods(0, 100) == []
     assert candidate_periods(1, 5) == [1, 2, 3, 4, 5]
     kw = dict(preset="matlab-listing", params={"V": 90}, grazing=False, error_sample=0, progress=False)
@@ -456,7 +452,7 @@ def test_record_extended_to_three_forcing_periods_up_to_max_record():
     record cannot test period 89 (it needs two whole periods).  The record is extended to 3 q = 267
     periods (under the default cap 3 x 100) and the period-89 orbit is found; with --max-record 150
     the extension stops at 150 (on the one-value path too) and the period is missed, as it is at 100."""
-    from bifurc.codes import ClassCode
+    from bifurc.labels.codes import ClassCode
     job = ValueJob(maps.problem("thesis-1dof"), "relay_hz", record=100, max_period=100)
     assert job.record_cap == 300 and job.record_for(89) == 267 and job.record_for(17) == 100
     assert job.record_for(0) == 100 and job.record_for(101) == 100     # nothing to search: no extension

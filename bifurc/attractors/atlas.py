@@ -1,113 +1,167 @@
-"""``bifurc.attractors``: the attractor census over a parameter, with global continuation."""
+"""``bifurc.attractors``: the attractor census over parameter points, with global continuation.
+
+The census is a task on the one grid driver (:mod:`bifurc.run.grid`, :class:`.job.CensusJob`): each point's fresh
+starts run there (resumed from the one resume store); the seeding with the neighbouring points' periodic
+attractors, the matching (:class:`.method.ByDistance`) and the linking then run here in the points' order
+(:func:`follow_order`: a full two-parameter grid row by row in a snake), so the same seed gives the same dataset
+with any workers and after a resume."""
 from __future__ import annotations
 
 import dataclasses
 import math
 import time as _time
+from collections.abc import Mapping
 
 import numpy as np
 
-from maps.parameters import ParameterError, validate_value
+from maps.parameters import ParameterError
 from maps.poincare import StroboscopicMap
-from maps.problem import problem
 from maps.provenance import recorded
 
-from .census import Memory, Settings, census_at
-from .job import CensusJob
+from ..run.inputs import analysis_inputs
+from ..run.run import Run
+from ..run.settings import settle
+from ..storage.files import output_guard
+from .census import Memory, census_at
 from .follow import link_event, match
 from .identify import Grid, representative, same_orbit
-from .starts import make_starts
+from .job import CensusJob
+from .method import ByDistance, Census, sampler_of
 
-__all__ = ["attractors"]
-
-
-def _values(param, values, system) -> np.ndarray:
-    if param not in system.param_names:
-        raise ParameterError(f"param {param!r} is not a parameter of {system.name!r}; its parameters: "
-                             f"{', '.join(system.param_names)}")
-    v = np.atleast_1d(np.asarray(values, dtype=float))
-    if v.ndim != 1 or not v.size or not np.all(np.isfinite(v)):
-        raise ParameterError(f"values of {param}: a non-empty 1-D list of finite numbers; got {values!r}")
-    return v
+#: keywords of bifurc 0.1 that have another name now (CHANGELOG 0.2.0's migration table)
+RENAMED = {"max_periods": "budget (Census(budget=...), --budget)", "n_starts": None}
 
 
 @recorded("bifurc.attractors")
-def attractors(problem_or_scene="thesis-1dof", param: str = "V", values=None, *, starts="box", n_starts: int = 100,
-               box: dict | None = None, shape=None, seed: int = 0, preset=None, params=None, tol: float = 1e-10,
-               cells: int = 100, chunk: int = 40, land: int = 6, recur: int = 20, locate: int = 48,
-               max_periods: int = 2000, max_period: int = 16, match_threshold: float = 20.0, link: bool = True,
-               n_node: int = 16, batch_size: int = 4, workers: int | None = None, scheduler=None, progress=True,
-               path=None, overwrite: bool = False, refine=None,
-               circuit=None, ac_sign=None, dc_law=None, soil=None, compaction=None):
-    """Every attractor at each of ``values`` of ``param``, its basin fraction and how it continues.
+def attractors(problem="thesis-1dof", param: str | None = "V", values=None, method: Census | None = None, *,
+               starts=None, match: ByDistance | None = None, run: Run | None = None, **options):
+    """Every attractor at each parameter point, its basin fraction and how it continues from point to point.
 
     Parameters
     ----------
-    problem_or_scene : a :class:`maps.Problem`, a scene name, Scene or HybridSystem.
-    starts : "box" (``n_starts`` uniform in ``box`` {state: (low, high)} [SI], default the scene's declared box;
-        other states at the scene's start), "slice" (a ``shape`` grid over the box's two states), "switch-on"
-        (the scene's declared switch-on distribution), a :class:`bifurc.attractors.starts.Starts` or an (N, d) array.
-        The same fresh starts (``seed``) at every value.
-    cells : grid cells per box side (the recurrence grid; other states: their start's magnitude / cells).
-    chunk, land, recur, locate, max_periods : strobe periods per batch call; consecutive points in one
-        attractor's cells to land on it; consecutive revisits of a start's own cells to call an attractor
-        found; periods of a start's first record to identify it (doubled at each undecided one); periods after
-        which a start is "not_converged".
-    max_period : longest period searched [strobe periods] (a contracting record that repeats at a longer lag, up to
-        a quarter of its length, is polished by Newton at that lag); tol : heyoka tolerance.
-    match_threshold : largest distance [grid cells] at which an attractor continues one of the previous value.
-    link : continue each appearing or disappearing periodic orbit across the step to link the change to a
-        located fold, period doubling, torus, grazing or stick onset (else it is flagged "global").
-    refine : branch datasets from continuation in ``param`` (:func:`bifurc.continue_orbit`, one or a list, of this
-        model): a value is added between each two of their located events that share a step
-        (:mod:`.refine`), so that a stable window narrower than the step is a census value too; the added values
-        are in the attribute ``values_added_at_events``.
+    problem : :class:`maps.Problem` or scene name
+        What is integrated.
+    param : str
+        The parameter varied over ``values`` (None when ``values`` are parameter points).
+    values : array_like or list of dict
+        1-D values of ``param``, or a list of parameter points ({name: value}, the same names in each), e.g. a
+        two-parameter grid (:func:`grid_points`); default: the problem's value of ``param``.
+    method : :class:`bifurc.Census`, optional
+        The mapper's settings: grid cells, budget per start, period search, tolerance, linking.
+    starts : sampler, optional
+        The fresh starts, the same at every point: :class:`bifurc.Box` (default: 200 uniform in the scene's box),
+        :class:`bifurc.Slice`, :class:`bifurc.SwitchOn`, or an (N, d) array; the keyword forms "box", "slice",
+        "switch-on" with ``n_starts``, ``box``, ``seed``, ``shape`` options are accepted.
+    match : :class:`bifurc.ByDistance`, optional
+        The matcher that continues attractors from one point to the next (``match_threshold`` option).
+    run : :class:`bifurc.Run`, optional
+        Where it runs (workers, Dask scheduler, ``path`` with resume parts, progress).
+    **options
+        Problem keywords, :class:`bifurc.Census` or :class:`bifurc.Run` fields by name; ``refine``: branch datasets
+        from continuation in ``param`` (:func:`bifurc.continue_orbit`), a value added between each two of their
+        located events that share a step (1-D only).
 
-    workers : processes (default every available core, at least 4 values each); ``scheduler`` a Dask scheduler address or Client.  Each
-        value's fresh starts are one task; the seeding with the neighbouring values' periodic attractors, the matching and
-        the linking run here in order, so the same ``seed`` gives the same dataset with any ``workers``.
-    path : with it, each finished value is kept in ``<path>.parts/`` and a run stopped part-way resumes there.
-
-    Returns an xarray Dataset (``bifurc_kind`` "attractors"): dims (``param``, ``attractor``) with
-    ``basin_fraction`` and its Wilson 95 % interval, class, periods, impacts, exponent, the polished strobe
-    states, the matching and the events; outcomes (escaped, not_converged, failed, neutral: motion that
-    dissipates nothing, :func:`.census._neutral`, and transient: still on a chaotic saddle at ``max_periods``,
-    with the saddle's mean lifetime) are attractor entries, so the fractions sum to 1.  ``eventual_fraction`` and
-    its interval: the transient starts apportioned by where the starts that left their saddle went
-    (:mod:`.eventual`).  ``path``: also written as netCDF (refused if it exists unless ``overwrite``).
+    Returns
+    -------
+    xarray.Dataset
+        ``bifurc_kind`` "attractors": dims (``param``, ``attractor``), or (``param``, ``param2``, ``attractor``) for
+        a full two-parameter grid of points, with ``basin_fraction`` and its Wilson 95 % interval, class, periods,
+        impacts, exponent, the polished strobe states, the matching and the events.  Outcomes (escaped,
+        not_converged, failed, neutral, transient: still on a chaotic saddle at the budget) are attractor entries,
+        so the fractions sum to 1; ``eventual_fraction`` apportions the transient starts by where those that left
+        their saddle went.  The fractions are also returned by :func:`census_result` as values.
     """
-    clock = _time.perf_counter()
-    pb = problem(problem_or_scene, preset, params, circuit=circuit, ac_sign=ac_sign, dc_law=dc_law, soil=soil,
-                 compaction=compaction)
-    values = _values(param, values if values is not None else [pb.values[param]], pb.system)
-    added = None
+    opts = dict(options)
+    for old, new in RENAMED.items():
+        if old in opts and new:
+            raise ParameterError(f"{old!r} is now {new}")
+    sampler = sampler_of(starts, opts)
+    matcher = settle(ByDistance, match, {"threshold": opts.pop("match_threshold")} if "match_threshold" in opts else {})
+    refine = opts.pop("refine", None)
+    pb, m, r, _ = analysis_inputs(problem, Census, method, run, opts)
+    names, points = _points(param, values, pb)
     if refine is not None:
+        if len(names) != 1:
+            raise ParameterError("refine needs one parameter (values of param), not points of several")
         from .refine import event_values, refined_values
-        values, added = refined_values(values, event_values(refine, param, pb))
-    if path is not None:
-        from ..storage.files import refuse_existing
-        refuse_existing(path, overwrite)
-    st = make_starts(pb, starts, n=n_starts, box=box, seed=seed, shape=shape)
+        vals, added = refined_values(np.array([p[names[0]] for p in points]), event_values(refine, names[0], pb))
+        points = [{names[0]: float(v)} for v in vals]
+    else:
+        added = None
+    n_starts = getattr(sampler, "n", None) or 0
+    if len(points) * max(n_starts, 1) > MAX_START_POINTS and not r.allow_large:
+        raise ParameterError(f"{len(points):,} points x {n_starts:,} starts is over {MAX_START_POINTS:,} start-points; "
+                             f"reduce them, or pass allow_large=True (--yes) to run it")
+    with output_guard(r.path, r.overwrite):
+        return _census(pb, names, points, m, sampler, matcher, r, added)
+
+
+#: the largest census (points x starts) run without allow_large
+MAX_START_POINTS = 10_000_000_000
+
+
+def grid_points(param: str, values, param2: str, values2) -> list:
+    """The points of the grid ``values`` (of ``param``) x ``values2`` (of ``param2``), row-major (``param2``
+    fastest): the ``values`` of a two-parameter census."""
+    return [{param: float(a), param2: float(b)} for a in np.ravel(values) for b in np.ravel(values2)]
+
+
+def _points(param, values, pb) -> tuple[tuple, list]:
+    """(parameter names, [point {name: value}]) of an entry point's ``param`` and ``values``."""
+    system = pb.system
+    if values is not None and len(values) and all(isinstance(v, Mapping) for v in values):
+        names = tuple(values[0])
+        if not names or any(tuple(v) != names for v in values):
+            raise ParameterError(f"points: every point names the same parameters; the first names "
+                                 f"{', '.join(names) or 'none'}")
+        if param is not None and param not in names:
+            raise ParameterError(f"param {param!r} is not among the points' parameters ({', '.join(names)})")
+        points = [{k: float(v[k]) for k in names} for v in values]
+    else:
+        if not isinstance(param, str):
+            raise ParameterError("param: a parameter name, or values given as points {name: value}")
+        names = (param,)
+        v = np.atleast_1d(np.asarray(values if values is not None else [pb.values.get(param, np.nan)], dtype=float))
+        if v.ndim != 1 or not v.size:
+            raise ParameterError(f"values of {param}: a non-empty 1-D list of finite numbers; got {values!r:.60}")
+        points = [{param: float(x)} for x in v]
+    for k in names:
+        if k not in system.param_names:
+            raise ParameterError(f"param {k!r} is not a parameter of {system.name!r}; its parameters: "
+                                 f"{', '.join(system.param_names)}")
+    for p in points:
+        if not all(np.isfinite(list(p.values()))):
+            raise ParameterError(f"points: finite numbers only; got {p}")
+        pb.with_values(**p)      # each point valid before anything runs
+    return names, points
+
+
+def _census(pb, names, points, m: Census, sampler, matcher: ByDistance, r: Run, added):
+    """The census of ``pb`` at ``points`` (dicts of the parameters ``names``)."""
+    clock = _time.perf_counter()
+    st = sampler.draw(pb)
     # the grid spans the box drawn from, or for switch-on starts (a spread of a fraction of a millimetre) the
     # scene's declared box: the attractors they reach lie far outside the spread
     scene_box = getattr(pb.scene, "box", {}) or {}
-    grid = Grid.over((st.box if st.kind != "switch-on" else scene_box) or scene_box, pb.system,
-                     int(validate_value("cells", cells, 2, 1e6)), pb.state_vector())
-    s = Settings(chunk=int(chunk), land=int(land), recur=int(recur), locate=int(locate),
-                 max_periods=int(max_periods), max_period=int(max_period), batch_size=int(batch_size))
-    job = CensusJob(pb.with_values(**{param: float(values[0])}), param, np.asarray(st.points, dtype=float), grid, s,
-                    tol)
-    fresh, workers, resumed, parts = _fresh(job, values, workers, scheduler, path, progress)
+    grid = Grid.over((st.box if st.kind != "switch-on" else scene_box) or scene_box, pb.system, m.cells,
+                     pb.state_vector())
+    s = m.settings()
+    first = pb.with_values(**points[0])
+    job = CensusJob(first, tuple(points), np.asarray(st.points, dtype=float), grid, s, m.tol)
+    fresh, workers, resumed, parts = _fresh(job, r, names)
     stages = [_time.perf_counter()]
-    smap = StroboscopicMap(pb.with_values(**{param: float(values[0])}), tol=tol)
-    per_value, outcomes, links, n_ids, periods = _follow(smap, param, values, fresh, grid, s, match_threshold, link)
+    smap = StroboscopicMap(first, tol=m.tol)
+    order = follow_order(names, points)
+    per_value, outcomes, links, n_ids, periods = _follow(smap, points, order, fresh, grid, s, matcher.threshold,
+                                                         m.link)
     stages.append(_time.perf_counter())
-    events = _link_all(pb, param, links, tol, workers)
+    events = _link_all(pb, links, m.tol, workers)
     stages.append(_time.perf_counter())
     from .dataset import to_dataset
-    attrs = {"workers": int(workers), "values_resumed": int(resumed), "cells_per_side": int(cells),
+    attrs = {"workers": int(workers), "values_resumed": int(resumed), "cells_per_side": int(m.cells),
              "grid_cell_widths": grid.width.tolist(), "fresh_starts": len(st),
-             "census_settings": repr(s), "match_threshold_cells": float(match_threshold), "tol": tol,
+             "census_settings": repr(s), "census_method": repr(m), "starts_sampler": repr(sampler),
+             "matcher": repr(matcher), "match_threshold_cells": float(matcher.threshold), "tol": m.tol,
              "census_seconds": _time.perf_counter() - clock, "fresh_seconds": stages[0] - clock,
              "seeding_seconds": stages[1] - stages[0], "linking_seconds": stages[2] - stages[1],
              "links": len(links),
@@ -119,19 +173,34 @@ def attractors(problem_or_scene="thesis-1dof", param: str = "V", values=None, *,
                        "fractions with 95 % Wilson intervals; motion without impact or area contraction: neutral"}
     if added is not None:
         attrs["values_added_at_events"] = ", ".join(f"{v:.10g}" for v in added) or "none"
-    ds = to_dataset(pb, param, values, per_value, outcomes, n_ids, events, st, n_node=int(n_node), attrs=attrs,
+    ds = to_dataset(pb, names, points, per_value, outcomes, n_ids, events, st, n_node=m.n_node, attrs=attrs,
                     transients=[(f.via, f.saddles) for f in fresh])
-    if path is not None:
+    if r.path is not None:
+        from ..run.grid import deferred_interrupt
         from ..storage.files import write_netcdf
-        write_netcdf(ds, path, overwrite=overwrite)
-        parts.remove()
+        with deferred_interrupt():
+            write_netcdf(ds, r.path, overwrite=True)   # refused earlier unless overwrite (output_guard)
+            parts.remove()
     return ds
 
 
-def _seeded(smap, param, values, fresh, grid, s) -> list:
-    """Each value's attractors: those of its fresh starts, then those reached from the neighbouring value's
+def follow_order(names, points) -> list:
+    """The order the points are followed in (seeding, matching, linking): as given, except a full two-parameter
+    grid, followed row by row in a snake (each step changes one parameter)."""
+    if len(names) != 2:
+        return list(range(len(points)))
+    a = sorted({p[names[0]] for p in points})
+    b = sorted({p[names[1]] for p in points})
+    where = {(p[names[0]], p[names[1]]): k for k, p in enumerate(points)}
+    if len(where) != len(points) or len(a) * len(b) != len(points):
+        return list(range(len(points)))
+    return [where[x, y] for i, x in enumerate(a) for y in (b if i % 2 == 0 else b[::-1])]
+
+
+def _seeded(smap, points, order, fresh, grid, s) -> list:
+    """Each point's attractors: those of its fresh starts, then those reached from the neighbouring point's
     periodic attractors (one start on each that is not one of its orbits already; not counted in the fractions), in a
-    sweep up the values and one back down.  A chaotic set is not seeded: the census tells an attractor from a
+    sweep along ``order`` (indices of ``points``) and one back.  A chaotic set is not seeded: the census tells an attractor from a
     saddle by 48 copies' lifetimes, and on thesis-1dof at 21 values x 50 starts seeds on chaotic sets the fresh
     starts had not met (or had met as saddles) spent 61 of the seeding's 64 s in those estimates; a chaotic
     attractor of the neighbour that persists is met by the fresh starts.  The sweep down finds an orbit at the
@@ -143,12 +212,12 @@ def _seeded(smap, param, values, fresh, grid, s) -> list:
     memory = [Memory(saddles=list(f.saddles)) for f in fresh]      # each value's saddles, for both sweeps
     q = smap.forcing_period_steps
     short = dataclasses.replace(s, max_periods=min(s.max_periods, SEED_PERIODS))
-    for order in (range(len(values)), range(len(values) - 1, -1, -1)):
+    for way in (order, order[::-1]):
         prev = None
-        for i in order:
+        for i in way:
             seeds = [a for a in prev or [] if a.periodic and not any(same_orbit(a, b, q) for b in found[i])]
             if seeds:
-                smap.set_params(**{param: float(values[i])})
+                smap.set_params(**points[i])
                 found[i] = census_at(smap, [representative(a) for a in seeds], grid, short, k0=[a.k0 for a in seeds],
                                      known=found[i], memory=memory[i])[1]
             prev = found[i]
@@ -160,62 +229,40 @@ def _seeded(smap, param, values, fresh, grid, s) -> list:
 SEED_PERIODS = 400
 
 
-def _follow(smap, param, values, fresh, grid, s, match_threshold, link):
-    """Value by value: the attractors of each (:func:`_seeded`) matched to the previous value's and (``link``) the
-    appearances and disappearances noted: (per_value, outcomes, links, n_ids, periods spent per start)."""
-    per_value, outcomes, links, prev, n_ids, periods = [], [], [], {}, 0, []
-    seeded = _seeded(smap, param, values, fresh, grid, s)
-    for i, v in enumerate(values):
-        smap.set_params(**{param: float(v)})
+def _follow(smap, points, order, fresh, grid, s, match_threshold, link):
+    """Point by point along ``order``: the attractors of each (:func:`_seeded`) matched to the previous point's and
+    (``link``) the appearances and disappearances noted: (per_value, outcomes, links, n_ids, periods spent per start),
+    the first two in the points' own order."""
+    n = len(points)
+    per_value, outcomes, links, prev, n_ids, periods = [None] * n, [None] * n, [], {}, 0, []
+    seeded = _seeded(smap, points, order, fresh, grid, s)
+    for step, i in enumerate(order):
+        smap.set_params(**points[i])
         found = seeded[i]
         periods.extend(fresh[i].spent)
         ids, n_ids = _assign(prev, found, grid, smap, match_threshold, n_ids)
         here = {ids[j]: a for j, a in enumerate(found)}
-        if i and link:
-            links += _changes(values[i - 1], v, prev, here, i)
-        per_value.append(here)
-        outcomes.append([ids[k] if k >= 0 else k for k in fresh[i].outcomes])
+        if step and link:
+            links += _changes(points[order[step - 1]], points[i], prev, here, i)
+        per_value[i] = here
+        outcomes[i] = [ids[k] if k >= 0 else k for k in fresh[i].outcomes]
         prev = here
     return per_value, outcomes, links, n_ids, periods
 
 
-def _fresh(job, values, workers, scheduler, path, progress):
-    """Each value's census from its fresh starts: resumed from ``<path>.parts`` where stored, the rest on
-    ``workers`` processes (default every core) or a Dask ``scheduler``; returns (censuses, workers, resumed,
+def _fresh(job, r: Run, names):
+    """Each point's census from its fresh starts, on the one grid driver (:func:`bifurc.run.grid.run_points`):
+    resumed from ``<path>.parts`` where stored, the rest on ``r.workers`` processes (default every core, at least
+    :attr:`CensusJob.points_per_worker` points each) or a Dask scheduler; returns (censuses, workers, resumed,
     parts)."""
-    from ..sweeps.executor import available_cores, map_values
-    from ..sweeps.sweep import travels
-    from .job import CensusParts, census_manifest
-    if scheduler is not None:
-        workers = 0
-    elif workers is None:
-        workers = max(1, min(available_cores(), len(values) // 4)) if travels(job.problem) else 1
-    else:
-        workers = int(validate_value("workers", workers, 1, 1024))
-    parts = CensusParts(path, census_manifest(job, values, {})) if path is not None else None
-    done = parts.load() if parts is not None else {}
-    missing = np.array([i for i in range(len(values)) if i not in done], dtype=np.int64)
-    bar = _bar(progress, len(values) * len(job.starts))
-    if bar:
-        bar.update(len(done) * len(job.starts))
-
-    def take(start, results):
-        idx = missing[start:start + len(results)]
-        for i, r in zip(idx, results):
-            done[int(i)] = r
-        if parts is not None:
-            parts.save([int(i) for i in idx], results)
-        if bar:
-            bar.update(len(results) * len(job.starts))
-
-    try:
-        if missing.size:
-            map_values(job, values[missing], workers=max(1, workers), scheduler=scheduler, collect=False,
-                       chunk_size=1, on_chunk=take)
-    finally:
-        if bar:
-            bar.close()
-    return [done[i] for i in range(len(values))], workers, len(values) - missing.size, parts
+    from ..run.grid import run_points
+    from ..run.parts import Parts
+    from .job import CensusCodec, census_manifest
+    parts = Parts(r.path, census_manifest(job), CensusCodec()) if r.path is not None else None
+    index = np.arange(len(job.points), dtype=float)
+    results, resumed, _, workers = run_points(job, index, "independent", parts, r.workers, r.scheduler, 1,
+                                              r.progress, f"attractor census {' x '.join(names)}", unit="points")
+    return results["independent"], workers, resumed, parts
 
 
 def _assign(prev: dict, found: list, grid, smap, threshold, n_ids) -> tuple[list, int]:
@@ -234,39 +281,43 @@ def _assign(prev: dict, found: list, grid, smap, threshold, n_ids) -> tuple[list
     return ids, n_ids
 
 
-def _changes(before, now, prev: dict, here: dict, i: int) -> list:
-    """The appearances and disappearances between two values: ((i, id), what, attractor, here, there)."""
-    gone = [((i, gid), "disappeared", a, before, now) for gid, a in prev.items() if gid not in here]
-    new = [((i, gid), "appeared", a, now, before) for gid, a in here.items() if gid not in prev]
+def _changes(before: dict, now: dict, prev: dict, here: dict, i: int) -> list:
+    """The appearances and disappearances between two points: ((i, id), what, attractor, step), where step is
+    (the parameter that changed, its value where the attractor is, where it is not, the other parameters) or None
+    when several parameters change at once (no branch to continue)."""
+    moved = [k for k in now if now[k] != before[k]]
+
+    def step(at, other):
+        if len(moved) != 1:
+            return None
+        k = moved[0]
+        return k, at[k], other[k], {n: v for n, v in at.items() if n != k}
+    gone = [((i, gid), "disappeared", a, step(before, now)) for gid, a in prev.items() if gid not in here]
+    new = [((i, gid), "appeared", a, step(now, before)) for gid, a in here.items() if gid not in prev]
     return gone + new
 
 
-def _link_all(pb, param, links: list, tol: float, workers: int) -> dict:
-    """{(value index, id): (what, kind, evidence)}: each change linked by continuing its orbit
-    (:func:`.follow.link_event`), on ``workers`` processes when there are several (each link is independent)."""
-    from ..sweeps.executor import WorkerPool, result_of, submit_all
-    tasks = [(1.0, link_event, (pb, param, a, here, there, tol)) for _, _, a, here, there in links]
-    periodic = sum(a.periodic for _, _, a, _, _ in links)
-    from ..sweeps.sweep import travels
+def _link_all(pb, links: list, tol: float, workers: int) -> dict:
+    """{(point index, id): (what, kind, evidence)}: each change linked by continuing its orbit in the parameter that
+    changed (:func:`.follow.link_event`), on ``workers`` processes when there are several (each link is independent);
+    a step that changes several parameters at once is "global"."""
+    from ..run.executor import WorkerPool, result_of, submit_all
+    from ..run.grid import travels
+    tasks, fixed = [], {}
+    for key, what, a, step in links:
+        if step is None:
+            fixed[key] = ("global", "the step between the two points changes several parameters at once: no branch "
+                                    "to continue")
+            continue
+        k, here, there, others = step
+        tasks.append((key, (1.0, link_event, (pb.with_values(**others) if others else pb, k, a, here, there, tol))))
+    periodic = sum(a.periodic for _, _, a, step in links if step is not None)
+    jobs = [t for _, t in tasks]
     if workers > 1 and periodic > 1 and travels(pb):
         with WorkerPool(None, min(workers, periodic)) as pool:
-            got = [result_of(f) for f in submit_all(tasks, pool)]
+            got = [result_of(f) for f in submit_all(jobs, pool)]
     else:
-        got = [f.result() for f in submit_all(tasks)]
-    return {key: (what, kind, why) for (key, what, *_), (kind, why) in zip(links, got)}
-
-
-class _Bar:
-    def __init__(self, total):
-        from tqdm.auto import tqdm
-        self.t = tqdm(total=total, unit="start", desc="attractor census", leave=False)
-
-    def update(self, n):
-        self.t.update(n)
-
-    def close(self):
-        self.t.close()
-
-
-def _bar(progress, total):
-    return _Bar(total) if progress else None
+        got = [f.result() for f in submit_all(jobs)]
+    out = {key: kw for key, kw in zip([k for k, _ in tasks], got)}
+    out.update(fixed)
+    return {key: (what, *out[key]) for key, what, *_ in links}

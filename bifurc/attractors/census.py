@@ -10,7 +10,7 @@ repeats with a period is identified at once (a known periodic orbit, or Newton: 
 one that recurs without a period, the chunk sharing cells with a known non-periodic attractor counts for it
 (one exponent per set, not per start); one on a known chaotic saddle runs on (there Newton is tried only where
 the chunk contracts, :func:`.identify.contracting`: the saddle's near returns are chance); the rest are recorded
-``locate`` periods with a tangent vector and classified (:mod:`bifurc.sweeps.classify`). A start's path is its
+``locate`` periods with a tangent vector and classified (:mod:`bifurc.labels.classify`). A start's path is its
 chunks from its start, whatever the census decides: a record runs beside it (its tangent vector changes the step
 sizes, and on a chaotic saddle a start's fate hangs on such differences: thesis-1dof at 136 V, 44 of 200 outcomes
 differed between grids of 100 and 200 cells per side while records placed by the grid were part of the paths), and
@@ -33,8 +33,8 @@ import numpy as np
 
 from maps.hybrid import HybridState
 
-from ..codes import ClassCode
-from ..sweeps.classify import candidate_periods
+from ..labels.codes import ClassCode
+from ..labels.classify import candidate_periods
 from .lifetime import Lifetime, estimate_lifetime, periodic_tail
 from .identify import (Attractor, Grid, approaching, area_rate, contracting, converging, from_chunk, identify,
                        newton_periods, no_contraction, polish_once, same_attractor, same_orbit)

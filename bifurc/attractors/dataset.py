@@ -8,7 +8,7 @@ import numpy as np
 from maps.provenance import cf_attrs
 
 from .._version import __version__
-from ..codes import ClassCode
+from ..labels.codes import ClassCode
 from ..storage.build import coord, dataset, put
 from ..storage.schema import ATTRACTOR, ATTRACTOR_COORDS, ATTRACTOR_EVENTS, flag_variable, state_variable
 from .census import OUTCOMES, wilson
@@ -102,7 +102,8 @@ def _put_attractor(cols, i, col, a) -> None:
     cols["match_distance"][i, col] = getattr(a, "match_distance", np.nan)
 
 
-def to_dataset(pb, param, values, per_value, outcomes, n_ids, events, starts, *, n_node, attrs, transients=None):
+def _flat_dataset(pb, param, values, per_value, outcomes, n_ids, events, starts, *, n_node, attrs, transients=None,
+                  skip=()):
     """The Dataset of a census: ``per_value[i]`` {id: Attractor}, ``outcomes[i]`` the fresh starts' ids,
     ``transients[i]`` (each start's saddle index, the saddles) for the eventual fractions (:mod:`.eventual`)."""
     system = pb.system
@@ -129,9 +130,64 @@ def to_dataset(pb, param, values, per_value, outcomes, n_ids, events, starts, *,
                                                                      in starts.box.items()),
                      "slice_shape": list(starts.shape), "slice_states": " ".join(starts.slice_states),
                      "bifurc_version": __version__, **attrs, **cf_attrs(f"scene {pb.name}, attractor census in {param}"),
-                     **pb.attrs(skip=(param,))})
+                     **pb.attrs(skip=(param, *skip))})
     if starts.seed is not None:
         ds.attrs["seed"] = int(starts.seed)
+    return ds
+
+
+def to_dataset(pb, names, points, per_value, outcomes, n_ids, events, starts, *, n_node, attrs, transients=None):
+    """The Dataset of a census at ``points`` ({name: value} of the parameters ``names``): dims (name, ``attractor``)
+    for one parameter; (name, name2, ``attractor``) for a full two-parameter grid; else (``point``, ``attractor``)
+    with one coordinate per parameter along ``point``.  ``per_value[i]`` {id: Attractor}, ``outcomes[i]`` the fresh
+    starts' ids, ``transients[i]`` (each start's saddle index, the saddles) for the eventual fractions
+    (:mod:`.eventual`)."""
+    first = names[0]
+    flat = _flat_dataset(pb, first, [p[first] for p in points], per_value, outcomes, n_ids, events, starts,
+                         n_node=n_node, attrs=attrs, transients=transients, skip=names[1:])
+    if len(names) == 1:
+        return flat
+    flat = flat.rename({first: "point"}).drop_vars("point")
+    for k in names:
+        p = pb.system.parameter(k)
+        flat.coords[k] = ("point", np.array([q[k] for q in points], float),
+                          {"units": p.unit, "long_name": f"{k}: {p.long_name}"})
+    flat.attrs.update(swept_parameters=" ".join(names), title=f"{pb.name}: attractors and basins over "
+                                                              f"{' and '.join(names)}")
+    if len(names) == 2:
+        grid = _as_grid(flat, names)
+        if grid is not None:
+            return grid
+    return flat
+
+
+def _as_grid(flat, names):
+    """``flat`` (dimension ``point``) on the full grid of its two parameters (dims name, name2), or None where the
+    points are not a full grid."""
+    import xarray as xr
+    a, b = (np.unique(flat[k].values) for k in names)
+    if a.size * b.size != flat.sizes["point"]:
+        return None
+    ia = np.searchsorted(a, flat[names[0]].values)
+    ib = np.searchsorted(b, flat[names[1]].values)
+    if len(set(zip(ia.tolist(), ib.tolist()))) != flat.sizes["point"]:
+        return None
+    order = np.empty((a.size, b.size), np.int64)
+    order[ia, ib] = np.arange(flat.sizes["point"])
+    out = {}
+    for name, var in flat.data_vars.items():
+        if "point" not in var.dims:
+            out[name] = var
+            continue
+        rest = tuple(d for d in var.dims if d != "point")
+        moved = var.transpose("point", *rest)
+        data = moved.values[order.ravel()].reshape(a.size, b.size, *moved.shape[1:])
+        out[name] = xr.Variable((names[0], names[1]) + rest, data, var.attrs, var.encoding)
+    coords = {k: v for k, v in flat.coords.items() if "point" not in v.dims}
+    coords[names[0]] = (names[0], a, flat[names[0]].attrs)
+    coords[names[1]] = (names[1], b, flat[names[1]].attrs)
+    ds = xr.Dataset(out, coords=coords, attrs=flat.attrs)
+    ds.attrs["swept_parameter2"] = names[1]
     return ds
 
 

@@ -24,7 +24,7 @@ from maps.hybrid import HybridState
 
 from ..orbits.special_points import BIRTH_MISMATCH, BIRTH_NOTE, nodes_mismatch
 from ..storage.schema import SPECIAL_KINDS
-from ..codes import ClassCode
+from ..labels.codes import ClassCode
 from .identify import Attractor, distance, same_orbit
 
 __all__ = ["match", "continues", "link_event", "local_events", "half_gaps", "collapse"]

@@ -15,11 +15,11 @@ import numpy as np
 
 from maps.hybrid import HybridState, IntegrationFailure
 
-from ..codes import ClassCode
+from ..labels.codes import ClassCode
 from ..orbits.periodic import OrbitNotFound, find_periodic_orbit
-from ..sweeps.classify import candidate_periods, classify_orbit, lyapunov_threshold, mechanical_period, state_scale
-from ..sweeps.evidence import locked_lag, torus_evidence
-from ..sweeps.lyapunov import exponent_interval
+from ..labels.classify import candidate_periods, classify_orbit, lyapunov_threshold, mechanical_period, state_scale
+from ..labels.evidence import locked_lag, torus_evidence
+from ..labels.lyapunov import exponent_interval
 
 __all__ = ["Grid", "Attractor", "identify", "area_rate", "no_contraction", "from_chunk", "distance", "same_attractor",
            "same_orbit", "converging", "approaching", "contracting", "near_periods", "newton_periods", "polish_once",
@@ -96,7 +96,7 @@ class Attractor:
         return ClassCode(self.code).periodic
 
     def label(self) -> str:
-        from ..sweeps.classify import describe
+        from ..labels.classify import describe
         return describe(self.code, self.period, self.impacts)
 
 
@@ -232,7 +232,7 @@ def identify(smap, orbit, k0: int, grid: Grid, *, max_period: int = 16, tol: flo
 
 def _lag_beyond(pts, grid: Grid, q: int, max_period: int, label: str, lam: float):
     """Yields L where an undecided record with a negative exponent recurs at a lag L beyond ``max_period`` (a
-    multiple of the forcing's ``q`` samples) to LOCK_TOL of its extent (:func:`bifurc.sweeps.evidence.locked_lag`, on
+    multiple of the forcing's ``q`` samples) to LOCK_TOL of its extent (:func:`bifurc.labels.evidence.locked_lag`, on
     the gridded states, lags up to a quarter of the record): a stable orbit of period L for Newton to polish.
     Thesis-1dof (`matlab-listing`, `listing`, 10 Hz, 160 V): 16 % of the switch-on starts were not_converged,
     "contracting (exponent -0.033) yet no period up to 16", on a stable period-18 orbit with 10 impacts (largest
@@ -245,14 +245,14 @@ def _lag_beyond(pts, grid: Grid, q: int, max_period: int, label: str, lam: float
 
 def torus_of(pts, grid: Grid, max_period: int) -> str | None:
     """The positive evidence that a record ``pts`` whose exponent lies about 0 is on a torus, in words, or None:
-    :func:`bifurc.sweeps.evidence.torus_evidence` on its points in grid cells (the gridded states; 0-1 test K below
+    :func:`bifurc.labels.evidence.torus_evidence` on its points in grid cells (the gridded states; 0-1 test K below
     its bound, a steady rotation number, halves of one extent, no recurrence at any lag up to a quarter of the
     record), as a diagram's anytime label requires.  An exponent interval about 0 alone also holds for a slow
     approach to an orbit (thesis-1dof, `matlab-listing`, `measured`, 10 Hz, 136 V: one start whose 1536-period
     record has exponent -0.0026, -0.0086-0.0034; benchmarks/reports/attractors-recovery/undecided-*).
 
     The evidence also decides a record whose exponent lies within the threshold
-    (:func:`bifurc.sweeps.classify.lyapunov_threshold`) while its interval reaches above it.  Thesis-1dof
+    (:func:`bifurc.labels.classify.lyapunov_threshold`) while its interval reaches above it.  Thesis-1dof
     (`matlab-listing`, 10 Hz; 768-period windows of 6144-period records from 24 box starts;
     benchmarks/reports/attractors-recovery/torus-windows-*): under `listing` at 80 V, where every switch-on start's
     record at the census' budget was such (exponent 0.0066, -0.0095 to 0.0227, threshold 0.0173), 33 of the 192
@@ -267,7 +267,7 @@ def torus_of(pts, grid: Grid, max_period: int) -> str | None:
 
 
 #: the shortest record [strobe periods] from which a set is quasi-periodic (its exponent's |value| below
-#: :func:`bifurc.sweeps.classify.lyapunov_threshold`, 2 ln(768) / 768 = 0.017 per period; over 48 periods 0.16):
+#: :func:`bifurc.labels.classify.lyapunov_threshold`, 2 ln(768) / 768 = 0.017 per period; over 48 periods 0.16):
 #: thesis-1dof (`matlab-listing`, `measured`, 10 Hz) at 179.5 V a set read quasi-periodic over 48 periods (exponent
 #: 0.047, -0.066-0.160) is chaotic over 384 (0.055, 0.032-0.078; benchmarks/reports/attractors-recovery/undecided-*)
 QP_RECORD = 768
@@ -286,7 +286,7 @@ def _whole_periods(stretch, n: int) -> tuple[float, float, float]:
 
 def _unpolished(smap, orbit, k0, cls: dict, grid: Grid, exponent: tuple, rtol: float, atol: float) -> Attractor:
     """A record that repeats with period n to ``rtol`` of each state's scale over all its points
-    (:func:`bifurc.sweeps.classify.classify_orbit`), whose tangent exponent's interval over whole periods
+    (:func:`bifurc.labels.classify.classify_orbit`), whose tangent exponent's interval over whole periods
     (:func:`_whole_periods`) lies below 0, where Newton did not converge: a periodic attractor all the same, its
     nodes the record's last n points (as close as the record repeats), its exponent the record's tangent estimate,
     its multipliers unknown (NaN).  (A record of a neutral centre, every orbit around it periodic, has an exponent
@@ -325,7 +325,7 @@ def area_rate(smap, orbit, k0: int, skip: int = AREA_SKIP) -> tuple[float, float
     """(rate, low, high): the sum of the two leading Lyapunov exponents [per strobe period] on a recorded set, the
     mean log growth of a tangent plane carried by the exact one-period Jacobians at the record's states (QR, each
     state in units of its largest size on the record), after ``skip`` periods that align the plane, with the 95 %
-    batch-means interval of :func:`bifurc.sweeps.lyapunov.exponent_interval`.  Below 0: the set contracts areas (an attractor of a
+    batch-means interval of :func:`bifurc.labels.lyapunov.exponent_interval`.  Below 0: the set contracts areas (an attractor of a
     dissipative map has a negative sum); an interval about 0: no contraction shown, as on the invariant tori of an
     area-preserving map (thesis-1dof under the `listing` law at 90 V, 10 Hz: with no impact the bar's multipliers'
     product is 1, the circuit's states contract alone; with impacts 0.96 per period).  NaN where a step fails."""

@@ -1,4 +1,4 @@
-"""The census of one parameter value as a task: run on every core or on Dask (:mod:`bifurc.sweeps.executor`)
+"""The census of one parameter value as a task: run on every core or on Dask (:mod:`bifurc.run.executor`)
 and kept on disk for a resume (:class:`bifurc.sweeps.resume.Parts`'s folder and manifest).
 
 Each value's census uses its fresh starts only, so it is the same whichever process runs it and whatever ran
@@ -13,18 +13,15 @@ from dataclasses import dataclass, field, fields
 import numpy as np
 
 from maps.hybrid import HybridState
-from maps.provenance import code_version
 
-from ..sweeps.resume import Parts
+from ..run.parts import Codec, manifest
 from .census import Memory, Settings, census_at
 from .identify import Attractor, Grid
 
-__all__ = ["CensusJob", "ValueCensus", "CensusParts", "census_manifest"]
-
 #: version of the census parts' layout (2: non-periodic sets judged by their lifetime, stored on them; 3: and their
-#: area rate, and each value's saddles; 4: and the saddle each start was last seen on; a resume from parts of an
-#: older layout is refused)
-CENSUS_PARTS_FORMAT = 4
+#: area rate, and each value's saddles; 4: and the saddle each start was last seen on; 5: the one resume store of
+#: bifurc.run.parts, points as parameter dicts; a resume from parts of an older layout is refused)
+CENSUS_PARTS_FORMAT = 5
 
 
 @dataclass
@@ -39,17 +36,31 @@ class ValueCensus:
     saddles: list = field(default_factory=list)
     via: list = field(default_factory=list)
 
+    @property
+    def periods_integrated(self) -> int:
+        """Strobe periods its fresh starts ran (the progress bar's measure)."""
+        return int(sum(self.spent))
+
 
 @dataclass
 class CensusJob:
-    """``problem`` with ``param`` set to each value, the fresh ``starts`` (N, d), the ``grid``, the settings."""
+    """``problem`` at each of ``points`` (parameter dicts; the task is called with a point's index), the fresh
+    ``starts`` (N, d), the ``grid``, the settings."""
 
     problem: object
-    param: str
+    points: tuple
     starts: np.ndarray
     grid: Grid
     settings: Settings
     tol: float = 1e-10
+
+    #: a census value runs thousands of start-periods: a worker is worth its start from 4 values on
+    points_per_worker = 4
+
+    @property
+    def planned_periods(self) -> int:
+        """Start-periods a point runs at least (its starts' first records: the progress bar's planned work)."""
+        return len(self.starts) * self.settings.locate
 
     def _map(self):
         smap = getattr(self, "_smap", None)
@@ -63,29 +74,26 @@ class CensusJob:
         smap = self._map()
         smap.orbits([{}], [self.starts[0]], 1, batch_size=self.settings.batch_size, events=False)
 
-    def __call__(self, value) -> ValueCensus:
+    def __call__(self, index) -> ValueCensus:
         smap = self._map()
-        smap.set_params(**{self.param: float(value)})
+        smap.set_params(**self.points[int(index)])
         memory = Memory()
         out, found, spent = census_at(smap, list(self.starts), self.grid, self.settings, memory=memory)
         return ValueCensus(out, found, spent, memory.saddles, memory.via)
 
-    def run_many(self, values) -> list:
-        return [self(v) for v in values]
+    def run_many(self, indices) -> list:
+        return [self(i) for i in indices]
 
     def __getstate__(self):
         return {k: v for k, v in self.__dict__.items() if k != "_smap"}
 
 
-def census_manifest(job: CensusJob, values, extra: dict) -> dict:
-    """What identifies a census' parts: the problem, the starts, the grid, the settings, the values and the code
-    (:func:`maps.provenance.code_version`: a census resumed after a change of the code would mix two censuses)."""
-    pb = job.problem
-    args = dict(code=code_version(), scene=pb.name, options=repr(pb.options), preset=pb.preset,
-                params=dict(pb.values), x0=dict(pb.x0), param=job.param, starts=np.asarray(job.starts).tolist(),
-                grid_low=job.grid.low.tolist(), grid_width=job.grid.width.tolist(), settings=repr(job.settings),
-                tol=job.tol, values=[float(v) for v in values], **extra)
-    return {"format": "bifurc attractor census parts", "version": CENSUS_PARTS_FORMAT, "arguments": args}
+def census_manifest(job: CensusJob) -> dict:
+    """What identifies a census' parts: the problem, the starts, the grid, the settings, the points and the code
+    (:func:`bifurc.run.parts.manifest`: a census resumed after a change of the code would mix two censuses)."""
+    return manifest(job.problem, dict(starts=np.asarray(job.starts).tolist(), grid_low=job.grid.low.tolist(),
+                                      grid_width=job.grid.width.tolist(), settings=repr(job.settings), tol=job.tol),
+                    job.points, CensusCodec())
 
 
 def _attractor_to(a: Attractor) -> dict:
@@ -134,35 +142,21 @@ def decode(text: str) -> ValueCensus:
                        [_attractor_from(a) for a in d["saddles"]], d["via"])
 
 
-class CensusParts(Parts):
-    """The completed values of one census under ``<path>.parts/`` (one netCDF file per chunk of values)."""
+class CensusCodec(Codec):
+    """A point's :class:`ValueCensus` as JSON text in a netCDF part (floats by repr: lossless)."""
 
-    def load(self) -> dict:
-        """{index: ValueCensus} of every readable part (unreadable ones are removed and computed again)."""
-        import warnings
+    name = "census"
+    version = CENSUS_PARTS_FORMAT
 
+    def to_dataset(self, branch, indices, results):
         import xarray as xr
-        done = {}
-        for f in sorted(self.dir.glob("census-*.nc")):
-            try:
-                with xr.open_dataset(f) as ds:
-                    for i, text in zip(ds["index"].values, ds["census"].values):
-                        done[int(i)] = decode(str(text))
-            except Exception as exc:  # noqa: BLE001 - any unreadable part is recomputed
-                warnings.warn(f"discarding the unreadable resume part {f.name} ({type(exc).__name__}: {exc})",
-                              RuntimeWarning, stacklevel=2)
-                f.unlink(missing_ok=True)
-        return done
+        return xr.Dataset({"index": (("value",), np.asarray(indices, np.int64)),
+                           "census": (("value",), np.array([encode(r) for r in results], dtype=object))},
+                          attrs={"version": CENSUS_PARTS_FORMAT, "branch": branch})
 
-    def save(self, indices, results) -> None:
-        """Write the censuses of ``indices`` (one chunk) as one part, atomically."""
-        import xarray as xr
-
-        from ..storage.files import write_netcdf
-        ds = xr.Dataset({"index": (("value",), np.asarray(indices, np.int64)),
-                         "census": (("value",), np.array([encode(r) for r in results], dtype=object))},
-                        attrs={"version": CENSUS_PARTS_FORMAT})
-        write_netcdf(ds, self.dir / f"census-{indices[0]:06d}.nc", overwrite=True)
+    def from_dataset(self, ds) -> list:
+        return [(str(ds.attrs.get("branch", "independent")), int(i), decode(str(text)))
+                for i, text in zip(ds["index"].values, ds["census"].values)]
 
 
 def seed_state(a: Attractor) -> HybridState:

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..sweeps.classify import candidate_periods, state_scale
+from ..labels.classify import candidate_periods, state_scale
 
 __all__ = ["Lifetime", "estimate_lifetime", "lifetime_interval", "fall_index", "periodic_tail"]
 

@@ -23,7 +23,7 @@ def _colour(label: str, j: int) -> str:
 
 
 def _legend(ds, j) -> str:
-    from ..sweeps.classify import describe
+    from ..labels.classify import describe
     label = str(ds.attractor_label.values[j])
     if label in OUTCOME_COLOURS:
         return label.replace("_", " ")

@@ -6,9 +6,6 @@ import argparse
 from maps.laws import DC_LAWS, SOIL_LAWS
 from maps.parameters import ParameterError
 
-__all__ = ["add_parameter_options", "add_scene_options", "add_force_option", "parse_sets", "parse_x0", "parse_floats", "scene_kwargs",
-           "check_outputs", "check_plot", "check_scheduler", "add_grid_options"]
-
 
 def add_parameter_options(parser, default_scene: str = "thesis-1dof"):
     """--scene, --preset, --set in a group "scene and parameters"; returns the group."""
@@ -24,8 +21,9 @@ def add_parameter_options(parser, default_scene: str = "thesis-1dof"):
 
 
 def add_scene_options(parser: argparse.ArgumentParser, default_scene: str = "thesis-1dof",
-                      default_tol: float = 1e-12) -> None:
-    """The parameter options, --relay-hz, --x0, --circuit, --ac-sign and --tol."""
+                      default_tol: float | None = 1e-12) -> None:
+    """The parameter options, --relay-hz, --x0, --circuit, --ac-sign and --tol (``default_tol`` None: the
+    tolerance is a method's setting, added with its option group)."""
     g = add_parameter_options(parser, default_scene)
     g.add_argument("--relay-hz", type=float, default=None, help="shortcut for --set relay_hz=...")
     g.add_argument("--x0", default=None, metavar="x=0.001,v=0",
@@ -48,7 +46,8 @@ def add_scene_options(parser: argparse.ArgumentParser, default_scene: str = "the
     g.add_argument("--compaction", action="store_true", default=None,
                    help="coulomb and drift soils: the resistance grows with depth, R0 (1 + depth/soil_depth_scale), "
                         "soil_depth_scale fitted to thesis Fig 5.22 (docs/model.md)")
-    g.add_argument("--tol", type=float, default=default_tol, help=f"heyoka tolerance (default {default_tol:g})")
+    if default_tol is not None:
+        g.add_argument("--tol", type=float, default=default_tol, help=f"heyoka tolerance (default {default_tol:g})")
 
 
 def _parse_pairs(items, option: str) -> dict:
@@ -88,14 +87,18 @@ def parse_x0(text) -> dict:
     return _parse_pairs([p for p in text.split(",") if p.strip()], "--x0")
 
 
-def scene_kwargs(args) -> dict:
-    """Keyword arguments for maps.simulate / sweeps from the shared options."""
+def problem_kwargs(args) -> dict:
+    """The keywords of :func:`maps.problem` from the shared options."""
     params = parse_sets(args.sets)
     if args.relay_hz is not None:
         params["relay_hz"] = args.relay_hz
-    return dict(params=params, preset=args.preset, x0=parse_x0(args.x0), tol=args.tol,
-                circuit=args.circuit, ac_sign=args.ac_sign, dc_law=args.dc_law, soil=args.soil,
-                compaction=args.compaction)
+    return dict(params=params, preset=args.preset, x0=parse_x0(args.x0), circuit=args.circuit, ac_sign=args.ac_sign,
+                dc_law=args.dc_law, soil=args.soil, compaction=args.compaction)
+
+
+def scene_kwargs(args) -> dict:
+    """Keyword arguments for maps.simulate, orbits and branches: :func:`problem_kwargs` and ``tol``."""
+    return dict(problem_kwargs(args), tol=args.tol)
 
 
 def add_force_option(parser: argparse.ArgumentParser) -> None:
@@ -149,41 +152,25 @@ def check_scheduler(address) -> None:
                              f"{SCHEDULER_TIMEOUT:g} s ({reason})") from None
 
 
-def add_grid_options(parser, what: str = "value") -> None:
-    """The options of a grid of independent ``what``s (diagram values, map cells): the record per
-    ``what``, the period search, Lyapunov exponents, where it runs, and its outputs."""
-    parser.add_argument("--transient", type=int, default=300, help=f"relay periods discarded per {what}")
-    parser.add_argument("--record", type=int, default=100,
-                        help=f"relay periods recorded per {what} before it is first judged; an undecided {what} is "
-                             f"extended up to --budget (its stored samples are the first --record of the judged window)")
+def add_range_options(parser, default_param: str, default_n: int, suffix: str = "") -> None:
+    """``--param``, ``--from``, ``--to``, ``--n`` (``suffix`` "2": the second parameter's, ``--param2`` ...)."""
+    which = "second parameter" if suffix else "parameter"
+    parser.add_argument(f"--param{suffix}", default=default_param, help=f"{which} to vary (default {default_param})")
+    parser.add_argument(f"--from{suffix}", dest=f"start{suffix}", type=float, required=True,
+                        help=f"first value of --param{suffix}")
+    parser.add_argument(f"--to{suffix}", dest=f"stop{suffix}", type=float, required=True,
+                        help=f"last value of --param{suffix}")
+    parser.add_argument(f"--n{suffix}", type=int, default=default_n,
+                        help=f"number of values of --param{suffix} (default {default_n})")
+
+
+def add_grid_options(parser, what: str = "value", exclude=()) -> None:
+    """The options of a grid of independent ``what``s (diagram values, map cells): the :class:`bifurc.Diagram`
+    method's settings, the figure's period convention, where it runs and its outputs (:mod:`._options`)."""
+    from ..sweeps.method import Diagram
+    from ._options import add_run_options, add_settings_options
+    add_settings_options(parser, Diagram, f"how each {what} is integrated and judged (bifurc.Diagram)", exclude)
     parser.add_argument("--period-of", choices=("full", "mechanical"), default="full",
                         help="the figure's period convention: full (the whole state) or mechanical (the bar "
                              "alone: the thesis' period-n); the dataset stores both")
-    parser.add_argument("--budget", type=int, default=None,
-                        help=f"relay periods per {what}, transient included, that an undecided {what} may be "
-                             f"extended to (default 6000); a {what} still undecided then is not-converged with its "
-                             f"reason and the budget its evidence suggests")
-    parser.add_argument("--time-budget", type=float, default=None, metavar="SECONDS",
-                        help=f"wall-clock seconds for the whole job (default: no limit); once spent no {what} is "
-                             f"extended further and those still undecided are not-converged with that reason (the "
-                             f"one option whose result depends on the machine)")
-    parser.add_argument("--max-record", type=int, default=None,
-                        help=f"extend the record of a {what} whose forcing period q exceeds record/3 (q <= "
-                             f"--max-period) to 3 q relay periods, at most this many (default 3 x --record)")
-    parser.add_argument("--max-period", type=int, default=100,
-                        help="cap of the period search in relay periods (default 100); candidates are the "
-                             "multiples of the forcing period q that fit twice in the record")
-    parser.add_argument("--no-lyapunov", action="store_true", help="skip Lyapunov exponents (faster)")
-    parser.add_argument("--workers", type=int, default=None,
-                        help=f"worker processes (default: every available core, at least 16 {what}s each)")
-    parser.add_argument("--batch-size", type=int, default=4,
-                        help=f"{what}s integrated together in heyoka's batch mode (SIMD lanes; default 4; "
-                             f"1: one {what} at a time)")
-    parser.add_argument("--scheduler", default=None, help="Dask scheduler address tcp://host:port")
-    parser.add_argument("-o", "--output", required=True, help="netCDF file to write")
-    parser.add_argument("--plot", default=None, help="figure file (.png, .pdf, .svg, ...)")
-    parser.add_argument("--quiet", action="store_true", help="no progress bar")
-    parser.add_argument("--yes", action="store_true",
-                        help="run a job estimated to need more memory than is available or more than a day "
-                             "(refused otherwise, with its estimate)")
-    add_force_option(parser)
+    add_run_options(parser, what)

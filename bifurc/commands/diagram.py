@@ -1,6 +1,7 @@
 """`bifurc diagram`: a one-parameter bifurcation diagram to netCDF and a figure."""
 from ._guards import check_budget, check_grid_options
-from ._common import add_grid_options, add_scene_options, check_outputs, check_plot, check_scheduler, scene_kwargs
+from ._common import (add_grid_options, add_range_options, add_scene_options, check_outputs, check_plot,
+                      check_scheduler, problem_kwargs)
 
 
 def register(subparsers):
@@ -10,17 +11,8 @@ def register(subparsers):
                                           "resume from <output>.parts/. An existing output is refused unless --force; "
                                           "a second run into the same output at once is refused (<output>.lock, "
                                           "POSIX only).")
-    add_scene_options(p, default_tol=1e-10)
-    p.add_argument("--param", default="relay_hz", help="parameter to sweep (default relay_hz)")
-    p.add_argument("--from", dest="start", type=float, required=True, help="first value")
-    p.add_argument("--to", dest="stop", type=float, required=True, help="last value")
-    p.add_argument("--n", type=int, default=100, help="number of values (default 100)")
-    p.add_argument("--max-transient", type=int, default=None,
-                   help="(superseded by --budget) extend values still converging up to this many relay periods: "
-                        "the budget is at least this plus --record")
-    p.add_argument("--mode", choices=("independent", "follow"), default="independent",
-                   help="independent: every value from x0; follow: each value from the previous one's final "
-                        "state, up then down")
+    add_scene_options(p, default_tol=None)
+    add_range_options(p, "relay_hz", 100)
     add_grid_options(p, "value")
     p.set_defaults(func=run)
 
@@ -30,23 +22,21 @@ def run(args) -> int:
 
     from maps.parameters import ParameterError
 
-    from ..sweeps.classify import CLASS_LABELS
+    from ..labels.classify import CLASS_LABELS
+    from ..sweeps.method import Diagram
     from ..sweeps.sweep import sweep
+    from ._options import run_from_args, settings_from_args
     if args.n < 1:
         raise ParameterError(f"--n {args.n}: need at least 1 value")
     check_grid_options(args, [("--param", args.param)])
     est = check_budget(args, args.n)
-    kw = scene_kwargs(args)
+    kw = problem_kwargs(args)
+    method, run_on = settings_from_args(Diagram, args), run_from_args(args)
     check_outputs(args, args.output, need_bytes=est["file"])
     check_plot(args)
     check_scheduler(args.scheduler)
     values = np.linspace(args.start, args.stop, args.n)
-    ds = sweep(args.scene, args.param, values, mode=args.mode, transient=args.transient, record=args.record,
-               max_record=args.max_record, max_period=args.max_period, lyapunov=not args.no_lyapunov, path=args.output,
-               max_transient=args.max_transient, batch_size=args.batch_size, budget=args.budget,
-               time_budget=args.time_budget,
-               progress=not args.quiet, workers=args.workers, scheduler=args.scheduler, overwrite=args.force,
-               **kw)
+    ds = sweep(args.scene, args.param, values, method, run=run_on, **kw)
     if args.plot:
         from ..plots.diagram import plot_diagram
         plot_diagram(ds, args.plot, overwrite=args.force, period_of=args.period_of)

@@ -1,6 +1,7 @@
 """`bifurc map`: a two-parameter regime map to netCDF and a figure."""
 from ._guards import check_budget, check_grid_options
-from ._common import add_grid_options, add_scene_options, check_outputs, check_plot, check_scheduler, scene_kwargs
+from ._common import (add_grid_options, add_range_options, add_scene_options, check_outputs, check_plot,
+                      check_scheduler, problem_kwargs)
 
 
 def register(subparsers):
@@ -9,16 +10,10 @@ def register(subparsers):
                                           "(period n with m impacts, quasi-periodic, chaotic, ...; Lyapunov "
                                           "exponent, clearance); write netCDF and a figure. Interrupted maps resume "
                                           "from <output>.parts/. An existing output is refused unless --force.")
-    add_scene_options(p, default_tol=1e-10)
-    p.add_argument("--param", default="relay_hz", help="first parameter, the x axis (default relay_hz)")
-    p.add_argument("--from", dest="start", type=float, required=True, help="first value of --param")
-    p.add_argument("--to", dest="stop", type=float, required=True, help="last value of --param")
-    p.add_argument("--n", type=int, default=50, help="number of values of --param (default 50)")
-    p.add_argument("--param2", default="V", help="second parameter, the y axis (default V)")
-    p.add_argument("--from2", dest="start2", type=float, required=True, help="first value of --param2")
-    p.add_argument("--to2", dest="stop2", type=float, required=True, help="last value of --param2")
-    p.add_argument("--n2", type=int, default=50, help="number of values of --param2 (default 50)")
-    add_grid_options(p, "cell")
+    add_scene_options(p, default_tol=None)
+    add_range_options(p, "relay_hz", 50)
+    add_range_options(p, "V", 50, "2")
+    add_grid_options(p, "cell", exclude=("mode",))
     p.set_defaults(func=run)
 
 
@@ -28,21 +23,21 @@ def run(args) -> int:
     from maps.parameters import ParameterError
 
     from ..plots.map import regime_categories
+    from ..sweeps.method import Diagram
     from ..sweeps.regime import regime_map
+    from ._options import run_from_args, settings_from_args
     for opt, n in (("--n", args.n), ("--n2", args.n2)):
         if n < 1:
             raise ParameterError(f"{opt} {n}: need at least 1 value")
     check_grid_options(args, [("--param", args.param), ("--param2", args.param2)])
     est = check_budget(args, args.n * args.n2, "cells")
-    kw = scene_kwargs(args)
+    kw = problem_kwargs(args)
+    method, run_on = settings_from_args(Diagram, args, exclude=("mode",)), run_from_args(args)
     check_outputs(args, args.output, need_bytes=est["file"])
     check_plot(args)
     check_scheduler(args.scheduler)
     ds = regime_map(args.scene, args.param, np.linspace(args.start, args.stop, args.n), args.param2,
-                    np.linspace(args.start2, args.stop2, args.n2), transient=args.transient, record=args.record,
-                    max_record=args.max_record, max_period=args.max_period, lyapunov=not args.no_lyapunov, path=args.output,
-                    batch_size=args.batch_size, progress=not args.quiet, workers=args.workers, budget=args.budget,
-                    time_budget=args.time_budget, scheduler=args.scheduler, overwrite=args.force, **kw)
+                    np.linspace(args.start2, args.stop2, args.n2), method, run=run_on, **kw)
     if args.plot:
         from ..plots.map import plot_regime_map
         plot_regime_map(ds, args.plot, overwrite=args.force, period_of=args.period_of)

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sweeps.classify import CLASS_LABELS
+from ..labels.classify import CLASS_LABELS
 from ..storage.files import check_figure_output, save_figure
 from ..storage.load import in_convention, require_kind
 

@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sweeps.classify import CLASS_LABELS, describe
-from ..codes import ClassCode
+from ..labels.classify import CLASS_LABELS, describe
+from ..labels.codes import ClassCode
 from ..storage.files import check_figure_output, save_figure
 from ..storage.load import in_convention, require_kind
 from .diagram import CLASS_COLOURS
@@ -28,7 +28,7 @@ NOT_COMPUTED = "#999999"
 
 
 def _periodic_text(code, n, m) -> str:
-    """'period-2, 2 impacts' / 'period-1, no impact' (bifurc.sweeps.classify.describe without the n:m)."""
+    """'period-2, 2 impacts' / 'period-1, no impact' (bifurc.labels.classify.describe without the n:m)."""
     return describe(code, n, m).split(" (")[0]
 
 

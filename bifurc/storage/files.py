@@ -29,7 +29,7 @@ try:
 except ImportError:  # not POSIX: no lock
     fcntl = None
 
-__all__ = ["OutputBusy", "BadFileError", "OutputError", "check_writable", "size_text", "proc_field", "refuse_existing", "output_lock", "guarded_output", "write_netcdf",
+__all__ = ["OutputBusy", "BadFileError", "OutputError", "check_writable", "size_text", "proc_field", "refuse_existing", "output_lock", "output_guard", "write_netcdf",
            "save_figure", "write_text", "stored_names", "STORED_AS", "ELAPSED_ATTRS", "check_figure_path", "check_figure_output", "make_parent", "user_umask", "ZLIB_LEVEL"]
 
 #: variable attribute: the name of a variable stored under another one (:func:`stored_names`)
@@ -177,38 +177,27 @@ def output_lock(path):
         os.close(fd)
 
 
-def guarded_output(path_arg: str = "path"):
-    """Decorator for API functions that write ``path_arg`` and take ``overwrite``.
-
-    When the path is given: it must be writable (:func:`check_writable`, before any work), the output
-    lock is held during the call, an existing output is
-    refused unless ``overwrite``, and a ``<path>.parts/`` folder this call created is removed
-    again if the call fails before completing any part (a refused argument leaves nothing that
-    would block the corrected call). An interrupted call keeps its completed parts: a rerun resumes.
-    """
-    def wrap(func):
-        sig = inspect.signature(func)
-
-        @functools.wraps(func)
-        def inner(*args, **kwargs):
-            bound = sig.bind(*args, **kwargs)
-            bound.apply_defaults()
-            path = bound.arguments.get(path_arg)
-            if path is None:
-                return func(*args, **kwargs)
-            parts = Path(str(path) + ".parts")
-            check_writable(path)
-            with output_lock(path):
-                refuse_existing(path, bound.arguments.get("overwrite", False))
-                fresh = not parts.exists()
-                try:
-                    return func(*args, **kwargs)
-                except BaseException:
-                    if fresh and parts.is_dir() and all(f.name.startswith("manifest") for f in parts.iterdir()):
-                        shutil.rmtree(parts, ignore_errors=True)
-                    raise
-        return inner
-    return wrap
+@contextlib.contextmanager
+def output_guard(path, overwrite: bool = False):
+    """Around a call that writes ``path`` (None: nothing to guard): it must be writable (:func:`check_writable`,
+    before any work), the output lock is held during the call, an existing output is refused unless ``overwrite``,
+    and a ``<path>.parts/`` folder this call created is removed again if the call fails before completing any part
+    (a refused argument leaves nothing that would block the corrected call).  An interrupted call keeps its
+    completed parts: a rerun resumes."""
+    if path is None:
+        yield
+        return
+    parts = Path(str(path) + ".parts")
+    check_writable(path)
+    with output_lock(path):
+        refuse_existing(path, overwrite)
+        fresh = not parts.exists()
+        try:
+            yield
+        except BaseException:
+            if fresh and parts.is_dir() and all(f.name.startswith("manifest") for f in parts.iterdir()):
+                shutil.rmtree(parts, ignore_errors=True)
+            raise
 
 
 def _encoding(ds) -> dict:

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..codes import ClassCode, Status, flag_attrs
+from ..labels.codes import ClassCode, Status, flag_attrs
 
 __all__ = ["Variable", "PARAM", "GRAZING_GAP", "GRAZING_SPEED", "grazing_flag", "GRAZING_FLAG", "CURVE_KINDS",
            "CURVE_COORDS", "CURVE", "CELL_VARIABLES", "curve_parameter", "advance_variable", "SWEEP", "SWEEP_COORDS", "GRAZING", "HISTORY", "PROGRESSION", "param_attrs",

@@ -22,14 +22,14 @@ from maps.provenance import cf_attrs
 from maps.progression import held_mode, progression_measures
 
 from .._version import __version__
-from ..codes import Status
+from ..labels.codes import Status
 from ..storage.build import dataset
 from ..storage.schema import (CELL_VARIABLES, GRAZING, GRAZING_FLAG, GRAZING_GAP, GRAZING_SPEED, PARAM, PROGRESSION,
                               SWEEP, SWEEP_COORDS, flag_variable, grazing_flag, state_variable)
-from .classify import lyapunov_threshold
+from ..labels.classify import lyapunov_threshold
 from .job import FORCING_PERIODS
-from .anytime import ANYTIME_METHOD, TRAJECTORIES
-from .lyapunov import INTERVAL_METHOD, METHODS
+from ..labels.anytime import ANYTIME_METHOD, TRAJECTORIES
+from ..labels.lyapunov import INTERVAL_METHOD, METHODS
 
 #: how the stored exponent interval is made
 INTERVAL_METHOD_K = (f"the wider of a 95 % Student-t prediction interval for another trajectory's mean exponent from "

@@ -14,9 +14,9 @@ import numpy as np
 
 from maps.hybrid import HybridState
 
-from .classify import state_scale
-from ..codes import Status
-from .executor import result_of, submit_all, timed
+from ..labels.classify import state_scale
+from ..labels.codes import Status
+from ..run.executor import result_of, submit_all, timed
 
 __all__ = ["error_estimate", "ErrorEstimate", "map_step_error"]
 
@@ -57,7 +57,7 @@ class ErrorEstimate:
     the same contact count).
 
     ``tasks``: the integrations as [(cost [relay periods], fn, args)], each returning
-    ``(output, seconds)`` (:func:`bifurc.sweeps.executor.timed`); :meth:`result` takes their Futures (in
+    ``(output, seconds)`` (:func:`bifurc.run.executor.timed`); :meth:`result` takes their Futures (in
     the order of ``tasks``) and assembles the keywords of :func:`bifurc.sweeps.dataset.add_error_estimate`.
     """
 

@@ -16,7 +16,7 @@ import numpy as np
 
 from maps.parameters import ParameterError
 
-from ..codes import ClassCode, Status
+from ..labels.codes import ClassCode, Status
 from ..storage.schema import GRAZING_GAP, GRAZING_SPEED, grazing_flag
 
 __all__ = ["GRAZING_GAP", "GRAZING_SPEED", "GRAZE_SHRINK", "grazing_flag", "locate_grazing",

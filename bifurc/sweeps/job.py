@@ -1,6 +1,6 @@
 """The work for one parameter value: orbit, classification, Lyapunov exponent, as a ValueResult.
 
-:class:`ValueJob` is picklable, so it runs in any worker process (:mod:`bifurc.sweeps.executor`);
+:class:`ValueJob` is picklable, so it runs in any worker process (:mod:`bifurc.run.executor`);
 calling it with a value returns a :class:`ValueResult`, whose fields are named as the
 sweep dataset's variables (:mod:`bifurc.storage.schema`).
 """
@@ -18,9 +18,9 @@ from maps.translation import reduce_points, translation_basis
 
 from maps.hybrid import HybridState
 
-from .anytime import BUDGET, Value
-from .classify import candidate_periods, classify_orbit, mechanical_period, state_scale
-from ..codes import ClassCode, Status
+from ..labels.anytime import BUDGET, Value
+from ..labels.classify import candidate_periods, classify_orbit, mechanical_period, state_scale
+from ..labels.codes import ClassCode, Status
 
 __all__ = ["ValueJob", "ValueResult", "RECORD_FACTOR", "FORCING_PERIODS"]
 
@@ -123,6 +123,14 @@ class ValueJob:
     lyapunov_method: str = "tangent"  # "tangent": a tangent vector with the batch engine's record; "companion"
     budget: int = BUDGET              # relay periods per value, transient included (anytime classification)
     deadline: float | None = None     # wall-clock time (time.time(), s) after which no value is extended
+
+    #: the default workers keep at least this many values each (a worker's start and compilation cost ~1-2 s)
+    points_per_worker = 16
+
+    @property
+    def planned_periods(self) -> int:
+        """Periods a value runs before it is first judged (the progress bar's planned work per value)."""
+        return self.transient + self.record
 
     @property
     def params(self) -> dict:
@@ -230,7 +238,7 @@ class ValueJob:
         return v
 
     def _judge(self, v: Value) -> None:
-        from .anytime import judge
+        from ..labels.anytime import judge
         mech = self.warm().system.mechanical_index
 
         def stretch_of(o):      # the stretch of the window or of a copy, kept in step with it
@@ -263,7 +271,7 @@ class ValueJob:
         """One round: each value's own trajectory and its copies on by the periods it asked for; new
         copies start from its state perturbed, decorrelate, then record as much."""
         from maps.tangent import start_direction
-        from .anytime import PERTURBATION
+        from ..labels.anytime import PERTURBATION
         d = len(smap.system.states)
         start = start_direction(d, translation_basis(smap.system))
         kw = dict(method=method, batch_size=self.batch_size, tangent=self._tangent)
@@ -396,7 +404,7 @@ class ValueJob:
 
 def _cut(v) -> None:
     """A value the sweep's time budget stops before its evidence decides: not-converged, with why."""
-    from .anytime import _undecided
+    from ..labels.anytime import _undecided
     why = (v.cls or {}).get("reason") or "undecided"
     v.cls = _undecided(v.cls or {}, f"cut by the sweep's time budget (--time-budget) at {v.end} relay periods: {why}")
     v.budget_needed = max(v.budget_needed, v.end + v.action[1])

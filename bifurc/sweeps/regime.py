@@ -2,11 +2,11 @@
 
 The grid is flattened into value jobs that carry both parameter values (:class:`CellJob`: its
 values are the flat cell indices, row-major with ``param2`` fastest), so a map runs on the
-sweep's own machinery: :func:`bifurc.sweeps.sweep.run_values` hands chunks of cells to
-:mod:`bifurc.sweeps.executor` (local processes, or Dask with ``scheduler``), heyoka's batch lanes span
+sweep's own machinery: :func:`bifurc.run.grid.run_points` hands chunks of cells to
+:mod:`bifurc.run.executor` (local processes, or Dask with ``scheduler``), heyoka's batch lanes span
 both parameters, and with ``path`` completed chunks go to one resume folder ``<path>.parts/``
-(:mod:`bifurc.sweeps.resume`).  Each cell is classified exactly as a one-parameter diagram value
-(:mod:`bifurc.sweeps.job`, :mod:`bifurc.sweeps.classify`).
+(:mod:`bifurc.run.parts`).  Each cell is classified exactly as a one-parameter diagram value
+(:mod:`bifurc.sweeps.job`, :mod:`bifurc.labels.classify`).
 
 The Dataset has the dimensions ``param`` and ``param2`` (named after them) and one variable
 per per-value row of :mod:`bifurc.storage.schema` (class, period, impacts per period, Lyapunov
@@ -22,11 +22,17 @@ from maps.parameters import ParameterError
 from maps.provenance import recorded
 
 from .errors import error_estimate
-from ..storage.files import guarded_output
+from ..run.guard import check_size
+from ..run.inputs import analysis_inputs
+from ..run.run import Run
+from ..storage.files import output_guard
 from .job import ValueJob
-from .resume import Parts, manifest
+from ..run.parts import Parts
+from .parts import ValueCodec, manifest
 from ..storage.schema import CELL_VARIABLES
-from .sweep import _grid, _job, deferred_interrupt, run_stats, run_values, with_time_budget
+from .method import Diagram
+from ..run.grid import deferred_interrupt, run_points
+from .sweep import _grid, _job, run_stats, with_time_budget
 
 __all__ = ["regime_map", "CellJob", "CELL_VARIABLES"]
 
@@ -51,45 +57,58 @@ class CellJob(ValueJob):
 
 
 @recorded("bifurc.regime_map")
-@guarded_output("path")
-def regime_map(scene="thesis-1dof", param="relay_hz", values=None, param2="V", values2=None, *, transient=300,
-               record=100, preset=None, params=None, x0=None, tol=1e-10, max_period=100, rtol=1e-6, atol=1e-9,
-               lyapunov=True, circuit=None, ac_sign=None, dc_law=None, soil=None, compaction=None, max_record=None,
-               path=None, progress=True, workers=None, scheduler=None, error_sample=3, max_transient=None,
-               batch_size=4, chunk_size=None, overwrite=False, budget=None, time_budget=None):
+def regime_map(problem="thesis-1dof", param: str = "relay_hz", values=None, param2: str = "V", values2=None,
+               method: Diagram | None = None, *, run: Run | None = None, **options):
     """Classify every cell of the grid ``values`` (of ``param``) x ``values2`` (of ``param2``);
     returns an xarray Dataset with dimensions (param, param2).
 
     Every cell starts from the same initial state and gets the evidence of a diagram value
-    (:func:`bifurc.sweeps.sweep.sweep`, ``mode="independent"``): class, period n and impacts per
-    period m, Lyapunov exponent [1/relay period] with its 95 % interval where not periodic,
-    minimum clearance [m], status.  Arguments as in :func:`bifurc.sweeps.sweep.sweep`; ``path``:
-    netCDF output, streamed to ``<path>.parts/`` chunk by chunk (a rerun with the same
-    arguments resumes); ``time_budget``: wall-clock seconds after which no cell is extended (as in
-    :func:`~bifurc.sweeps.sweep.sweep`); ``workers``: local processes (default every available core);
-    ``scheduler``: a Dask scheduler address or Client; ``error_sample``: cells re-run at tol/100.
+    (:func:`bifurc.sweep` with ``mode="independent"``): class, period n and impacts per
+    period m, Lyapunov exponent [1/strobe period] with its 95 % interval where not periodic,
+    minimum clearance [m], status.
+
+    Parameters
+    ----------
+    problem : :class:`maps.Problem` or scene name
+        What is integrated.
+    param, values, param2, values2 : str, array_like
+        The two parameters and their 1-D grids (``param2`` varies fastest).
+    method : :class:`bifurc.Diagram`, optional
+        How each cell is integrated and judged (its ``mode`` must be "independent").
+    run : :class:`bifurc.Run`, optional
+        Where it runs; with ``path`` the cells are streamed to ``<path>.parts/`` chunk by chunk (a rerun resumes).
+    **options
+        Problem keywords, :class:`bifurc.Diagram` or :class:`bifurc.Run` fields by name.
     """
+    pb, m, r, _ = analysis_inputs(problem, Diagram, method, run, options)
     values = _grid(values if values is not None else [], "values")
     values2 = _grid(values2 if values2 is not None else [], "values2")
+    if m.mode != "independent":
+        raise ParameterError(f"mode = {m.mode!r}: a regime map's cells are independent (mode='independent')")
+    check_size(values.size * values2.size, m.transient, m.record, r.workers, m.budget, r.allow_large, "cells")
+    with output_guard(r.path, r.overwrite):
+        return _regime_map(pb, param, values, param2, values2, m, r)
+
+
+def _regime_map(pb, param, values, param2, values2, m: Diagram, r: Run):
     if not isinstance(param2, str) or param2 == param:
         raise ParameterError(f"param2 {param2!r}: must be a parameter name other than param ({param!r})")
     if values2.size == 0 or not np.all(np.isfinite(values2)):
         raise ParameterError("values2 must be a non-empty array of finite numbers")
-    first = dict(params or {}, **{param2: float(values2[0])})
-    job = _job(scene, param, values, transient, record, preset, first, x0, tol, max_period, rtol, atol,
-               lyapunov, circuit, ac_sign, dc_law, max_transient, batch_size, max_record, soil, compaction,
-               "tangent", budget)
-    pb = job.problem
     pb.system.parameter(param2)  # raises for an unknown name
+    job = _job(pb.with_values(**{param2: float(values2[0])}), param, values, m)
+    pb = job.problem
     for v in values2:            # every value of param2 valid before anything runs
         pb.with_values(**{param: float(values[0]), param2: float(v)})
     job = CellJob(**{f.name: getattr(job, f.name) for f in fields(ValueJob)}, param2=param2,
                   values=tuple(float(v) for v in values), values2=tuple(float(v) for v in values2))
-    job = with_time_budget(job, time_budget)
+    job = with_time_budget(job, r.time_budget)
+    path, error_sample = r.path, m.error_sample
     cells = np.arange(values.size * values2.size, dtype=float)
-    parts = Parts(path, manifest(job, cells, "map")) if path else None
-    results, resumed, seconds, workers = run_values(job, cells, "independent", parts, workers, scheduler, chunk_size,
-                                                    progress, f"{pb.name} {param} x {param2}", unit="cells")
+    parts = Parts(path, manifest(job, cells, "map"), ValueCodec()) if path else None
+    results, resumed, seconds, workers = run_points(job, cells, "independent", parts, r.workers, r.scheduler,
+                                                    r.chunk_size, r.progress, f"{pb.name} {param} x {param2}",
+                                                    unit="cells")
     from . import dataset as storage  # xarray: imported where the Dataset is built
     from ..storage.files import write_netcdf
     ds = storage.map_dataset(results["independent"], job)

@@ -14,7 +14,7 @@ times and, with ``log``, every guard crossing in between.  A job with a ``refere
 recorded period it is moved back to distance ``d0`` (norm scaled by ``scale``) from the
 reference (in the reduced coordinates of a shift-invariant system: ``shift``), and the log of each
 period's stretch is returned (the tangent direction of Benettin's method; the exponent itself is
-analysis, :mod:`bifurc.sweeps.lyapunov`).  A job with a ``tangent`` start direction, on an engine that
+analysis, :mod:`bifurc.labels.lyapunov`).  A job with a ``tangent`` start direction, on an engine that
 carries tangent vectors, also returns the tangent vector integrated with the flow over each
 recorded period (:mod:`maps.tangent`).  A job with a ``timed`` mode (flag, value) also returns the
 time spent in that mode from the first recorded sample to each recorded sample (e.g. the time the

@@ -78,7 +78,7 @@ def _label(ds, i, j, is_neutral: bool) -> str:
     name = str(ds.attractor_label.values[j])
     if not name.startswith("A"):
         return name
-    from bifurc.sweeps.classify import describe
+    from bifurc.labels.classify import describe
     text = describe(int(ds.class_code.values[i, j]), int(ds.period.values[i, j]), int(ds.impacts_per_period.values[i, j]))
     return text + " (neutral: no area contraction)" if is_neutral else text
 

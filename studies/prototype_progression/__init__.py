@@ -130,7 +130,7 @@ def _fmt(x):
 
 def _cell(sw, i) -> str:
     """A rate [mm/s] from a sweep's measures, or how the value ended (escaped, failed)."""
-    from bifurc.codes import Status
+    from bifurc.labels.codes import Status
     st = int(sw["status"][i])
     return _fmt(float(sw["rate"][i])) if st == Status.OK else Status(st).name.lower()
 
@@ -213,7 +213,7 @@ def _frequency_trends(m, size) -> list[str]:
     """Escapes and the rate's peak over the relay frequency against Table 5.5."""
     t55, out = m["table55"], []
     freqs = np.asarray(size["freqs"], float)
-    from bifurc.codes import Status
+    from bifurc.labels.codes import Status
     for law in LAWS:
         f = m["freq"][law]
         gone = np.flatnonzero(f["status"] == Status.ESCAPED)

@@ -117,7 +117,7 @@ def hammering_cells(sample: dict, size: dict, **record) -> tuple:
     impact per relay period, each a dict of its relay [Hz], V [V], impact energy [mJ], stroke [mm] and the
     stroke run's impacts in its last period (:func:`stroke_and_impacts`; ``record``: transient=, record=, and
     relays=, volts= to override the form's)."""
-    from bifurc.codes import ClassCode
+    from bifurc.labels.codes import ClassCode
     from bifurc.sweeps.regime import regime_map
     n, vf = size["n"], sample.get("v_factor", 1.0)
     params = _values(sample, ("F_dc_sat", "c_air", "dc_scale", "R", "C", "k", "c"))
@@ -181,7 +181,7 @@ def run(out, quick=False, progress=True, overwrite=False, workers=None, schedule
     then write ``report.md`` and ``samples.json``; returns the report's tables as a dict (with the
     form's size, the wall time and the samples run).  ``size``: another form's dict (e.g. MEDIUM)."""
     from bifurc.storage.files import write_text
-    from bifurc.sweeps.executor import available_cores, map_values
+    from bifurc.run.executor import available_cores, map_values
     from tqdm.auto import tqdm
     size = size or (QUICK if quick else FULL)
     out = Path(out)

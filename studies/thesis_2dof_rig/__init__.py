@@ -82,7 +82,7 @@ def advanced(m, size) -> dict:
 
 
 def report(m, size, quick, seconds) -> str:
-    from bifurc.codes import ClassCode
+    from bifurc.labels.codes import ClassCode
     lines = [f"# {NAME}: do the impacts advance the horizontal rig?{' -- quick form' if quick else ''}", "",
              (__doc__ or "").strip(), "", provenance(NAME, quick), "",
              f"Form: {'quick' if quick else 'full'}: relay {', '.join(f'{f:g}' for f in size['freqs'])} Hz x AC "

@@ -15,9 +15,9 @@ period, which the thesis reads off its plots):
   period n to 1 % of their range (a plot's resolution);
 - "1000 periods": the last 400 of 1000 relay periods recur to 1e-6 (the toolkit's tolerance).
   A record without a period up to 16 gets the largest Lyapunov exponent of the relay-period map
-  along it (Benettin, `bifurc.sweeps.lyapunov`, per relay period): "chaotic" above the window's
+  along it (Benettin, `bifurc.labels.lyapunov`, per relay period): "chaotic" above the window's
   threshold 2 ln(400)/400 = 0.030; within it "quasi-periodic" only with positive evidence of a
-  torus, as the sweeps require (`bifurc.sweeps.evidence.torus_evidence`: the 0-1 test's K below
+  torus, as the sweeps require (`bifurc.labels.evidence.torus_evidence`: the 0-1 test's K below
   0.25, a converged rotation number, no recurrence at a nearby fraction's period), else
   "aperiodic" with the reason; "aperiodic" also where the exponent is undetermined.
 - "at rest on the stop": x never exceeded 0 over the whole run.
@@ -57,7 +57,7 @@ THESIS_NUMERICAL = {2: 1, 3: 1, 4: 1, 5: 1, 6: 2, 7: 2, 8: 2, 9: 1, 10: 1}  # Fi
 def _label(points, imps, rtol, atol, max_period=16, lyapunov=math.nan):
     """(text, period) of stroboscopic (x, v) samples: 'period-n (m impacts)', 'period-n, no impact',
     'chaotic', 'quasi-periodic' (given a Lyapunov exponent) or 'aperiodic'."""
-    from bifurc.sweeps.classify import classify_orbit, lyapunov_threshold
+    from bifurc.labels.classify import classify_orbit, lyapunov_threshold
     p = np.asarray(points, float)[:, :2]
     if p.shape[0] < 3:
         return "too short", 0
@@ -65,7 +65,7 @@ def _label(points, imps, rtol, atol, max_period=16, lyapunov=math.nan):
                        scale=np.maximum(np.ptp(p, axis=0), atol), lyapunov=lyapunov,
                        lyap_tol=lyapunov_threshold(p.shape[0] - 1))
     if c["label"] == "quasi-periodic":      # positive evidence of a torus, as sweeps require
-        from bifurc.sweeps.evidence import torus_evidence
+        from bifurc.labels.evidence import torus_evidence
         torus, why, k01, rho = torus_evidence(p / np.maximum(np.ptp(p, axis=0), atol), max_period)
         if not torus:
             return f"aperiodic (lambda {lyapunov:+.2f} near 0, but {why})", 0
@@ -148,7 +148,7 @@ def measure(W: float, V: float, law: str, *, preset=PRESET, ac_sign=AC_SIGN, cir
         label3, per3 = _label(strobe[1:n3 + 1], imps[1:n3], rtol=1e-2, atol=1e-6, max_period=8)
         labelL, perL = _label(strobe[long_from:], imps[long_from:], rtol=1e-6, atol=1e-9)
         if not perL and int(long_window) >= 3:     # not periodic: the Lyapunov exponent tells chaos apart
-            from bifurc.sweeps.lyapunov import lyapunov_along
+            from bifurc.labels.lyapunov import lyapunov_along
             from maps.poincare import StroboscopicMap
             smap = StroboscopicMap(pb, tol=tol)
             lyap = lyapunov_along(smap.step, strobe[long_from:], k0=long_from,

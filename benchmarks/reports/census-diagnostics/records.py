@@ -1,7 +1,7 @@
 import sys, collections
 from bifurc.attractors import census
 from bifurc.attractors.identify import near_periods, contracting
-from bifurc.sweeps.classify import candidate_periods
+from bifurc.labels.classify import candidate_periods
 from _census_setup import job
 stat = collections.Counter()
 orig = census.identify

@@ -36,7 +36,7 @@ import math
 
 import numpy as np
 
-from ..codes import ClassCode
+from .codes import ClassCode
 
 __all__ = ["CLASS_LABELS", "FLAG_MEANINGS", "classify_orbit", "candidate_periods", "describe", "code_of",
            "mechanical_period",

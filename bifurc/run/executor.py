@@ -41,9 +41,10 @@ def available_cores() -> int:
         return os.cpu_count() or 1
 
 
-def default_workers(n_values: int) -> int:
-    """Every available core, but at least MIN_VALUES_PER_WORKER values per worker (1: this process)."""
-    return max(1, min(available_cores(), n_values // MIN_VALUES_PER_WORKER))
+def default_workers(n_values: int, per_worker: int = MIN_VALUES_PER_WORKER) -> int:
+    """Every available core, but at least ``per_worker`` values per worker (1: this process); a task declares its
+    own grain (a diagram value: MIN_VALUES_PER_WORKER; a census value, far longer: fewer)."""
+    return max(1, min(available_cores(), n_values // per_worker))
 
 
 #: exit code of a worker process that found itself re-running a script without a main guard

@@ -7,10 +7,10 @@ stationary part of its record; undecided values are extended together, on the ma
 1. periodic on the window, or on its second half (then the first half was a transient and is
    discarded): **periodic**, with its period and impacts;
 2. a recurrence that still decays geometrically: a transient approaching a periodic orbit, extend;
-3. the window's halves differ (:func:`~bifurc.sweeps.evidence.halves_differ`): the first half is
+3. the window's halves differ (:func:`~bifurc.labels.evidence.halves_differ`): the first half is
    a transient or an intermittent burst: discard it, extend;
 4. the exponent from K tangent trajectories (the value's own and K - 1 perturbed copies of its
-   state, decorrelated over :attr:`Value.decorrelate` periods; :func:`~bifurc.sweeps.evidence.exponent_estimate`):
+   state, decorrelated over :attr:`Value.decorrelate` periods; :func:`~bifurc.labels.evidence.exponent_estimate`):
    an interval above the threshold: **chaotic**; within +-threshold with positive evidence of a
    torus (the 0-1 test's K below ``TORUS_K`` and a rotation number whose halves agree):
    **quasi-periodic**; below -threshold (contracting without a period up to ``max_period``) or
@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..codes import ClassCode
+from .codes import ClassCode
 from .classify import DECAY_RATE, lyapunov_threshold
 from .evidence import QP_SAMPLES, TORUS_K, exponent_estimate, halves_differ, torus_evidence
 from .lyapunov import _student_t, exponent_interval

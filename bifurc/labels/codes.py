@@ -29,7 +29,7 @@ class _Coded(IntEnum):
 
 
 class ClassCode(_Coded):
-    """Class of a stroboscopic orbit (see :mod:`bifurc.sweeps.classify`)."""
+    """Class of a stroboscopic orbit (see :mod:`bifurc.labels.classify`)."""
 
     PERIODIC = 0
     PERIODIC_NO_IMPACT = 1

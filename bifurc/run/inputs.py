@@ -1,0 +1,42 @@
+"""The three inputs of every analysis: what is integrated (a Problem), how (a method), where (a :class:`Run`).
+
+An entry point takes ``problem, ..., method=None, *, run=None, **options``; :func:`analysis_inputs` resolves them:
+``options`` (the keyword convenience) are shared out among the problem's keywords (:data:`PROBLEM_KEYWORDS`, as
+:func:`maps.problem`), the method's settings and the run's, and an unknown or misspelt name is one line naming the
+valid ones.
+"""
+from __future__ import annotations
+
+from maps.parameters import ParameterError
+from maps.problem import Problem, problem as make_problem
+
+from .run import Run
+from .settings import settle, split_options
+
+#: the keywords of :func:`maps.problem` an analysis accepts beside a scene
+PROBLEM_KEYWORDS = ("preset", "params", "x0", "flags0", "circuit", "ac_sign", "dc_law", "soil", "compaction")
+
+
+def analysis_inputs(problem, method_cls, method, run, options: dict, extra: tuple = ()):
+    """(Problem, method, Run, extra options) from an entry point's arguments: ``problem`` a :class:`maps.Problem`
+    or a scene (name, Scene, HybridSystem); ``method`` an instance of ``method_cls`` or None (its defaults);
+    ``run`` a :class:`Run` or None; ``options`` changes to any of them by name; ``extra``: further names the entry
+    point takes itself (returned as a dict)."""
+    if method is not None and not isinstance(method, method_cls):
+        raise ParameterError(f"method: expected a {method_cls.__name__} object, got {type(method).__name__} "
+                             f"({method!r:.60})")
+    if run is not None and not isinstance(run, Run):
+        raise ParameterError(f"run: expected a bifurc.Run object, got {type(run).__name__} ({run!r:.60})")
+    pk, mk, rk, ek = split_options(options, PROBLEM_KEYWORDS, method_cls, Run, tuple(extra))
+    m, r = settle(method_cls, method, mk), settle(Run, run, rk)     # cheap checks first
+    return resolve_problem(problem, pk), m, r, ek
+
+
+def resolve_problem(problem, keywords: dict) -> Problem:
+    """:func:`maps.problem` of ``problem`` with the problem ``keywords`` (a Problem takes only params and x0)."""
+    if isinstance(problem, Problem) and keywords:
+        fixed = [k for k in keywords if k not in ("params", "x0", "flags0") and keywords[k] is not None]
+        if fixed:
+            raise ParameterError(f"{fixed[0]!r} cannot change a Problem (its options and preset are fixed): "
+                                 f"build it with maps.problem(scene, {fixed[0]}=...)")
+    return make_problem(problem, **keywords)

@@ -1,0 +1,62 @@
+"""How a diagram value (or a regime-map cell) is integrated and judged: the :class:`Diagram` method."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from maps.parameters import ParameterError
+
+from ..labels.anytime import BUDGET
+from ..labels.lyapunov import METHODS
+from ..run.grid import MODES
+from ..run.settings import Settings, setting
+
+
+@dataclass(frozen=True)
+class Diagram(Settings):
+    """A brute-force bifurcation diagram: each value integrated, recorded and labelled on evidence.
+
+    Every value runs ``transient`` then ``record`` strobe periods (relay periods of the thesis scenes); an
+    undecided value is extended by the anytime judge (:mod:`bifurc.labels.anytime`) up to ``budget`` periods,
+    transient included.  The same method classifies a regime map's cells.
+    """
+
+    mode: str = setting("independent", "independent: every value from the start state; follow: each value from the "
+                        "previous one's final state, swept up then down", choices=tuple(MODES))
+    transient: int = setting(300, "periods discarded per value", unit="strobe periods", low=0, high=1e7, whole=True)
+    record: int = setting(100, "periods recorded per value before it is first judged; an undecided value is "
+                          "extended up to --budget", unit="strobe periods", low=3, high=1e7, whole=True)
+    budget: int | None = setting(None, f"periods per value, transient included, that an undecided value may be "
+                                 f"extended to (default {BUDGET}); a value still undecided then is not-converged with "
+                                 f"its reason", unit="strobe periods", low=3, high=1e9, whole=True, optional=True,
+                                 kind=int)
+    max_period: int = setting(100, "cap of the period search: candidates are the multiples of the forcing period q "
+                              "that fit twice in the record", unit="strobe periods", low=1, high=1e6, whole=True)
+    max_record: int | None = setting(None, "extend a record whose forcing period q exceeds record/3 to 3 q periods, "
+                                     "at most this many (default 3 x record)", unit="strobe periods", low=3, high=1e7,
+                                     whole=True, optional=True, kind=int)
+    max_transient: int | None = setting(None, "(superseded by budget) extend values still converging up to this "
+                                        "many periods: the budget is at least this plus record",
+                                        unit="strobe periods", low=0, high=1e8, whole=True, optional=True, kind=int)
+    tol: float = setting(1e-10, "heyoka tolerance; error_sample values are re-run at tol/100", low=1e-30, high=1e-2)
+    rtol: float = setting(1e-6, "relative tolerance of the period test", low=0, high=1, cli="")
+    atol: float = setting(1e-9, "absolute tolerance of the period test", low=0, high=1, cli="")
+    lyapunov: bool = setting(True, "the largest Lyapunov exponent where the orbit is not periodic",
+                             flag="--no-lyapunov")
+    lyapunov_method: str = setting("tangent", "how the exponent is integrated", choices=tuple(METHODS), cli="")
+    grazing: bool = setting(True, "locate grazing values where neighbours change between impacting and not",
+                            flag="--no-grazing")
+    grazing_xtol: float | None = setting(None, "tolerance of the located grazing value (default: a fraction of the "
+                                         "grid step)", low=0, high=1e9, optional=True, cli="", kind=float)
+    error_sample: int = setting(3, "values re-run at tol/100 for the error estimate (0: none)", low=0, high=1e6,
+                                whole=True, cli="")
+    batch_size: int = setting(4, "values integrated together in heyoka's batch mode (SIMD lanes; 1: one at a "
+                              "time); results agree to round-off", low=1, high=64, whole=True)
+
+    def _check(self) -> None:
+        if self.budget is not None and self.budget < self.transient + self.record:
+            raise ParameterError(f"budget = {self.budget} is below transient + record = {self.transient + self.record}"
+                                 f"; allowed: budget >= {self.transient + self.record}")
+        if self.max_record is not None and self.max_record < self.record:
+            raise ParameterError(f"max_record = {self.max_record} is below record = {self.record}")
+        if self.max_transient is not None and self.max_transient < self.transient:
+            raise ParameterError(f"max_transient = {self.max_transient} is below transient = {self.transient}")
