@@ -80,6 +80,13 @@ def work():
     bifurc.sweep("prototype", "relay_hz", np.linspace(4.0, 8.8, 24), soil="drift", transient=100, record=50,
                  lyapunov=False, grazing=False, error_sample=0, progress=False, workers=2)
 """),
+    "census": ("an attractor census of the impact oscillator, 3 values x 50 starts, 1 worker (bifurc.attractors)", """
+import bifurc
+OSC = dict(w0=1.0, zeta=0.05, F=0.3, Omega=1.3, e=-1.0, r=0.8)
+def work():
+    bifurc.attractors("impact-oscillator", "Omega", [1.25, 1.3, 1.35], params=OSC, box={"x": (-1.0, 2.0),
+                      "v": (-2.0, 2.0)}, n_starts=50, seed=3, progress=False, workers=1)
+"""),
 }
 
 _TIMER = """

@@ -24,13 +24,19 @@ _LAZY = {
     "plot_time_history": "plots.history", "plot_regime_map": "plots.map", "plot_orbit": "plots.orbit",
     "regime_map": "sweeps.regime", "class_at": "report", "classification_report": "report", "sweep": "sweeps.sweep",
     "plot_basins": "attractors.plots",
+    "Run": "run.run", "Diagram": "sweeps.method", "Census": "attractors.method", "Box": "attractors.method",
+    "Slice": "attractors.method", "SwitchOn": "attractors.method", "Given": "attractors.method",
+    "ByDistance": "attractors.method", "grid_points": "attractors.atlas", "Shooting": "orbits.method",
+    "PALC": "orbits.method",
 }
 
 register_accessor_with_xarray()  # ds.bifurc, without importing xarray in worker processes
 
 __all__ = ["__version__", "sweep", "load", "plot_diagram", "plot_time_history", "regime_map", "plot_regime_map",
            "classification_report", "class_at", "periodic_orbit", "continue_orbit", "plot_branch", "plot_curves", "plot_orbit",
-           "sweep_point", "find_periodic_orbit", "OrbitNotFound", "attractors", "plot_basins"]
+           "sweep_point", "find_periodic_orbit", "OrbitNotFound", "attractors", "plot_basins",
+           "Run", "Diagram", "Census", "Box", "Slice", "SwitchOn", "Given", "ByDistance", "grid_points",
+           "Shooting", "PALC"]
 
 
 _lazy_getattr, __dir__ = lazy_exports(__name__, _LAZY, globals())

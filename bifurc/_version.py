@@ -1,4 +1,2 @@
 """The package version, in a module of its own so that submodules need not import the package."""
 from maps._version import __version__
-
-__all__ = ["__version__"]

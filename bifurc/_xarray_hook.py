@@ -11,9 +11,6 @@ import importlib
 import importlib.util
 import sys
 
-__all__ = ["register_accessor_with_xarray"]
-
-
 class _AfterXarray:
     """One-shot meta path finder: lets xarray load as usual, then imports bifurc.accessor."""
 

@@ -11,8 +11,6 @@ from maps.parameters import ParameterError, validate_value
 
 from .storage.load import KINDS, kind_of, require_kind
 
-__all__ = ["BifurcAccessor", "Markdown", "PLOTS"]
-
 #: the plot function of each dataset kind that has a figure: (module, function)
 PLOTS = {"diagram": ("plots.diagram", "plot_diagram"), "map": ("plots.map", "plot_regime_map"),
          "history": ("plots.history", "plot_time_history"), "orbit": ("plots.orbit", "plot_orbit"),

@@ -20,8 +20,6 @@ from maps.provenance import command
 from ._version import __version__
 from .storage.files import BadFileError
 
-__all__ = ["COMMANDS", "UsageError", "build_parser", "main"]
-
 #: subcommand modules in bifurc.commands, each with register(subparsers); missing ones are skipped
 COMMANDS = ["scenes", "params", "simulate", "diagram", "map", "orbit", "branch", "report", "accuracy", "verify", "study",
             "attractors"]

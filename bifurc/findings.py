@@ -16,8 +16,6 @@ import math
 import re
 from dataclasses import dataclass
 
-__all__ = ["Finding", "HEADER", "table", "parse", "compare"]
-
 _COLUMNS = "| finding | value | tolerance | unit |\n|---|---|---|---|"
 #: the heading of the findings table in a report
 HEADER = "## Findings (checked by `bifurc study NAME --check`)"

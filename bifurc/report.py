@@ -12,10 +12,6 @@ from .storage.grid import OffGridWarning, nearest_index
 from .storage.load import in_convention, require_kind
 from .labels.classify import CLASS_LABELS, describe
 
-__all__ = ["classification_report", "class_at", "undecided_summary", "report", "map_report", "history_report", "orbit_report",
-           "branch_report", "accuracy_report", "stability_report", "REPORTS"]
-
-
 def class_at(ds, value, branch=None) -> dict:
     """Class of the grid value nearest to ``value``: {value, text, code, period, impacts, lyapunov, ...}.
 

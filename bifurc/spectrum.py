@@ -5,9 +5,6 @@ import numpy as np
 
 from maps.parameters import ParameterError
 
-__all__ = ["spectrum"]
-
-
 def spectrum(ds, var: str = "x", t_from: float | None = None, n_peaks: int = 5):
     """One-sided amplitude spectrum of ``ds[var]`` sampled on a uniform ``time`` grid [s].
 

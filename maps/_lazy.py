@@ -1,9 +1,6 @@
 """Package exports imported on first use (PEP 562), so that importing a package stays light."""
 import importlib
 
-__all__ = ["lazy_exports"]
-
-
 def lazy_exports(package: str, table: dict, namespace: dict):
     """``__getattr__`` and ``__dir__`` for ``package`` whose public ``name`` lives in submodule
     ``table[name]`` (relative to the package); a name is imported once, then kept in ``namespace``."""

@@ -18,8 +18,6 @@ import heyoka as hy
 from .hybrid import Guard, HybridSystem, State
 from .parameters import Parameter
 
-__all__ = ["forced_oscillator_with_stop", "OSCILLATOR_PARAMETERS", "STICK_SPEED"]
-
 OSCILLATOR_PARAMETERS = [
     Parameter("w0", "rad s-1", "natural angular frequency", 0, math.inf, low_open=True),
     Parameter("zeta", "1", "damping ratio", 0, 10),

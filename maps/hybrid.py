@@ -37,9 +37,6 @@ import numpy as np
 
 from .parameters import Parameter, ParameterError, validate_value
 
-__all__ = ["State", "Guard", "PeriodicSwitch", "HybridSystem", "HybridState", "EventRecord",
-           "IntegrationFailure", "Escaped", "EventCap", "ROLES"]
-
 #: what a guard crossing means, for analysis (impact logs, clearance, signatures):
 #: impact (contact onset), release (contact ends), flight_minimum (a free-flight minimum of the
 #: gap), deepest (deepest point of a contact), escape (leaves the model's domain), stick /

@@ -9,9 +9,6 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["impact_log", "impact_table", "free_flight_minima"]
-
-
 def impact_log(system, params, events) -> dict:
     """The one reading of guard crossings by role: ``events`` are ``(name, t [s], state)`` in time
     order (an EventRecord's y_minus, or a map step's crossings).  Returns arrays

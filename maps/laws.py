@@ -3,7 +3,6 @@
 A light module (no heyoka, no numpy) so that the command line lists the choices without
 loading the integrator; :mod:`maps.model` implements the laws named here.
 """
-__all__ = ["DC_LAWS", "SOIL_LAWS", "COMPACTION", "ELEMENTS"]
 
 #: the form of the compaction option (a resistance growing with depth; docs/model.md)
 COMPACTION = ("resistance R(depth) = R0 (1 + depth / soil_depth_scale), R0 = soil_friction (coulomb) or "

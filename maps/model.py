@@ -17,11 +17,8 @@ import heyoka as hy
 import numpy as np
 
 from .hybrid import Guard, HybridSystem, PeriodicSwitch, State
-from .laws import COMPACTION, DC_LAWS, SOIL_LAWS
+from .laws import COMPACTION, DC_LAWS, SOIL_LAWS  # noqa: F401 - maps.model.COMPACTION: the laws read here
 from .parameters import Parameter
-
-__all__ = ["ModelOptions", "PARAMETERS", "build_system", "ESCAPE_MARGIN", "DC_LAWS", "SOIL_LAWS", "COMPACTION",
-           "dc_region_flags", "measured_dc_regions", "soil_flags", "soil_resistance"]
 
 INF = math.inf
 #: the table of every model parameter: name -> Parameter (``bifurc params`` lists them)

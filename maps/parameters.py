@@ -8,9 +8,6 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-__all__ = ["Parameter", "ParameterError", "validate_value"]
-
-
 class ParameterError(ValueError):
     """A parameter name or value that the model cannot accept."""
 

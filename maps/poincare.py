@@ -26,11 +26,6 @@ from .problem import problem
 from .progression import held_mode
 from .translation import translation_basis
 
-__all__ = ["StroboscopicMap", "MapOrbit", "MapLinearization", "ImpactMap", "ImpactLinearization",
-           "forcing_period_steps",
-           "orbit_from_periods"]
-
-
 def _period_slope(system, params: dict, name: str) -> float:
     """dT/dp of the system's declared clock T (strobe_period, switch or forcing) at ``params``."""
     p = float(params[name])

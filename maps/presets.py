@@ -1,9 +1,6 @@
 """Parameter presets found in the thesis, each value with its provenance (docs/model.md, Presets)."""
 from __future__ import annotations
 
-__all__ = ["PRESETS", "COMMON", "preset_values", "preset_dc_law", "DC_LAW_COEFFICIENTS", "PRESET_DC_LAW",
-           "PRESET_NOTES"]
-
 _T = "thesis"
 #: values shared by every preset: name -> (value, provenance)
 COMMON = {

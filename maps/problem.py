@@ -25,9 +25,6 @@ from .presets import preset_attrs
 from .registry import get_scene
 from .scenes import ParameterValues, Scene
 
-__all__ = ["Problem", "problem", "model_attrs"]
-
-
 @dataclass(frozen=True, eq=False)
 class Problem:
     """What is integrated: ``scene`` (system and options), ``values`` {name: value} with their

@@ -19,8 +19,6 @@ import math
 
 import numpy as np
 
-__all__ = ["TARGET_DEPTH", "MEASURES", "held_mode", "progression_measures", "held_time", "time_in_mode"]
-
 #: the thesis' progression distance [m]: time to progress 0.2 m (Chapter 5)
 TARGET_DEPTH = 0.2
 

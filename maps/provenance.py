@@ -16,8 +16,6 @@ from pathlib import Path
 
 from ._version import __version__
 
-__all__ = ["CONVENTIONS", "cf_attrs", "code_version", "command", "current_call", "git_commit", "recorded"]
-
 CONVENTIONS = "CF-1.10"
 _CALL: contextvars.ContextVar = contextvars.ContextVar("bifurc_call", default=None)
 

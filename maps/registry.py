@@ -25,8 +25,6 @@ from .hybrid import HybridSystem
 from .parameters import ParameterError
 from .scenes import SCENES, Scene, SystemBuilder
 
-__all__ = ["register_scene", "unregister_scene", "get_scene", "scene_names", "ENTRY_POINT_GROUP"]
-
 #: the entry-point group that installed distributions declare their scenes in
 ENTRY_POINT_GROUP = "maps.scenes"
 

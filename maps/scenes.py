@@ -18,9 +18,6 @@ from .model import ModelOptions, build_system
 from .parameters import ParameterError
 from .presets import preset_dc_law, preset_values
 
-__all__ = ["Scene", "SCENES", "ParameterValues", "SystemBuilder"]
-
-
 _BUILT: dict = {}
 
 

@@ -17,9 +17,6 @@ from .problem import model_attrs, problem
 if TYPE_CHECKING:  # xarray is imported where used: worker processes start faster
     import xarray as xr
 
-__all__ = ["simulate", "run_scene", "resolve", "dc_law_attrs", "soil_law_attrs"]
-
-
 def dc_law_attrs(options) -> dict:
     """Dataset attributes naming the DC-force law and its provenance (docs/model.md section 1)."""
     a = model_attrs(options)

@@ -19,9 +19,6 @@ import numpy as np
 
 from .translation import shift_off
 
-__all__ = ["companion_start", "renormalise", "reduce", "start_direction", "tangent_stretch", "tangent_sample",
-           "TANGENT_SIZE"]
-
 #: the length a tangent vector is integrated at (it is logged and renormalised as a unit vector).
 #: heyoka controls the error of all state components together, so a unit vector whose fast
 #: components vary faster than the state set the step size (16 % more steps than the state alone);

@@ -5,8 +5,6 @@ from importlib import resources
 
 import numpy as np
 
-__all__ = ["TABLES", "load_table"]
-
 TABLES = {
     "dc_force": "dc_force_table_4_1.csv",
     "inductance": "inductance_table_4_2.csv",

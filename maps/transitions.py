@@ -29,10 +29,6 @@ import numpy as np
 
 from .hybrid import EventCap, Guard, HybridSystem, settle_may_act
 
-__all__ = ["event_surfaces", "GuardChoice", "Outcome", "NOTHING", "fire", "settle", "settle_gate", "halted", "EventBudget",
-           "start_flags", "next_switch", "saltation", "event_time_row", "projected"]
-
-
 def event_surfaces(system: HybridSystem, observations: bool = True) -> list[list[Guard]]:
     """Guards grouped by identical surface, in declaration order: one integrator event each
     (:meth:`HybridSystem.event_groups`).

@@ -12,10 +12,6 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["translation_basis", "shift_off", "reduction_matrices", "reduce_points", "reduce_jacobian",
-           "advance_per_step"]
-
-
 def translation_basis(system) -> tuple[np.ndarray, int] | None:
     """``(e, a)``: the translation as a state-space vector with ``e[a] = 1`` at its anchor ``a``
     (the last state it moves); None for a system without a translation."""

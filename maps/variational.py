@@ -31,8 +31,6 @@ from . import transitions as tr
 from .hybrid import call_cfunc, time_derivative
 from .parameters import ParameterError
 
-__all__ = ["Derivatives", "variational_integrator", "tangent_integrator", "tangent_equations"]
-
 _COMPILED: dict = {}
 
 

@@ -748,7 +748,7 @@ def test_same_seed_same_dataset_any_workers_and_after_a_resume(tmp_path, monkeyp
     value then resumed from ``<path>.parts`` give the same dataset (every variable, bit for bit)."""
     import xarray as xr
 
-    from bifurc.attractors.job import CensusParts
+    from bifurc.run.parts import Parts as CensusParts
     kw = dict(params=OSC, box=BOX, n_starts=12, seed=7, progress=False, link=False)
     vals = [1.25, 1.3, 1.35]
     one = bifurc.attractors("impact-oscillator", "Omega", vals, workers=1, **kw)
@@ -758,13 +758,14 @@ def test_same_seed_same_dataset_any_workers_and_after_a_resume(tmp_path, monkeyp
     path = tmp_path / "atlas.nc"
     save = CensusParts.save
 
-    def save_then_stop(self, indices, results):
-        save(self, indices, results)
+    def save_then_stop(self, branch, indices, results):
+        save(self, branch, indices, results)
         raise KeyboardInterrupt
     monkeypatch.setattr(CensusParts, "save", save_then_stop)
     with pytest.raises(KeyboardInterrupt):
         bifurc.attractors("impact-oscillator", "Omega", vals, workers=1, path=path, **kw)
     assert not path.exists() and len(list((tmp_path / "atlas.nc.parts").glob("census-*.nc"))) == 1
+    assert not (tmp_path / "atlas.nc.parts" / "census-independent-000001.nc").exists()
     monkeypatch.setattr(CensusParts, "save", save)
     again = bifurc.attractors("impact-oscillator", "Omega", vals, workers=1, path=path, **kw)
     assert again.attrs["values_resumed"] == 1 and not (tmp_path / "atlas.nc.parts").exists()

@@ -19,7 +19,8 @@ import xarray as xr
 from bifurc import regime_map, sweep
 from bifurc.cli import main
 from bifurc.labels.codes import ClassCode, Status
-from bifurc.sweeps.regime import CELL_VARIABLES, CellJob
+from bifurc.sweeps.regime import CellJob
+from bifurc.storage.schema import CELL_VARIABLES
 from conftest import kill_when_parts
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -1,8 +1,10 @@
-"""The attractor census: every attractor, its basin and how it changes over a parameter.
+"""The attractor census: every attractor, its basin and how it changes over parameter points.
 
-``bifurc.attractors(...)`` is this package called as a function (:func:`bifurc.attractors.atlas.attractors`);
-its modules: ``starts`` (ensembles of starts), ``census`` (recurrence on a grid), ``identify`` (distinct
-attractors), ``follow`` (global continuation), ``dataset`` (the xarray output), ``plots`` (figures).
+``bifurc.attractors(problem, param, values, method=None, *, starts=None, match=None, run=None, **options)`` is this
+package called as a function (:func:`bifurc.attractors.atlas.attractors`; ``help()`` and Jupyter show its real
+signature); its modules: ``method`` (the Census method, the samplers of starts and the matcher), ``starts``
+(ensembles of starts), ``census`` (recurrence on a grid), ``identify`` (distinct attractors), ``follow`` (global
+continuation), ``atlas`` (the driver), ``dataset`` (the xarray output), ``plots`` (figures).
 Nothing is imported here, so a worker loads only what it uses.
 """
 import sys
@@ -15,6 +17,14 @@ class _CallablePackage(types.ModuleType):
     def __call__(self, *args, **kwargs):
         from .atlas import attractors
         return attractors(*args, **kwargs)
+
+    @property
+    def __signature__(self):
+        """The census' own signature (:func:`inspect.signature` reads it: ``help()``, Jupyter's Shift-Tab)."""
+        import inspect
+
+        from .atlas import attractors
+        return inspect.signature(attractors)
 
 
 sys.modules[__name__].__class__ = _CallablePackage

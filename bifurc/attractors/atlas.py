@@ -79,6 +79,9 @@ def attractors(problem="thesis-1dof", param: str | None = "V", values=None, meth
     matcher = settle(ByDistance, match, {"threshold": opts.pop("match_threshold")} if "match_threshold" in opts else {})
     refine = opts.pop("refine", None)
     pb, m, r, _ = analysis_inputs(problem, Census, method, run, opts)
+    if r.time_budget is not None:
+        raise ParameterError("time_budget: a census follows every start to where it settles or to its budget; "
+                             "bound it with the budget (Census(budget=...), --budget) instead")
     names, points = _points(param, values, pb)
     if refine is not None:
         if len(names) != 1:

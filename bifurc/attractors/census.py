@@ -39,8 +39,6 @@ from .lifetime import Lifetime, estimate_lifetime, periodic_tail
 from .identify import (Attractor, Grid, approaching, area_rate, contracting, converging, from_chunk, identify,
                        newton_periods, no_contraction, polish_once, same_attractor, same_orbit)
 
-__all__ = ["Settings", "Track", "Memory", "census_at", "OUTCOMES", "outcome_labels"]
-
 #: outcome ids of a start that reached no attractor (attractor ids are 0, 1, ...): "neutral" is motion that
 #: dissipates nothing over its record (:func:`_neutral`), on which a start keeps its own amplitude; "transient" a
 #: start still on a chaotic saddle or long-lived chaotic transient at ``max_periods`` (:func:`_still_on_saddle`:

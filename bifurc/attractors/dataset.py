@@ -14,8 +14,6 @@ from ..storage.schema import ATTRACTOR, ATTRACTOR_COORDS, ATTRACTOR_EVENTS, flag
 from .census import OUTCOMES, wilson
 from .eventual import eventual_fractions, saddle_groups
 
-__all__ = ["to_dataset", "attractor_count", "eventual_text", "OUTCOME_CODES"]
-
 #: the class code stored for each outcome entry
 OUTCOME_CODES = {"escaped": ClassCode.ESCAPED, "not_converged": ClassCode.NOT_CONVERGED, "failed": ClassCode.FAILED,
                  "neutral": ClassCode.NOT_CONVERGED, "transient": ClassCode.NOT_CONVERGED}

@@ -18,8 +18,6 @@ import numpy as np
 
 from .census import OUTCOMES, wilson
 
-__all__ = ["saddle_groups", "eventual_fractions"]
-
 #: the normal quantile of a two-sided 97.5 % interval: two of them make a 95 % one (Bonferroni)
 Z_HALF = 2.241402727604947
 

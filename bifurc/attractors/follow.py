@@ -27,9 +27,6 @@ from ..storage.schema import SPECIAL_KINDS
 from ..labels.codes import ClassCode
 from .identify import Attractor, distance, same_orbit
 
-__all__ = ["match", "continues", "link_event", "local_events", "half_gaps", "collapse"]
-
-
 def alike(a, b) -> bool:
     """Only like continues like: two periodic orbits of one period (with or without impacts: a grazing changes
     the impacts, not the orbit), or two sets that are not periodic (chaotic, quasi-periodic)."""

@@ -21,11 +21,6 @@ from ..labels.classify import candidate_periods, classify_orbit, lyapunov_thresh
 from ..labels.evidence import locked_lag, torus_evidence
 from ..labels.lyapunov import exponent_interval
 
-__all__ = ["Grid", "Attractor", "identify", "area_rate", "no_contraction", "from_chunk", "distance", "same_attractor",
-           "same_orbit", "converging", "approaching", "contracting", "near_periods", "newton_periods", "polish_once",
-           "torus_of"]
-
-
 @dataclass(frozen=True)
 class Grid:
     """A state-space grid: cell j of state i spans low_i + [j, j+1) width_i (unbounded: any j)."""

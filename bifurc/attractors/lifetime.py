@@ -22,8 +22,6 @@ import numpy as np
 
 from ..labels.classify import candidate_periods, state_scale
 
-__all__ = ["Lifetime", "estimate_lifetime", "lifetime_interval", "fall_index", "periodic_tail"]
-
 #: copies run on a new non-periodic set (12 batches of 4 SIMD lanes), their relative perturbation, the
 #: periods per leg between two looks at the interval, and the interval's overall level
 COPIES, PERTURB, LEG, LEVEL = 48, 1e-7, 500, 0.95

@@ -9,8 +9,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import numpy as np
-
 from maps.parameters import ParameterError
 
 from ..run.settings import Settings, setting
@@ -117,6 +115,7 @@ class Given:
     """Starts given as an (N, d) array [SI, the system's state order]."""
 
     def __init__(self, points):
+        import numpy as np
         self.points = np.atleast_2d(np.asarray(points, dtype=float))
 
     def draw(self, pb):

@@ -9,8 +9,6 @@ from maps.parameters import ParameterError
 from ..storage.files import check_figure_output, save_figure
 from ..storage.load import require_kind
 
-__all__ = ["plot_attractors", "plot_basins", "COLOURS"]
-
 #: one colour per attractor id (cycled); outcomes grey shades
 COLOURS = ("#0072B2", "#E69F00", "#009E73", "#CC79A7", "#56B4E9", "#D55E00", "#F0E442", "#332288", "#117733",
            "#882255")

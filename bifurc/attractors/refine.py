@@ -18,8 +18,6 @@ from maps.parameters import ParameterError
 
 from .follow import local_events
 
-__all__ = ["event_values", "refined_values"]
-
 #: attributes a branch must share with the census' problem (where both carry them): the model it was computed on
 MODEL_ATTRS = ("scene", "circuit", "ac_sign", "relay", "dc_law", "soil", "soil_compaction", "preset")
 

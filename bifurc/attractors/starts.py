@@ -13,9 +13,6 @@ import numpy as np
 
 from maps.parameters import ParameterError
 
-__all__ = ["Starts", "parse_box", "check_box", "box_starts", "slice_starts", "switch_on_starts", "make_starts"]
-
-
 @dataclass
 class Starts:
     """``points`` (N, d) [SI, state order]; ``kind``: box, slice or switch-on; ``box`` the bounds drawn

@@ -26,9 +26,10 @@ def _help(f) -> str:
     return text + unit
 
 
-def add_settings_options(parser, cls, title: str, exclude=()) -> None:
-    """One option group ``title`` with an option per command-line field of the settings class ``cls``."""
-    g = parser.add_argument_group(title)
+def add_settings_options(parser, cls, title: str | None = None, exclude=()) -> None:
+    """An option per command-line field of the settings class ``cls``, in a new group ``title`` (None: in
+    ``parser``, itself a group)."""
+    g = parser.add_argument_group(title) if title else parser
     for f in dataclasses.fields(cls):
         if f.name in exclude or not f.metadata:
             continue

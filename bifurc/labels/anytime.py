@@ -29,14 +29,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .codes import ClassCode
+from .vocabulary import BUDGET
 from .classify import DECAY_RATE, lyapunov_threshold
 from .evidence import QP_SAMPLES, TORUS_K, exponent_estimate, halves_differ, torus_evidence
 from .lyapunov import _student_t, exponent_interval
 
-__all__ = ["Value", "judge", "BUDGET", "TRAJECTORIES", "DECORRELATE", "ANYTIME_METHOD"]
-
-#: default budget of a value [relay periods of its own trajectory, transient included]
-BUDGET = 6000
 #: tangent trajectories the exponent's interval comes from (the value's own and its copies)
 TRAJECTORIES = 4
 #: fewest periods a copy runs from its perturbed start before it is recorded (decorrelation)

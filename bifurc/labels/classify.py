@@ -38,11 +38,6 @@ import numpy as np
 
 from .codes import ClassCode
 
-__all__ = ["CLASS_LABELS", "FLAG_MEANINGS", "classify_orbit", "candidate_periods", "describe", "code_of",
-           "mechanical_period",
-           "lyapunov_threshold",
-           "state_scale", "ClassCode"]
-
 #: class labels in code order (ClassCode(c).label)
 CLASS_LABELS = tuple(c.label for c in ClassCode)
 FLAG_MEANINGS = " ".join(CLASS_LABELS)

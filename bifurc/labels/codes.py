@@ -10,9 +10,6 @@ from enum import IntEnum
 
 import numpy as np
 
-__all__ = ["ClassCode", "Status", "flag_attrs"]
-
-
 class _Coded(IntEnum):
     @property
     def label(self) -> str:

@@ -22,9 +22,6 @@ import numpy as np
 
 from .lyapunov import _student_t, exponent_interval
 
-__all__ = ["halves_differ", "exponent_estimate", "zero_one_test", "rotation_number", "near_period", "torus_evidence",
-           "extent_drift", "locked_lag", "TORUS_K", "EXTENT_DRIFT", "LOCK_TOL", "MIN_HALF", "QP_SAMPLES"]
-
 #: 0-1 test statistic below which motion counts as regular (Gottwald and Melbourne report K < 0.1
 #: for regular and K > 0.9 for chaotic records of a few thousand samples; records here may be shorter)
 TORUS_K = 0.25

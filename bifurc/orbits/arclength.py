@@ -18,9 +18,6 @@ from .driver import Steps, Track, follow
 from .passage import PASSABLE, restart
 from .special_points import TESTS, detect, discontinuity, event_at_section, event_reason
 
-__all__ = ["continue_branch", "continue_piece"]
-
-
 def continue_branch(problem: ContinuationProblem, orbit, p_start: float, p_end: float, *, max_points: int = 200,
                     bounds=None, locate: bool = True, max_passages: int = 20, **options) -> Branch:
     """Follow ``orbit`` (at p_start) toward p_end as :func:`continue_piece` does, and past each grazing,

@@ -18,23 +18,21 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from maps.parameters import ParameterError, validate_value
+from maps.parameters import ParameterError
 from maps.impacts import impact_log
 from maps.poincare import StroboscopicMap
-from maps.problem import problem
 from maps.provenance import recorded
 
 from .arclength import continue_branch
 from .continuation import ContinuationProblem, flags_of, in_section
 from ..storage.schema import CURVE_KINDS
+from ..run.inputs import analysis_inputs
 from .dataset import branch_dataset
+from .method import PALC
 from .orbit import first_guess, multiplier_change
 from .periodic import OrbitNotFound, find_periodic_orbit, monodromy
 from .relocate import RESOLUTION, measure_codim2, relocate
 from .special_points import LOCATED_KINDS
-
-__all__ = ["continue_orbit", "branch_dataset"]
-
 
 def _check_param(smap, system, param, values):
     if param not in system.param_names:
@@ -54,56 +52,53 @@ def _sets_period(smap, param) -> bool:
 
 
 @recorded("bifurc.continue_orbit")
-def continue_orbit(scene, param: str, span, *, params=None, preset=None, period: int | None = None, x0=None,
-                   start=None, k0: int | None = None, transient: int = 300, tol: float = 1e-12,
-                   newton_tol: float | None = None, step: float = 0.02, max_step: float = 0.1,
-                   max_points: int = 200, branch_switch: bool = False, error: bool = True, progress=None,
-                   param2: str | None = None, span2=None, circuit=None, ac_sign=None, dc_law=None, soil=None,
-                   compaction=None):
+def continue_orbit(problem="thesis-1dof", param: str = "V", span=None, method: PALC | None = None, *, start=None,
+                   param2: str | None = None, span2=None, progress=None, **options):
     """The branch of periodic orbits through the orbit at ``param = span[0]``, followed toward
     ``span[1]``, as an xarray Dataset (dimension ``point``, not indexed by the parameter, so that
     folds fit; special points along ``special``).
 
     Parameters
     ----------
+    problem : :class:`maps.Problem` or scene name
+        What is integrated; its start state ``x0`` is integrated ``transient`` strobe periods to the first guess.
     param : str
         A numeric parameter of the scene, the one that sets the strobe period included (the forcing
         frequency ``Omega`` of a harmonically forced system: the sample instants move with it).
         Refused: ``relay_hz`` under mains forcing (no continuous branch exists).
     span : (float, float)
         Start value and end value; the branch stops where it leaves the interval between them.
-    period, x0, start, k0, transient, preset, circuit, ac_sign, dc_law, soil, compaction : as in
-        :func:`periodic_orbit`.
-    tol, newton_tol : float
-        Integration tolerance; largest scaled shooting residual accepted (default 10 tol).
-    step, max_step : float
-        First and largest arclength step, in the scaled unknowns (states by the orbit's magnitude,
-        the parameter by the span's length).
-    max_points : int
-        Branch points per branch at most.
-    branch_switch : bool
-        Follow the doubled branch from each located period doubling.
-    error : bool
-        At each special point, solve the orbit again at tol/100 and store the multipliers' change, and locate
-        it (and each codimension-two point of a curve) again at tol/100: its stated tolerance is a measured bound.
-    progress : callable(str), optional
-        Called with a one-line description of each new point.
+    method : :class:`bifurc.PALC`, optional
+        Steps, points, branch switching, and the shooting settings of the first orbit (period, k0, transient,
+        tolerances).
+    start : HybridState, or (HybridState, k) from :func:`sweep_point`
+        The first guess itself (instead of x0 and the transient), at sample ``k0``.
     param2, span2 : str, (float, float)
         A second parameter: the branch is computed at ``param2 = span2[0]`` and each located fold,
         period doubling, Neimark-Sacker point and grazing is continued in (param, param2) toward ``span2[1]``
         (:mod:`bifurc.orbits.curves`), staying within ``span`` for ``param``; the curves are stored along
         ``curve_point``.
+    progress : callable(str), optional
+        Called with a one-line description of each new point.
+    **options
+        Problem keywords (``preset``, ``params``, ``x0``, ``dc_law``, ...) and :class:`bifurc.PALC` fields by name.
     """
+    pb, m, _, _ = analysis_inputs(problem, PALC, method, None, options)
+    return _continue_orbit(pb, param, span, m, start, param2, span2, progress)
+
+
+def _continue_orbit(pb, param, span, m: PALC, start, param2, span2, progress):
+    period, k0, transient, tol, newton_tol, step, max_step, max_points, branch_switch, error = (
+        m.period, m.k0, m.transient, m.tol, m.newton_tol, m.step, m.max_step, m.max_points, m.branch_switch, m.error)
     clock = _time.perf_counter()
     a, b = _span("span", span, "from, to")
-    values_in = dict(params or {}, **{param: a})
+    values_in = {param: a}
     if param2 is not None:
         if param2 == param:
             raise ParameterError(f"param2 must differ from param ({param!r})")
         a2, b2 = _span("span2", span2, "from2, to2")
         values_in[param2] = a2
-    pb = problem(scene, preset, values_in, x0, circuit=circuit, ac_sign=ac_sign, dc_law=dc_law, soil=soil,
-                 compaction=compaction)
+    pb = pb.with_values(**values_in)
     system, values = pb.system, dict(pb.values)
     smap = StroboscopicMap(pb, tol=tol)
     _check_param(smap, system, param, values)
@@ -111,9 +106,7 @@ def continue_orbit(scene, param: str, span, *, params=None, preset=None, period:
     if param2 is not None:
         _check_param(smap, system, param2, values)
         system.validate(dict(values, **{param2: b2}))
-    max_points, step, max_step = _steps(max_points, step, max_step)
-    newton_tol = 10 * tol if newton_tol is None else validate_value("newton_tol", newton_tol, 0.0, 1.0, low_open=True)
-    transient = int(validate_value("transient", transient, 0, 1e7))
+    newton_tol = 10 * tol if newton_tol is None else newton_tol
     start, k0, period = first_guess(smap, pb, transient=transient, start=start, k0=k0, period=period)
     if smap.forcing_period_steps and any(_sets_period(smap, name) for name in (param, param2) if name):
         k0 = k0 % smap.forcing_period_steps   # the same map; d t_k / dp = (k + phase) dT/dp stays small
@@ -171,12 +164,6 @@ def _angle(sp) -> float:
     mu = np.asarray(sp.point.multipliers)
     mu = mu[mu.imag > 0] if np.any(mu.imag > 0) else mu
     return float(abs(np.angle(mu[np.argmin(np.abs(np.abs(mu) - 1.0))])))
-
-
-def _steps(max_points, step, max_step):
-    """(max_points, step, max_step) validated, or a one-line error naming the argument."""
-    step = validate_value("step", step, 0.0, 1.0, low_open=True)
-    return int(validate_value("max_points", max_points, 2, 100_000)), step, validate_value("max_step", max_step, step, 10.0)
 
 
 def _span(name, span, what):

@@ -28,9 +28,6 @@ from .floquet import product_eigenvalues
 from .newton import accept
 from .periodic import _Coordinates, _shooting_matrix
 
-__all__ = ["BranchPoint", "SpecialPoint", "Branch", "ContinuationProblem", "NoConvergence", "SMOOTH_ROLES",
-           "transition_signature", "flags_of", "in_section", "unit_tangent", "bordered_newton", "impact_count"]
-
 #: the corrector's options on a branch's shooting system and the driver's default (:func:`bordered_newton`)
 NEWTON_OPTIONS = {"max_iter": 10, "stall_after": 3, "tiny_update": True}
 

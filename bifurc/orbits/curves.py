@@ -48,9 +48,6 @@ from .driver import Steps, Track, follow
 from .grazing_orbit import grazing_rows
 from .nordmark import normal_form
 
-__all__ = ["Curve", "CurveProblem", "follow_curve", "zero_on_curve", "codim2_tests", "correct_curve", "CURVE_KINDS",
-           "CODIM2"]
-
 #: the codimension-two points looked for on each kind of curve
 CODIM2 = {"grazing": ("grazing_fold",), "fold": ("cusp", "fold_flip"), "period_doubling": ("fold_flip",)}
 assert set(CODIM2) <= set(CURVE_KINDS) <= set(SPECIAL_KINDS), "curve kinds outside the one vocabulary"

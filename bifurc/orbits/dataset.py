@@ -17,8 +17,6 @@ from ..storage.schema import (BRANCH, CURVE, CURVE_COORDS, ORBIT, ORBIT_SCALARS,
                               SPECIAL_KINDS, Variable, advance_variable, curve_parameter, flag_variable,
                               state_variable)
 
-__all__ = ["orbit_dataset", "branch_dataset"]
-
 _ORBIT_ROWS = {v.name: v for v in ORBIT + ORBIT_SCALARS}
 _ROWS = {v.name: v for v in BRANCH + SPECIAL + CURVE}
 _NODE = Variable("node", ("node",), np.int64, 0, "1", "strobe sample of the orbit, k = k0 + node")

@@ -26,9 +26,6 @@ import numpy as np
 
 from .continuation import NEWTON_OPTIONS, NoConvergence, bordered_newton
 
-__all__ = ["Steps", "Track", "follow", "step_after", "turn_angle"]
-
-
 @dataclass(frozen=True)
 class Steps:
     """The arclength steps of a track, in its scaled unknowns: first, largest and smallest step, and the

@@ -20,9 +20,6 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["product_eigenvalues"]
-
-
 def product_eigenvalues(jacobians, scale=None) -> np.ndarray:
     """The eigenvalues of J_{n-1} ... J_0 (d of them) from the cyclic matrix of the ``jacobians``;
     ``scale`` (d,): per-state magnitudes to balance each J_j with (S^-1 J S, same eigenvalues)."""

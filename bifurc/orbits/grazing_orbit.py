@@ -28,8 +28,6 @@ from maps.parameters import ParameterError
 from .continuation import flags_of, impact_count
 from .newton import accept
 
-__all__ = ["closest_flight_minimum", "locate_grazing", "gap_derivatives", "grazing_rows"]
-
 #: what makes an evaluation of the map fail
 FAILURES = (IntegrationFailure, ZeroDivisionError, ParameterError)
 

@@ -15,8 +15,6 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["NOISE_FACTOR", "accept"]
-
 #: how far above tol a residual may be accepted at the integration's noise floor
 NOISE_FACTOR = 100.0
 

@@ -29,9 +29,6 @@ from maps.hybrid import call_cfunc
 from .grazing_orbit import gap_derivatives
 from .periodic import monodromy
 
-__all__ = ["GrazingPrediction", "predict", "impact_speed"]
-
-
 @dataclass
 class GrazingPrediction:
     """The normal form of a grazing: gap acceleration ``a``, the jump direction ``b`` (state units per

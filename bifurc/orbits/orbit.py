@@ -16,18 +16,16 @@ import time as _time
 import numpy as np
 
 from maps.hybrid import HybridState
-from maps.parameters import ParameterError, validate_value
+from maps.parameters import ParameterError
 from maps.poincare import StroboscopicMap
-from maps.problem import problem
 from maps.provenance import recorded
 
+from ..run.inputs import analysis_inputs
 from ..storage.grid import nearest_index
 from ..storage.load import require_kind
 from .dataset import orbit_dataset
+from .method import Shooting
 from .periodic import OrbitNotFound, find_periodic_orbit
-
-__all__ = ["periodic_orbit", "sweep_point", "orbit_dataset", "first_guess", "multiplier_change", "OrbitNotFound"]
-
 
 def sweep_point(ds, value, *, sample: int = -1, branch=None):
     """``(HybridState, sample index k)`` of a stored sweep at the swept parameter's ``value``
@@ -51,38 +49,35 @@ def sweep_point(ds, value, *, sample: int = -1, branch=None):
 
 
 @recorded("bifurc.periodic_orbit")
-def periodic_orbit(scene, *, params=None, preset=None, period: int | None = None, x0=None, start=None,
-                   k0: int | None = None, transient: int = 300, tol: float = 1e-12, newton_tol: float | None = None,
-                   max_iter: int = 40, error: bool = True, circuit=None, ac_sign=None, dc_law=None,
-                   soil=None, compaction=None):
-    """A periodic orbit of ``scene`` (name, Scene, HybridSystem or :class:`maps.Problem`) as an xarray Dataset.
+def periodic_orbit(problem="thesis-1dof", method: Shooting | None = None, *, start=None, **options):
+    """A periodic orbit of ``problem`` as an xarray Dataset (``bifurc_kind`` "orbit"): its nodes, its Floquet
+    multipliers and their change at tol/100, its impacts.
 
     Parameters
     ----------
-    period : int
-        In strobe periods (relay periods for relay scenes); a multiple of the forcing period q
-        (default: q).
-    x0 : dict
-        Initial state; integrated ``transient`` strobe periods to the first guess (default 300, as
-        `bifurc orbit --transient` and :func:`bifurc.continue_orbit`).
+    problem : :class:`maps.Problem` or scene name
+        What is integrated; its start state ``x0`` is integrated ``transient`` strobe periods to the first guess.
+    method : :class:`bifurc.Shooting`, optional
+        The period, tolerances and Newton's settings.
     start : HybridState, or (HybridState, k) from :func:`sweep_point`
-        The first guess itself (instead of x0 and transient), at sample ``k0``.
-    tol, newton_tol : float
-        Integration tolerance; largest scaled shooting residual accepted (default 10 tol: the
-        integration's own noise bounds how far the residual can fall).
-    error : bool
-        Solve again at tol/100 and store the multipliers' change (``multiplier_error``).
-    preset, circuit, ac_sign, dc_law, soil, compaction : as in :func:`maps.problem` (the DC law follows the preset).
+        The first guess itself (instead of x0 and the transient), at sample ``k0``.
+    **options
+        Problem keywords (``preset``, ``params``, ``x0``, ``dc_law``, ...) and :class:`bifurc.Shooting` fields by
+        name.
 
     Raises :class:`OrbitNotFound` (with the reason) when Newton does not converge, and
     :class:`~maps.parameters.ParameterError` for bad input (one line, naming the argument).
     """
+    pb, m, _, _ = analysis_inputs(problem, Shooting, method, None, options)
+    return _periodic_orbit(pb, m, start)
+
+
+def _periodic_orbit(pb, m: Shooting, start):
+    period, k0, transient, tol, newton_tol, max_iter, error = (m.period, m.k0, m.transient, m.tol, m.newton_tol,
+                                                                m.max_iter, m.error)
     clock = _time.perf_counter()
-    pb = problem(scene, preset, params, x0, circuit=circuit, ac_sign=ac_sign, dc_law=dc_law, soil=soil,
-                 compaction=compaction)
     smap = StroboscopicMap(pb, tol=tol)
-    transient = int(validate_value("transient", transient, 0, 1e7))
-    newton_tol = 10 * tol if newton_tol is None else validate_value("newton_tol", newton_tol, 0.0, 1.0, low_open=True)
+    newton_tol = 10 * tol if newton_tol is None else newton_tol
     start, k0, period = first_guess(smap, pb, transient=transient, start=start, k0=k0, period=period)
     orbit = find_periodic_orbit(smap, start, period, k0=k0, tol=newton_tol, max_iter=max_iter)
     err = math.nan

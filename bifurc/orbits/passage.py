@@ -29,8 +29,6 @@ from .grazing_orbit import gap_derivatives, locate_grazing
 from .nordmark import impact_speed, predict
 from .periodic import OrbitNotFound, find_periodic_orbit
 
-__all__ = ["PASSABLE", "restart"]
-
 #: the events a branch is continued through
 PASSABLE = ("grazing", "impact_lost", "stick_onset", "signature_change")
 assert set(PASSABLE) <= set(SPECIAL_KINDS), "special-point kinds outside the one vocabulary"

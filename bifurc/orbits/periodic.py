@@ -39,9 +39,6 @@ from maps.parameters import ParameterError, validate_value
 from .floquet import product_eigenvalues
 from .newton import accept
 
-__all__ = ["PeriodicOrbit", "OrbitNotFound", "find_periodic_orbit", "monodromy"]
-
-
 class OrbitNotFound(RuntimeError):
     """Newton did not converge to a periodic orbit; ``reason`` says why."""
 

@@ -19,8 +19,6 @@ from .passage import _graze_virtual
 from .periodic import _scale
 from .special_points import TESTS, _false_position
 
-__all__ = ["relocate", "measure_codim2", "RESOLUTION"]
-
 #: the relative resolution of a located value computed through integrations in double precision (a grazing
 #: located at tol 1e-12 and 1e-14 is 3e-14 relative off its closed form both times: tests/test_grazing_passage.py)
 RESOLUTION = 1e-13

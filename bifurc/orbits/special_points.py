@@ -28,10 +28,6 @@ from ..storage.schema import SPECIAL_KINDS
 from .continuation import SMOOTH_ROLES, BranchPoint, NoConvergence, SpecialPoint, flags_of, in_section
 from .grazing_orbit import closest_flight_minimum, locate_grazing
 
-__all__ = ["TESTS", "LOCATED_KINDS", "detect", "discontinuity", "event_reason", "event_at_section",
-           "half_period_mismatch"]
-
-
 def _fold(pt: BranchPoint) -> float:
     return float(pt.tangent[-1])
 

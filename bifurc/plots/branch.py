@@ -7,8 +7,6 @@ from ..storage.files import check_figure_output, save_figure
 from ..storage.load import require_kind
 from ..storage.schema import SPECIAL_KINDS
 
-__all__ = ["plot_branch", "plot_curves", "branch_curves", "codim2_points", "SPECIAL_LABELS"]
-
 #: short labels of the special points on the figure
 SPECIAL_LABELS = {"fold": "LP", "period_doubling": "PD", "neimark_sacker": "NS", "grazing": "G",
                   "impact_lost": "IL", "stick_onset": "ST", "signature_change": "SC", "cusp": "CP",

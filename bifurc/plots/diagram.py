@@ -7,8 +7,6 @@ from ..labels.classify import CLASS_LABELS
 from ..storage.files import check_figure_output, save_figure
 from ..storage.load import in_convention, require_kind
 
-__all__ = ["plot_diagram", "CLASS_COLOURS"]
-
 #: Okabe & Ito's colour-blind-safe palette, a darker grey for not-converged (distinct from the grazing
 #: purple under deuteranopia); tests/test_api.py checks every pair under simulated colour blindness
 CLASS_COLOURS = {"periodic": "#0072B2", "periodic-no-impact": "#56B4E9", "quasi-periodic": "#009E73",

@@ -9,8 +9,6 @@ import numpy as np
 from ..storage.files import check_figure_output, save_figure
 from ..storage.load import require_kind
 
-__all__ = ["plot_time_history", "history_panels"]
-
 #: parameters always named in the title when the scene has them (user-set ones are added)
 TITLE_PARAMS = ("V", "relay_hz", "k", "c", "R", "C")
 #: short axis names; the units always come from the variable's ``units`` attribute

@@ -13,9 +13,6 @@ from maps.laws import DC_LAWS
 
 from ..storage.files import check_figure_output, save_figure
 
-__all__ = ["law_curves", "plot_force_laws", "check_force_laws"]
-
-
 def check_force_laws(scene, preset=None, params=None) -> None:
     """Raise a ParameterError when ``scene`` has neither solenoid (no DC or AC force law to draw)."""
     from maps.parameters import ParameterError

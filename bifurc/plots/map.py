@@ -16,8 +16,6 @@ from ..storage.files import check_figure_output, save_figure
 from ..storage.load import in_convention, require_kind
 from .diagram import CLASS_COLOURS
 
-__all__ = ["plot_regime_map", "regime_categories", "PERIODIC_COLOURS", "OTHER_PERIODIC", "MISSING"]
-
 #: colours of the periodic categories, most frequent first (beyond them: OTHER_PERIODIC)
 PERIODIC_COLOURS = ("#0072B2", "#56B4E9", "#CC79A7", "#F0E442", "#332288", "#117733", "#999933", "#004488",
                     "#EECC66")

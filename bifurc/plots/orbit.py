@@ -7,9 +7,6 @@ import numpy as np
 from ..storage.files import check_figure_output, save_figure
 from ..storage.load import require_kind
 
-__all__ = ["plot_orbit", "orbit_plane"]
-
-
 def orbit_plane(ds) -> tuple[str, str]:
     """The two states drawn: (x, v) where the orbit has them, else its first two states."""
     states = [v for v in ds.data_vars if ds[v].dims == ("node",) and not v.startswith("flag_") and v != "signature"]

@@ -8,9 +8,6 @@ from maps.parameters import ParameterError
 from ..storage.files import check_figure_output, save_figure
 from ..storage.load import require_kind
 
-__all__ = ["plot_phase", "phase_pair"]
-
-
 def phase_pair(ds, x: str = "x") -> tuple[str, str]:
     """(position, velocity) variables of a phase portrait: ``x`` and its velocity (``x`` -> ``v``,
     ``x1`` -> ``v1``, ``x2`` -> ``v2``; ``r`` -> the relative velocity v1 - v2 of a 2-DOF scene)."""

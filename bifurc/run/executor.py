@@ -25,9 +25,6 @@ import numpy as np
 
 from maps.parameters import ParameterError
 
-__all__ = ["map_values", "WorkerPool", "MainGuardError", "submit_all", "result_of", "timed", "chunks_of", "guided_chunks",
-           "available_cores", "default_workers", "MIN_VALUES_PER_WORKER"]
-
 #: a worker process pays its start and one compilation (~1-2 s) before it helps: below this many
 #: values per worker the default stays in this process
 MIN_VALUES_PER_WORKER = 16

@@ -20,9 +20,7 @@ from maps.parameters import validate_value
 from ..labels.codes import Status
 from .executor import default_workers, map_values
 from .progress import progress_bar
-
-#: the grid's modes and their branches: independent points, or each from the previous one's end state up then down
-MODES = {"independent": ("independent",), "follow": ("up", "down")}
+from .settings import MODES
 
 
 def run_points(job, values, mode, parts, workers, scheduler, chunk_size, progress, desc, pool=None, unit="values"):

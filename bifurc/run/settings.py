@@ -14,6 +14,10 @@ from dataclasses import dataclass, field
 
 from maps.parameters import ParameterError
 
+#: the modes of a grid of points and their branches: independent points, or each from the previous one's end state,
+#: swept up then down (:func:`bifurc.run.grid.run_points`)
+MODES = {"independent": ("independent",), "follow": ("up", "down")}
+
 
 def setting(default, help: str, *, unit: str = "", low=None, high=None, whole: bool = False, choices=None,
             optional: bool = False, cli: str | None = None, flag: str | None = None, kind=None):

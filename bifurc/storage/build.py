@@ -12,8 +12,6 @@ import numpy as np
 
 from .schema import PARAM, Variable
 
-__all__ = ["KIND_ATTR", "KINDS", "dataset", "put", "coord"]
-
 #: the attribute naming a dataset's kind
 KIND_ATTR = "bifurc_kind"
 #: dataset kinds and what writes them

@@ -13,8 +13,6 @@
 from __future__ import annotations
 
 import contextlib
-import functools
-import inspect
 import os
 import shutil
 import tempfile
@@ -28,9 +26,6 @@ try:
     import fcntl
 except ImportError:  # not POSIX: no lock
     fcntl = None
-
-__all__ = ["OutputBusy", "BadFileError", "OutputError", "check_writable", "size_text", "proc_field", "refuse_existing", "output_lock", "output_guard", "write_netcdf",
-           "save_figure", "write_text", "stored_names", "STORED_AS", "ELAPSED_ATTRS", "check_figure_path", "check_figure_output", "make_parent", "user_umask", "ZLIB_LEVEL"]
 
 #: variable attribute: the name of a variable stored under another one (:func:`stored_names`)
 STORED_AS = "bifurc_name"

@@ -9,8 +9,6 @@ import numpy as np
 
 from maps.parameters import ParameterError
 
-__all__ = ["nearest_index", "OffGridWarning"]
-
 #: round-off allowed at the grid's ends and in "half a step", relative to the grid step
 SLACK = 1e-6
 

@@ -11,9 +11,6 @@ from pathlib import Path
 from .build import KIND_ATTR, KINDS
 from .files import ELAPSED_ATTRS, STORED_AS, BadFileError
 
-__all__ = ["KINDS", "ALIASES", "RENAMED", "PERIOD_CONVENTIONS", "kind_of", "canonical_kind", "require_kind",
-           "in_convention", "read", "load"]
-
 #: former kind names still accepted
 ALIASES = {"simulate": "history"}
 #: variables renamed in bifurc 0.x: old name -> new name (old files are read with the new names)

@@ -16,11 +16,6 @@ import numpy as np
 
 from ..labels.codes import ClassCode, Status, flag_attrs
 
-__all__ = ["Variable", "PARAM", "GRAZING_GAP", "GRAZING_SPEED", "grazing_flag", "GRAZING_FLAG", "CURVE_KINDS",
-           "CURVE_COORDS", "CURVE", "CELL_VARIABLES", "curve_parameter", "advance_variable", "SWEEP", "SWEEP_COORDS", "GRAZING", "HISTORY", "PROGRESSION", "param_attrs",
-           "state_variable", "flag_variable", "ORBIT", "ORBIT_SCALARS", "BRANCH", "SPECIAL", "SPECIAL_KINDS",
-           "ATTRACTOR", "ATTRACTOR_COORDS", "ATTRACTOR_EVENTS"]
-
 #: placeholder for the swept parameter's dimension
 PARAM = "<param>"
 

@@ -36,9 +36,6 @@ INTERVAL_METHOD_K = (f"the wider of a 95 % Student-t prediction interval for ano
                      f"the spread of {TRAJECTORIES} tangent trajectories (the value's own and perturbed copies of its "
                      f"state; lyapunov_spread) and their batch-means intervals ({INTERVAL_METHOD})")
 
-__all__ = ["to_dataset", "map_dataset", "run_attrs", "add_grazing", "add_error_estimate",
-           "STATUS_MEANINGS"]
-
 STATUS_MEANINGS = " ".join(s.label for s in Status)
 
 

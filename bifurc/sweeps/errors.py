@@ -18,8 +18,6 @@ from ..labels.classify import state_scale
 from ..labels.codes import Status
 from ..run.executor import result_of, submit_all, timed
 
-__all__ = ["error_estimate", "ErrorEstimate", "map_step_error"]
-
 #: tighter tolerance of the re-runs: tol / TIGHTER
 TIGHTER = 100
 

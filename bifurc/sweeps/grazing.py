@@ -17,11 +17,7 @@ import numpy as np
 from maps.parameters import ParameterError
 
 from ..labels.codes import ClassCode, Status
-from ..storage.schema import GRAZING_GAP, GRAZING_SPEED, grazing_flag
-
-__all__ = ["GRAZING_GAP", "GRAZING_SPEED", "GRAZE_SHRINK", "grazing_flag", "locate_grazing",
-           "locate_grazing_values", "grazing_brackets", "locate_bracket", "bracket_cost", "GrazingBracket",
-           "BranchFollower"]
+from ..storage.schema import GRAZING_GAP
 
 #: a located sign change counts as a graze when the bisection shrank the clearance at its end
 #: with fewer impacts to this fraction of its value at the grid neighbour

@@ -22,8 +22,6 @@ from ..labels.anytime import BUDGET, Value
 from ..labels.classify import candidate_periods, classify_orbit, mechanical_period, state_scale
 from ..labels.codes import ClassCode, Status
 
-__all__ = ["ValueJob", "ValueResult", "RECORD_FACTOR", "FORCING_PERIODS"]
-
 _MAPS: dict = {}      # (problem key, tol) -> the process-wide map
 #: default cap of the record extension, in multiples of ``record`` (3 x 100 periods holds three forcing
 #: periods of every q up to the default max_period of 100)

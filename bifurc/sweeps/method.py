@@ -5,10 +5,8 @@ from dataclasses import dataclass
 
 from maps.parameters import ParameterError
 
-from ..labels.anytime import BUDGET
-from ..labels.lyapunov import METHODS
-from ..run.grid import MODES
-from ..run.settings import Settings, setting
+from ..labels.vocabulary import BUDGET, METHODS
+from ..run.settings import MODES, Settings, setting
 
 
 @dataclass(frozen=True)

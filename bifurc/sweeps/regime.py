@@ -29,13 +29,9 @@ from ..storage.files import output_guard
 from .job import ValueJob
 from ..run.parts import Parts
 from .parts import ValueCodec, manifest
-from ..storage.schema import CELL_VARIABLES
 from .method import Diagram
 from ..run.grid import deferred_interrupt, run_points
 from .sweep import _grid, _job, run_stats, with_time_budget
-
-__all__ = ["regime_map", "CellJob", "CELL_VARIABLES"]
-
 
 @dataclass(frozen=True)
 class CellJob(ValueJob):

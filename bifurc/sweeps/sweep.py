@@ -33,17 +33,13 @@ from ..run.guard import check_size
 from ..run.inputs import analysis_inputs
 from ..run.run import Run
 from ..storage.files import output_guard, write_netcdf
-from .grazing import GRAZING_GAP, GRAZING_SPEED, bracket_cost, grazing_brackets, locate_bracket
+from .grazing import bracket_cost, grazing_brackets, locate_bracket
 from ..labels.anytime import BUDGET
 from .job import ValueJob
 from .method import Diagram
 from ..run.grid import MODES, Interrupted, deferred_interrupt, execution, kept_message, run_points
 from ..run.parts import Parts
 from .parts import ValueCodec, manifest
-
-__all__ = ["sweep", "Interrupted", "MODES", "GRAZING_GAP", "GRAZING_SPEED"]
-
-
 
 @recorded("bifurc.sweep")
 def sweep(problem="thesis-1dof", param: str = "relay_hz", values=None, method: Diagram | None = None, *,

@@ -15,8 +15,4 @@ _LAZY = {**dict.fromkeys(("plot_work_precision", "reference_solution", "work_pre
          **dict.fromkeys(("solve_rk4_bisection", "solve_scipy"), "baselines"),
          **dict.fromkeys(("CASES", "QUICK", "VERDICTS", "run_case", "run_suite", "write_report"), "suite")}
 
-__all__ = ["CASES", "QUICK", "VERDICTS", "run_case", "run_suite", "write_report", "work_precision",
-           "reference_solution", "plot_work_precision", "solve_scipy", "solve_rk4_bisection"]
-
-
 __getattr__, __dir__ = lazy_exports(__name__, _LAZY, globals())

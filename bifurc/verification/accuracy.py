@@ -36,10 +36,6 @@ from ..storage.build import dataset
 from . import baselines
 from .ladders import DEFAULT_LADDERS
 
-__all__ = ["reference_solution", "toolkit_solution", "work_precision", "plot_work_precision",
-           "DEFAULT_LADDERS", "final_state_error"]
-
-
 def _problem(scene, preset=None, params=None, x0=None, circuit=None, ac_sign=None, dc_law=None):
     pb = problem(scene, preset, params, x0, circuit=circuit, ac_sign=ac_sign, dc_law=dc_law)
     return pb.scene, dict(pb.values), pb.state_vector(), pb

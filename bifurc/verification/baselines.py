@@ -27,9 +27,6 @@ import numpy as np
 from maps.hybrid import PeriodicSwitch
 from maps.parameters import ParameterError
 
-__all__ = ["BaselineResult", "rhs_1dof", "solve_scipy", "solve_rk4_bisection", "SCIPY_METHODS",
-           "check_supported"]
-
 SCIPY_METHODS = ("DOP853", "RK45", "Radau", "LSODA")
 _RELAY = PeriodicSwitch("P", "relay_hz")
 

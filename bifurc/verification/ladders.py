@@ -1,6 +1,5 @@
 """The methods of the work-precision study and their default tolerance ladders: a light module
 (no numpy, no heyoka), so that ``bifurc accuracy --help`` lists them without loading the study."""
-__all__ = ["DEFAULT_LADDERS"]
 
 #: tolerance ladders per method (rtol = atol for scipy, the step h [s] for RK4).  "heyoka": the
 #: toolkit's run with every guard record (turning points too); "heyoka-transient": the run the

@@ -34,9 +34,6 @@ from maps.problem import problem
 
 from ..storage.build import dataset
 
-__all__ = ["Case", "CASES", "QUICK", "VERDICTS", "COMPARED_EVENTS", "case_scene", "run_case", "run_suite",
-           "compare_runs", "event_log", "sentence", "write_report"]
-
 VERDICTS = ("ok", "ill-conditioned", "escaped", "numerical-failure", "event-cap")
 #: events whose count and times are compared between runs (observations such as "deepest" are not)
 COMPARED_EVENTS = ("contact", "release", "stick", "unstick")

@@ -5,12 +5,9 @@ structure, tolerance and method (compiled once).
 """
 from __future__ import annotations
 
-from .base import Engine, OrbitJob, OrbitResult
+from .base import Engine, OrbitJob, OrbitResult  # noqa: F401 - maps.OrbitJob etc. are read from here
 from .batch import BatchEngine, unsupported
 from .scalar import HybridRun, ScalarEngine
-
-__all__ = ["Engine", "OrbitJob", "OrbitResult", "ScalarEngine", "BatchEngine", "HybridRun", "ENGINES",
-           "engine_for", "unsupported"]
 
 ENGINES = {"scalar": ScalarEngine, "batch": BatchEngine}
 _CACHE: dict = {}

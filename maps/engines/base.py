@@ -27,9 +27,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["Engine", "OrbitJob", "OrbitResult"]
-
-
 @dataclass
 class OrbitJob:
     """One trajectory to integrate (see the module docstring)."""

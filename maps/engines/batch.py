@@ -34,8 +34,6 @@ from ..parameters import ParameterError
 from ..tangent import renormalise, tangent_sample
 from .base import Engine, OrbitJob, OrbitResult
 
-__all__ = ["BatchEngine", "unsupported"]
-
 #: relative distance within which two clock instants are the same instant
 _SAME_INSTANT = 1e-13
 #: [s] the clock instant of a parked lane: never reached, and finite so the clock event stays finite

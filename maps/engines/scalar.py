@@ -28,9 +28,6 @@ from .base import Engine, OrbitJob, OrbitResult
 _TIME_LIMIT = int(hy.taylor_outcome.time_limit)
 _NF_STATE = int(hy.taylor_outcome.err_nf_state)
 
-__all__ = ["HybridRun", "VariationalRun", "TangentRun", "ScalarEngine"]
-
-
 class HybridRun:
     """One trajectory of a :class:`HybridSystem`, advanced through guards and switches.
 

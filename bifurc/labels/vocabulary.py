@@ -1,0 +1,13 @@
+"""The label vocabulary's names and defaults that the command line reads: light (no numpy), so that building the
+parser imports no numerical module."""
+
+#: default budget of a value [strobe periods of its own trajectory, transient included]
+BUDGET = 6000
+
+#: how a sweep's exponents are integrated (stored with every sweep as ``lyapunov_method``)
+METHODS = {
+    "tangent": "tangent: one tangent vector integrated with the recorded window (variational equations along it, "
+               "saltation at every state event, renormalised every relay period)",
+    "companion": "companion: a second trajectory 1e-8 away, renormalised toward the recorded states every relay "
+                 "period (Benettin's two-trajectory method)",
+}
