@@ -26,7 +26,8 @@ def census_job(law: str, preset, values, n_starts: int):
     st = make_starts(pb, "box", n=n_starts, box={"x": (0.0, 0.03), "v": (-1.5, 1.5)}, seed=1)
     grid = Grid.over(st.box, pb.system, 100, pb.state_vector())
     s = Settings()
-    job = CensusJob(pb.with_values(V=float(values[0])), "V", np.asarray(st.points, float), grid, s, 1e-10)
+    job = CensusJob(pb.with_values(V=float(values[0])), tuple({"V": float(v)} for v in values),
+                    np.asarray(st.points, float), grid, s, 1e-10)
     return pb, grid, s, job
 
 
@@ -44,19 +45,22 @@ def main(argv=None):
     values = np.linspace(a.lo, 220.0, a.n)
     pb, grid, s, job = census_job(a.law, a.preset, values, a.starts)
     clock = time.perf_counter()
-    fresh, workers, _, _ = atlas._fresh(job, values, 2, None, None, False)
+    import bifurc
+    fresh, workers, _, _ = atlas._fresh(job, bifurc.Run(workers=2, progress=False), ("V",))
     t_fresh = time.perf_counter() - clock
     smap = StroboscopicMap(pb.with_values(V=float(values[0])), tol=1e-10)
     clock = time.perf_counter()
-    per_value, _, links, n_ids, _ = atlas._follow(smap, "V", values, fresh, grid, s, 20.0, True)
+    points = [{"V": float(v)} for v in values]
+    per_value, _, links, n_ids, _ = atlas._follow(smap, points, list(range(len(points))), fresh, grid, s, 20.0, True)
     t_follow = time.perf_counter() - clock
     print(f"{a.law}, {a.n} values in {a.lo:g}-220 V x {a.starts} starts: fresh starts {t_fresh:.1f} s on {workers} "
           f"workers; seeding and matching {t_follow:.1f} s; {n_ids} attractor ids; {len(links)} changes, "
           f"{sum(x[2].periodic for x in links)} periodic (linked by continuation):")
     total = 0.0
-    for (key, what, att, here, there) in links:
-        if not att.periodic:
+    for (key, what, att, step) in links:
+        if not att.periodic or step is None:
             continue
+        _, here, there, _ = step
         clock = time.perf_counter()
         kind, why = link_event(pb, "V", att, here, there, 1e-10)
         dt = time.perf_counter() - clock

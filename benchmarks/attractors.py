@@ -69,18 +69,19 @@ def interleaved(n_values, n_starts, cells=100):
     pb = maps.problem("thesis-1dof", **MODEL)
     st = make_starts(pb, "box", n=n_starts, box=BOX, seed=1)
     starts = list(np.asarray(st.points, dtype=float))
-    job = CensusJob(pb, "V", np.asarray(starts), Grid.over(st.box, pb.system, cells, pb.state_vector()), Settings())
+    values = np.linspace(80, 220, n_values)
+    job = CensusJob(pb, tuple({"V": float(v)} for v in values), np.asarray(starts),
+                    Grid.over(st.box, pb.system, cells, pb.state_vector()), Settings())
     job.warm()
     smap = StroboscopicMap(pb, tol=1e-10)
     smap.orbits([{}], [starts[0]], 1, batch_size=4, events=False)          # compiled before the clock
     wall, cpu, spent = np.zeros(2), np.zeros(2), []
-    for v in np.linspace(80, 220, n_values):
+    for i, v in enumerate(values):
         t, c = time.perf_counter(), time.process_time()
-        r = job(v)
+        r = job(i)
         wall[0], cpu[0] = wall[0] + time.perf_counter() - t, cpu[0] + time.process_time() - c
-        smap.set_params(V=float(v))
         t, c = time.perf_counter(), time.process_time()
-        smap.orbits([{}] * len(starts), starts, [max(1, int(p)) for p in r.spent], batch_size=4, events=False)
+        smap.at({"V": float(v)}).orbits([{}] * len(starts), starts, [max(1, int(p)) for p in r.spent], batch_size=4, events=False)
         wall[1], cpu[1] = wall[1] + time.perf_counter() - t, cpu[1] + time.process_time() - c
         spent.extend(r.spent)
     return wall, cpu, float(np.mean(spent))

@@ -57,7 +57,7 @@ def main(argv=None):
     starts = list(np.asarray(st.points, float))
     smap = StroboscopicMap(pb, tol=1e-10)
     for v in a.values:
-        smap.set_params(V=v)
+        smap = smap.at(dict(V=v))
         clock = time.perf_counter()
         got = {cells: census(smap, pb, starts, st.box, cells) for cells in (100, 200)}
         diff = [i for i in range(len(starts)) if got[100][0][i] != got[200][0][i]]

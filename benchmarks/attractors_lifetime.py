@@ -28,7 +28,7 @@ def main(argv=None):
     pb = maps.problem("thesis-1dof", params={"relay_hz": 10.0}, dc_law="measured")
     st = make_starts(pb, "box", n=200, box={"x": (0.0, 0.03), "v": (-1.5, 1.5)}, seed=1)
     smap = StroboscopicMap(pb, tol=1e-10)
-    smap.set_params(V=a.value)
+    smap = smap.at(dict(V=a.value))
     kw = {} if a.copies is None else {"copies": a.copies}
     census_persists = C._persists
 

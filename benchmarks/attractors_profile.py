@@ -30,7 +30,7 @@ def lanes() -> None:
                              dtype=float))
     smap = StroboscopicMap(pb, tol=1e-10)
     for v in (171.0, 213.0):
-        smap.set_params(V=v)
+        smap = smap.at(dict(V=v))
         pre = smap.orbits([{}] * len(starts), starts, 300, batch_size=4, events=False)
         chaotic = [o.final for o in pre if np.ptp(o.points[-64:, 0]) > 1e-4][:4]
         for m in (1, 2, 4):
@@ -90,7 +90,7 @@ def main(argv=None):
     pb = maps.problem("thesis-1dof", **MODEL)
     st = make_starts(pb, "box", n=a.starts, box=BOX, seed=1)
     starts = list(np.asarray(st.points, dtype=float))
-    job = CensusJob(pb, "V", np.asarray(starts), Grid.over(st.box, pb.system, 100, pb.state_vector()), Settings())
+    job = CensusJob(pb, (), np.asarray(starts), Grid.over(st.box, pb.system, 100, pb.state_vector()), Settings())
     job.warm()
     smap = StroboscopicMap(pb, tol=1e-10)
     smap.orbits([{}], [starts[0]], 1, batch_size=4, events=False)
@@ -101,13 +101,12 @@ def main(argv=None):
         t = time.process_time()
         if prof:
             prof.enable()
-        r = job(v)
+        r = job.census({"V": float(v)})
         if prof:
             prof.disable()
         tc = time.process_time() - t
-        smap.set_params(V=float(v))
         t = time.process_time()
-        smap.orbits([{}] * len(starts), starts, [max(1, int(p)) for p in r.spent], batch_size=4, events=False)
+        smap.at({"V": float(v)}).orbits([{}] * len(starts), starts, [max(1, int(p)) for p in r.spent], batch_size=4, events=False)
         tb = time.process_time() - t
         total += (tc, tb)
         saved[f"{v:g}"] = _labels(r)

@@ -116,7 +116,7 @@ def stable_orbits(bs, values, names, pb) -> dict:
                     for ph in {0.0, phase}:
                         if ph not in maps_at:
                             maps_at[ph] = StroboscopicMap(pb, tol=1e-10, phase=ph)
-                        maps_at[ph].set_params(V=float(v))
+                        maps_at[ph] = maps_at[ph].at(dict(V=float(v)))
                     try:
                         po = find_periodic_orbit(maps_at[phase], HybridState(_nodes(ds, names, (q,), 1)[0]), period,
                                                  k0=k0, tol=1e-10)

@@ -46,7 +46,7 @@ def main(argv=None):
     pb = maps.problem("thesis-1dof", params={"relay_hz": 10.0}, dc_law="measured")
     st = make_starts(pb, "box", n=200, box={"x": (0.0, 0.03), "v": (-1.5, 1.5)}, seed=1)
     smap = StroboscopicMap(pb, tol=1e-10)
-    smap.set_params(V=136.0)
+    smap = smap.at(dict(V=136.0))
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--all", action="store_true")
     if ap.parse_args(argv).all:

@@ -73,7 +73,7 @@ def main(argv=None):
           "(lifetime, verdict)")
     for v in values:
         del tracks[:]
-        smap.set_params(V=v)
+        smap = smap.at(dict(V=v))
         mem = C.Memory()
         clock = time.process_time()
         out, found, spent = C.census_at(smap, starts, grid, s, memory=mem)

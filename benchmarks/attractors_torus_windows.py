@@ -35,7 +35,7 @@ SCALE = np.array([0.03, 3.0])     # the census grid's box widths [m, m/s]
 def _setup(law: str, volts: float):
     pb = maps.problem("thesis-1dof", preset="matlab-listing", params={"relay_hz": 10.0}, dc_law=law)
     smap = StroboscopicMap(pb, tol=1e-10)
-    smap.set_params(V=volts)
+    smap = smap.at(dict(V=volts))
     names = list(pb.system.state_names)
     return pb, smap, [names.index("x"), names.index("v")]
 

@@ -61,7 +61,7 @@ def main(argv=None):
     for v in a.values:
         clock = time.perf_counter()
         del tracks[:]
-        smap.set_params(V=v)
+        smap = smap.at(dict(V=v))
         mem = C.Memory()
         out, found, _ = C.census_at(smap, starts, grid, C.Settings(), memory=mem)
         mine = [i for i, o in enumerate(out) if o == T]

@@ -27,7 +27,7 @@ def settled(v: float, periods: int):
     pb = maps.problem("thesis-1dof", params={"relay_hz": 10.0}, dc_law="measured")
     st = make_starts(pb, "box", n=200, box={"x": (0.0, 0.03), "v": (-1.5, 1.5)}, seed=1)
     smap = StroboscopicMap(pb, tol=1e-10)
-    smap.set_params(V=v)
+    smap = smap.at(dict(V=v))
     clock = time.perf_counter()
     first = smap.orbits([{}] * 200, list(np.asarray(st.points, float)), periods, batch_size=4, events=False)
     tail = smap.orbits([{}] * 200, [o.final for o in first], 64, k0=periods, batch_size=4, events=True)
@@ -49,7 +49,7 @@ def census_labels(v: float, cells: int) -> tuple[Counter, list]:
     pb = maps.problem("thesis-1dof", params={"relay_hz": 10.0}, dc_law="measured")
     st = make_starts(pb, "box", n=200, box={"x": (0.0, 0.03), "v": (-1.5, 1.5)}, seed=1)
     smap = StroboscopicMap(pb, tol=1e-10)
-    smap.set_params(V=v)
+    smap = smap.at(dict(V=v))
     mem = Memory()
     out, found, _ = census_at(smap, list(np.asarray(st.points, float)), Grid.over(st.box, pb.system, cells,
                                                                                  pb.state_vector()), Settings(),

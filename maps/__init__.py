@@ -7,7 +7,7 @@ role, :class:`PeriodicSwitch`, :class:`State`, :class:`HybridState`), the engine
 integrate them (:class:`HybridRun`, :class:`ScalarEngine`, :class:`BatchEngine`, with
 every transition rule in :mod:`maps.transitions`), the maps (:class:`StroboscopicMap`,
 :class:`ImpactMap`), named parameters (:class:`Parameter`, :class:`ParameterError`), the 2-DOF
-soil laws (``SOIL_LAWS``), progression measures (:func:`progression_measures`) and the reduced
+soil laws (``SOIL_LAWS``) and the reduced
 coordinates of a shift-invariant system (:func:`translation_basis`, :func:`reduce_points`,
 :func:`reduce_jacobian`).
 """
@@ -30,21 +30,20 @@ _LAZY = {
     **dict.fromkeys(("ImpactLinearization", "ImpactMap", "MapLinearization", "MapOrbit", "StroboscopicMap"),
                     "poincare"),
     "PRESETS": "presets",
-    "progression_measures": "progression",
     **dict.fromkeys(("Problem", "problem"), "problem"),
     **dict.fromkeys(("get_scene", "register_scene", "scene_names"), "registry"),
     **dict.fromkeys(("SCENES", "ParameterValues", "Scene"), "scenes"),
-    **dict.fromkeys(("resolve", "run_scene", "simulate"), "simulate"),
+    **dict.fromkeys(("run_scene", "simulate"), "simulate"),
     **dict.fromkeys(("reduce_jacobian", "reduce_points", "translation_basis"), "translation"),
 }
 
 __all__ = ["__version__", "Escaped", "EventRecord", "Guard", "HybridRun", "HybridSystem", "IntegrationFailure",
            "PeriodicSwitch", "State", "PARAMETERS", "ModelOptions", "build_system", "Parameter",
-           "ParameterError", "PRESETS", "SCENES", "Scene", "get_scene", "scene_names", "resolve",
+           "ParameterError", "PRESETS", "SCENES", "Scene", "get_scene", "scene_names",
            "run_scene", "simulate", "forced_oscillator_with_stop", "StroboscopicMap", "ImpactMap",
            "MapOrbit", "HybridState", "EventCap", "ROLES", "ScalarEngine", "BatchEngine", "OrbitJob",
            "OrbitResult", "engine_for", "MapLinearization", "ImpactLinearization", "SOIL_LAWS",
-           "progression_measures", "translation_basis", "reduce_points", "reduce_jacobian", "Problem", "problem",
+           "translation_basis", "reduce_points", "reduce_jacobian", "Problem", "problem",
            "register_scene", "ParameterValues"]
 
 

@@ -9,6 +9,7 @@ integral).  A periodic orbit's period is then a multiple of q.
 """
 from __future__ import annotations
 
+import copy
 import functools
 import math
 import time as _time
@@ -300,6 +301,16 @@ class StroboscopicMap:
         """The scalar engine's run with this map's parameters (compiled on first use only: a
         sweep on the batch engine never needs it)."""
         return self._engine.hybrid_run(self._params)
+
+    def at(self, params: dict | None = None, *, phase: float | None = None) -> "StroboscopicMap":
+        """This map at other parameter values (changes to its own) and/or another sampling ``phase``, as a new light
+        value: it shares the compiled integrators (the engines and their runs) and leaves this map unchanged."""
+        view = copy.copy(self)
+        if phase is not None:
+            view.phase = validate_value("phase", phase, 0.0, 1.0, high_open=True, long_name="sampling phase")
+        if params:
+            view.set_params(**params)
+        return view
 
     def set_params(self, **values) -> "StroboscopicMap":
         """Change parameter values (no recompilation); the period follows the declared clock."""

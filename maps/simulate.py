@@ -12,7 +12,7 @@ from .hybrid import Escaped, IntegrationFailure
 from .impacts import impact_table
 from .parameters import ParameterError, validate_value
 from .provenance import cf_attrs, recorded
-from .problem import model_attrs, problem
+from .problem import model_attrs, problem as make_problem
 
 if TYPE_CHECKING:  # xarray is imported where used: worker processes start faster
     import xarray as xr
@@ -34,23 +34,21 @@ def resolve(scene, params=None, preset=None, circuit=None, ac_sign=None, energy=
             compaction=None):
     """``(scene, {name: (value, provenance)})`` of :func:`maps.problem` (kept for callers of the
     keyword form; the problem object holds both)."""
-    p = problem(scene, preset, params, circuit=circuit, ac_sign=ac_sign, energy=energy, dc_law=dc_law, soil=soil,
-                compaction=compaction)
+    p = make_problem(scene, preset, params, circuit=circuit, ac_sign=ac_sign, energy=energy, dc_law=dc_law, soil=soil,
+                     compaction=compaction)
     return p.scene, p.table
 
 
-def run_scene(scene, t_end, params=None, preset=None, x0=None, tol=1e-12, circuit=None,
-              ac_sign=None, energy=None, fp_type=float, on_segment=None, max_events=100_000,
-              max_events_per_period=None, dc_law=None, soil=None, compaction=None):
-    """Integrate a problem (or a scene with the keywords of :func:`maps.problem`) to ``t_end`` [s]
+def run_scene(problem, t_end, *, tol=1e-12, on_segment=None, max_events=100_000, max_events_per_period=None,
+              fp_type=float, **options):
+    """Integrate a problem (or a scene with the keywords of :func:`maps.problem` as ``options``) to ``t_end`` [s]
     and return the :class:`~maps.engines.scalar.HybridRun`.
 
     Failures (non-finite state, escape, event cap: ``max_events`` per run,
     ``max_events_per_period`` per relay period) are recorded on the run as
     ``run.status`` / ``run.failure`` instead of raised.
     """
-    pb = problem(scene, preset, params, x0, circuit=circuit, ac_sign=ac_sign, energy=energy, dc_law=dc_law,
-                 soil=soil, compaction=compaction)
+    pb = make_problem(problem, **options)
     t_end = validate_value("t_end", t_end, 0.0, 1e7, low_open=True, unit="s")
     y0 = dict(pb.x0)
     run = HybridRun(pb.system, dict(pb.values), y0, tol=tol, fp_type=fp_type, max_events=max_events,
@@ -71,15 +69,13 @@ def run_scene(scene, t_end, params=None, preset=None, x0=None, tol=1e-12, circui
 
 
 @recorded("maps.simulate")
-def simulate(scene, *, periods=None, t_end=None, params=None, preset=None, x0=None, tol=1e-12,
-             dt=None, t_eval=None, circuit=None, ac_sign=None, energy=None,
-             max_events_per_period=None, dc_law=None, soil=None, compaction=None,
-             transient=None) -> xr.Dataset:
+def simulate(problem="thesis-1dof", periods=None, *, t_end=None, dt=None, t_eval=None, tol=1e-12, transient=None,
+             **options) -> xr.Dataset:
     """Time history of ``scene`` sampled on a grid from heyoka's dense output.
 
     Parameters
     ----------
-    scene : str, Scene, HybridSystem or Problem
+    problem : str, Scene, HybridSystem or Problem
         A scene name (``maps.scene_names()``) or a :class:`~maps.problem.Problem` (then the
         keywords that define the model are not given).
     periods, t_end : float
@@ -107,13 +103,21 @@ def simulate(scene, *, periods=None, t_end=None, params=None, preset=None, x0=No
     transient : float
         2-DOF scenes: the progression measures (:mod:`maps.progression`) are taken after this
         time [s] (default: over the second half of the run).
+    **options
+        The problem's keywords (:func:`maps.problem`: ``params``, ``preset``, ``x0``, ``circuit``, ``ac_sign``,
+        ``energy``, ``dc_law``, ``soil``, ``compaction``) and ``max_events_per_period``.
 
     Returns
     -------
     xarray.Dataset with ``time`` and ``impact`` dimensions.
     """
-    pb = problem(scene, preset, params, x0, circuit=circuit, ac_sign=ac_sign, energy=energy, dc_law=dc_law,
-                 soil=soil, compaction=compaction)
+    max_events_per_period = options.pop("max_events_per_period", None)
+    known = ("params", "preset", "x0", "flags0", "circuit", "ac_sign", "energy", "dc_law", "soil", "compaction")
+    unknown = [k for k in options if k not in known]
+    if unknown:
+        raise ParameterError(f"unknown option {unknown[0]!r}; valid: t_end, dt, t_eval, tol, transient, "
+                             f"max_events_per_period, {', '.join(known)}")
+    pb = make_problem(problem, **options)
     t_end = _duration(pb, periods, t_end)
     if t_eval is None:
         dt = validate_value("dt", 2e-4 if dt is None else dt, 0.0, t_end, low_open=True, unit="s")

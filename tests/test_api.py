@@ -257,3 +257,37 @@ def test_only_the_command_line_chooses_a_matplotlib_backend():
     callers = [str(p.relative_to(ROOT)) for pkg in PACKAGES for p in (ROOT / pkg).rglob("*.py")
                if "matplotlib.use(" in p.read_text()]
     assert callers == ["bifurc/cli.py"], callers
+
+
+def test_public_functions_take_at_most_eight_named_parameters_and_show_their_signature():
+    """scipy's solve_ivp is the model: a few named parameters, settings in method objects, ``**options`` for the
+    keyword convenience (checked against the fields, so a misspelt one is one line naming the valid ones)."""
+    import inspect
+    wide = []
+    for mod in (bifurc, maps):
+        for name in mod.__all__:
+            obj = getattr(mod, name)
+            if not (inspect.isfunction(obj) or name == "attractors"):
+                continue
+            sig = inspect.signature(obj)       # bifurc.attractors: the census' own, not (*args, **kwargs)
+            named = [p for p in sig.parameters.values() if p.kind not in (p.VAR_POSITIONAL, p.VAR_KEYWORD)]
+            if len(named) > 8:
+                wide.append(f"{mod.__name__}.{name}: {len(named)}")
+    assert not wide, wide
+    assert list(inspect.signature(bifurc.attractors).parameters)[:4] == ["problem", "param", "values", "method"]
+    with pytest.raises(maps.ParameterError, match=r"unknown option 'trasient' \(did you mean 'transient'\?\)"):
+        bifurc.sweep("thesis-1dof", "relay_hz", [5.0], trasient=10)
+
+
+def test_only_the_two_packages_declare_a_public_surface():
+    """``bifurc.__all__`` and ``maps.__all__`` list the public names; no other module has an ``__all__``."""
+    declaring = []
+    for pkg in ("bifurc", "maps"):
+        for path in sorted((ROOT / pkg).rglob("*.py")):
+            if path.parent == ROOT / pkg and path.name == "__init__.py":
+                continue
+            tree = ast.parse(path.read_text())
+            if any(isinstance(node, ast.Assign) and any(getattr(t, "id", None) == "__all__" for t in node.targets)
+                   for node in tree.body):
+                declaring.append(str(path.relative_to(ROOT)))
+    assert not declaring, declaring

@@ -220,8 +220,7 @@ def _seeded(smap, points, order, fresh, grid, s) -> list:
         for i in way:
             seeds = [a for a in prev or [] if a.periodic and not any(same_orbit(a, b, q) for b in found[i])]
             if seeds:
-                smap.set_params(**points[i])
-                found[i] = census_at(smap, [representative(a) for a in seeds], grid, short, k0=[a.k0 for a in seeds],
+                found[i] = census_at(smap.at(points[i]), [representative(a) for a in seeds], grid, short, k0=[a.k0 for a in seeds],
                                      known=found[i], memory=memory[i])[1]
             prev = found[i]
     return found
@@ -240,10 +239,9 @@ def _follow(smap, points, order, fresh, grid, s, match_threshold, link):
     per_value, outcomes, links, prev, n_ids, periods = [None] * n, [None] * n, [], {}, 0, []
     seeded = _seeded(smap, points, order, fresh, grid, s)
     for step, i in enumerate(order):
-        smap.set_params(**points[i])
         found = seeded[i]
         periods.extend(fresh[i].spent)
-        ids, n_ids = _assign(prev, found, grid, smap, match_threshold, n_ids)
+        ids, n_ids = _assign(prev, found, grid, smap.at(points[i]), match_threshold, n_ids)
         here = {ids[j]: a for j, a in enumerate(found)}
         if step and link:
             links += _changes(points[order[step - 1]], points[i], prev, here, i)

@@ -75,8 +75,12 @@ class CensusJob:
         smap.orbits([{}], [self.starts[0]], 1, batch_size=self.settings.batch_size, events=False)
 
     def __call__(self, index) -> ValueCensus:
-        smap = self._map()
-        smap.set_params(**self.points[int(index)])
+        """The census at the point of index ``index``."""
+        return self.census(self.points[int(index)])
+
+    def census(self, values: dict) -> ValueCensus:
+        """The census of the fresh starts at the parameter ``values`` {name: value} (changes to the problem's)."""
+        smap = self._map().at(values)
         memory = Memory()
         out, found, spent = census_at(smap, list(self.starts), self.grid, self.settings, memory=memory)
         return ValueCensus(out, found, spent, memory.saddles, memory.via)

@@ -50,7 +50,9 @@ def check_field(name: str, value, meta: dict):
             (isinstance(value, float) and not math.isfinite(value)):
         rng = _range_text(low, high, whole)
         raise ParameterError(f"{name} = {value!r}: expected {rng}")
-    if (low is not None and value < low) or (high is not None and value > high) or (whole and value != int(value)):
+    if whole and value != int(value):
+        raise ParameterError(f"{name} = {value!r}: a whole number is needed ({_range_text(low, high, whole)})")
+    if (low is not None and value < low) or (high is not None and value > high):
         raise ParameterError(f"{name} = {value!r} is outside its allowed range {_range_text(low, high, whole)}")
     return int(value) if whole else float(value)
 

@@ -149,9 +149,7 @@ def map_step_error(pts, k0, value, job, tight, n_points) -> float:
     scale = state_scale(pts, job.atol)
     params = job.at(value)
     worst = math.nan
-    maps_ = job.warm(), tight.warm()
-    for smap in maps_:
-        smap.set_params(**params)
+    maps_ = job.warm().at(params), tight.warm().at(params)
     for k in ks:
         try:
             a, b = (smap.step(pts[k], k0 + int(k)) for smap in maps_)

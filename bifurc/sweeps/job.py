@@ -174,8 +174,7 @@ class ValueJob:
 
     def __call__(self, value, start=None) -> ValueResult:
         """Orbit and class at ``param = value``; ``start = (state, flags)`` overrides x0."""
-        smap = self.warm()
-        smap.set_params(**self.at(value))
+        smap = self.warm().at(self.at(value))
         y0, flags = (self.x0_state(), self.problem.flags0) if start is None else start
         clock = _time.perf_counter()
         q = smap.forcing_period_steps
@@ -390,14 +389,10 @@ class ValueJob:
         share = (_time.perf_counter() - clock) / max(1, len(values))
         vs = []
         for v, p, q, o in zip(values, over, qs, orbits):
-            smap.set_params(**p)
-            vs.append(self._value(smap, v, smap.params, q, o, share))
-        self._anytime(smap, vs, "auto")
-        out = []
-        for v in vs:
-            smap.set_params(**v.params)
-            out.append(self._pack(smap, v))
-        return out
+            here = smap.at(p)
+            vs.append(self._value(here, v, here.params, q, o, share))
+        self._anytime(smap.at(over[-1]), vs, "auto")      # its jobs carry each value's parameters
+        return [self._pack(smap.at(v.params), v) for v in vs]
 
 
 def _cut(v) -> None:

@@ -41,7 +41,7 @@ vals = [float(v) for v in sys.argv[2:]]
 print(f"# {code_version() if code_version else ''}")
 for V in vals:
     calls.clear()
-    smap.set_params(V=V)
+    smap = smap.at(dict(V=V))
     st = make_starts(pb, "box", n=n, box=BOX, seed=1)
     grid = Grid.over(st.box, pb.system, 100, pb.state_vector())
     c = time.process_time()

@@ -37,7 +37,7 @@ def main():
     for stop in (175.0, 140.0):
         state = start
         for v in np.arange(158.0, stop + np.sign(stop - 158.0) * 0.01, np.sign(stop - 158.0) * 0.5):
-            smap.set_params(V=float(v))
+            smap = smap.at(dict(V=float(v)))
             po = find_periodic_orbit(smap, state, 1, k0=k0, tol=1e-10)
             print(f"{v:.1f} V: impacts {po.impacts_per_period}, x {po.nodes[0].y[0] * 1e3:.4f} mm, multipliers "
                   f"{np.round(po.multipliers, 4)}, stable {po.stable}", flush=True)

@@ -33,7 +33,7 @@ def main(values):
     smap = StroboscopicMap(pb, tol=1e-10)
     print(f"# {code_version()}")
     for v in values:
-        smap.set_params(V=v)
+        smap = smap.at(dict(V=v))
         t = time.process_time()
         out, found, spent = census_at(smap, list(np.asarray(st.points, dtype=float)), grid, Settings(),
                                       memory=Memory())

@@ -4,9 +4,9 @@ from _census_setup import job, pb, starts
 S = list(starts)
 smap = StroboscopicMap(pb, tol=1e-10); smap.orbits([{}], [S[0]], 1, batch_size=4, events=False)
 for v in map(float, sys.argv[1:]):
-    r = job(v)
+    r = job.census({"V": float(v)})
     spent = [max(1, int(p)) for p in r.spent]
-    smap.set_params(V=v)
+    smap = smap.at(dict(V=v))
     c = time.process_time()
     smap.orbits([{}] * 200, S, spent, batch_size=4, events=False)
     bare = time.process_time() - c

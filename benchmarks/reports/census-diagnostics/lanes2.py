@@ -6,7 +6,7 @@ st = make_starts(pb, "box", n=40, box={"x": (0.0, 0.03), "v": (-1.5, 1.5)}, seed
 S = list(np.asarray(st.points, dtype=float))
 smap = StroboscopicMap(pb, tol=1e-10)
 for V in (171.0, 213.0):
-    smap.set_params(V=V)
+    smap = smap.at(dict(V=V))
     pre = smap.orbits([{}] * 40, S, 300, batch_size=4, events=False)
     # starts still aperiodic after 300 periods (spread of the last 64 points)
     ch = [o.final for o in pre if np.ptp(o.points[-64:, 0]) > 1e-4][:4]

@@ -14,7 +14,7 @@ def pol(smap, orbit, k0, n, g, *a):
 identify._polish = pol
 for v in map(float, sys.argv[1:]):
     rows.clear()
-    job(v)
+    job.census({"V": float(v)})
     print(v)
     for ok in (True, False):
         sel = [x for x in rows if x[1] == ok]

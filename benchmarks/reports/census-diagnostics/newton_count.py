@@ -13,7 +13,7 @@ def pol(smap, orbit, k0, n, grid, *a):
 identify._polish=pol
 for v in (122,136,192,206):
     log.clear()
-    r=job(v)
+    r = job.census({"V": float(v)})
     ok=[x for x in log if x[1] is not None]
     orbs=[]
     for x in ok:

@@ -22,7 +22,7 @@ def rc(smap, tracks, rest, *a):
 census._record_and_classify = rc
 for v in map(float, sys.argv[1:]):
     stat.clear(); nrec.clear()
-    job(v)
+    job.census({"V": float(v)})
     print(v, dict(nrec))
     for k in sorted({k[:3] for k in stat}):
         print("   ", k, stat[k + ("n",)], round(stat[k + ("s",)], 2))

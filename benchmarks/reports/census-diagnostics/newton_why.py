@@ -18,6 +18,6 @@ def fpo(*a, **k):
 identify.find_periodic_orbit = fpo
 for v in map(float, sys.argv[1:]):
     why.clear(); tm.clear()
-    job(v)
+    job.census({"V": float(v)})
     print(v)
     for r, c in why.most_common(): print(f"   {c:4d} {tm[r]:6.2f} s  {r}")

@@ -19,6 +19,6 @@ def ident(smap, o, k, g, **kw):
 census.identify = ident
 for v in map(float, sys.argv[1:]):
     stat.clear()
-    job(v)
+    job.census({"V": float(v)})
     print(v)
     for k, c in sorted(stat.items()): print("   ", k, c)
