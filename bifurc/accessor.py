@@ -60,6 +60,8 @@ class BifurcAccessor:
         """
         kind = self.kind
         plot = _plotter(kind)
+        if kind == "attractors" and "swept_parameter2" in self._ds.attrs:   # a census over two parameters
+            from .plots.census_map import plot_census_map as plot
         if plot is None:
             raise ParameterError(f"no figure for {'a ' + kind + ' dataset' if kind else 'this dataset'}; "
                                  f"plots exist for {', '.join(PLOTS)} datasets")

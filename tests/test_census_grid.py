@@ -23,8 +23,13 @@ def _sorted_fractions(ds, **at):
     return np.sort(f[f > 0])
 
 
-def test_a_grid_census_has_both_dimensions_and_each_point_equals_its_own_census():
-    ds = bifurc.attractors("impact-oscillator", None, grid_points("Omega", OMEGA, "r", R), workers=1, **KW)
+@pytest.fixture(scope="module")
+def grid_census():
+    return bifurc.attractors("impact-oscillator", None, grid_points("Omega", OMEGA, "r", R), workers=1, **KW)
+
+
+def test_a_grid_census_has_both_dimensions_and_each_point_equals_its_own_census(grid_census):
+    ds = grid_census
     assert ds.basin_fraction.dims == ("Omega", "r", "attractor")
     np.testing.assert_array_equal(ds.Omega.values, OMEGA)
     np.testing.assert_array_equal(ds.r.values, R)
@@ -78,3 +83,16 @@ def test_points_with_different_names_and_an_unknown_option_are_one_line_each():
         bifurc.attractors("impact-oscillator", "Omega", [1.3], max_periods=10, **KW)
     with pytest.raises(maps.ParameterError, match="seed = -1 is outside"):
         bifurc.attractors("impact-oscillator", "Omega", [1.3], **dict(KW, seed=-1))
+
+
+def test_the_figure_of_a_grid_census_shows_the_largest_basin_of_each_cell_and_each_fraction_map(grid_census):
+    """``ds.bifurc.plot()`` of a two-parameter census: the first panel colours each cell by the attractor whose
+    basin fraction is largest there (the colour index of each cell against the argmax computed here), one panel per
+    attractor with a basin."""
+    ds = grid_census
+    fig = ds.bifurc.plot()
+    frac = ds.basin_fraction.transpose("Omega", "r", "attractor").values
+    present = [j for j in range(frac.shape[2]) if frac[..., j].max() > 0]
+    assert len(fig.axes) - sum(a.get_label() == "<colorbar>" for a in fig.axes) == 1 + len(present)
+    shown = fig.axes[0].collections[0].get_array().reshape(len(OMEGA), len(R))
+    np.testing.assert_array_equal(shown, [[present.index(j) for j in row] for row in frac.argmax(axis=2)])

@@ -93,8 +93,12 @@ def run(args) -> int:
     ds = attractors(scene, param, values, method, starts=sampler, match=matcher, run=run_on,
                     **({"refine": refine} if refine is not None else {}), **kw)
     if args.plot:
-        from ..attractors.plots import plot_attractors
-        plot_attractors(ds, args.plot, overwrite=args.force)
+        if two:
+            from ..plots.census_map import plot_census_map
+            plot_census_map(ds, args.plot, overwrite=args.force)
+        else:
+            from ..attractors.plots import plot_attractors
+            plot_attractors(ds, args.plot, overwrite=args.force)
     _summary(ds, args)
     return 0
 
