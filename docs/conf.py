@@ -81,6 +81,7 @@ nb_execution_timeout = 900
 nb_execution_raise_on_error = True
 nb_execution_show_tb = True
 nb_merge_streams = True
+nb_output_stderr = "warn"          # a stderr output (a warning reaching the user) fails the -W build
 # the notebooks write their datasets here, not into the source tree
 os.environ.setdefault("BIFURC_NOTEBOOK_OUT", tempfile.mkdtemp(prefix="bifurc-docs-"))
 os.environ.setdefault("MPLBACKEND", "module://matplotlib_inline.backend_inline")
