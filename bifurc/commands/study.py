@@ -25,7 +25,7 @@ DURATIONS = {
     "regime-maps": ("6.5 min (391 s)", "not measured: 41 x 41 cells a map, 34 times the quick form's",
                     "quick at 64561d9, 2026-11-26, its report's four map times"),
     "sensitivity": ("17 s", "66 min (3964 s) at load 3-6", "reports of 4cb9b9d and 9ca1eec, 2026-11-26"),
-    "thesis-1dof-relay": ("138 s at load 8.5 (68 s of CPU)", "833 s at load 7-9; about 1.5 min idle (3 diagrams like the main job's 28.9 s)",
+    "thesis-1dof-relay": ("138 s at load 8.5; about 40 s idle (its 68 s of CPU over 2 cores)", "833 s at load 7-9; about 1.5 min idle (3 diagrams like the main job's 28.9 s)",
                           "quick at b962ece, 2026-11-29 (benchmarks/results); full at b962ece, 2026-11-27, newcomer review 4"),
     "thesis-2dof-rig": ("12 s", "72 s", "reports of e448f76 and adc9ad6, 2026-11-26"),
     "thesis-orbits": ("under 1 min", "22 min (1303 s)", "full at dabb3d8, 2026-11-26; quick: README of 2026-11-25"),
