@@ -50,6 +50,7 @@ def api_pages(docs: Path) -> None:
 
 def study_pages(docs: Path, studies: Path) -> None:
     """One page per committed report, and an index (the gallery) listing them."""
+    from bifurc.commands.study import DURATIONS
     out = docs / "studies"
     rows, pages = [], []
     for folder in sorted(p for p in studies.iterdir() if (p / "__init__.py").is_file()):
@@ -65,7 +66,8 @@ def study_pages(docs: Path, studies: Path) -> None:
             title = report.read_text().splitlines()[0].lstrip("# ").strip()
             command = (f"`bifurc study {name}{flag} -o DIR`" if flag is not None
                        else "see the report (a form `bifurc study` does not offer)")
-            rows.append(f"| [{name}]({page}.md) | {form} | {command} | {about} |")
+            cost = dict(zip(("quick", "full"), DURATIONS.get(name, ("", "", ""))[:2])).get(form, "")
+            rows.append(f"| [{name}]({page}.md) | {form} | {command} | {cost} | {about} |")
             _write(out / f"{page}.md", "\n".join([
                 f"# {name}: {form} form", "",
                 f"Regenerate: {command}; `bifurc study {name}{flag or ''} --check` re-runs the form and fails when "
@@ -78,7 +80,8 @@ def study_pages(docs: Path, studies: Path) -> None:
              "(`--quick` for its reduced form); its last report is committed beside its code "
              "(`studies/<name>/report*.md`) with the command, commit and date that made it. "
              "Every finding the reports state is listed, with its tolerance, in [Findings](../findings.md).", "",
-             "| study | form | regenerate | what it asks |", "|---|---|---|---|", *rows, "",
+             "| study | form | regenerate | cost (2 shared cores; `bifurc study --help`) | what it asks |",
+             "|---|---|---|---|---|", *rows, "",
              "```{toctree}", ":hidden:", "", *pages, "```", ""]
     _write(out / "index.md", "\n".join(index))
 
