@@ -84,7 +84,8 @@ nb_merge_streams = True
 nb_output_stderr = "warn"          # a stderr output (a warning reaching the user) fails the -W build
 # the notebooks write their datasets here, not into the source tree
 os.environ.setdefault("BIFURC_NOTEBOOK_OUT", tempfile.mkdtemp(prefix="bifurc-docs-"))
-os.environ.setdefault("MPLBACKEND", "module://matplotlib_inline.backend_inline")
+# the kernels draw inline whatever the caller set (CI exports MPLBACKEND=Agg, which would show no figure)
+os.environ["MPLBACKEND"] = "module://matplotlib_inline.backend_inline"
 os.environ["PYTHONPATH"] = os.pathsep.join(p for p in (str(ROOT), os.environ.get("PYTHONPATH", "")) if p)
 
 # -- HTML -------------------------------------------------------------------------------------------------
