@@ -58,7 +58,9 @@ def doc_commands() -> list[str]:
     """Every page's commands, each once, less those that need a machine the tests do not have (a cluster)."""
     seen = []
     for path in DOCS:
-        seen += [c for c in shell_commands(path) if c not in seen and "tcp://host" not in c]
+        for c in shell_commands(path):
+            if c not in seen and "tcp://host" not in c:
+                seen.append(c)
     return seen
 
 
