@@ -52,7 +52,7 @@ Made by `bifurc study demo -o DIR` at git abc1234 on 2026-11-26 05:00 UTC. Form:
 """
 
 
-def test_the_readme_findings_section_lists_every_stated_finding_and_catches_a_stale_one(tmp_path):
+def test_the_findings_page_lists_every_stated_finding_and_catches_a_stale_one(tmp_path):
     from pathlib import Path
 
     from bifurc.findings import BEGIN, END, main
@@ -62,19 +62,21 @@ def test_the_readme_findings_section_lists_every_stated_finding_and_catches_a_st
         (root / name / "__init__.py").write_text("")
         for file, text in files.items():
             (root / name / file).write_text(text)
-    readme = tmp_path / "README.md"
-    readme.write_text(f"# top\n\n{BEGIN}\nold text\n{END}\n\n## after\n")
-    assert main(["--readme", str(readme), "--studies", str(root), "--check"]) == 1
-    assert main(["--readme", str(readme), "--studies", str(root)]) == 0
-    text = readme.read_text()
+    page = tmp_path / "findings.md"
+    page.write_text(f"# top\n\n{BEGIN}\nold text\n{END}\n\n## after\n")
+    assert main(["--page", str(page), "--studies", str(root), "--check"]) == 1
+    assert main(["--page", str(page), "--studies", str(root)]) == 0
+    text = page.read_text()
     assert text.startswith("# top\n") and text.endswith(f"{END}\n\n## after\n") and "old text" not in text
     assert ("| demo-a | full | 2 | `bifurc study demo -o DIR`, git abc1234, 2026-11-26 05:00 UTC | "
             "studies/demo_a/report.md |") in text
     assert "| cells that hammer | 12 | 1 | cells |" in text and "| class at 4 Hz | chaotic | exact |  |" in text
     assert "- studies/demo_b/report-quick.md: demo-b: not run yet" in text
-    assert main(["--readme", str(readme), "--studies", str(root), "--check"]) == 0
-    readme.write_text(text.replace("| 12 | 1 |", "| 13 | 1 |"))
-    assert main(["--readme", str(readme), "--studies", str(root), "--check"]) == 1
-    # the repository's own README holds the section its studies' reports give
+    assert main(["--page", str(page), "--studies", str(root), "--check"]) == 0
+    page.write_text(text.replace("| 12 | 1 |", "| 13 | 1 |"))
+    assert main(["--page", str(page), "--studies", str(root), "--check"]) == 1
+    assert main(["--readme", str(page), "--studies", str(root), "--check"]) == 1   # the option's old name checks alike
+    # the documentation's findings page holds the section its studies' reports give
     repo = Path(__file__).resolve().parents[1]
-    assert main(["--readme", str(repo / "README.md"), "--studies", str(repo / "studies"), "--check"]) == 0
+    assert main(["--page", str(repo / "docs" / "findings.md"), "--studies", str(repo / "studies"), "--check"]) == 0
+    assert BEGIN not in (repo / "README.md").read_text()

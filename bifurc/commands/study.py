@@ -15,6 +15,30 @@ from ._common import add_force_option
 #: the entry-point group that names the studies
 GROUP = "bifurc.studies"
 
+#: What each study costs on the shared 2-core development machine: (quick form, full form, where the figures
+#: come from). Committed measurements only, with their commit, date and load where stated; "idle" marks a
+#: figure from a quiet machine (a loaded one is slower by about the load over the cores). `bifurc study --help`
+#: prints this table and README.md states it (tests/test_readme.py checks that they agree).
+DURATIONS = {
+    "attractor-atlas": ("30 s", "12 min (718 s)", "both at fc9ed40, 2026-11-27, report commit 8dc852c"),
+    "prototype-progression": ("about 30 s", "1-3 min (62-180 s)", "reports of e448f76 and b9c6343, 2026-11-26, shared cores"),
+    "regime-maps": ("6.5 min (391 s)", "not measured: 41 x 41 cells a map, 34 times the quick form's",
+                    "quick at 64561d9, 2026-11-26, its report's four map times"),
+    "sensitivity": ("17 s", "66 min (3964 s) at load 3-6", "reports of 4cb9b9d and 9ca1eec, 2026-11-26"),
+    "thesis-1dof-relay": ("138 s at load 8.5; about 40 s idle (its 68 s of CPU over 2 cores)", "833 s at load 7-9; about 1.5 min idle (3 diagrams like the main job's 28.9 s)",
+                          "quick at b962ece, 2026-11-29 (benchmarks/results); full at b962ece, 2026-11-27, newcomer review 4"),
+    "thesis-2dof-rig": ("12 s", "72 s", "reports of e448f76 and adc9ad6, 2026-11-26"),
+    "thesis-orbits": ("under 1 min", "22 min (1303 s)", "full at dabb3d8, 2026-11-26; quick: README of 2026-11-25"),
+    "thesis-replay": ("13 s of runs", "9 min (547 s)", "quick at cb9f5b7, full at f2a2b4e, 2026-11-27"),
+}
+
+
+def durations_table() -> str:
+    """The :data:`DURATIONS` as a Markdown table (README.md's, and the help's text)."""
+    rows = ["| study | `--quick` | full | measured |", "|---|---|---|---|"]
+    rows += [f"| {name} | {q} | {f} | {when} |" for name, (q, f, when) in DURATIONS.items()]
+    return "\n".join(rows)
+
 
 def studies() -> dict:
     """Study name -> entry point (its module), from the installed distributions' ``bifurc.studies`` group."""
@@ -129,7 +153,9 @@ def register(subparsers):
     plain = p.format_help
 
     def format_help():   # the installed studies, read only when help is shown
-        return plain() + "\nstudies: " + (", ".join(studies()) or "none installed") + "\n"
+        cost = "\n".join(f"  {name:<22} quick {q}; full {f}; {when}" for name, (q, f, when) in DURATIONS.items())
+        return (plain() + "\nstudies: " + (", ".join(studies()) or "none installed") + "\n"
+                + "\nwhat each costs on 2 shared cores (committed measurements):\n" + cost + "\n")
     p.format_help = format_help
 
 

@@ -1,0 +1,92 @@
+"""The documentation site's sources: the generated pages agree with their data, every page is in the site,
+every image a page shows exists, the API reference lists the declared public surface, and the build does not
+depend on the network (the Sphinx build itself runs in .ci/run with -W)."""
+import importlib.util
+import json
+import re
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+DOCS = ROOT / "docs"
+GENERATED = ("_build", "api", "studies", "notebooks")
+PAGES = sorted(p for p in DOCS.rglob("*.md") if p.relative_to(DOCS).parts[0] not in GENERATED)
+
+
+def _module(path: Path, name: str):
+    spec = importlib.util.spec_from_file_location(name, path)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module
+    spec.loader.exec_module(module)
+    return module
+
+
+@pytest.fixture(scope="module")
+def generate():
+    return _module(DOCS / "_generate.py", "docs_generate")
+
+
+@pytest.fixture(scope="module")
+def results_page():
+    return _module(ROOT / "benchmarks" / "results_page.py", "benchmarks_results_page")
+
+
+def test_the_benchmarks_page_is_generated_from_the_records(results_page, tmp_path):
+    assert results_page.main(["--check"]) == 0
+    page = tmp_path / "benchmarks.md"                         # a moved figure is caught
+    page.write_text((DOCS / "benchmarks.md").read_text().replace("| 74.9 s |", "| 70.1 s |"))
+    assert "| 74.9 s |" in (DOCS / "benchmarks.md").read_text()
+    assert results_page.main(["--check", "--page", str(page)]) == 1
+
+
+def test_every_record_states_command_commit_date_machine_load_and_figures():
+    records = sorted((ROOT / "benchmarks" / "results").glob("*.json"))
+    assert len(records) >= 29                                   # the old log's 28 sessions and the runs since
+    for path in records:
+        rec = json.loads(path.read_text())
+        assert rec["id"] == path.stem and rec["title"], path.name
+        assert re.match(r"20\d\d-\d\d-\d\d", rec["date"] or "") or path.stem.startswith("undated"), path.name
+        assert isinstance(rec["commits"], list) and isinstance(rec["commands"], list), path.name
+        assert "load" in rec and rec["machine"]["cores"] >= 1, path.name
+        for f in rec["figures"]:
+            assert {"name", "value", "unit"} <= set(f) and isinstance(f["value"], (int, float)), (path.name, f)
+        if "text" not in rec:                                   # a run recorded since: stated in full
+            assert rec["commands"] and rec["commits"] and rec["figures"] and rec["load"], path.name
+
+
+def test_every_page_is_in_the_site_and_every_image_it_shows_exists():
+    index = (DOCS / "index.md").read_text()
+    listed = set(re.findall(r"^([\w/-]+)$", index, flags=re.M))
+    for page in PAGES:
+        name = str(page.relative_to(DOCS).with_suffix(""))
+        assert name in listed or name in ("index", "newcomer-answers"), f"{name} is in no toctree of index.md"
+        for image in re.findall(r"!\[[^\]]*\]\(([^)]+\.png)\)", page.read_text()):
+            assert (page.parent / image).is_file(), (page.name, image)
+    for image in re.findall(r"!\[[^\]]*\]\(([^)]+\.png)\)", (ROOT / "README.md").read_text()):
+        assert (ROOT / image).is_file(), image
+
+
+def test_the_api_reference_lists_the_declared_public_surface(generate, tmp_path):
+    import bifurc
+    import maps
+    generate.api_pages(tmp_path)
+    for module in (bifurc, maps):
+        text = (tmp_path / "api" / f"{module.__name__}.rst").read_text()
+        listed = re.findall(r"^   (\w+)$", text, flags=re.M)
+        assert listed == [n for n in module.__all__ if not n.startswith("_")]
+
+
+def test_a_study_page_per_committed_report_with_its_command(generate, tmp_path):
+    generate.study_pages(tmp_path, ROOT / "studies")
+    reports = sorted(ROOT.glob("studies/*/report*.md"))
+    pages = sorted((tmp_path / "studies").glob("*-*.md"))
+    assert len(pages) == len(reports) >= 8
+    atlas = (tmp_path / "studies" / "attractor_atlas-quick.md").read_text()
+    assert "`bifurc study attractor-atlas --quick -o DIR`" in atlas and "studies/attractor_atlas/report-quick.md" in atlas
+
+
+def test_intersphinx_leaves_out_what_it_cannot_reach(generate):
+    """No network (as in CI): the inventory is left out, the build goes on."""
+    assert generate.reachable_inventories({"nowhere": "http://127.0.0.1:9"}, timeout=0.5) == {}
