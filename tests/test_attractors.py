@@ -791,7 +791,7 @@ def test_attractor_atlas_quick_study_writes_its_report_under_two_minutes(tmp_pat
 def test_switch_on_census_grid_spans_the_scene_box_not_the_spread():
     """Switch-on starts lie within 0.1 mm and 1 mm/s of rest: a grid over that spread (cells of 1 um, a current
     cell of width 0) never saw a recurrence.  The grid is the scene's box: 0.03 m / 100 and 3 m/s / 100."""
-    ds = bifurc.attractors("thesis-1dof", "V", [150.0], starts="switch-on", n_starts=2, max_periods=40,
+    ds = bifurc.attractors("thesis-1dof", "V", [150.0], starts="switch-on", n_starts=2, budget=40,
                            params={"relay_hz": 10.0}, progress=False, link=False)
     w = ds.attrs["grid_cell_widths"]
     assert w[0] == pytest.approx(3e-4, rel=1e-12) and w[1] == pytest.approx(0.03, rel=1e-12) and math.isinf(w[2])

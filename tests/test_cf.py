@@ -135,7 +135,7 @@ def test_every_file_carries_conventions_history_and_source(written):
 
 def test_api_datasets_record_the_call():
     h = maps.simulate("thesis-1dof", t_end=0.01, preset="matlab-listing", params={"V": 90})
-    assert "maps.simulate('thesis-1dof', t_end=0.01, params={'V': 90}, preset='matlab-listing')" in h.attrs["history"]
+    assert "maps.simulate('thesis-1dof', t_end=0.01, preset='matlab-listing', params={'V': 90})" in h.attrs["history"]
     d = bifurc.sweep("thesis-1dof", "relay_hz", np.array([5.0, 6.0]), transient=3, record=3, lyapunov=False,
                      grazing=False, error_sample=0, progress=False)
     assert "bifurc.sweep('thesis-1dof', 'relay_hz', [5.0, 6.0], transient=3" in d.attrs["history"]

@@ -90,3 +90,32 @@ def test_a_study_page_per_committed_report_with_its_command(generate, tmp_path):
 def test_intersphinx_leaves_out_what_it_cannot_reach(generate):
     """No network (as in CI): the inventory is left out, the build goes on."""
     assert generate.reachable_inventories({"nowhere": "http://127.0.0.1:9"}, timeout=0.5) == {}
+
+
+def test_the_architecture_page_cites_only_modules_and_names_that_exist():
+    """docs/architecture.md is the one description of the layout: every backticked path exists and every
+    backticked dotted name of ``bifurc`` or ``maps`` resolves (a module, or an attribute of one)."""
+    import importlib
+    import re
+    from pathlib import Path
+    root = Path(__file__).resolve().parents[1]
+    text = (root / "docs" / "architecture.md").read_text()
+    cited = set(re.findall(r"`([^`\s]+)`", text))
+    paths = [c for c in cited if "/" in c]
+    names = [c for c in cited if re.fullmatch(r"(bifurc|maps)(\.\w+)+", c)]
+    assert len(paths) > 40 and len(names) > 15, (len(paths), len(names))
+    missing = [p for p in paths if not (root / p.split("<")[0]).exists()]
+    assert not missing, missing
+
+    def resolves(dotted):
+        parts = dotted.split(".")
+        for k in range(len(parts), 0, -1):
+            try:
+                obj = importlib.import_module(".".join(parts[:k]))
+            except ImportError:
+                continue
+            for attr in parts[k:]:
+                obj = getattr(obj, attr)
+            return True
+        return False
+    assert all(resolves(n) for n in names), [n for n in names if not resolves(n)]

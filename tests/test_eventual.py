@@ -64,7 +64,7 @@ def _iterate(x, steps):
 
 @pytest.fixture(scope="module")
 def hole_census():
-    return bifurc.attractors(HOLE, "h", [H], n_starts=300, seed=3, max_periods=800, progress=False, workers=1,
+    return bifurc.attractors(HOLE, "h", [H], n_starts=300, seed=3, budget=800, progress=False, workers=1,
                              link=False)
 
 
@@ -134,7 +134,7 @@ def test_a_set_whose_records_decide_nothing_is_transient_where_its_lifetime_says
     fraction of the same starts numpy finds on the set (about exp(-2) = 0.14), and no start is "not_converged"."""
     from bifurc.attractors import census as C
     monkeypatch.setattr(C, "identify", lambda *args, **kw: None)
-    ds = bifurc.attractors(HOLE, "h", [H], n_starts=300, seed=3, max_periods=2000, progress=False, workers=1,
+    ds = bifurc.attractors(HOLE, "h", [H], n_starts=300, seed=3, budget=2000, progress=False, workers=1,
                            link=False)
     labels = list(ds.attractor_label.values)
     t, nc = labels.index("transient"), labels.index("not_converged")

@@ -74,8 +74,8 @@ def test_the_api_orbit_uses_the_command_lines_transient_and_finds_the_closed_for
     `bifurc orbit` worked (transient 300)."""
     sub = build_parser()._subparsers._group_actions[0].choices["orbit"]
     cli = {a.dest: a.default for a in sub._actions}
-    api = inspect.signature(bifurc.periodic_orbit).parameters
-    assert api["transient"].default == cli["transient"] == 300 and api["tol"].default == cli["tol"]
+    api = bifurc.Shooting()                  # the method object names the API's defaults
+    assert api.transient == cli["transient"] == 300 and api.tol == cli["tol"]
     o = bifurc.periodic_orbit("impact-oscillator")
     stable = [c for c in closed_form_1_1(**BASE) if np.max(np.abs(c[3])) < 1][0]
     assert int(o.period) == 1 and abs(float(o.impact_velocity[0]) - stable[1]) < 1e-8

@@ -31,7 +31,7 @@ class Census(Settings):
     max_period: int = setting(16, "longest period Newton tries from a start's record (a contracting record that "
                               "repeats at a longer lag, up to a quarter of its length, is polished at that lag)",
                               unit="strobe periods", low=1, high=1e4, whole=True)
-    tol: float = setting(1e-10, "heyoka tolerance", low=1e-30, high=1e-2)
+    tol: float = setting(1e-10, "heyoka tolerance", low=0.0, high=1e-2, low_open=True)
     chunk: int = setting(40, "periods per batch call", unit="strobe periods", low=1, high=1e6, whole=True, cli="")
     land: int = setting(6, "consecutive points in one attractor's cells to land on it", low=1, high=1e6, whole=True,
                         cli="")
@@ -142,14 +142,14 @@ def sampler_of(starts, options: dict):
         return starts
     if isinstance(starts, Starts):
         return _Fixed(starts)
-    if starts is None or starts == "box":
+    if starts is None or (isinstance(starts, str) and starts == "box"):
         return Box(**{k: v for k, v in kw.items() if k != "shape"})
-    if starts == "slice":
+    if isinstance(starts, str) and starts == "slice":
         if "shape" not in kw and "n" in kw:
             import math
             kw["shape"] = (int(math.isqrt(int(kw["n"]))),) * 2
         return Slice(**{k: v for k, v in kw.items() if k in ("shape", "box")})
-    if starts == "switch-on":
+    if isinstance(starts, str) and starts == "switch-on":
         return SwitchOn(**{k: v for k, v in kw.items() if k in ("n", "seed")})
     if isinstance(starts, str):
         raise ParameterError(f"starts {starts!r}; allowed: box, slice, switch-on, a sampler (bifurc.Box, "

@@ -24,12 +24,12 @@ def _transient():
 
 
 def _tol():
-    return setting(1e-12, "heyoka tolerance", low=1e-30, high=1e-2)
+    return setting(1e-12, "heyoka tolerance", low=0.0, high=1e-2, low_open=True)
 
 
 def _newton_tol():
     return setting(None, "largest scaled shooting residual accepted (default 10 tol: the integration's own noise "
-                   "bounds how far the residual can fall)", low=1e-300, high=1.0, optional=True, kind=float)
+                   "bounds how far the residual can fall)", low=0.0, high=1.0, low_open=True, optional=True, kind=float)
 
 
 def _error(what):
@@ -56,8 +56,8 @@ class PALC(Settings):
     unstable parts alike; folds, period doublings, Neimark-Sacker points and grazings located on the way."""
 
     step: float = setting(0.02, "first arclength step, in the scaled unknowns (states by the orbit's magnitude, the "
-                          "parameter by the span's length)", low=1e-12, high=1.0)
-    max_step: float = setting(0.1, "largest arclength step", low=1e-12, high=10.0)
+                          "parameter by the span's length)", low=0.0, high=1.0, low_open=True)
+    max_step: float = setting(0.1, "largest arclength step", low=0.0, high=10.0, low_open=True)
     max_points: int = setting(200, "branch points per branch at most", low=2, high=100_000, whole=True)
     branch_switch: bool = setting(False, "follow the doubled branch from each located period doubling")
     period: int | None = _period()

@@ -12,7 +12,7 @@ import dataclasses
 import math
 from dataclasses import dataclass, field
 
-from maps.parameters import ParameterError
+from maps.parameters import ParameterError, validate_value
 
 #: the modes of a grid of points and their branches: independent points, or each from the previous one's end state,
 #: swept up then down (:func:`bifurc.run.grid.run_points`)
@@ -20,16 +20,18 @@ MODES = {"independent": ("independent",), "follow": ("up", "down")}
 
 
 def setting(default, help: str, *, unit: str = "", low=None, high=None, whole: bool = False, choices=None,
-            optional: bool = False, cli: str | None = None, flag: str | None = None, kind=None):
+            optional: bool = False, cli: str | None = None, flag: str | None = None, kind=None,
+            low_open: bool = False):
     """A field of a :class:`Settings` class.
 
     ``low``/``high``: allowed range (inclusive); ``whole``: a whole number; ``choices``: allowed values;
-    ``optional``: None is allowed (the default then says what None means in ``help``); ``cli``: the option's name
+    ``low_open``: ``low`` itself excluded; ``optional``: None is allowed (the default then says what None means in
+    ``help``); ``cli``: the option's name
     on the command line (default ``--name-with-dashes``; "" for none); ``flag``: for a bool defaulting to True, the
     command line's negating switch (e.g. ``--no-lyapunov``); ``kind``: the value's type where it is not the
     default's (e.g. float for an optional number)."""
     meta = dict(help=help, unit=unit, low=low, high=high, whole=whole, choices=choices, optional=optional,
-                cli=cli, flag=flag, kind=kind)
+                cli=cli, flag=flag, kind=kind, low_open=low_open)
     return field(default=default, metadata=meta)
 
 
@@ -46,15 +48,14 @@ def check_field(name: str, value, meta: dict):
     low, high, whole = meta.get("low"), meta.get("high"), meta.get("whole")
     if low is None and high is None and not whole:
         return value
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or \
-            (isinstance(value, float) and not math.isfinite(value)):
-        rng = _range_text(low, high, whole)
-        raise ParameterError(f"{name} = {value!r}: expected {rng}")
+    if whole and (isinstance(value, bool) or not isinstance(value, (int, float)) or
+                  (isinstance(value, float) and not math.isfinite(value))):
+        raise ParameterError(f"{name} = {value!r}: expected {_range_text(low, high, whole)}")
     if whole and value != int(value):
         raise ParameterError(f"{name} = {value!r}: a whole number is needed ({_range_text(low, high, whole)})")
-    if (low is not None and value < low) or (high is not None and value > high):
-        raise ParameterError(f"{name} = {value!r} is outside its allowed range {_range_text(low, high, whole)}")
-    return int(value) if whole else float(value)
+    x = validate_value(name, value, -math.inf if low is None else low, math.inf if high is None else high,
+                       low_open=bool(meta.get("low_open")), unit=meta.get("unit", ""))
+    return int(x) if whole else float(x)
 
 
 def _range_text(low, high, whole) -> str:

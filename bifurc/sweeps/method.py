@@ -35,7 +35,8 @@ class Diagram(Settings):
     max_transient: int | None = setting(None, "(superseded by budget) extend values still converging up to this "
                                         "many periods: the budget is at least this plus record",
                                         unit="strobe periods", low=0, high=1e8, whole=True, optional=True, kind=int)
-    tol: float = setting(1e-10, "heyoka tolerance; error_sample values are re-run at tol/100", low=1e-30, high=1e-2)
+    tol: float = setting(1e-10, "heyoka tolerance", low=0.0, high=1e-2,
+                         low_open=True)
     rtol: float = setting(1e-6, "relative tolerance of the period test", low=0, high=1, cli="")
     atol: float = setting(1e-9, "absolute tolerance of the period test", low=0, high=1, cli="")
     lyapunov: bool = setting(True, "the largest Lyapunov exponent where the orbit is not periodic",

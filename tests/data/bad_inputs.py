@@ -172,7 +172,7 @@ API = [
     ("A14", "bifurc.sweep('thesis-1dof', 'relay_hz', [5.0], preset='matlab-listing', workers=0, progress=False)",
      "ParameterError"),
     ("A15", "bifurc.sweep('thesis-1dof', 'relay_hz', [5.0], tol=0, " + SMALL + ")", "ParameterError"),
-    ("A16", "bifurc.sweep('thesis-1dof', 'relay_hz', [5.0], recrod=10)", "TypeError"),
+    ("A16", "bifurc.sweep('thesis-1dof', 'relay_hz', [5.0], recrod=10)", "ParameterError"),
     ("A17", "bifurc.sweep('thesis-1dof', 'relay_hz', [5.0], params=[('V', 90)], " + SMALL + ")", "ParameterError"),
     ("A18", "bifurc.sweep(None, 'relay_hz', [5.0], " + SMALL + ")", "ParameterError"),
     ("A19", "bifurc.sweep('thesis-1dof', 'relay_hz', [0.0, 5.0], " + SMALL + ")", "ParameterError"),
