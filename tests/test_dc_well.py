@@ -205,3 +205,38 @@ def test_with_values_places_the_well_too():
     pb = _pb("listing").with_values(dc_rest=0.007, relay_hz=5.0)
     assert pb.values["d_dc"] == pytest.approx(0.007) and pb.values["relay_hz"] == 5.0
     assert _well(pb)["dc_rest"] == pytest.approx(0.007, abs=1e-12)
+
+
+def test_rest_5mm_c_air_0_5_at_90V_hammers_mechanical_period_1_at_5Hz():
+    """Issue 46's check (dc_law listing, physical AC sign, the listings' start): with the well's rest
+    5 mm above the stop and flight damping 0.5 N s/m, the bar hammers period-1 (mechanical and full
+    state) with one or two impacts per relay period and a few-mm stroke at relay 5 Hz, 90 V."""
+    import bifurc
+    ds = bifurc.sweep("thesis-1dof", "relay_hz", np.array([5.0]), preset="matlab-listing", dc_law="listing",
+                      params={"dc_rest": 0.005, "c_air": 0.5, "V": 90.0}, x0={"x": 0.0, "v": 0.0, "i": 0.1, "z": 0.0},
+                      progress=False, workers=1, lyapunov=False, grazing=False).isel(branch=0, relay_hz=0)
+    assert ds.attrs["dc_law"] == "listing" and ds.attrs["dc_rest"] == pytest.approx(0.005, abs=1e-12)
+    assert int(ds.period_mechanical) == 1 and int(ds.impacts_per_period_mechanical) in (1, 2)
+    x = ds.x.values[np.isfinite(ds.x.values)]
+    assert x.size and 0.0 < x.max() < 0.010
+    h = maps.simulate("thesis-1dof", preset="matlab-listing", dc_law="listing", periods=200, dt=1e-3,
+                      params={"dc_rest": 0.005, "c_air": 0.5, "V": 90.0, "relay_hz": 5.0},
+                      x0={"x": 0.0, "v": 0.0, "i": 0.1, "z": 0.0})
+    late = h.x.values[h.time.values > 36.0]                  # the last 20 relay periods
+    assert -0.001 < late.min() < 0.0 and 0.002 < late.max() < 0.006   # a 0-4 mm stroke (review 4: -0.18..3.6 mm)
+
+
+def test_c14s_law_needs_the_listings_reversed_ac_sign():
+    """dynamics-script, 25 V, the listings' start on the stop: with the physical AC sign the solenoid
+    presses the bar (resting at the spring's centre, on the stop) onto the stop and nothing moves; with
+    C.2's reversed sign it hammers, period-1 with one impact per relay period at 2 Hz, a few-mm stroke."""
+    kw = dict(preset="matlab-listing", dc_law="dynamics-script", periods=40, dt=1e-3,
+              params={"V": 25.0, "relay_hz": 2.0}, x0={"x": 0.0, "v": 0.0, "i": 0.1, "z": 0.0})
+    still = maps.simulate("thesis-1dof", ac_sign="physical", **kw)
+    assert np.abs(still.x.values).max() < 1e-6
+    moving = maps.simulate("thesis-1dof", ac_sign="listing", **kw)
+    late = moving.x.values[moving.time.values > 15.0]
+    assert 0.003 < late.max() < 0.005
+    hits = moving.impact_time.values
+    hits = hits[np.isfinite(hits) & (hits > 15.0)]
+    assert len(hits) == 10                                 # one per relay period over the last 10
