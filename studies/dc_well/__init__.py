@@ -178,11 +178,16 @@ def _figure(case, m, size, path, overwrite):
         else:
             style = dict(marker="x", color="tab:red", ms=7)
         ax.plot(x, y, ls="none", **style)
-        ax.annotate(c["text"].replace("period-", "P").replace(" impacts", "i").replace(" impact", "i"), (x, y),
-                    fontsize=6, xytext=(3, 3), textcoords="offset points")
+        if c["label"] == "periodic":
+            ax.annotate(c["text"].replace("period-", "P").replace(" impacts", "i").replace(" impact", "i"), (x, y),
+                        fontsize=6, xytext=(3, 3), textcoords="offset points")
     ax.set_yscale("log")
+    rests = sorted({1e3 * c["rest"] for c in m["cells"]})
+    ax.set_yticks(rests, [f"{r:g}" for r in rests])
+    ax.minorticks_off()
     ax.set(xlabel="relay frequency [Hz]", ylabel="rest height above the stop [mm]",
-           title=f"{case}: dc_law {m['law']}, AC sign {m['sign']} (star: P1, 1 impact, stroke <= 10 mm)")
+           title=f"{case}: dc_law {m['law']}, AC sign {m['sign']} (star: P1, 1 impact, stroke <= 10 mm; "
+                 f"circle: other P1; square: other periodic; x: not periodic)")
     ax.title.set_fontsize(8)
     fig.savefig(path, dpi=110)
     plt.close(fig)
