@@ -88,7 +88,31 @@ def structure() -> dict:
     for law in ("fit", "listing"):
         ds = maps.simulate(SCENE, preset="thesis-text", dc_law=law, t_end=3.0, dt=1e-4, params={"V": 90.0})
         gaps[law] = (float(ds.x.min()), int(np.isfinite(ds.impact_time.values).sum()))
-    return {"laws": laws, "scales": scales, "stop_force": stop, "gaps": gaps}
+    return {"laws": laws, "scales": scales, "stop_force": stop, "gaps": gaps, "settling": settling()}
+
+
+#: Fig 4.25 (section 4.5): AC only, 25 V, "steady state ... maximum displacement of -0.0446 m and minimum
+#: displacement of -0.0464 m, oscillating at the centre of Solenoid 2"
+FIG_4_25 = (-0.0464, -0.0446)
+AC_ONLY_C_AIR = (0.0, 0.5, 5.0)              # with the weight: does any hold the bar in the AC coil?
+AC_ONLY_C_AIR_NO_WEIGHT = (0.2, 0.25, 0.3, 0.4)
+
+
+def settling() -> dict:
+    """What c_air the settling of Fig 4.25 implies: ac-only (thesis-text, 25 V) from x = 0 over the
+    listings' tf = 3 s: with the weight, when the bar leaves the model's domain; without it (Fig 4.25 sits
+    on the AC centre, which the weight would pull it below), x's range over the last 0.3 s."""
+    import maps
+    out = {"weight": {}, "no_weight": {}}
+    for c in AC_ONLY_C_AIR:
+        ds = maps.simulate("ac-only", preset="thesis-text", params={"V": 25.0, "c_air": c}, t_end=3.0, dt=5e-4)
+        out["weight"][c] = float(ds.time.values[-1])
+    for c in AC_ONLY_C_AIR_NO_WEIGHT:
+        ds = maps.simulate("ac-only", preset="thesis-text", params={"V": 25.0, "g": 0.0, "c_air": c}, t_end=3.0,
+                           dt=5e-4)
+        late = ds.x.values[ds.time.values > 2.7]
+        out["no_weight"][c] = (float(late.min()), float(late.max()))
+    return out
 
 
 def _stop_force(law, scale):
@@ -216,6 +240,14 @@ def report(parts, quick) -> str:
           "thesis-text at 90 V from its 1 mm start, 3 s (the figure docs/model.md quoted as 0.63 mm): "
           + "; ".join(f"`{law}` smallest gap {1e3 * g:.3f} mm, {n} impacts" for law, (g, n) in s["gaps"].items())
           + ".", "",
+          "Flight damping from the settling figures (`ac-only`, thesis-text, 25 V, from x = 0, the listings' "
+          "tf = 3 s). Fig 4.25 ends oscillating -46.4..-44.6 mm about the AC centre (1.8 mm peak to peak). With the "
+          "weight the bar leaves the model's domain at "
+          + ", ".join(f"{t:.2f} s (c_air {c:g})" for c, t in s["settling"]["weight"].items())
+          + ": no c_air keeps it in the coil, so the figure was not made with the weight acting. Without it, "
+          "x's range over the last 0.3 s: "
+          + "; ".join(f"c_air {c:g}: {1e3 * lo:.2f}..{1e3 * hi:.2f} mm ({1e3 * (hi - lo):.2f} p-p)"
+                      for c, (lo, hi) in s["settling"]["no_weight"].items()) + ".", "",
           "## 2. The map: rest height x relay frequency", "",
           f"Sweeps of relay_hz ({size['transient']} transient + {size['record']} recorded relay periods, extended while "
           f"undecided{'; no Lyapunov exponents' if not size['lyapunov'] else ''}); class in the bar's period "
@@ -277,6 +309,11 @@ def findings(results, quick) -> list:
     for law, (g, n) in s["gaps"].items():
         out.append(Finding(f"thesis-text 90 V, {law}: smallest gap in 3 s from 1 mm", 1e3 * g, 0.005, "mm"))
         out.append(Finding(f"thesis-text 90 V, {law}: impacts in 3 s", n, 0, ""))
+    for c, t in results["structure"]["settling"]["weight"].items():
+        out.append(Finding(f"ac-only 25 V with the weight, c_air {c:g}: time it leaves the domain", t, 0.01, "s"))
+    for c, (lo, hi) in results["structure"]["settling"]["no_weight"].items():
+        out.append(Finding(f"ac-only 25 V without the weight, c_air {c:g}: x range, last 0.3 s of 3 s",
+                           1e3 * (hi - lo), 0.05, "mm"))
     for case, m in results["maps"].items():
         good = [c for c in m["cells"] if _hammers(c)]
         out.append(Finding(f"{case}: cells in the thesis' regime (P1, 1 impact, stroke <= 10 mm)",
