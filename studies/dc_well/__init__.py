@@ -23,7 +23,9 @@ Lyapunov exponents out (an aperiodic value reads not-converged rather than chaot
 the budget") and samples 7 rest heights x 9 integer relay frequencies for three cases; the full form
 samples 1-62.5 mm (10 heights), 2-10 Hz in 0.5 Hz steps, four cases (25 and 90 V, c_air 0 and 0.5),
 300 transient + 100 recorded relay periods, also without Lyapunov exponents (about 10 min on 2 cores).
-Neither form yet holds the switch-on census or the continuation of the windows (issue 46 section 2).
+At every cell in the thesis' regime (and at the issue's example, 5 mm, 5 Hz, 90 V, c_air 0.5) a
+switch-on census (quick 8 starts, full 64) gives the share of switch-ons that end in that regime.
+Neither form yet continues the windows (folds, period doublings, grazings bounding them).
 """
 from __future__ import annotations
 
@@ -34,7 +36,7 @@ from pathlib import Path
 import numpy as np
 
 NAME = "dc-well"
-WRITES = "report.md, map_<case>.png and <case>_<rest>mm.nc"
+WRITES = "report.md, map_<case>[-quick].png and <case>_<rest>mm.nc"
 SCENE = "thesis-1dof"
 PRESET = "matlab-listing"
 START = {"x": 0.0, "v": 0.0, "i": 0.1, "z": 0.0}          # the listings' start (C.1, with z = 0)
@@ -49,10 +51,10 @@ FULL_CASES = CASES + [("listing-90V", "listing", "physical", {"V": 90.0})]
 C14 = ("c14-25V", "dynamics-script", "listing", {"V": 25.0})
 QUICK = dict(cases=CASES, rests=(0.002, 0.003, 0.005, 0.0075, 0.010, 0.020, 0.0625),
              relays=tuple(float(w) for w in range(2, 11)), transient=150, record=50, lyapunov=False,
-             c14_relays=tuple(float(w) for w in range(2, 11)))
+             c14_relays=tuple(float(w) for w in range(2, 11)), census_starts=8, census_periods=400)
 FULL = dict(cases=FULL_CASES, rests=(0.001, 0.002, 0.003, 0.004, 0.005, 0.0075, 0.010, 0.015, 0.020, 0.0625),
             relays=tuple(np.round(np.arange(2.0, 10.01, 0.5), 10)), transient=300, record=100, lyapunov=False,
-            c14_relays=tuple(float(w) for w in range(2, 11)))
+            c14_relays=tuple(float(w) for w in range(2, 11)), census_starts=64, census_periods=2000)
 THESIS_NUMERICAL = {2: 1, 3: 1, 4: 1, 5: 1, 6: 2, 7: 2, 8: 2, 9: 1, 10: 1}  # period per Fig 4.27
 STROKE_MAX = 0.010        # [m] the thesis' LVDT range (+-5 mm)
 
@@ -170,7 +172,8 @@ def run(out, quick=False, progress=True, overwrite=False, workers=None) -> dict:
             write_netcdf(ds, out / f"{case}_{1e3 * rest:g}mm.nc", overwrite=overwrite)
             cells += _cells(ds, law, sign, params, rest, size["relays"])
         parts["maps"][case] = {"law": law, "sign": sign, "params": params, "cells": cells}
-        _figure(case, parts["maps"][case], size, out / f"map_{case}.png", overwrite)
+        _figure(case, parts["maps"][case], size, out / _png(case, quick), overwrite)
+    parts["census"] = census(parts["maps"], size, workers)
     case, law, sign, params = C14
     ds = sweep(SCENE, "relay_hz", np.array(size["c14_relays"]), dc_law=law, ac_sign=sign, params=params, **kw)
     write_netcdf(ds, out / f"{case}.nc", overwrite=overwrite)
@@ -179,6 +182,43 @@ def run(out, quick=False, progress=True, overwrite=False, workers=None) -> dict:
     parts["seconds"] = _time.perf_counter() - clock
     write_text(out / "report.md", report(parts, quick), overwrite=overwrite)
     return parts
+
+
+def _png(case, quick) -> str:
+    """The map figure's file name (the two forms' figures sit side by side in studies/dc_well/)."""
+    return f"map_{case}{'-quick' if quick else ''}.png"
+
+
+#: the issue's example cell (case, rest [m], relay [Hz]): censused whatever its class
+EXAMPLE = ("listing-90V-cair0.5", 0.005, 5.0)
+
+
+def census(maps_, size, workers) -> list:
+    """The switch-on census (:func:`bifurc.attractors`, the scene's switch-on distribution: the bar at rest on
+    the stop within 0.1 mm and 1 mm/s, the circuit at rest) at every cell in the thesis' regime and at
+    :data:`EXAMPLE`: the share of starts that end on a mechanical period-1 one-impact attractor, and on any
+    mechanical period-1 attractor with impacts, with 95 % Wilson intervals."""
+    import maps
+    from bifurc.attractors.atlas import attractors
+    from bifurc.attractors.census import wilson
+    out = []
+    for case, m in maps_.items():
+        for c in m["cells"]:
+            if not (_hammers(c) or (case, c["rest"], c["relay"]) == EXAMPLE):
+                continue
+            pb = maps.problem(SCENE, PRESET, dict(m["params"], dc_rest=c["rest"]), dc_law=m["law"], ac_sign=m["sign"])
+            ds = attractors(pb, "relay_hz", [c["relay"]], starts="switch-on", n_starts=size["census_starts"],
+                            max_periods=size["census_periods"], link=False, progress=False, workers=workers)
+            row = ds.isel({"relay_hz": 0})
+            code = row.class_code.values
+            pm, im = row.period_mechanical.values, row.impacts_per_period_mechanical.values
+            counts = row.basin_count.values
+            one = int(counts[(code == 0) & (pm == 1) & (im == 1)].sum())
+            p1 = int(counts[(code == 0) & (pm == 1) & (im >= 1)].sum())
+            n = size["census_starts"]
+            out.append({"case": case, "rest": c["rest"], "relay": c["relay"], "n": n, "p1_one": one, "p1": p1,
+                        "p1_one_ci": wilson(one, n), "attractors": int((row.present.values > 0).sum())})
+    return out
 
 
 def _figure(case, m, size, path, overwrite):
@@ -252,7 +292,7 @@ def report(parts, quick) -> str:
     for case, m in parts["maps"].items():
         L += [f"### {case}: dc_law {m['law']}, AC sign {m['sign']}, "
               + ", ".join(f"{k} = {v:g}" for k, v in m["params"].items()), "",
-              f"![map](map_{case}.png)", "",
+              f"![map]({_png(case, quick)})", "",
               "| rest [mm] | " + " | ".join(f"{w:g} Hz" for w in size["relays"]) + " |",
               "|---|" + "---|" * len(size["relays"])]
         for rest in size["rests"]:
@@ -262,6 +302,20 @@ def report(parts, quick) -> str:
         L += ["", "The thesis' regime (mechanical period-1, one impact per relay period, stroke <= 10 mm): "
               + (", ".join(f"{1e3 * c['rest']:g} mm at {c['relay']:g} Hz" for c in good) if good else "no cell")
               + ".", ""]
+    if parts.get("census"):
+        L += ["### Switch-on census of the thesis-like cells", "",
+              "The scene's switch-on distribution (bar at rest on the stop within 0.1 mm and 1 mm/s, circuit at rest; "
+              "not the listings' i = 0.1 A start of the map), `bifurc.attractors(..., starts=\"switch-on\")`, "
+              f"{size['census_starts']} starts, up to {size['census_periods']} relay periods each; the share ending on "
+              "a mechanical period-1 one-impact attractor (95 % Wilson interval) and on any mechanical period-1 "
+              "attractor with impacts.", "",
+              "| case | rest [mm] | relay [Hz] | P1, 1 impact | its 95 % interval | P1 with impacts | attractors |",
+              "|---|---|---|---|---|---|---|"]
+        for r in parts["census"]:
+            lo, hi = r["p1_one_ci"]
+            L.append(f"| {r['case']} | {1e3 * r['rest']:g} | {r['relay']:g} | {r['p1_one']} of {r['n']} | "
+                     f"{lo:.2f}-{hi:.2f} | {r['p1']} of {r['n']} | {r['attractors']} |")
+        L.append("")
     c14 = parts["c14"]
     agree = [c for c in c14["cells"] if c["label"] == "periodic" and c["period"] == THESIS_NUMERICAL[int(c["relay"])]]
     L += [f"## 3. Listing C.14's law (`dynamics-script`, rest on the stop, AC sign {c14['sign']}, V = "
@@ -274,8 +328,7 @@ def report(parts, quick) -> str:
     names = ", ".join(f"{c['relay']:g} Hz" for c in agree) or "none"
     L += ["", f"Agrees with the thesis' numerical period at {len(agree)} of {len(c14['cells'])} frequencies "
           f"({names}). With the physical AC sign the bar stays on the "
-          "stop (tests/test_dc_well.py). Not done here: continuation of the windows and the switch-on census "
-          "(issue 46 section 2's full scope).", ""]
+          "stop (tests/test_dc_well.py). Not done here: the continuation of the windows (issue 46 section 2).", ""]
     return "\n".join(L)
 
 
@@ -317,6 +370,9 @@ def findings(results, quick) -> list:
                            "; ".join(f"{1e3 * c['rest']:g} mm {c['relay']:g} Hz" for c in good) or "none"))
         for c in m["cells"]:
             out.append(Finding(f"{case}: rest {1e3 * c['rest']:g} mm, {c['relay']:g} Hz (mechanical)", c["text"]))
+    for r in results.get("census", []):
+        out.append(Finding(f"switch-on census, {r['case']}, rest {1e3 * r['rest']:g} mm, {r['relay']:g} Hz: starts "
+                           f"ending on mechanical P1 with 1 impact", r["p1_one"], 0, f"of {r['n']}"))
     for c in results["c14"]["cells"]:
         out.append(Finding(f"C.14 law, 25 V, listing sign: {c['relay']:g} Hz (mechanical)", c["text"]))
     return out
