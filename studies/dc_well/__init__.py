@@ -25,7 +25,8 @@ samples 1-62.5 mm (10 heights), 2-10 Hz in 0.5 Hz steps, four cases (25 and 90 V
 300 transient + 100 recorded relay periods, also without Lyapunov exponents (about 10 min on 2 cores).
 At every cell in the thesis' regime (and at the issue's example, 5 mm, 5 Hz, 90 V, c_air 0.5) a
 switch-on census (quick 8 starts, full 64) gives the share of switch-ons that end in that regime.
-Neither form yet continues the windows (folds, period doublings, grazings bounding them).
+The orbits there are continued in d_dc (the rest height under `listing`) to the fold, period doubling or
+grazing that bounds their stable window (quick: the first such cell of each case and the example).
 """
 from __future__ import annotations
 
@@ -51,10 +52,12 @@ FULL_CASES = CASES + [("listing-90V", "listing", "physical", {"V": 90.0})]
 C14 = ("c14-25V", "dynamics-script", "listing", {"V": 25.0})
 QUICK = dict(cases=CASES, rests=(0.002, 0.003, 0.005, 0.0075, 0.010, 0.020, 0.0625),
              relays=tuple(float(w) for w in range(2, 11)), transient=150, record=50, lyapunov=False,
-             c14_relays=tuple(float(w) for w in range(2, 11)), census_starts=8, census_periods=400)
+             c14_relays=tuple(float(w) for w in range(2, 11)), census_starts=8, census_periods=400,
+             window_span=(0.0005, 0.02), window_points=40, windows_first_only=True)
 FULL = dict(cases=FULL_CASES, rests=(0.001, 0.002, 0.003, 0.004, 0.005, 0.0075, 0.010, 0.015, 0.020, 0.0625),
             relays=tuple(np.round(np.arange(2.0, 10.01, 0.5), 10)), transient=300, record=100, lyapunov=False,
-            c14_relays=tuple(float(w) for w in range(2, 11)), census_starts=64, census_periods=2000)
+            c14_relays=tuple(float(w) for w in range(2, 11)), census_starts=64, census_periods=2000,
+            window_span=(0.0005, 0.03), window_points=150, windows_first_only=False)
 THESIS_NUMERICAL = {2: 1, 3: 1, 4: 1, 5: 1, 6: 2, 7: 2, 8: 2, 9: 1, 10: 1}  # period per Fig 4.27
 STROKE_MAX = 0.010        # [m] the thesis' LVDT range (+-5 mm)
 
@@ -163,6 +166,7 @@ def run(out, quick=False, progress=True, overwrite=False, workers=None) -> dict:
     kw = dict(preset=PRESET, x0=START, transient=size["transient"], record=size["record"], lyapunov=size["lyapunov"],
               grazing=False, progress=progress, workers=workers)
     parts = {"structure": structure(), "maps": {}}
+    sweeps = {}
     for case, law, sign, params in size["cases"]:
         cells = []
         for rest in size["rests"]:
@@ -171,9 +175,11 @@ def run(out, quick=False, progress=True, overwrite=False, workers=None) -> dict:
             ds.attrs.update(study=NAME, study_case=case)
             write_netcdf(ds, out / f"{case}_{1e3 * rest:g}mm.nc", overwrite=overwrite)
             cells += _cells(ds, law, sign, params, rest, size["relays"])
+            sweeps[(case, rest)] = ds
         parts["maps"][case] = {"law": law, "sign": sign, "params": params, "cells": cells}
         _figure(case, parts["maps"][case], size, out / _png(case, quick), overwrite)
     parts["census"] = census(parts["maps"], size, workers)
+    parts["windows"] = windows(parts["maps"], sweeps, size)
     case, law, sign, params = C14
     ds = sweep(SCENE, "relay_hz", np.array(size["c14_relays"]), dc_law=law, ac_sign=sign, params=params, **kw)
     write_netcdf(ds, out / f"{case}.nc", overwrite=overwrite)
@@ -218,6 +224,58 @@ def census(maps_, size, workers) -> list:
             n = size["census_starts"]
             out.append({"case": case, "rest": c["rest"], "relay": c["relay"], "n": n, "p1_one": one, "p1": p1,
                         "p1_one_ci": wilson(one, n), "attractors": int((row.present.values > 0).sum())})
+    return out
+
+
+def windows(maps_, sweeps, size) -> list:
+    """The stable window in rest height of the orbits at the thesis-like cells (quick: the first of each case,
+    and :data:`EXAMPLE`; full: every one): the orbit continued in d_dc (under `listing` the rest height itself)
+    from the sweep's last state toward ``window_span``'s ends (:func:`bifurc.continue_orbit`, pseudo-arclength),
+    and the run of stable points with the cell's period and impact count: its ends and what bounds each (a
+    located fold, period doubling, Neimark-Sacker point or grazing, or "branch end" where the continuation
+    stopped at ``window_points`` points or the span's end still stable)."""
+    from bifurc import continue_orbit, sweep_point
+    from bifurc.report import class_at
+    from bifurc.storage.schema import SPECIAL_KINDS
+    from maps.parameters import ParameterError
+    from bifurc.orbits.periodic import OrbitNotFound
+    out = []
+    for case, m in maps_.items():
+        if m["law"] not in ("listing", "dynamics-script"):
+            continue                       # d_dc is the rest height only where the law's rest is at xa = 0
+        chosen = [c for c in m["cells"] if _hammers(c) or (case, c["rest"], c["relay"]) == EXAMPLE]
+        if size["windows_first_only"]:
+            chosen = [c for c in chosen if (case, c["rest"], c["relay"]) == EXAMPLE] + \
+                [c for c in chosen if _hammers(c)][:1]
+        for c in chosen:
+            ds = sweeps[(case, c["rest"])]
+            state, k = sweep_point(ds, c["relay"])
+            full = class_at(ds, c["relay"])
+            row = {"case": case, "rest": c["rest"], "relay": c["relay"], "period": full["period"],
+                   "impacts": full["impacts"], "ends": []}
+            for end in size["window_span"]:
+                try:
+                    br = continue_orbit(SCENE, "d_dc", (c["rest"], end), preset=PRESET, dc_law=m["law"],
+                                        ac_sign=m["sign"], params=dict(m["params"], relay_hz=c["relay"]), start=state,
+                                        k0=k, period=full["period"], max_points=size["window_points"], progress=False)
+                except (OrbitNotFound, ParameterError) as exc:
+                    row["ends"].append((math.nan, f"not continued: {getattr(exc, 'reason', str(exc))[:80]}"))
+                    continue
+                d, stab, imp = br.d_dc.values, br.stable.values, br.impacts_per_period.values
+                i = 0
+                while i + 1 < d.size and stab[i + 1] == 1 and imp[i + 1] == imp[0]:
+                    i += 1
+                bound = [j for j in range(br.sizes.get("special", 0)) if int(br.special_point.values[j]) == i]
+                if bound:
+                    j = bound[0]
+                    row["ends"].append((float(br.special_value.values[j]),
+                                        SPECIAL_KINDS[int(br.special_kind.values[j])].replace("_", " ")))
+                elif i + 1 == d.size:
+                    row["ends"].append((float(d[i]), "branch end, still stable"))
+                else:
+                    row["ends"].append((float(d[i]), f"last stable point (next {1e3 * float(d[i + 1]):.4g} mm: "
+                                        + ("unstable" if stab[i + 1] != 1 else "impacts change") + ")"))
+            out.append(row)
     return out
 
 
@@ -316,6 +374,19 @@ def report(parts, quick) -> str:
             L.append(f"| {r['case']} | {1e3 * r['rest']:g} | {r['relay']:g} | {r['p1_one']} of {r['n']} | "
                      f"{lo:.2f}-{hi:.2f} | {r['p1']} of {r['n']} | {r['attractors']} |")
         L.append("")
+    if parts.get("windows"):
+        L += ["### Stable windows in rest height (continuation)", "",
+              "The orbit at a thesis-like cell (and at the example cell) continued in d_dc, which under `listing` is "
+              f"the rest height, toward {1e3 * size['window_span'][0]:g} and {1e3 * size['window_span'][1]:g} mm "
+              f"(at most {size['window_points']} points each way): the stable run with the cell's period and impact "
+              "count, and what bounds each end.", "",
+              "| case | relay [Hz] | orbit (full state) | from rest [mm] | lower end [mm] | bounded by | upper end [mm] "
+              "| bounded by |", "|---|---|---|---|---|---|---|---|"]
+        for r in parts["windows"]:
+            (lo, klo), (hi, khi) = r["ends"]
+            L.append(f"| {r['case']} | {r['relay']:g} | period-{r['period']}, {r['impacts']} impacts | "
+                     f"{1e3 * r['rest']:g} | {1e3 * lo:.4f} | {klo} | {1e3 * hi:.4f} | {khi} |")
+        L.append("")
     c14 = parts["c14"]
     agree = [c for c in c14["cells"] if c["label"] == "periodic" and c["period"] == THESIS_NUMERICAL[int(c["relay"])]]
     L += [f"## 3. Listing C.14's law (`dynamics-script`, rest on the stop, AC sign {c14['sign']}, V = "
@@ -328,7 +399,7 @@ def report(parts, quick) -> str:
     names = ", ".join(f"{c['relay']:g} Hz" for c in agree) or "none"
     L += ["", f"Agrees with the thesis' numerical period at {len(agree)} of {len(c14['cells'])} frequencies "
           f"({names}). With the physical AC sign the bar stays on the "
-          "stop (tests/test_dc_well.py). Not done here: the continuation of the windows (issue 46 section 2).", ""]
+          "stop (tests/test_dc_well.py).", ""]
     return "\n".join(L)
 
 
@@ -373,6 +444,12 @@ def findings(results, quick) -> list:
     for r in results.get("census", []):
         out.append(Finding(f"switch-on census, {r['case']}, rest {1e3 * r['rest']:g} mm, {r['relay']:g} Hz: starts "
                            f"ending on mechanical P1 with 1 impact", r["p1_one"], 0, f"of {r['n']}"))
+    for r in results.get("windows", []):
+        for (v, kind), side in zip(r["ends"], ("lower", "upper")):
+            out.append(Finding(f"window in rest height, {r['case']}, {1e3 * r['rest']:g} mm, {r['relay']:g} Hz: "
+                               f"{side} end", 1e3 * v, 0.01, "mm"))
+            out.append(Finding(f"window in rest height, {r['case']}, {1e3 * r['rest']:g} mm, {r['relay']:g} Hz: "
+                               f"{side} end bounded by", kind.split(" (")[0]))
     for c in results["c14"]["cells"]:
         out.append(Finding(f"C.14 law, 25 V, listing sign: {c['relay']:g} Hz (mechanical)", c["text"]))
     return out
