@@ -32,8 +32,8 @@ import numpy as np
 
 from .parameters import Parameter, ParameterError
 
-__all__ = ["WELL_INPUTS", "WELL_OUTPUTS", "dc_force", "net_force", "potential", "well", "place", "apply_inputs", "check_inputs",
-           "WELL_DEFINITIONS"]
+__all__ = ["WELL_INPUTS", "WELL_OUTPUTS", "WELL_DEFINITIONS", "dc_force", "net_force", "potential", "well", "place",
+           "apply_inputs", "check_inputs"]
 
 #: the well's inputs (``--set dc_rest=0.005``, ``params={"dc_rest": 0.005}``): name -> Parameter
 WELL_INPUTS = {p.name: p for p in [
