@@ -18,8 +18,9 @@ SOIL_LAWS = {
              "position d is a state; modes no contact / elastic / progression",
 }
 
-#: the DC-force laws (docs/model.md section 1): the three found in the thesis, and "catalogue" (a
-#: saturating law anchored on Table 4.1 and the solenoid's catalogue): name -> provenance
+#: the DC-force laws (docs/model.md section 1): the three of the 1-DOF chapter, "catalogue" (a
+#: saturating law anchored on Table 4.1 and the solenoid's catalogue) and "dynamics-script" (listing
+#: C.14's law, centred at the stop): name -> provenance
 DC_LAWS = {
     "listing": "listing C.9 as printed: F_dc = -a3 xa^3 + a2 xa^2 - a1 xa + m g (the cubic the thesis' "
                "simulations ran; it flips only the cubic term of eq 4.6)",
@@ -32,6 +33,12 @@ DC_LAWS = {
                  "odd in xa, plateau F_dc_sat = the catalogue's 750 g at 24 V DC (Table 3.1) times (20/24)^2; "
                  "u_dc, s_dc least squares on Table 4.1 (maps/data/fit_dc_catalogue.py, output "
                  "maps/data/dc_catalogue_fit.json); no weight offset",
+    "dynamics-script": "listing C.14 (the thesis' Dynamics script, seed line 2369): Fspr = -1.4735 s^3 + "
+                       "1.652e-14 s^2 - 15.38 s on s, the bar relative to the stop, no offset (d_dc = 0): a soft "
+                       "15.38 N/m spring centred at the stop; taken: its force law only, in listing C.9's form "
+                       "(+m g cancels the weight in 1 DOF; C.14 is horizontal); not taken: C.14's damping "
+                       "C2*(u - x) (a position minus a velocity) and s' = x - v (the rig's and the bar's "
+                       "velocities mixed), broken as printed (docs/model.md)",
 }
 
 #: optional physical elements (docs/model.md section 1b), off by default (today's model); setting

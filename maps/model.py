@@ -38,7 +38,7 @@ PARAMETERS = {p.name: p for p in [
     Parameter("a1", "N m-1", "DC force cubic, linear coefficient"),
     Parameter("a2", "N m-2", "DC force cubic, quadratic coefficient"),
     Parameter("a3", "N m-3", "DC force cubic, cubic coefficient"),
-    Parameter("d_dc", "m", "stop-to-DC-solenoid-centre offset", 0, 0.5, low_open=True),
+    Parameter("d_dc", "m", "stop-to-DC-solenoid-centre offset (0: the law centred at the stop)", 0, 0.5),
     Parameter("d_ac", "m", "AC-solenoid-centre-to-stop offset", 0, 0.5, low_open=True),
     Parameter("L0", "H", "inductance fit, baseline", 0, 100, low_open=True),
     Parameter("A", "H", "inductance fit, amplitude", 0, 100),
@@ -86,8 +86,9 @@ class ModelOptions:
                                  # while AC off (prototype); "none": AC always on
     circuit: str = "thesis"      # "thesis": eq 4.16 in (i, z); "kvl": charge form in (q, i)
     ac_sign: str = "physical"    # "physical" or "listing" (listing C.2 reverses the AC force)
-    dc_law: str = "listing"      # DC force: "listing" (C.9), "fit" (eqs 4.6-4.7) or "measured"
-                                 # (Table 4.1 only, zero beyond 29 mm); see DC_LAWS
+    dc_law: str = "listing"      # DC force: "listing" (C.9), "fit" (eqs 4.6-4.7), "measured"
+                                 # (Table 4.1 only, zero beyond 29 mm), "catalogue" or
+                                 # "dynamics-script" (C.14's cubic, centred at the stop); see DC_LAWS
     soil: str = "viscous"        # 2-DOF: "viscous", "coulomb" or "drift" (SOIL_LAWS)
     compaction: bool = False     # coulomb and drift: the resistance grows with depth (COMPACTION)
     air_damping: bool = False    # free-flight damping -c_air dr/dt (ELEMENTS; c_air = 0: the same motion)
@@ -325,7 +326,7 @@ def _dc_law(o: ModelOptions, s, xa):
         # dc_scale * (-a3 xa^3 - a2 xa^2 + a1 xa)  (eq 4.7 without its weight offset)
         cubic = (s.a1 - xa * s.a2 - xa2 * s.a3) * xa * s.dc_scale
         U = (xa2 * s.a3 * 0.25 + xa * s.a2 / 3.0 - s.a1 * 0.5) * xa2 * s.dc_scale
-    else:
+    else:   # "listing" and "dynamics-script" (the same form, C.14's coefficients and d_dc = 0)
         xa2 = xa**2
         # dc_scale * (-a3 xa^3 + a2 xa^2 - a1 xa)  (listing C.9 without its weight offset)
         cubic = (xa * s.a2 - xa2 * s.a3 - s.a1) * xa * s.dc_scale

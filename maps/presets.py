@@ -64,6 +64,14 @@ DC_LAW_COEFFICIENTS = {
     },
     "measured": {},
     "catalogue": _catalogue_fit(),
+    "dynamics-script": {
+        "a1": (15.38, "dc_law dynamics-script: listing C.14 as printed (Fspr: -15.38*(s))"),
+        "a2": (1.652e-14, "dc_law dynamics-script: listing C.14 as printed (Fspr: +1.652e-14*(s)^2)"),
+        "a3": (1.4735, "dc_law dynamics-script: listing C.14 as printed (Fspr: -1.4735*(s)^3; C.9's 1.473E5 is "
+                       "1e5 larger)"),
+        "d_dc": (0.0, "dc_law dynamics-script: listing C.14 writes Fspr on s, the bar relative to the stop, "
+                      "without C.9's 0.0625 offset: the law is centred at the stop"),
+    },
 }
 
 #: each preset's DC-force law (docs/model.md sections 1 and 4), with the reason

@@ -87,8 +87,15 @@ class Problem:
     # ----- variants ---------------------------------------------------------------
     def with_values(self, **values) -> "Problem":
         """The same problem with parameter values changed (validated; provenance "set by user")."""
+        from .well import WELL_INPUTS, apply_inputs, check_inputs
+        inputs = {k: values.pop(k) for k in list(values) if k in WELL_INPUTS}
+        check_inputs(inputs, values, self.name)
         new = self.system.validate(dict(self.values, **values))
         prov = dict(self.provenance, **{k: "set by user" for k in values})
+        if inputs:     # dc_rest, dc_stiffness: d_dc and dc_scale placed on the law (maps/well.py)
+            table = apply_inputs(self.options, {k: (v, prov.get(k, "set by user")) for k, v in new.items()}, inputs)
+            new = self.system.validate({k: v for k, (v, _) in table.items()})
+            prov = {k: src for k, (_, src) in table.items()}
         return replace(self, values=new, provenance=prov)
 
     def with_start(self, x0: Mapping | None = None, flags0: Mapping | None = None) -> "Problem":
@@ -106,6 +113,7 @@ class Problem:
         soil, circuit, AC sign, relay), the preset, and ``param_<name>`` with ``_units`` and
         ``_source`` for every parameter except ``skip``."""
         out = {"scene": self.name, **model_attrs(self.options), **preset_attrs(self.table)}
+        out.update(well_attrs(self.options, self.values, skip))
         for k, v in self.values.items():
             if k not in skip:
                 out[f"param_{k}"] = v
@@ -116,6 +124,23 @@ class Problem:
     def __repr__(self):
         opts = f", options={self.options}" if self.options is not None else ""
         return f"Problem({self.name!r}, preset={self.preset!r}{opts}, values={dict(self.values)})"
+
+
+def well_attrs(options, values, skip=()) -> dict:
+    """Dataset attributes of the DC well (:mod:`maps.well`): ``dc_rest``, ``dc_stiffness``,
+    ``dc_depth``, ``dc_range``, ``dc_stop_force`` with ``_units``, and ``dc_well_definition``;
+    none for a scene without a DC solenoid, or when ``skip`` holds a parameter the well depends on
+    (a sweep's parameter: the well changes along it)."""
+    from .well import WELL_DEFINITIONS, WELL_OUTPUTS, well
+    if options is None or not options.dc or set(skip) & set(values) - {"relay_hz", "V", "R", "C", "f_mains",
+                                                                          "L0", "A", "B", "d_ac", "k", "c", "e",
+                                                                          "c_air", "e_rear", "tau_dc"}:
+        return {}
+    out = {}
+    for k, v in well(options, values).items():
+        out[k], out[f"{k}_units"] = v, WELL_OUTPUTS[k][0]
+    out["dc_well_definition"] = WELL_DEFINITIONS
+    return out
 
 
 def model_attrs(options) -> dict:

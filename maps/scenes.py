@@ -122,6 +122,9 @@ class Scene:
         """name -> (value, provenance) for this scene's parameters, under this scene's options as
         they are (see :meth:`for_preset`)."""
         system = self.system
+        from .well import WELL_INPUTS, apply_inputs, check_inputs
+        inputs = {k: overrides.pop(k) for k in list(overrides) if k in WELL_INPUTS}
+        check_inputs(inputs, overrides, self.name)
         if self.options is None:
             if preset is not None:
                 raise ParameterError(f"scene {self.name!r} has no presets; set its parameters by name")
@@ -140,6 +143,9 @@ class Scene:
             raise ParameterError(f"parameter {missing[0]!r} of scene {self.name!r} has no value")
         chosen = {k: table[k] for k in system.param_names}
         values = system.validate({k: v for k, (v, _) in chosen.items()})
+        if inputs:     # dc_rest, dc_stiffness: d_dc and dc_scale placed on the law (maps/well.py)
+            chosen = apply_inputs(self.options, {k: (values[k], chosen[k][1]) for k in chosen}, inputs)
+            values = system.validate({k: v for k, (v, _) in chosen.items()})
         return {k: (values[k], chosen[k][1]) for k in system.param_names}
 
     def initial_state(self, **components) -> dict:

@@ -137,7 +137,7 @@ def test_cli_lists_the_catalogue_law_and_the_elements(capsys):
         main(["simulate", "--help"])
     except SystemExit:
         pass
-    assert "{listing,fit,measured,catalogue}" in capsys.readouterr().out
+    assert "{listing,fit,measured,catalogue,dynamics-script}" in capsys.readouterr().out
     assert main(["params", "--scene", "prototype", "--dc-law", "catalogue"]) == 0
     out = capsys.readouterr().out
     for name in ("F_dc_sat", "u_dc", "s_dc", "c_air", "e_rear", "tau_dc", "optional elements"):

@@ -40,7 +40,7 @@ def test_the_parser_is_built_without_the_integrator_and_keeps_the_choices():
     r = subprocess.run([sys.executable, "-c", code], env=ENV, capture_output=True, text=True, timeout=60)
     assert r.returncode == 0, r.stderr
     text = " ".join(r.stdout.split())
-    assert "--dc-law {listing,fit,measured,catalogue}" in text and "--soil {viscous,coulomb,drift}" in text
+    assert "--dc-law {listing,fit,measured,catalogue,dynamics-script}" in text and "--soil {viscous,coulomb,drift}" in text
 
 
 def test_the_light_law_tables_are_the_models():

@@ -59,7 +59,7 @@ def test_installed_wheel_lists_every_study_of_pyproject(installed):
     declared = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["entry-points"]["bifurc.studies"]
     r = _run([bindir / "bifurc", "study", "--help"], cwd=work, env=env)
     listed = re.search(r"^studies: (.*)$", r.stdout, re.M).group(1).split(", ")
-    assert sorted(listed) == sorted(declared) and len(declared) == 8
+    assert sorted(listed) == sorted(declared) and len(declared) == 9
     for name, module in declared.items():   # every entry point resolves to a module with run()
         _run([bindir / "python", "-c", f"import {module} as m; assert callable(m.run), {name!r}"], cwd=work, env=env)
 

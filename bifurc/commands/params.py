@@ -56,6 +56,25 @@ def optional_rows(scene, preset=None, params=None, soil=None, compaction=None, d
     return out
 
 
+def well_rows(scene, preset=None, params=None, soil=None, compaction=None, dc_law=None) -> list[tuple]:
+    """(name, value, unit, settable range or "derived", meaning, how it is set) for the DC well's
+    derived quantities (maps.well; empty for a scene without a DC solenoid)."""
+    from maps.problem import problem
+    from maps.well import WELL_INPUTS, WELL_OUTPUTS, well
+    pb = problem(scene, preset, params, soil=soil, compaction=compaction, dc_law=dc_law)
+    out = []
+    for name, value in well(pb.options, pb.values).items():
+        unit, meaning = WELL_OUTPUTS[name]
+        if name in WELL_INPUTS:
+            how = (f"--set {name}=VALUE sets it ({'d_dc' if name == 'dc_rest' else 'dc_scale'} follows; the law's "
+                   f"shape kept)" + (" [set]" if name in (params or {}) else ""))
+            rng = WELL_INPUTS[name].range_text()
+        else:
+            how, rng = "derived", "-"
+        out.append((name, f"{value:g}", unit, rng, meaning, how))
+    return out
+
+
 def run(args) -> int:
     sets = parse_sets(args.sets)
     if args.plot is not None:
@@ -65,13 +84,22 @@ def run(args) -> int:
         check_force_laws(args.scene, args.preset, sets)
     table = rows(args.scene, args.preset, sets, args.soil, args.compaction, args.dc_law)
     extra = optional_rows(args.scene, args.preset, sets, args.soil, args.compaction, args.dc_law)
+    wells = well_rows(args.scene, args.preset, sets, args.soil, args.compaction, args.dc_law)
     head = ("name", "value", "unit", "allowed range", "meaning", "provenance")
-    widths = [max(len(r[j]) for r in table + extra + [head]) for j in range(len(head) - 1)]
+    widths = [max(len(r[j]) for r in table + extra + wells + [head]) for j in range(len(head) - 1)]
     for r in [head] + table:
         print("  ".join(f"{c:<{w}}" for c, w in zip(r, widths)) + "  " + r[-1])
     if extra:
         print("\noptional elements, off (today's model):")
         for r in extra:
+            print("  ".join(f"{c:<{w}}" for c, w in zip(r, widths)) + "  " + r[-1])
+    if wells:
+        from maps.well import WELL_DEFINITIONS
+        from maps.problem import problem
+        law = problem(args.scene, args.preset, sets, soil=args.soil, compaction=args.compaction,
+                      dc_law=args.dc_law).options.dc_law
+        print(f"\nDC well, derived (dc_law {law}; {WELL_DEFINITIONS}):")
+        for r in wells:
             print("  ".join(f"{c:<{w}}" for c, w in zip(r, widths)) + "  " + r[-1])
     if args.plot is not None:
         from ..plots.laws import plot_force_laws

@@ -55,8 +55,8 @@ def law_curves(scene="thesis-1dof", preset=None, params=None, dc_law=None, n=401
         xa = np.linspace(-0.04, 0.04, n)    # Table 4.1 spans |xa| <= 29 mm
         out["xa"], out["F_dc"] = xa, {}
         for law in DC_LAWS:
-            pb = problem(scene, preset, params, dc_law=law)
-            out["F_dc"][law] = _evaluate(pb, ["F_dc"], xa + d_dc, {"P": 0.0})[:, 0]
+            pb = problem(scene, preset, params, dc_law=law)      # each law at its own d_dc (C.14's: 0)
+            out["F_dc"][law] = _evaluate(pb, ["F_dc"], xa + dict(pb.values)["d_dc"], {"P": 0.0})[:, 0]
     if d_ac is not None:
         xb = np.linspace(-0.06, 0.12, n)
         wide = np.linspace(-0.3, 0.12, 4 * n)         # from far behind the coil, where L = L0 within 1e-20
