@@ -20,6 +20,8 @@ GROUP = "bifurc.studies"
 #: figure from a quiet machine (a loaded one is slower by about the load over the cores). `bifurc study --help`
 #: prints this table and README.md states it (tests/test_readme.py checks that they agree).
 DURATIONS = {
+    "dc-well": ("157 s at load 6-8 (89 s of CPU)", "513 s at 411e9dd, before its census and windows were added (more "
+                "now, not measured)", "quick at 1ba7984, full at 411e9dd, 2026-11-29"),
     "attractor-atlas": ("30 s", "12 min (718 s)", "both at fc9ed40, 2026-11-27, report commit 8dc852c"),
     "prototype-progression": ("about 30 s", "1-3 min (62-180 s)", "reports of e448f76 and b9c6343, 2026-11-26, shared cores"),
     "regime-maps": ("6.5 min (391 s)", "not measured: 41 x 41 cells a map, 34 times the quick form's",
