@@ -14,7 +14,7 @@ def check_budget(args, n_values: int, what: str = "values") -> dict:
     """Refuse (one line) a job whose estimated memory exceeds the available memory or whose run time
     exceeds MAX_HOURS, unless ``args.yes``; returns the estimate (:func:`bifurc.run.guard.check_size`)."""
     return check_size(n_values, args.transient, args.record, args.workers, getattr(args, "budget", None),
-                      getattr(args, "yes", False), what,
+                      getattr(args, "allow_large", False), what,
                       f"reduce --n{'/--n2' if what == 'cells' else ''}, --transient or --record, or pass --yes to run it")
 
 

@@ -23,8 +23,7 @@ assert set(SPECIAL_LABELS) == set(_MARKERS) == set(_MEANINGS) == set(SPECIAL_KIN
     "the figure's labels must name exactly the special-point kinds of storage.schema.SPECIAL_KINDS"
 
 
-def plot_branch(ds, path=None, state=None, node: int = 0, ax=None, diagram=None, overwrite=False, label=None,
-                colour: int = 0):
+def plot_branch(ds, path=None, state=None, node: int = 0, ax=None, diagram=None, overwrite=False, **style):
     """The continuation parameter against ``state`` (default the first state) at strobe node
     ``node`` of each branch point: stable parts solid, unstable dashed, one colour per branch;
     special points marked and labelled (LP fold, PD period doubling, NS Neimark-Sacker, G grazing,
@@ -34,11 +33,16 @@ def plot_branch(ds, path=None, state=None, node: int = 0, ax=None, diagram=None,
 
     ``diagram``: a sweep dataset (bifurc.sweep / ``bifurc diagram``) of the same parameter, drawn
     behind as grey dots (every recorded sample).  ``ax``: draw into this Axes.  ``path``: also save
-    there (an existing file is refused unless ``overwrite``) and close the figure.  ``label``,
-    ``colour``: the legend text and first palette index, to tell several datasets apart on one Axes.
+    there (an existing file is refused unless ``overwrite``) and close the figure.  ``style``: ``label`` (the
+    legend text) and ``colour`` (the first palette index), to tell several datasets apart on one Axes.
     Returns the Axes (shown once in Jupyter).
     """
     require_kind(ds, "branch", "plot_branch")
+    unknown = set(style) - {"label", "colour"}
+    if unknown:
+        from maps.parameters import ParameterError
+        raise ParameterError(f"plot_branch: unknown style {sorted(unknown)[0]!r}; allowed: label, colour")
+    label, colour = style.get("label"), int(style.get("colour", 0))
     if path is not None:
         check_figure_output(path, overwrite)
     par = ds.attrs["continuation_parameter"]

@@ -87,7 +87,11 @@ class Settings:
         names = [f.name for f in dataclasses.fields(self)]
         unknown = [k for k in changes if k not in names]
         if unknown:
-            raise ParameterError(f"{type(self).__name__} has no setting {unknown[0]!r}; its settings: {', '.join(names)}")
+            import difflib
+            close = difflib.get_close_matches(str(unknown[0]), names, n=1, cutoff=0.75)
+            hint = f" (did you mean {close[0]!r}?)" if close else ""
+            raise ParameterError(f"{type(self).__name__} has no setting {unknown[0]!r}{hint}; its settings: "
+                                 f"{', '.join(names)}")
         return dataclasses.replace(self, **changes)
 
     def fields(self) -> dict:
@@ -113,7 +117,8 @@ def split_options(options: dict, *groups) -> list:
                 out[i][k] = v
                 break
         else:
-            close = [n for n in valid if n.replace("_", "") == k.replace("_", "").lower()]
+            import difflib
+            close = difflib.get_close_matches(str(k), valid, n=1, cutoff=0.75)
             hint = f" (did you mean {close[0]!r}?)" if close else ""
             raise ParameterError(f"unknown option {k!r}{hint}; valid: {', '.join(valid)}")
     return out
