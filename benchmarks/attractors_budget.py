@@ -49,7 +49,7 @@ def main(argv=None):
     for b in a.budgets:
         t = time.perf_counter()
         ds = bifurc.attractors("thesis-1dof", "V", np.linspace(80, 220, a.n), **MODEL, box=BOX, n_starts=a.starts,
-                               seed=1, progress=False, link=False, max_periods=b)
+                               seed=1, progress=False, link=False, budget=b)
         wall = time.perf_counter() - t
         labels = list(ds.attractor_label.values)
         share = {k: float(ds.basin_fraction.values[:, labels.index(k)].mean()) for k in ("transient", "not_converged")}

@@ -214,7 +214,7 @@ def census(maps_, size, workers) -> list:
                 continue
             pb = maps.problem(SCENE, PRESET, dict(m["params"], dc_rest=c["rest"]), dc_law=m["law"], ac_sign=m["sign"])
             ds = attractors(pb, "relay_hz", [c["relay"]], starts="switch-on", n_starts=size["census_starts"],
-                            max_periods=size["census_periods"], link=False, progress=False, workers=workers)
+                            budget=size["census_periods"], link=False, progress=False, workers=workers)
             row = ds.isel({"relay_hz": 0})
             code = row.class_code.values
             pm, im = row.period_mechanical.values, row.impacts_per_period_mechanical.values
