@@ -308,9 +308,9 @@ def stability_report(ds) -> str:
 
 def attractors_report(ds) -> str:
     """The attractor census: per value, each attractor present with its basin fraction and 95 % interval, the
-    eventual fraction where the transient starts' apportioning changes it, and its event."""
-    from .attractors.dataset import eventual_text
-    from .sweeps.classify import describe
+    eventual fraction where the transient starts' apportioning changes it, and its event with the parameter value
+    where the event was located on the attractor's continued branch (:func:`bifurc.attractors.dataset.event_text`)."""
+    from .attractors.dataset import attractor_text, event_text, eventual_text
     par = ds.attrs["swept_parameter"]
     lines = [f"# Attractor census (attractors): {ds.attrs.get('scene', '')}, {ds.sizes[par]} values of {par} x "
              f"{ds.sizes['start']} starts", "", f"| {par} | attractor | class | basin fraction | 95 % interval | "
@@ -319,15 +319,13 @@ def attractors_report(ds) -> str:
     for i, v in enumerate(ds[par].values):
         for j, label in enumerate(ds.attractor_label.values):
             if ds.basin_fraction.values[i, j] > 0 or ds.present.values[i, j] or ds.event.values[i, j]:
-                code = int(ds.class_code.values[i, j])
-                what = describe(code, int(ds.period.values[i, j]), int(ds.impacts_per_period.values[i, j])) \
-                    if code >= 0 else "absent"
+                what = attractor_text(ds, i, j)
                 if label == "transient":
                     life = float(ds.lifetime.values[i, j])
                     what = "on a chaotic saddle at the budget" + (f" (mean lifetime {life:.0f} strobe periods)"
                                                                   if np.isfinite(life) else "")
                 ev = int(ds.event.values[i, j])
-                ev_text = f"{events[ev]} ({ds.event_link.values[i, j]})" if ev else ""
+                ev_text = f"{events[ev]}: {event_text(ds, i, j)}" if ev else ""
                 lines.append(f"| {v:g} | {label} | {what} | {ds.basin_fraction.values[i, j]:.3f} | "
                              f"[{ds.basin_fraction_low.values[i, j]:.3f}, {ds.basin_fraction_high.values[i, j]:.3f}] "
                              f"| {eventual_text(ds, i, j)} | {ev_text} |")

@@ -216,6 +216,37 @@ def test_matching_through_the_fold_linked_to_the_located_fold(fold_census):
     assert np.all(np.isfinite(ds.match_distance.values[1:after, j]))
 
 
+def test_the_census_text_gives_each_value_and_the_located_fold(fold_census, tmp_path, capsys):
+    """`bifurc attractors`' summary: one line per value with every attractor present and its fraction (the
+    analytic basin x < middle root, start by start), and the event with the value where it was located
+    (the analytic fold r_c to 1e-7); `bifurc report` on the written file gives the same located value."""
+    import re
+    from bifurc.attractors.dataset import census_lines
+    from bifurc.cli import main
+    from bifurc.storage.files import write_netcdf
+    ds = fold_census
+    lines = census_lines(ds)
+    rows = [ln for ln in lines if ln.startswith("  r = ")]
+    assert [float(ln.split("=")[1].split(":")[0]) for ln in rows] == pytest.approx(list(ds.r.values))
+    for r, row in zip(ds.r.values, rows):
+        roots = _roots(r)
+        assert row.count("period-1, no impact") == (2 if len(roots) == 3 else 1), row
+        if len(roots) == 3:
+            lower = np.sum(ds.start_x.values < roots[1]) / ds.sizes["start"]
+            assert f"no impact {lower:.3f} [" in row or f"no impact {1 - lower:.3f} [" in row, row
+    events = [ln for ln in lines if "disappeared" in ln]
+    assert len(events) == 1
+    located = float(re.search(r"fold located at r = (\S+)", events[0]).group(1))
+    assert located == pytest.approx(R_FOLD, abs=1e-7)
+    write_netcdf(ds, tmp_path / "fold.nc")
+    assert main(["report", str(tmp_path / "fold.nc")]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("# Attractor census (attractors)")
+    row = [ln for ln in out.splitlines() if "disappeared" in ln]
+    assert len(row) == 1 and row[0].startswith(f"| {ds.r.values[int(np.argmax(ds.r.values > R_FOLD))]:g} |")
+    assert float(re.search(r"fold located at r = (\S+) \|", row[0]).group(1)) == pytest.approx(R_FOLD, abs=1e-7)
+
+
 def kicked_logistic():
     """x' = 0, y' = -y, with x -> r x (1 - x) at every half period: its stroboscopic map is the logistic map."""
     import heyoka as hy
@@ -718,7 +749,10 @@ def test_command_writes_dataset_and_figure(tmp_path, capsys):
     assert code == 0
     ds = bifurc.load(out, kind="attractors")
     assert ds.sizes["start"] == 20 and float(ds.basin_fraction.sum()) == pytest.approx(1.0)
-    assert "2 attractor(s)" in capsys.readouterr().out
+    out = capsys.readouterr().out
+    assert "2 attractor(s)" in out
+    row = [ln for ln in out.splitlines() if ln.startswith("  Omega = 1.3: ")]
+    assert len(row) == 1 and "period-1, no impact 0." in row[0] and "period-1, 1 impact (1:1) 0." in row[0]
     assert main(["attractors", "--scene", "impact-oscillator", "--param", "Omega", "--from", "1.3", "--to", "1.3",
                  "--starts", "5", "-o", str(out), "--quiet"]) == 2        # no silent overwrite
 

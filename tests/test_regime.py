@@ -87,7 +87,8 @@ def test_netcdf_round_trip_keeps_values_and_cf_attributes(local, tmp_path):
 
 
 def test_a_map_file_is_its_own_kind(local, tmp_path, capsys):
-    """ds.bifurc.plot() draws the map; `bifurc report` (a diagram's report) refuses it in one line."""
+    """ds.bifurc.plot() draws the map; `bifurc report` gives the map's report and refuses the diagram-only
+    --at in one line."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -97,7 +98,10 @@ def test_a_map_file_is_its_own_kind(local, tmp_path, capsys):
     plt.close(ax.figure)
     path = tmp_path / "m.nc"
     local.to_netcdf(path)
-    assert main(["report", str(path)]) == 2
+    assert main(["report", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("# Regime map report (map)") and f"{local.sizes[local.attrs['swept_parameter']]} values" in out
+    assert main(["report", str(path), "--at", "5"]) == 2
     err = capsys.readouterr().err.strip()
     assert "holds a map dataset" in err and len(err.splitlines()) == 1
 
