@@ -99,16 +99,6 @@ def run(args) -> int:
 
 
 def _summary(ds, args) -> None:
-    from ..attractors.plots import _legend
-    from ..attractors.dataset import attractor_count, eventual_text
-    n_att = attractor_count(ds)
-    n = ds.sizes[args.param]
-    print(f"{ds.attrs['scene']}: {args.param} {args.start:g}..{args.stop:g} ({n} values x {args.starts} starts) "
-          f"in {ds.attrs['census_seconds']:.1f} s: {n_att} attractor(s)")
-    last = ds.basin_fraction.values[-1]
-    for j in range(ds.sizes["attractor"]):
-        if last[j] > 0:
-            then = f", eventually {text}" if (text := eventual_text(ds, -1, j)) else ""
-            print(f"  {_legend(ds, j)}: basin fraction {last[j]:.3f} [{ds.basin_fraction_low.values[-1, j]:.3f}, "
-                  f"{ds.basin_fraction_high.values[-1, j]:.3f}]{then} at {args.param} = {ds[args.param].values[-1]:g}")
+    from ..attractors.dataset import census_lines
+    print("\n".join(census_lines(ds)))
     print(f"  wrote {args.output}" + (f" and {args.plot}" if args.plot else ""))
