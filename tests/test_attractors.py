@@ -749,9 +749,9 @@ def test_command_writes_dataset_and_figure(tmp_path, capsys):
     assert code == 0
     ds = bifurc.load(out, kind="attractors")
     assert ds.sizes["start"] == 20 and float(ds.basin_fraction.sum()) == pytest.approx(1.0)
-    out = capsys.readouterr().out
-    assert "2 attractor(s)" in out
-    row = [ln for ln in out.splitlines() if ln.startswith("  Omega = 1.3: ")]
+    printed = capsys.readouterr().out
+    assert "2 attractor(s)" in printed
+    row = [ln for ln in printed.splitlines() if ln.startswith("  Omega = 1.3: ")]
     assert len(row) == 1 and "period-1, no impact 0." in row[0] and "period-1, 1 impact (1:1) 0." in row[0]
     assert main(["attractors", "--scene", "impact-oscillator", "--param", "Omega", "--from", "1.3", "--to", "1.3",
                  "--starts", "5", "-o", str(out), "--quiet"]) == 2        # no silent overwrite
