@@ -179,3 +179,18 @@ def test_api_datasets_record_the_call():
                      grazing=False, error_sample=0, progress=False)
     assert "bifurc.sweep('thesis-1dof', 'relay_hz', [5.0, 6.0], transient=3" in d.attrs["history"]
     assert d.attrs["Conventions"] == h.attrs["Conventions"] == "CF-1.10" and "source" in d.attrs
+
+
+def test_bifurc_report_reads_every_file_kind(written, capsys):
+    """`bifurc report` on each kind: exit 0 and a report naming the kind, with the sizes the commands asked for."""
+    expect = {"simulate.nc": ("# Time history report (history)", "- 1001 samples"),       # --t-end 1 --dt 1e-3
+              "diagram.nc": ("# Classification report (diagram)", "3 values of `relay_hz` from 5 to 9"),
+              "map.nc": ("# Regime map report (map)", "2 values of `relay_hz` x 2 values of `V`"),
+              "branch.nc": ("# Branch report (branch)", "continuation in V"),
+              "orbit.nc": ("# Periodic orbit report (orbit)", "- period "),
+              "accuracy/accuracy.nc": ("# Work-precision report (accuracy)", "| heyoka | 1e-08 |"),
+              "verify/stability.nc": ("# Stability suite report (stability)", "1 cases")}
+    for name, (title, words) in expect.items():
+        assert main(["report", str(written["dir"] / name)]) == 0, name
+        out = capsys.readouterr().out
+        assert out.startswith(title) and words in out, (name, out[:300])
