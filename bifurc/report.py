@@ -63,8 +63,14 @@ UNDECIDED_KINDS = (
 
 
 def undecided_summary(ds) -> list[str]:
-    """One line per kind of not-converged reason of a diagram or map: its count and the one-line
-    remedy (the largest budget its values' evidence suggests); empty when every value is decided."""
+    """One line per kind of not-converged reason of a diagram or map: its count and the one-line remedy.
+
+    A value's ``budget_needed`` is the budget its evidence asks for. Where that is more than
+    :data:`bifurc.sweeps.anytime.HOPELESS` budgets the sweep itself stopped extending it: a longer budget is
+    unlikely to decide it, and no budget is suggested. Otherwise the largest such budget is suggested with
+    its estimated computation time for those values, at the dataset's own measured seconds per relay
+    period. Empty when every value is decided."""
+    from .sweeps.anytime import BUDGET, HOPELESS
     codes = np.asarray(ds.class_code.values).ravel()
     reasons = np.asarray(ds.class_reason.values).ravel()
     need = np.asarray(ds.budget_needed.values).ravel() if "budget_needed" in ds else np.zeros(codes.size)
@@ -76,14 +82,41 @@ def undecided_summary(ds) -> list[str]:
         kind = next((what for key, what in UNDECIDED_KINDS if key in str(reasons[i])), str(reasons[i]) or "no reason")
         groups.setdefault(kind, []).append(int(need[i]))
     budget = ds.attrs.get("budget_periods", "?")
+    hopeless = HOPELESS * (int(budget) if str(budget).isdigit() else BUDGET)
+    rate = _seconds_per_period(ds)
     out = [f"{bad.size} not-converged (budget {budget} relay periods per value):"]
     for kind, needs in sorted(groups.items(), key=lambda kv: -len(kv[1])):
-        wanted = max(needs)
-        remedy = ("raise --time-budget, or drop it" if kind == CUT_KIND else
-                  f"try --budget {int(min(wanted, 10**6))}" if 0 < wanted < 10**6 else
-                  "a longer budget is unlikely to decide (near the threshold)" if wanted else "see class_reason")
-        out.append(f"  {len(needs)}: {kind}; {remedy}")
+        out.append(f"  {len(needs)}: {kind}; {_remedy(kind, needs, hopeless, rate)}")
     return out
+
+
+def _remedy(kind: str, needs: list[int], hopeless: int, rate: float) -> str:
+    """The remedy of ``needs`` (each value's budget_needed) of one kind of reason (see :func:`undecided_summary`)."""
+    if kind == CUT_KIND:
+        return "raise --time-budget, or drop it"
+    within = [n for n in needs if 0 < n <= hopeless]
+    beyond = sum(n > hopeless for n in needs)
+    if not within:
+        return ("a longer budget is unlikely to decide (its evidence asks for more than "
+                f"{hopeless} relay periods: an exponent near the threshold)" if beyond else "see class_reason")
+    wanted = max(within)
+    cost = f" (about {_duration(len(within) * wanted * rate)} of computation for {len(within)} value" \
+           f"{'s' if len(within) > 1 else ''})" if math.isfinite(rate) else ""
+    rest = f"; {beyond} more unlikely to be decided by a longer budget" if beyond else ""
+    return f"try --budget {wanted}{cost}{rest}"
+
+
+def _seconds_per_period(ds) -> float:
+    """Computation seconds per relay period of one value, measured on this dataset (NaN: not recorded)."""
+    periods = float(np.nansum(ds.periods_integrated.values)) if "periods_integrated" in ds else math.nan
+    secs = float(ds.attrs.get("values_seconds", math.nan))
+    return secs / periods if periods > 0 else math.nan
+
+
+def _duration(seconds: float) -> str:
+    """"40 s", "12 min", "3.5 h"."""
+    return f"{seconds:.0f} s" if seconds < 120 else f"{seconds / 60:.0f} min" if seconds < 7200 else \
+        f"{seconds / 3600:.1f} h"
 
 
 def classification_report(ds, at=None, period_of: str = "full") -> str:
