@@ -1147,3 +1147,39 @@ def test_newton_at_a_multiple_of_the_period_gives_the_orbit_at_its_least_period(
     assert a.period == 2 and len(a.points) == 2
     assert np.allclose(np.sort(a.points[:, 0]), np.sort(cycle), atol=1e-9, rtol=0)
     assert a.max_multiplier == pytest.approx(abs(-r * r + 2 * r + 4), abs=1e-7)
+
+
+def _evidence_census(link, evidence, stuck=0.0):
+    """A two-value census of one attractor lost between V = 100 and 120 with the given event link and evidence
+    (the texts bifurc.attractors.follow.link_event writes), its node stuck on the stop or not."""
+    import xarray as xr
+    ev = np.array([[0], [2]], np.int8)
+    return xr.Dataset({"event": (("V", "attractor"), ev, {"flag_meanings": "none appeared disappeared"}),
+                       "event_link": (("V", "attractor"), np.array([[""], [link]], dtype=object)),
+                       "event_evidence": (("V", "attractor"), np.array([[""], [evidence]], dtype=object)),
+                       "class_code": (("V", "attractor"), np.array([[int(ClassCode.PERIODIC_NO_IMPACT)], [-1]])),
+                       "period": (("V", "attractor"), np.array([[1], [0]])),
+                       "impacts_per_period": (("V", "attractor"), np.array([[0], [-1]])),
+                       "flag_stuck_bar": (("V", "attractor", "node"), np.array([[[stuck, np.nan]], [[np.nan] * 2]]))},
+                      coords={"V": [100.0, 120.0], "attractor_label": ("attractor", ["A0"])},
+                      attrs={"swept_parameter": "V"})
+
+
+@pytest.mark.parametrize("link, evidence, text", [
+    ("fold", "fold located at V = 113.2345678 on the branch continued from 100",
+     "fold located at V = 113.2345678"),
+    ("period_doubling", "period_doubling bracketed in V = 101.5 to 101.75: the period-2 branch continued from 100 "
+     "becomes a period-1 orbit traversed twice there", "period_doubling bracketed in V = 101.5 to 101.75"),
+    ("global", "no fold, period doubling, torus, grazing or stick onset on its branch between 100 and 120 (largest "
+     "|multiplier| 0.9 at 100; branch: left the interval [100, 130] at V = 130.4534): a crisis",
+     "global: between V = 100 and 120")])
+def test_an_events_located_value_is_read_from_its_evidence_and_a_global_one_has_none(link, evidence, text):
+    """A global event's evidence may name a value where its branch stopped: that is not where the event was."""
+    from bifurc.attractors.dataset import event_text
+    assert event_text(_evidence_census(link, evidence), 1, 0) == text
+
+
+def test_a_period_1_orbit_stuck_on_the_stop_reads_at_rest():
+    from bifurc.attractors.dataset import attractor_text
+    assert attractor_text(_evidence_census("fold", "", stuck=1.0), 0, 0) == "at rest on the stop"
+    assert attractor_text(_evidence_census("fold", "", stuck=0.0), 0, 0) == "period-1, no impact"

@@ -47,7 +47,7 @@ def event_location(ds, i, j) -> tuple[float, float] | None:
     was located on its continued branch (lo = hi: a located point; lo < hi: a bracket), or None: no event,
     or a global one (no local bifurcation on the branch: only the grid step brackets it)."""
     import re
-    if not int(ds.event.values[i, j]) or "event_evidence" not in ds:
+    if not int(ds.event.values[i, j]) or "event_evidence" not in ds or str(ds.event_link.values[i, j]) == "global":
         return None
     par = ds.attrs["swept_parameter"]
     m = re.search(rf"\b{re.escape(par)} = ({_NUMBER})(?: to ({_NUMBER}))?", str(ds.event_evidence.values[i, j]))
@@ -76,7 +76,7 @@ def event_text(ds, i, j) -> str:
 
 def attractor_text(ds, i, j) -> str:
     """What attractor ``j`` is at value ``i``: "period-1, 1 impact (1:1)", "chaotic", "at rest on the stop"
-    (a period-1 orbit without impact in contact with the stop at its node), an outcome's name."""
+    (a period-1 orbit without impact, stuck on or in contact with the stop at its node), an outcome's name."""
     from ..sweeps.classify import CLASS_LABELS, describe
     label = str(ds.attractor_label.values[j])
     if not label.startswith("A"):
@@ -89,13 +89,19 @@ def attractor_text(ds, i, j) -> str:
     return describe(code, int(ds.period.values[i, j]), int(ds.impacts_per_period.values[i, j]))
 
 
+#: mode flags that hold while the bar rests on the stop (thesis-1dof: stuck_bar; a contact mode: contact)
+RESTING_FLAGS = ("flag_stuck_bar", "flag_contact")
+
+
 def _resting(ds, i, j) -> bool:
-    """In contact with the stop at every stored node, with no impact (a bar at rest on the stop)."""
-    if "flag_contact" not in ds:
-        return False
-    c = ds.flag_contact.values[i, j]
-    c = c[np.isfinite(c)]
-    return c.size > 0 and bool(np.all(c == 1))
+    """Stuck on (or in contact with) the stop at every stored node, with no impact: a bar at rest on the stop."""
+    for name in RESTING_FLAGS:
+        if name in ds:
+            c = ds[name].values[i, j]
+            c = c[np.isfinite(c)]
+            if c.size and bool(np.all(c == 1)):
+                return True
+    return False
 
 
 def census_lines(ds) -> list[str]:
