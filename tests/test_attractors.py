@@ -1183,3 +1183,32 @@ def test_a_period_1_orbit_stuck_on_the_stop_reads_at_rest():
     from bifurc.attractors.dataset import attractor_text
     assert attractor_text(_evidence_census("fold", "", stuck=1.0), 0, 0) == "at rest on the stop"
     assert attractor_text(_evidence_census("fold", "", stuck=0.0), 0, 0) == "period-1, no impact"
+
+
+def test_the_census_figure_tells_every_attractor_apart_and_explains_its_marks(fold_census):
+    """Both stable equilibria are "period-1, no impact": the legend tells them apart by x in mm (the analytic
+    roots -1 and 1 m at r = 0); the legend lies outside the axes and explains the event triangles; the lost
+    one's triangle sits at the located fold; the fractions are bars centred on the sampled values; every id up
+    to 60 has its own colour and marker."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from bifurc.attractors.plots import COLOURS, _colour, _marker, plot_attractors
+    ax = plot_attractors(fold_census)
+    fig = ax.figure
+    fig.canvas.draw()
+    texts = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert any(t.endswith("period-1, no impact, x -1000 mm at r = 0") for t in texts), texts
+    assert any(t.endswith("period-1, no impact, x 1000 mm at r = 0") for t in texts), texts
+    assert any(t.startswith("appeared") for t in texts) and "disappeared" in texts
+    assert ax.get_legend().get_window_extent().x0 >= ax.get_window_extent().x1
+    assert ax.get_ylabel() == "x [mm]"
+    lost = [ln for ln in ax.lines if ln.get_marker() == "v"]
+    assert len(lost) == 1 and float(lost[0].get_xdata()[0]) == pytest.approx(R_FOLD, abs=1e-7)
+    bars = fig.axes[1].patches
+    centres = {round(b.get_x() + b.get_width() / 2, 9) for b in bars}
+    assert centres == {round(float(r), 9) for r in fold_census.r.values}
+    assert max(b.get_width() for b in bars) < 0.1          # the sampled step: no bar reaches its neighbour
+    plt.close(fig)
+    styles = [(_colour(f"A{j}", j), _marker(j)) for j in range(6 * len(COLOURS))]
+    assert len(set(styles)) == len(styles) and "^" not in {m for _, m in styles} and "v" not in {m for _, m in styles}
