@@ -34,7 +34,7 @@ def register(subparsers):
     p.add_argument("--no-link", action="store_true",
                    help="do not continue appearing/disappearing orbits to link them to local bifurcations")
     p.add_argument("--refine-from", nargs="+", default=None, metavar="BRANCH.nc",
-                   help="branch files from continuation in --param (bifurc branch -o ...): a value is added between "
+                   help="branch files from continuation in --param (bifurc continue -o ...): a value is added between "
                         "each two of their located events that share a step")
     p.add_argument("--batch-size", type=int, default=4, help="starts per heyoka batch (SIMD lanes; default 4)")
     p.add_argument("--workers", type=int, default=None,
