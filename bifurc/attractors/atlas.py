@@ -258,8 +258,8 @@ def _link_all(pb, param, links: list, tol: float, workers: int) -> dict:
 
 class _Bar:
     def __init__(self, total):
-        from tqdm.auto import tqdm
-        self.t = tqdm(total=total, unit="start", desc="attractor census", leave=False)
+        from ..progress import tqdm_class      # no TqdmWarning in Jupyter without ipywidgets
+        self.t = tqdm_class()(total=total, unit="start", desc="attractor census", leave=False)
 
     def update(self, n):
         self.t.update(n)
