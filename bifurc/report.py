@@ -68,40 +68,44 @@ def undecided_summary(ds) -> list[str]:
     A value's ``budget_needed`` is the budget its evidence asks for. Where that is more than
     :data:`bifurc.sweeps.anytime.HOPELESS` budgets the sweep itself stopped extending it: a longer budget is
     unlikely to decide it, and no budget is suggested. Otherwise the largest such budget is suggested with
-    its estimated computation time for those values, at the dataset's own measured seconds per relay
-    period. Empty when every value is decided."""
+    its estimated computation time for those values: the periods each integrated (its copies included),
+    scaled by the new budget over the old one, at the dataset's own measured seconds per relay period.
+    Empty when every value is decided."""
     from .sweeps.anytime import BUDGET, HOPELESS
     codes = np.asarray(ds.class_code.values).ravel()
     reasons = np.asarray(ds.class_reason.values).ravel()
     need = np.asarray(ds.budget_needed.values).ravel() if "budget_needed" in ds else np.zeros(codes.size)
+    used = np.asarray(ds.periods_integrated.values).ravel() if "periods_integrated" in ds else np.zeros(codes.size)
     bad = np.flatnonzero(codes == CLASS_LABELS.index("not-converged"))
     if not bad.size:
         return []
     groups: dict = {}
     for i in bad:
         kind = next((what for key, what in UNDECIDED_KINDS if key in str(reasons[i])), str(reasons[i]) or "no reason")
-        groups.setdefault(kind, []).append(int(need[i]))
+        groups.setdefault(kind, []).append((int(need[i]), int(used[i])))
     budget = ds.attrs.get("budget_periods", "?")
-    hopeless = HOPELESS * (int(budget) if str(budget).isdigit() else BUDGET)
+    old = int(budget) if str(budget).isdigit() else BUDGET
     rate = _seconds_per_period(ds)
     out = [f"{bad.size} not-converged (budget {budget} relay periods per value):"]
     for kind, needs in sorted(groups.items(), key=lambda kv: -len(kv[1])):
-        out.append(f"  {len(needs)}: {kind}; {_remedy(kind, needs, hopeless, rate)}")
+        out.append(f"  {len(needs)}: {kind}; {_remedy(kind, needs, old, HOPELESS * old, rate)}")
     return out
 
 
-def _remedy(kind: str, needs: list[int], hopeless: int, rate: float) -> str:
-    """The remedy of ``needs`` (each value's budget_needed) of one kind of reason (see :func:`undecided_summary`)."""
+def _remedy(kind: str, needs: list, budget: int, hopeless: int, rate: float) -> str:
+    """The remedy of ``needs`` (each value's (budget_needed, periods_integrated)) of one kind of reason
+    (see :func:`undecided_summary`)."""
     if kind == CUT_KIND:
         return "raise --time-budget, or drop it"
-    within = [n for n in needs if 0 < n <= hopeless]
-    beyond = sum(n > hopeless for n in needs)
+    within = [(n, p) for n, p in needs if 0 < n <= hopeless]
+    beyond = sum(n > hopeless for n, _ in needs)
     if not within:
         return ("a longer budget is unlikely to decide (its evidence asks for more than "
                 f"{hopeless} relay periods: an exponent near the threshold)" if beyond else "see class_reason")
-    wanted = max(within)
-    cost = f" (about {_duration(len(within) * wanted * rate)} of computation for {len(within)} value" \
-           f"{'s' if len(within) > 1 else ''})" if math.isfinite(rate) else ""
+    wanted = max(n for n, _ in within)
+    seconds = rate * sum(p for _, p in within) * wanted / budget
+    cost = f" (about {_duration(seconds)} of computation for {len(within)} value" \
+           f"{'s' if len(within) > 1 else ''})" if math.isfinite(seconds) and seconds > 0 else ""
     rest = f"; {beyond} more unlikely to be decided by a longer budget" if beyond else ""
     return f"try --budget {wanted}{cost}{rest}"
 

@@ -78,9 +78,10 @@ def test_no_budget_is_suggested_where_the_evidence_says_a_longer_one_cannot_deci
 
 
 def test_a_suggested_budget_is_within_reach_and_carries_its_time():
-    """Two values asking 12000 and 18000 periods (within 4 budgets) and one asking 10**7: --budget 18000 for
-    the two, at the dataset's own 10 s / 1000 periods = 0.01 s per period: 2 x 18000 x 0.01 = 360 s = 6 min."""
-    lines = undecided_summary(_undecided([12000, 18000, 10**7], [THRESHOLD] * 3, seconds=10.0, periods=999))
+    """Two values asking 12000 and 18000 periods (within 4 budgets of 6000) and one asking 10**7: --budget 18000
+    for the two. Each integrated 2000 periods (copies included) in 10 s / 6000 periods: at 3x the budget each
+    integrates 6000, 2 x 6000 x 10 / 6000 = 20 s."""
+    lines = undecided_summary(_undecided([12000, 18000, 10**7], [THRESHOLD] * 3, seconds=10.0, periods=6000))
     assert lines[1] == ("  3: exponent undecided: a trajectory's interval contains the chaos threshold; try --budget "
-                        "18000 (about 6 min of computation for 2 values); 1 more unlikely to be decided by a longer "
+                        "18000 (about 20 s of computation for 2 values); 1 more unlikely to be decided by a longer "
                         "budget"), lines
