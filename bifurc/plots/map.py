@@ -126,6 +126,7 @@ def plot_regime_map(ds, path=None, ax=None, curves=None, overwrite=False, period
 def _impacts_panel(ax, fig, x, y, impacts) -> None:
     """Impacts per period of the periodic cells, one colour band per count present (a rare large count does
     not squeeze the common small ones into one colour), each band's tick its count."""
+    from matplotlib import colormaps
     from matplotlib.colors import BoundaryNorm
     counts = np.unique(impacts[impacts >= 0]).astype(int)
     if not counts.size:
@@ -133,10 +134,11 @@ def _impacts_panel(ax, fig, x, y, impacts) -> None:
     rank = np.full(impacts.shape, np.nan)
     for r, c in enumerate(counts):
         rank[impacts == c] = r
-    im = ax.pcolormesh(x, y, np.ma.masked_invalid(rank.T), cmap="cividis", shading="nearest",
-                       norm=BoundaryNorm(np.arange(counts.size + 1) - 0.5, max(counts.size, 2)))
-    bar = fig.colorbar(im, ax=ax, label="impacts per period", ticks=np.arange(counts.size))
-    bar.ax.set_yticklabels([str(c) for c in counts])
+    cmap = colormaps["cividis"].resampled(max(counts.size, 2))
+    im = ax.pcolormesh(x, y, np.ma.masked_invalid(rank.T), cmap=cmap, shading="nearest",
+                       norm=BoundaryNorm(np.arange(counts.size + 1) - 0.5, cmap.N))
+    bar = fig.colorbar(im, ax=ax, label="impacts per period (one band per count present)")
+    bar.set_ticks(np.arange(counts.size), labels=[str(c) for c in counts])
 
 
 def _hatch_missing(ax, x, y) -> None:
