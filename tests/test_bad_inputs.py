@@ -27,7 +27,10 @@ from bifurc.storage.build import dataset
 from bifurc.storage.files import write_netcdf
 
 sys.path.insert(0, str(Path(__file__).parent))
-from data.bad_inputs import API, CLI, CONT, MAP, QUICK, SIM, D  # noqa: E402
+from data.bad_inputs import API, API4, CLI, CLI4, CONT, MAP, QUICK, QUICK4, SIM, D  # noqa: E402
+
+#: rows that fail only for want of the API method layer (issue 45: G5-G7 of newcomer review 4)
+METHOD_LAYER = "issue 45 method layer"
 
 ROOT = Path(__file__).resolve().parents[1]
 #: seconds after which a row is a hang (no test asserts a wall time: benchmarks/wall_times.py times the rows)
@@ -115,22 +118,24 @@ def _run(argv):
 def results(files, request):
     """Every selected CLI row run once, two at a time: {id: (code, stdout, stderr, seconds)}."""
     slow = request.config.getoption("--runslow")
-    rows = {r[0]: [a.format(**files) for a in r[1]] for r in CLI
-            if (slow or r[0] in QUICK) and not ("{full}" in " ".join(r[1]) and files["full"] is None)}
+    rows = {r[0]: [a.format(**files) for a in r[1]] for r in CLI + CLI4
+            if (slow or r[0] in QUICK | QUICK4) and not ("{full}" in " ".join(r[1]) and files["full"] is None)}
     with ThreadPoolExecutor(max_workers=2) as pool:
         done = dict(zip(rows, pool.map(_run, rows.values())))
     return done
 
 
 def _marks(row):
-    marks = [] if row[0] in QUICK else [pytest.mark.slow]
+    marks = [] if row[0] in QUICK | QUICK4 else [pytest.mark.slow]
+    if "issue 45" in row[4:]:
+        marks.append(pytest.mark.xfail(reason=METHOD_LAYER, strict=False))
     if "part A" in row[4:]:
         marks.append(pytest.mark.xfail(reason="report --at off the grid refuses once part A's class_at does "
                                               "(issue 29 part A)", strict=False))
     return marks
 
 
-@pytest.mark.parametrize("row", [pytest.param(r, id=r[0], marks=_marks(r)) for r in CLI])
+@pytest.mark.parametrize("row", [pytest.param(r, id=r[0], marks=_marks(r)) for r in CLI + CLI4])
 def test_cli_row(row, results, files):
     rid, argv, code, stream = row[:4]
     if "{full}" in " ".join(argv) and files["full"] is None:
@@ -141,6 +146,8 @@ def test_cli_row(row, results, files):
     lines = err.strip().splitlines()
     if stream is None:
         assert not lines, (rid, err)
+    elif stream == "progress":
+        assert lines, (rid, err)
     else:
         assert len(lines) == 1 and lines[0].startswith(f"bifurc: {stream}:"), (rid, err)
 
@@ -160,9 +167,15 @@ def api_scope(files):
             "d": bifurc.load(f"{d}/diagram.nc"), "h": bifurc.load(f"{d}/run.nc"), "m": bifurc.load(f"{d}/map.nc")}
 
 
-@pytest.mark.parametrize("row", API, ids=[r[0] for r in API])
+def _api_marks(row):
+    if "issue 45" not in row[3:]:
+        return []
+    return [pytest.mark.xfail(reason=METHOD_LAYER, strict=False, run="runs" not in row[3:])]
+
+
+@pytest.mark.parametrize("row", [pytest.param(r, id=r[0], marks=_api_marks(r)) for r in API + API4])
 def test_api_row(row, api_scope):
-    rid, code, expected = row
+    rid, code, expected = row[:3]
     with pytest.raises(Exception) as info:
         eval(code, dict(api_scope))  # noqa: S307 - the corpus is this repository's own data
     names = [c.__name__ for c in type(info.value).__mro__]
