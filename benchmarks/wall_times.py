@@ -4,11 +4,14 @@ reasons that are not behaviour, so they are measured here and printed as ratios 
 1. Refusals are quick: the bad-input corpus' rows (tests/data/bad_inputs.py) each finish within the
    issue's limit (10 s), run as a user runs them (``python -m bifurc ...``, a fresh interpreter). Prints each
    row's time and its ratio to the limit; ``--rows`` picks the rows (default: the quick set, C82 included).
-2. The run-time estimate of the size guard (``bifurc.commands._guards.estimate``) against a measured run of
+2. ``--startup``: `bifurc --help` and `--version`, best of 3, against their budget (0.3 s, or 0.2 s over a
+   bare ``python -c pass`` on a slow machine).
+3. ``--studies``: the quick forms of the attractor-atlas and regime-maps studies against their two minutes.
+4. The run-time estimate of the size guard (``bifurc.commands._guards.estimate``) against a measured run of
    the README's main job on 9 values: prints estimate / measured per value-relay-period (the guard is meant
    to be an upper bound within 20x: a ratio between 1 and 20; below 0.1 or above 20 is flagged).
 
-    python benchmarks/wall_times.py [--rows C82,C55] [--no-estimate]
+    python benchmarks/wall_times.py [--rows C82,C55] [--no-estimate] [--startup] [--studies]
 
 Prints the load average first: compare runs only at similar loads.
 """
@@ -63,6 +66,43 @@ def rows(ids: list[str]) -> list[tuple[str, float]]:
     return out
 
 
+#: the start-up budget of `bifurc --help` / `--version` [s], best of 3 (issue 29), and the margin over a bare
+#: interpreter on a slow machine [s]
+STARTUP, MARGIN = 0.3, 0.2
+#: the quick studies' limit [s]
+STUDY_LIMIT = 120.0
+
+
+def _best_of_3(argv) -> float:
+    best = float("inf")
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    for _ in range(3):
+        t0 = time.perf_counter()
+        subprocess.run(argv, env=env, capture_output=True, timeout=60)
+        best = min(best, time.perf_counter() - t0)
+    return best
+
+
+def startup() -> None:
+    bare = _best_of_3([sys.executable, "-c", "pass"])
+    limit = max(STARTUP, bare + MARGIN)
+    for flag in ("--help", "--version"):
+        best = _best_of_3([sys.executable, "-m", "bifurc", flag])
+        print(f"bifurc {flag}: {best:.3f} s best of 3, {best / limit:.2f} of the {limit:.2f} s budget "
+              f"(python -c pass {bare:.3f} s)")
+
+
+def studies() -> None:
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    for name in ("attractor-atlas", "regime-maps"):
+        with tempfile.TemporaryDirectory() as tmp:
+            t0 = time.perf_counter()
+            subprocess.run([sys.executable, "-m", "bifurc", "study", name, "--quick", "-o", tmp], env=env,
+                           capture_output=True, timeout=3600)
+            secs = time.perf_counter() - t0
+        print(f"study {name} --quick: {secs:.1f} s, {secs / STUDY_LIMIT:.2f} of {STUDY_LIMIT:g} s")
+
+
 def estimate_ratio() -> tuple[float, float]:
     """(estimated, measured) seconds per value-relay-period of the README's main job on 9 values, one worker."""
     from bifurc.commands._guards import estimate
@@ -80,8 +120,14 @@ def main(argv=None) -> int:
     ap.add_argument("--rows", default=",".join(sorted(r for r in QUICK if r.startswith("C"))),
                     help="comma-separated corpus row ids (default: the quick C rows)")
     ap.add_argument("--no-estimate", action="store_true", help="skip the estimate against a measured run")
+    ap.add_argument("--startup", action="store_true", help="also time bifurc --help and --version")
+    ap.add_argument("--studies", action="store_true", help="also time the quick attractor-atlas and regime-maps studies")
     args = ap.parse_args(argv)
     print(f"load average: {' '.join(f'{x:.2f}' for x in os.getloadavg())} on {os.cpu_count()} cores")
+    if args.startup:
+        startup()
+    if args.studies:
+        studies()
     worst = 0.0
     for rid, secs in rows(args.rows.split(",")):
         worst = max(worst, secs / LIMIT)

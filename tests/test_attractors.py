@@ -807,14 +807,11 @@ def test_same_seed_same_dataset_any_workers_and_after_a_resume(tmp_path, monkeyp
 
 
 @pytest.mark.slow
-def test_attractor_atlas_quick_study_writes_its_report_under_two_minutes(tmp_path):
-    import time
-
+def test_attractor_atlas_quick_study_writes_its_report(tmp_path):
+    """(Its duration, meant to be under two minutes, is benchmarks/wall_times.py --studies.)"""
     import studies.attractor_atlas as study
     from bifurc.cli import main
-    clock = time.perf_counter()
     assert main(["study", "attractor-atlas", "--quick", "-o", str(tmp_path)]) == 0
-    assert time.perf_counter() - clock < 120
     text = (tmp_path / "report.md").read_text()
     assert all(f"## DC law `{law}`" in text for law in study.LAWS) and "Findings" in text
     assert all((tmp_path / f"{law}-switch-on.nc").is_file() and (tmp_path / f"{law}.png").is_file()

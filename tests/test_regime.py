@@ -7,7 +7,6 @@ LocalCluster, netCDF4 for the stored attributes, simulated colour blindness for 
 import itertools
 import os
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -245,11 +244,10 @@ def test_regime_maps_study_writes_one_report_with_its_figures(tmp_path, monkeypa
 
 
 @pytest.mark.slow
-def test_regime_maps_quick_study_takes_under_two_minutes(tmp_path):
+def test_regime_maps_quick_study_writes_its_report(tmp_path):
+    """(Its duration, meant to be under two minutes, is benchmarks/wall_times.py --studies.)"""
     import studies.regime_maps as study
-    clock = time.perf_counter()
     assert main(["study", "regime-maps", "--quick", "-o", str(tmp_path)]) == 0
-    assert time.perf_counter() - clock < 120
     _check_study(tmp_path, study.QUICK)
 
 
