@@ -357,6 +357,8 @@ def attractors_report(ds) -> str:
         for j, label in enumerate(ds.attractor_label.values):
             if ds.basin_fraction.values[i, j] > 0 or ds.present.values[i, j] or ds.event.values[i, j]:
                 what = attractor_text(ds, i, j)
+                if ds.present.values[i, j] and ds.basin_fraction.values[i, j] <= 0 and label.startswith("A"):
+                    what += " (no start landed; seeded from a neighbouring value)"
                 if label == "transient":
                     life = float(ds.lifetime.values[i, j])
                     what = "on a chaotic saddle at the budget" + (f" (mean lifetime {life:.0f} strobe periods)"

@@ -124,6 +124,8 @@ def census_lines(ds) -> list[str]:
             if frac[i, j] <= 0 and not (label.startswith("A") and ds.present.values[i, j]):
                 continue
             then = f", eventually {t}" if (t := eventual_text(ds, i, j)) else ""
+            if frac[i, j] <= 0:     # present, yet no fresh start landed: found by seeding from a neighbour
+                then += " (no start landed; seeded from a neighbouring value)"
             text = f"{frac[i, j]:.3f} [{lo[i, j]:.3f}, {hi[i, j]:.3f}]{then}"
             if label.startswith("A"):
                 parts.append(f"{label} {attractor_text(ds, i, j)} {text}")
