@@ -37,7 +37,12 @@ def run(args) -> int:
             if given is not None:
                 raise ParameterError(f"{name}: for a diagram dataset only; {args.dataset} holds {'an' if kind[0] in 'aeiou' else 'a'} {kind} dataset")
     kw = {"at": at, "period_of": args.period_of or "full"} if kind == "diagram" else {}
-    text = report(ds, kind, **kw)
+    try:
+        text = report(ds, kind, **kw)
+    except (KeyError, AttributeError) as exc:     # the kind's attribute, but not its variables
+        missing = exc.args[0] if isinstance(exc, KeyError) else getattr(exc, "name", None) or exc
+        raise BadFileError(f"{args.dataset} holds {'an' if kind[0] in 'aeiou' else 'a'} {kind} dataset without "
+                           f"what its report reads ({missing!s}); written by another version, or incomplete") from None
     if args.output:
         write_text(args.output, text, overwrite=args.force)
         print(f"wrote {args.output}")

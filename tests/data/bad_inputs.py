@@ -95,8 +95,8 @@ CLI = [
     ("C59", ["report", "{d}/run.nc"], 0, None),   # every kind has a report (issue 48)
     ("C60", ["report", "{d}/branch.nc"], 0, None),   # every kind has a report (issue 48)
     ("C61", ["report", "{d}/map.nc"], 0, None),   # every kind has a report (issue 48)
-    ("C62", ["report", "{d}/stability.nc"], 0, None),   # every kind has a report (issue 48)
-    ("C63", ["report", "{d}/accuracy.nc"], 0, None),   # every kind has a report (issue 48)
+    ("C62", ["report", "{d}/stability.nc"], 2, E),   # a stability dataset lacking its variables (the fixture)
+    ("C63", ["report", "{d}/accuracy.nc"], 2, E),   # a accuracy dataset lacking its variables (the fixture)
     ("C64", ["report", "{d}/diagram.nc", "--at", "50,abc"], 2, E),
     ("C65", ["simulate", "--periods", "0"], 2, E),
     ("C66", ["simulate", "--periods", "-2"], 2, E),
