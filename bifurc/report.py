@@ -59,27 +59,64 @@ UNDECIDED_KINDS = (
 
 
 def undecided_summary(ds) -> list[str]:
-    """One line per kind of not-converged reason of a diagram or map: its count and the one-line
-    remedy (the largest budget its values' evidence suggests); empty when every value is decided."""
+    """One line per kind of not-converged reason of a diagram or map: its count and the one-line remedy.
+
+    A value's ``budget_needed`` is the budget its evidence asks for. Where that is more than
+    :data:`bifurc.sweeps.anytime.HOPELESS` budgets the sweep itself stopped extending it: a longer budget is
+    unlikely to decide it, and no budget is suggested. Otherwise the largest such budget is suggested with
+    its estimated computation time for those values: the periods each integrated (its copies included),
+    scaled by the new budget over the old one, at the dataset's own measured seconds per relay period.
+    Empty when every value is decided."""
+    from .sweeps.anytime import BUDGET, HOPELESS
     codes = np.asarray(ds.class_code.values).ravel()
     reasons = np.asarray(ds.class_reason.values).ravel()
     need = np.asarray(ds.budget_needed.values).ravel() if "budget_needed" in ds else np.zeros(codes.size)
+    used = np.asarray(ds.periods_integrated.values).ravel() if "periods_integrated" in ds else np.zeros(codes.size)
     bad = np.flatnonzero(codes == CLASS_LABELS.index("not-converged"))
     if not bad.size:
         return []
     groups: dict = {}
     for i in bad:
         kind = next((what for key, what in UNDECIDED_KINDS if key in str(reasons[i])), str(reasons[i]) or "no reason")
-        groups.setdefault(kind, []).append(int(need[i]))
+        groups.setdefault(kind, []).append((int(need[i]), int(used[i])))
     budget = ds.attrs.get("budget_periods", "?")
+    old = int(budget) if str(budget).isdigit() else BUDGET
+    rate = _seconds_per_period(ds)
     out = [f"{bad.size} not-converged (budget {budget} relay periods per value):"]
     for kind, needs in sorted(groups.items(), key=lambda kv: -len(kv[1])):
-        wanted = max(needs)
-        remedy = ("raise --time-budget, or drop it" if kind == CUT_KIND else
-                  f"try --budget {int(min(wanted, 10**6))}" if 0 < wanted < 10**6 else
-                  "a longer budget is unlikely to decide (near the threshold)" if wanted else "see class_reason")
-        out.append(f"  {len(needs)}: {kind}; {remedy}")
+        out.append(f"  {len(needs)}: {kind}; {_remedy(kind, needs, old, HOPELESS * old, rate)}")
     return out
+
+
+def _remedy(kind: str, needs: list, budget: int, hopeless: int, rate: float) -> str:
+    """The remedy of ``needs`` (each value's (budget_needed, periods_integrated)) of one kind of reason
+    (see :func:`undecided_summary`)."""
+    if kind == CUT_KIND:
+        return "raise --time-budget, or drop it"
+    within = [(n, p) for n, p in needs if 0 < n <= hopeless]
+    beyond = sum(n > hopeless for n, _ in needs)
+    if not within:
+        return ("a longer budget is unlikely to decide (its evidence asks for more than "
+                f"{hopeless} relay periods: an exponent near the threshold)" if beyond else "see class_reason")
+    wanted = max(n for n, _ in within)
+    seconds = rate * sum(p for _, p in within) * wanted / budget
+    cost = f" (about {_duration(seconds)} of computation for {len(within)} value" \
+           f"{'s' if len(within) > 1 else ''})" if math.isfinite(seconds) and seconds > 0 else ""
+    rest = f"; {beyond} more unlikely to be decided by a longer budget" if beyond else ""
+    return f"try --budget {wanted}{cost}{rest}"
+
+
+def _seconds_per_period(ds) -> float:
+    """Computation seconds per relay period of one value, measured on this dataset (NaN: not recorded)."""
+    periods = float(np.nansum(ds.periods_integrated.values)) if "periods_integrated" in ds else math.nan
+    secs = float(ds.attrs.get("values_seconds", math.nan))
+    return secs / periods if periods > 0 else math.nan
+
+
+def _duration(seconds: float) -> str:
+    """"40 s", "12 min", "3.5 h"."""
+    return f"{seconds:.0f} s" if seconds < 120 else f"{seconds / 60:.0f} min" if seconds < 7200 else \
+        f"{seconds / 3600:.1f} h"
 
 
 def classification_report(ds, at=None, period_of: str = "full") -> str:
@@ -304,9 +341,9 @@ def stability_report(ds) -> str:
 
 def attractors_report(ds) -> str:
     """The attractor census: per value, each attractor present with its basin fraction and 95 % interval, the
-    eventual fraction where the transient starts' apportioning changes it, and its event."""
-    from .attractors.dataset import eventual_text
-    from .labels.classify import describe
+    eventual fraction where the transient starts' apportioning changes it, and its event with the parameter value
+    where the event was located on the attractor's continued branch (:func:`bifurc.attractors.dataset.event_text`)."""
+    from .attractors.dataset import attractor_text, event_text, eventual_text
     par = ds.attrs["swept_parameter"]
     lines = [f"# Attractor census (attractors): {ds.attrs.get('scene', '')}, {ds.sizes[par]} values of {par} x "
              f"{ds.sizes['start']} starts", "", f"| {par} | attractor | class | basin fraction | 95 % interval | "
@@ -315,15 +352,15 @@ def attractors_report(ds) -> str:
     for i, v in enumerate(ds[par].values):
         for j, label in enumerate(ds.attractor_label.values):
             if ds.basin_fraction.values[i, j] > 0 or ds.present.values[i, j] or ds.event.values[i, j]:
-                code = int(ds.class_code.values[i, j])
-                what = describe(code, int(ds.period.values[i, j]), int(ds.impacts_per_period.values[i, j])) \
-                    if code >= 0 else "absent"
+                what = attractor_text(ds, i, j)
+                if ds.present.values[i, j] and ds.basin_fraction.values[i, j] <= 0 and label.startswith("A"):
+                    what += " (no start landed; seeded from a neighbouring value)"
                 if label == "transient":
                     life = float(ds.lifetime.values[i, j])
                     what = "on a chaotic saddle at the budget" + (f" (mean lifetime {life:.0f} strobe periods)"
                                                                   if np.isfinite(life) else "")
                 ev = int(ds.event.values[i, j])
-                ev_text = f"{events[ev]} ({ds.event_link.values[i, j]})" if ev else ""
+                ev_text = f"{events[ev]}: {event_text(ds, i, j)}" if ev else ""
                 lines.append(f"| {v:g} | {label} | {what} | {ds.basin_fraction.values[i, j]:.3f} | "
                              f"[{ds.basin_fraction_low.values[i, j]:.3f}, {ds.basin_fraction_high.values[i, j]:.3f}] "
                              f"| {eventual_text(ds, i, j)} | {ev_text} |")

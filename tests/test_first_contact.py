@@ -151,6 +151,17 @@ def test_the_branch_plot_breaks_at_section_moves_spreads_its_labels_and_explains
     boxes = [t.get_window_extent() for t in ax.texts]
     assert len(boxes) == ds.sizes["special"] >= 2
     assert not any(a.overlaps(b) for i, a in enumerate(boxes) for b in boxes[i + 1:])
+    # G13: no label on a marker (LP -0.10586 sat on the PD diamond) or across the frame, the legend beside
+    frame = ax.get_window_extent()
+    assert all(frame.x0 <= b.x0 and b.x1 <= frame.x1 and frame.y0 <= b.y0 and b.y1 <= frame.y1 for b in boxes)
+    marks = [line for line in ax.lines if line.get_gid() == "special-marker"]
+    assert len(marks) == ds.sizes["special"]
+    for line in marks:
+        px, py = ax.transData.transform((line.get_xdata()[0], line.get_ydata()[0]))
+        half = 0.5 * line.get_markersize() * fig.dpi / 72
+        assert not any(b.x0 < px + half and px - half < b.x1 and b.y0 < py + half and py - half < b.y1
+                       for b in boxes), (line.get_marker(), px, py)
+    assert not ax.get_legend().get_window_extent().overlaps(frame)
     legend = [t.get_text() for t in ax.get_legend().get_texts()]
     for kind in {int(k) for k in ds.special_kind.values}:
         from bifurc.plots.branch import SPECIAL_LABELS

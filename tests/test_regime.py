@@ -7,7 +7,6 @@ LocalCluster, netCDF4 for the stored attributes, simulated colour blindness for 
 import itertools
 import os
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -88,7 +87,8 @@ def test_netcdf_round_trip_keeps_values_and_cf_attributes(local, tmp_path):
 
 
 def test_a_map_file_is_its_own_kind(local, tmp_path, capsys):
-    """ds.bifurc.plot() draws the map; `bifurc report` (a diagram's report) refuses it in one line."""
+    """ds.bifurc.plot() draws the map; `bifurc report` gives the map's report and refuses the diagram-only
+    --at in one line."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -98,7 +98,10 @@ def test_a_map_file_is_its_own_kind(local, tmp_path, capsys):
     plt.close(ax.figure)
     path = tmp_path / "m.nc"
     local.to_netcdf(path)
-    assert main(["report", str(path)]) == 2
+    assert main(["report", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("# Regime map report (map)") and f"{local.sizes[local.attrs['swept_parameter']]} values" in out
+    assert main(["report", str(path), "--at", "5"]) == 2
     err = capsys.readouterr().err.strip()
     assert "holds a map dataset" in err and len(err.splitlines()) == 1
 
@@ -242,11 +245,10 @@ def test_regime_maps_study_writes_one_report_with_its_figures(tmp_path, monkeypa
 
 
 @pytest.mark.slow
-def test_regime_maps_quick_study_takes_under_two_minutes(tmp_path):
+def test_regime_maps_quick_study_writes_its_report(tmp_path):
+    """(Its duration, meant to be under two minutes, is benchmarks/wall_times.py --studies.)"""
     import studies.regime_maps as study
-    clock = time.perf_counter()
     assert main(["study", "regime-maps", "--quick", "-o", str(tmp_path)]) == 0
-    assert time.perf_counter() - clock < 120
     _check_study(tmp_path, study.QUICK)
 
 
@@ -278,3 +280,35 @@ def test_the_map_summary_reads_label_colon_count(tmp_path, capsys):
     counts = line.split("): ", 1)[1].split("; ")
     assert all(re.fullmatch(r"[a-z0-9 ,-]+: \d+", c) for c in counts), line
     assert sum(int(c.rsplit(": ", 1)[1]) for c in counts) == 4
+
+
+def test_the_impacts_scale_gives_every_count_its_own_colour_and_the_titles_say_what_is_hatched(local):
+    """G12: one 35-impact cell squeezed 2-9 impacts into one navy; the Lyapunov title said periodic cells are
+    hatched while most periodic cells show an exponent."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.colors import to_rgb
+    from bifurc.plots.map import OTHER_PERIODIC, PERIODIC_COLOURS, plot_regime_map
+    from bifurc.plots.diagram import CLASS_COLOURS
+    ds = local.copy(deep=True)
+    ds["class_code"][:] = ClassCode.PERIODIC
+    ds["period"][:] = 1
+    ds["impacts_per_period"][:] = [[1, 2, 35], [1, 2, 3], [1, 1, 1]]
+    ax = plot_regime_map(ds)
+    fig = ax.figure
+    fig.canvas.draw()
+    panel = fig.axes[2]
+    mesh = panel.collections[0]
+    colours = {tuple(np.round(c, 6)) for c in mesh.get_facecolor()}
+    assert len(colours) == 4                          # 1, 2, 3 and 35 impacts: four colours
+    bar = fig.axes[-1]
+    assert [t.get_text() for t in bar.get_yticklabels()] == ["1", "2", "3", "35"]
+    assert fig.axes[1].get_title() == "Lyapunov exponent (hatched: exponent not computed)"
+    plt.close(fig)
+    greys = [c for c in list(PERIODIC_COLOURS) + [OTHER_PERIODIC[1]] if len(set(to_rgb(c))) == 1]
+    assert not greys and CLASS_COLOURS["not-converged"] == "#666666"     # one grey on the map: not-converged
+    def green(c):
+        r, g, b = to_rgb(c)
+        return g > r + 0.1 and g > b + 0.1
+    assert green(CLASS_COLOURS["quasi-periodic"]) and not any(green(c) for c in PERIODIC_COLOURS)   # one green

@@ -4,7 +4,6 @@ Every run here has a small ``max_events``: a regression that re-triggers an even
 same instant raises IntegrationFailure instead of hanging.
 """
 import math
-import time
 
 import numpy as np
 from scipy.integrate import quad
@@ -47,9 +46,7 @@ def test_dc_only_bar_starting_on_the_stop_runs_without_looping():
             y = c(np.linspace(a, b, 25))
             worst.append(np.max(np.abs(0.5 * p["m"] * y[:, 1] ** 2 + U(y[:, 0]) - E0)) / E0)
 
-    clock = time.perf_counter()
     run.advance(1.0, on_segment=energy_error)
-    assert time.perf_counter() - clock < 5.0
     contacts = [ev for ev in run.events if ev.name == "contact"]
     turns = [ev for ev in run.events if ev.name == "lowest" and ev.t > 0]
     # a graze every oscillation: a turning point within 1 nm of the stop, or a contact slower
@@ -70,9 +67,7 @@ def _run_oscillator(e, v0, t0=0.0, t_end=30.0):
     system = maps.forced_oscillator_with_stop()
     run = HybridRun(system, dict(OSC, e=e), {"x": e, "v": v0}, t0=t0, tol=1e-14, max_events=2000)
     lowest = []
-    clock = time.perf_counter()
     run.advance(t_end, on_segment=lambda c, a, b: lowest.append(c(np.linspace(a, b, 25))[:, 0].min()))
-    assert time.perf_counter() - clock < 5.0
     assert min(lowest + [run.y[0]]) >= e - 1e-12  # never below the rigid stop
     return run
 

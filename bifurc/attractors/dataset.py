@@ -35,6 +35,112 @@ def eventual_text(ds, i, j) -> str:
             f"{ds.eventual_fraction_high.values[i, j]:.3f}]")
 
 
+#: a number as the event evidence writes it (:func:`bifurc.attractors.follow.link_event`)
+_NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
+
+
+def event_location(ds, i, j) -> tuple[float, float] | None:
+    """The parameter value (lo, hi) at which the event of attractor ``j`` between values ``i - 1`` and ``i``
+    was located on its continued branch (lo = hi: a located point; lo < hi: a bracket), or None: no event,
+    or a global one (no local bifurcation on the branch: only the grid step brackets it)."""
+    import re
+    if not int(ds.event.values[i, j]) or "event_evidence" not in ds or str(ds.event_link.values[i, j]) == "global":
+        return None
+    par = ds.attrs["swept_parameter"]
+    m = re.search(rf"\b{re.escape(par)} = ({_NUMBER})(?: to ({_NUMBER}))?", str(ds.event_evidence.values[i, j]))
+    if m is None:
+        return None
+    lo = float(m.group(1))
+    return lo, float(m.group(2)) if m.group(2) else lo
+
+
+def event_text(ds, i, j) -> str:
+    """"fold located at V = 113.2" / "period_doubling bracketed in V = 1 to 1.1" / "global: between V = 100 and
+    120": the event of attractor ``j`` between values ``i - 1`` and ``i`` (empty: none)."""
+    ev = int(ds.event.values[i, j])
+    if not ev:
+        return ""
+    par = ds.attrs["swept_parameter"]
+    link = str(ds.event_link.values[i, j]) or "global"
+    at = event_location(ds, i, j)
+    v = ds[par].values
+    if at is None:
+        near = f"{par} = {v[i - 1]:g} and {v[i]:g}" if i > 0 else f"{par} = {v[i]:g} and the next value"
+        return f"{link}: between {near}"
+    return f"{link} located at {par} = {at[0]:.10g}" if at[0] == at[1] else \
+        f"{link} bracketed in {par} = {at[0]:.10g} to {at[1]:.10g}"
+
+
+def attractor_text(ds, i, j) -> str:
+    """What attractor ``j`` is at value ``i``: "period-1, 1 impact (1:1)", "chaotic", "at rest on the stop"
+    (a period-1 orbit without impact, stuck on or in contact with the stop at its node), an outcome's name."""
+    from ..sweeps.classify import CLASS_LABELS, describe
+    label = str(ds.attractor_label.values[j])
+    if not label.startswith("A"):
+        return label.replace("_", " ")
+    code = int(ds.class_code.values[i, j])
+    if code < 0:
+        return "absent"
+    if CLASS_LABELS[code] == "periodic-no-impact" and int(ds.period.values[i, j]) == 1 and _resting(ds, i, j):
+        return "at rest on the stop"
+    return describe(code, int(ds.period.values[i, j]), int(ds.impacts_per_period.values[i, j]))
+
+
+#: mode flags that hold while the bar rests on the stop (thesis-1dof: stuck_bar; a contact mode: contact)
+RESTING_FLAGS = ("flag_stuck_bar", "flag_contact")
+
+
+def _resting(ds, i, j) -> bool:
+    """Stuck on (or in contact with) the stop at every stored node, with no impact: a bar at rest on the stop."""
+    for name in RESTING_FLAGS:
+        if name in ds:
+            c = ds[name].values[i, j]
+            c = c[np.isfinite(c)]
+            if c.size and bool(np.all(c == 1)):
+                return True
+    return False
+
+
+def census_lines(ds) -> list[str]:
+    """The census as text: a header, one line per value (each attractor present with its basin fraction and 95 %
+    interval, the eventual fraction where it differs, then the outcomes) and one line per event with the
+    parameter value where it was located (:func:`event_text`)."""
+    par = ds.attrs["swept_parameter"]
+    v = ds[par].values
+    units = ds[par].attrs.get("units", "")
+    unit = f" {units}" if units not in ("", "1") else ""
+    secs = ds.attrs.get("census_seconds")
+    took = f" in {float(secs):.1f} s" if secs is not None else ""
+    lines = [f"{ds.attrs.get('scene', '')}: {par} {v.min():g}..{v.max():g}{unit} ({v.size} values x "
+             f"{ds.sizes['start']} starts){took}: {attractor_count(ds)} attractor(s)"]
+    labels = [str(s) for s in ds.attractor_label.values]
+    frac, lo, hi = ds.basin_fraction.values, ds.basin_fraction_low.values, ds.basin_fraction_high.values
+    for i in range(v.size):
+        parts, outcomes = [], []
+        for j, label in enumerate(labels):
+            if frac[i, j] <= 0 and not (label.startswith("A") and ds.present.values[i, j]):
+                continue
+            then = f", eventually {t}" if (t := eventual_text(ds, i, j)) else ""
+            if frac[i, j] <= 0:     # present, yet no fresh start landed: found by seeding from a neighbour
+                then += " (no start landed; seeded from a neighbouring value)"
+            text = f"{frac[i, j]:.3f} [{lo[i, j]:.3f}, {hi[i, j]:.3f}]{then}"
+            if label.startswith("A"):
+                parts.append(f"{label} {attractor_text(ds, i, j)} {text}")
+            else:
+                outcomes.append(f"{label.replace('_', ' ')} {text}")
+        lines.append(f"  {par} = {v[i]:g}: " + ("; ".join(parts) or "no attractor")
+                     + (f"; outcomes: {'; '.join(outcomes)}" if outcomes else ""))
+    events = [(i, j) for i in range(v.size) for j in range(len(labels)) if int(ds.event.values[i, j])]
+    meanings = ds.event.attrs["flag_meanings"].split()
+    if events:
+        lines.append(f"  events ({len(events)}):")
+    for i, j in events:
+        k = i - 1 if int(ds.event.values[i, j]) == 2 and i > 0 else i     # where it was last / first seen
+        lines.append(f"    {labels[j]} ({attractor_text(ds, k, j)}) {meanings[int(ds.event.values[i, j])]}: "
+                     f"{event_text(ds, i, j)}")
+    return lines
+
+
 def _columns(values, per_value, outcomes, n_ids, events, transients=None):
     """The ATTRACTOR rows as arrays (values, ids + the outcomes)."""
     n_att = n_ids + len(OUTCOMES)

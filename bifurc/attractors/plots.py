@@ -9,9 +9,12 @@ from maps.parameters import ParameterError
 from ..storage.files import check_figure_output, save_figure
 from ..storage.load import require_kind
 
-#: one colour per attractor id (cycled); outcomes grey shades
+
+#: one colour per attractor id; after ten the colours repeat with the next marker of :data:`MARKERS`
 COLOURS = ("#0072B2", "#E69F00", "#009E73", "#CC79A7", "#56B4E9", "#D55E00", "#F0E442", "#332288", "#117733",
            "#882255")
+#: the strobe points' marker of ids 0-9, 10-19, ... (no triangle: triangles mark the events)
+MARKERS = ("o", "s", "D", "P", "X", "*")
 OUTCOME_COLOURS = {"escaped": "#000000", "not_converged": "#BBBBBB", "failed": "#777777", "neutral": "#DDCC77",
                    "transient": "#EE99AA"}
 
@@ -20,66 +23,117 @@ def _colour(label: str, j: int) -> str:
     return OUTCOME_COLOURS.get(label, COLOURS[j % len(COLOURS)])
 
 
-def _legend(ds, j) -> str:
-    from ..labels.classify import describe
+def _marker(j: int) -> str:
+    return MARKERS[(j // len(COLOURS)) % len(MARKERS)]
+
+
+def _scale(ds, state) -> tuple[float, str]:
+    """(factor, unit) of a state's axis: metres in mm, as the diagram draws them."""
+    unit = ds[state].attrs.get("units", "")
+    return (1e3, "mm") if unit == "m" else (1.0, unit)
+
+
+def _first(ds, j) -> int:
+    """The first value at which attractor ``j`` is present (0 if none)."""
+    return int(np.argmax(ds.present.values[:, j] > 0))
+
+
+def _legend(ds, j, state=None) -> str:
+    """"A3: period-1, 1 impact (1:1)": an attractor's name and what it is where first present; where another
+    attractor has the same text, its place is added ("x 12.5 mm at V = 120") to tell them apart."""
+    from .dataset import attractor_text
     label = str(ds.attractor_label.values[j])
     if label in OUTCOME_COLOURS:
         return label.replace("_", " ")
-    present = ds.present.values[:, j] > 0
-    if not present.any():
+    if not (ds.present.values[:, j] > 0).any():
         return label
-    i = int(np.argmax(present))
-    return f"{label}: {describe(int(ds.class_code.values[i, j]), int(ds.period.values[i, j]), int(ds.impacts_per_period.values[i, j]))}"
+    texts = {k: attractor_text(ds, _first(ds, k), k) for k in range(ds.sizes["attractor"])
+             if str(ds.attractor_label.values[k]) not in OUTCOME_COLOURS and (ds.present.values[:, k] > 0).any()}
+    text = texts[j]
+    if list(texts.values()).count(text) > 1:
+        par = ds.attrs["swept_parameter"]
+        state = state or _states(ds)[0]
+        f, unit = _scale(ds, state)
+        i = _first(ds, j)
+        y = f * ds[state].values[i, j]
+        text += f", {state} {np.nanmean(y):.4g} {unit} at {par} = {ds[par].values[i]:g}"
+    return f"{label}: {text}"
+
+
+def _states(ds) -> list[str]:
+    par = ds.attrs["swept_parameter"]
+    return [k for k in ds.data_vars if ds[k].dims == (par, "attractor", "node")]
 
 
 def plot_attractors(ds, path=None, state=None, ax=None, overwrite=False):
-    """Parameter against the attractors' strobe state ``state`` (default the first), one colour per matched
-    attractor, appearances (^) and disappearances (v) marked; beneath, the stacked basin fractions.
-    Returns the upper Axes."""
+    """Parameter against the attractors' strobe state ``state`` (default the first; metres drawn in mm), one
+    colour per matched attractor (after ten, the colours repeat with another marker), appearances (^) and
+    disappearances (v) marked between the two values that bracket them (at the located value where there is
+    one); beneath, the basin fractions as stacked bars at the sampled values. The legend sits outside the
+    axes. Returns the upper Axes."""
+    from .dataset import event_location
     require_kind(ds, "attractors", "plot_attractors")
     if path is not None:
         check_figure_output(path, overwrite)
     import matplotlib.pyplot as plt
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
     par = ds.attrs["swept_parameter"]
-    state = state or [k for k in ds.data_vars if ds[k].dims == (par, "attractor", "node")][0]
+    state = state or _states(ds)[0]
+    f, unit = _scale(ds, state)
     if ax is None:
-        fig, (ax, ax2) = plt.subplots(2, 1, sharex=True, figsize=(7, 6), gridspec_kw={"height_ratios": [2, 1]})
+        fig, (ax, ax2) = plt.subplots(2, 1, sharex=True, figsize=(10, 6), gridspec_kw={"height_ratios": [2, 1]},
+                                      layout="constrained")
     else:
         fig, ax2 = ax.figure, None
     x = ds[par].values
     labels = [str(s) for s in ds.attractor_label.values]
+    handles = []
     for j, label in enumerate(labels):
-        if label in OUTCOME_COLOURS:
+        if label in OUTCOME_COLOURS or not (ds.present.values[:, j] > 0).any():
             continue
-        y = ds[state].values[:, j, :]
+        y = f * ds[state].values[:, j, :]
         xs = np.repeat(x[:, None], y.shape[1], axis=1)
-        ax.plot(xs.ravel(), y.ravel(), ".", ms=3, color=_colour(label, j), label=_legend(ds, j))
+        ax.plot(xs.ravel(), y.ravel(), _marker(j), ms=3, ls="none", color=_colour(label, j))
+        handles.append(Line2D([], [], marker=_marker(j), ls="none", ms=5, color=_colour(label, j),
+                              label=_legend(ds, j, state)))
         for code, mark in ((1, "^"), (2, "v")):
-            at = ds.event.values[:, j] == code
-            if at.any():
-                ax.plot(x[at], np.nanmean(y[at], axis=1) if code == 1 else np.full(at.sum(), np.nanmin(y)),
-                        mark, color=_colour(label, j), ms=7, mfc="none")
-    ax.set_ylabel(f"{state} [{ds[state].attrs.get('units', '')}]")
-    if any(lb not in OUTCOME_COLOURS for lb in labels):
-        ax.legend(fontsize=7, loc="best")
+            for i in np.flatnonzero(ds.event.values[:, j] == code):
+                seen = i if code == 1 else max(i - 1, 0)      # the value where it is present
+                at = event_location(ds, i, j)
+                xe = at[0] if at is not None else 0.5 * (x[max(i - 1, 0)] + x[i])
+                ax.plot([xe], [np.nanmean(y[seen])], mark, color=_colour(label, j), ms=8, mfc="none", mew=1.5)
+    if handles:
+        events = [Line2D([], [], marker="^", ls="none", mfc="none", color="k", ms=7,
+                         label="appeared (at its located value, else mid-step)"),
+                  Line2D([], [], marker="v", ls="none", mfc="none", color="k", ms=7, label="disappeared")]
+        note = (f"after {len(COLOURS)} attractors the colours repeat,\nwith another marker and hatched bars"
+                if len(handles) > len(COLOURS) else None)
+        ax.legend(handles=handles + events, fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0),
+                  borderaxespad=0.0, title=note, title_fontsize=7)
     else:
         ax.text(0.5, 0.5, "no attractor at any value: outcomes only (below)", transform=ax.transAxes, ha="center")
+    ax.set_ylabel(f"{state} [{unit}]")
     ax.set_title(ds.attrs.get("title", ""), fontsize=9)
     if ax2 is not None:
         frac = np.nan_to_num(ds.basin_fraction.values)
         colours = [_colour(lb, j) for j, lb in enumerate(labels)]
-        if len(x) > 1:
-            areas = ax2.stackplot(x, frac.T, colors=colours, step="mid")
-        else:               # one value: a stacked bar (a stack plot over one point has no width)
-            below = np.concatenate([[0.0], np.cumsum(frac[0])[:-1]])
-            width = 0.1 * max(abs(float(x[0])), 1.0)
-            areas = [ax2.bar(x, [f], bottom=[b], width=width, color=c) for f, b, c in zip(frac[0], below, colours)]
-        shown = [(a, lb) for a, lb, f in zip(areas, labels, frac.T) if lb in OUTCOME_COLOURS and f.max() > 0]
+        step = np.min(np.diff(np.sort(x))) if len(x) > 1 else 0.1 * max(abs(float(x[0])), 1.0)
+        below = np.zeros(len(x))
+        for j, c in enumerate(colours):      # stacked bars at the sampled values only
+            if frac[:, j].max() > 0:
+                ax2.bar(x, frac[:, j], bottom=below, width=0.6 * step, color=c, edgecolor="white", lw=0.3,
+                        hatch="//" if labels[j] not in OUTCOME_COLOURS and _marker(j) != MARKERS[0] else None)
+                below += frac[:, j]
+        shown = [Patch(color=c, label=lb.replace("_", " ")) for lb, c, fr in zip(labels, colours, frac.T)
+                 if lb in OUTCOME_COLOURS and fr.max() > 0]
         if shown:           # the outcomes' colours (the attractors' are in the legend above)
-            ax2.legend([a for a, _ in shown], [lb for _, lb in shown], fontsize=7, loc="upper right")
+            ax2.legend(handles=shown, fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0,
+                       title="outcomes", title_fontsize=7)
         ax2.set_ylim(0, 1)
         ax2.set_ylabel("basin fraction")
         ax2.set_xlabel(f"{par} [{ds[par].attrs.get('units', '')}]")
+        ax2.set_xticks(x if len(x) <= 12 else ax2.get_xticks())
     if path is not None:
         save_figure(fig, path, overwrite=overwrite)
     return ax

@@ -104,12 +104,18 @@ def run(args) -> int:
 
 
 def _summary(ds, args) -> None:
-    """One line per parameter point: the attractors present with their basin fractions and intervals."""
+    """One line per parameter point: the attractors present with their basin fractions and intervals (one
+    parameter: :func:`bifurc.attractors.dataset.census_lines`, with the located events)."""
     import numpy as np
 
-    from ..attractors.dataset import attractor_count, eventual_text
+    if not args.param2:
+        from ..attractors.dataset import census_lines
+        print("\n".join(census_lines(ds)))
+        print(f"  wrote {args.output}" + (f" and {args.plot}" if args.plot else ""))
+        return
+    from ..attractors.dataset import attractor_count
     from ..labels.classify import describe
-    names = [args.param] + ([args.param2] if args.param2 else [])
+    names = [args.param, args.param2]
     shape = tuple(ds.sizes[k] for k in names)
     print(f"{ds.attrs['scene']}: {' x '.join(f'{k} {ds[k].values[0]:g}..{ds[k].values[-1]:g}' for k in names)} "
           f"({' x '.join(map(str, shape))} points x {args.starts} starts) in {ds.attrs['census_seconds']:.1f} s: "
@@ -128,7 +134,6 @@ def _summary(ds, args) -> None:
         where = ", ".join(f"{k} = {ds[k].values[i]:g}" for k, i in zip(names, idx))
         parts = []
         for j in np.flatnonzero(frac[flat] > 0):
-            then = f" (eventually {text})" if len(names) == 1 and (text := eventual_text(ds, idx[0], j)) else ""
-            parts.append(f"{legend(flat, j)} {frac[flat, j]:.3f} [{low[flat, j]:.3f}, {high[flat, j]:.3f}]{then}")
+            parts.append(f"{legend(flat, j)} {frac[flat, j]:.3f} [{low[flat, j]:.3f}, {high[flat, j]:.3f}]")
         print(f"  {where}: " + "; ".join(parts))
     print(f"  wrote {args.output}" + (f" and {args.plot}" if args.plot else ""))

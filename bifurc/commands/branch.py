@@ -71,7 +71,9 @@ def run(args) -> int:
                             branch_switch=args.branch_switch, error=not args.no_error, progress=progress,
                             param2=args.param2, span2=None if args.param2 is None else (args.from2, args.to2), **kw)
     except OrbitNotFound as exc:
-        print(f"no periodic orbit found at {args.param} = {args.p_from:g}: {exc.reason}")
+        import sys
+        print(f"bifurc: error: no periodic orbit found at {args.param} = {args.p_from:g}: {exc.reason}",
+              file=sys.stderr)   # a result, not a bad input: exit 1
         return 1
     par = args.param
     print(f"{ds.attrs['scene']}: {ds.sizes['point']} branch points in {par} from {float(ds[par][0]):.6g}, "

@@ -30,7 +30,8 @@ def run(args) -> int:
         ds = periodic_orbit(args.scene, period=args.period, x0=x0, transient=args.transient,
                             error=not args.no_error, **kw)
     except OrbitNotFound as exc:
-        print(f"no periodic orbit found: {exc.reason}")
+        import sys
+        print(f"bifurc: error: no periodic orbit found: {exc.reason}", file=sys.stderr)   # a result: exit 1
         return 1
     mu = ds.multiplier_abs.values
     args_ = ds.multiplier_arg.values

@@ -50,7 +50,7 @@ def plot_branch(ds, path=None, state=None, node: int = 0, ax=None, diagram=None,
     own = ax is None
     if own:
         import matplotlib.pyplot as plt
-        _, ax = plt.subplots(figsize=(9, 5.5))
+        _, ax = plt.subplots(figsize=(11, 5.5), layout="constrained")
     if diagram is not None:
         _draw_diagram(ax, diagram, par, state)
     colours = ["#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9"]
@@ -67,14 +67,16 @@ def plot_branch(ds, path=None, state=None, node: int = 0, ax=None, diagram=None,
         moved |= not same.all()
         for k in np.flatnonzero(same):    # segment by segment: solid where both ends are stable; none across a move
             ax.plot(p[k:k + 2], y[k:k + 2], color=tint, lw=1.8, ls="-" if stable[k] and stable[k + 1] else "--")
-        ax.plot([], [], color=tint, lw=1.8, label=f"{name} (solid: stable, dashed: unstable)")
+        import textwrap
+        ax.plot([], [], color=tint, lw=1.8, label="\n".join(textwrap.wrap(name, 34)))
     _special_points(ax, ds, state, node)
     unit = ds[par].attrs.get("units", "")
     ax.set_xlabel(f"{par} [{unit}]")
     gaps = " (gaps: the strobe section moves there)" if moved else ""
     ax.set_ylabel(f"{state} at strobe node {node} [{ds[state].attrs.get('units', '')}]{gaps}")
     ax.set_title(ds.attrs.get("title", ""), fontsize=10)
-    ax.legend(fontsize=8, loc="best")
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0,   # clear of the data
+              title="solid: stable, dashed: unstable", title_fontsize=8)
     _spread_labels(ax)
     if path is not None:
         save_figure(ax.figure, path, overwrite=overwrite, close=own)
@@ -82,34 +84,58 @@ def plot_branch(ds, path=None, state=None, node: int = 0, ax=None, diagram=None,
 
 
 def _special_points(ax, ds, state, node) -> None:
-    """Mark and label the special points (one legend entry per kind present)."""
-    shown = set()
+    """Mark and label the special points (one legend entry per kind present); a point at the place of one
+    drawn before it gets a larger hollow marker, so that both show (PD and LP at one orbit)."""
+    shown, drawn = set(), []
+    par = ds.attrs["continuation_parameter"]
+    xs, ys = ds[par].values, ds[state].values[:, node]
+    near = 0.01 * max(np.nanmax(xs) - np.nanmin(xs), 1e-300), 0.01 * max(np.nanmax(ys) - np.nanmin(ys), 1e-300)
     for i in range(ds.sizes.get("special", 0)):
         kind = SPECIAL_KINDS[int(ds.special_kind.values[i])]
         value = float(ds.special_value.values[i])
         y = float(ds[state].values[int(ds.special_point.values[i]), node])
-        ax.plot([value], [y], marker=_MARKERS[kind], color="k", ms=7, ls="none",
+        under = sum(abs(value - a) < near[0] and abs(y - b) < near[1] for a, b in drawn)
+        ax.plot([value], [y], marker=_MARKERS[kind], color="k", ms=7 + 5 * under, ls="none",
+                mfc="none" if under else "k", mew=1.3, zorder=3 - 0.1 * under, gid="special-marker",
                 label=None if kind in shown else f"{SPECIAL_LABELS[kind]}: {_MEANINGS[kind]}")
+        drawn.append((value, y))
         shown.add(kind)
         ax.annotate(f"{SPECIAL_LABELS[kind]} {value:.6g}", (value, y), textcoords="offset points", xytext=(6, 6),
                     fontsize=8, gid="special-label")
 
 
+#: label offsets tried in turn [points]: above right, below right, above left, below left, then further out
+_OFFSETS = [(6, 6), (6, -14), (-6, 6), (-6, -14)] + [(dx, dy * k) for k in range(2, 7) for dx in (6, -6)
+                                                     for dy in (11, -11)]
+
+
 def _spread_labels(ax) -> None:
-    """Move the special points' labels up, one line at a time, until none overlaps another."""
+    """Place each special point's label at the first offset (:data:`_OFFSETS`) where it overlaps no label placed
+    before, no special-point marker, and stays inside the Axes."""
     labels = [t for t in ax.texts if t.get_gid() == "special-label"]
-    if len(labels) < 2:
+    if not labels:
         return
     ax.autoscale_view()             # the limits the labels will be drawn at
-    renderer = ax.figure.canvas.get_renderer()
+    fig = ax.figure
+    fig.draw_without_rendering()    # the layout (legend beside the Axes) settles the Axes' place first
+    renderer = fig.canvas.get_renderer()
+    frame = ax.get_window_extent(renderer)
+    from matplotlib.transforms import Bbox
+    markers = []
+    for line in ax.lines:
+        if line.get_gid() == "special-marker":
+            px, py = ax.transData.transform((line.get_xdata()[0], line.get_ydata()[0]))
+            half = (0.5 * line.get_markersize() + 1.5) * fig.dpi / 72    # its edge and a margin
+            markers.append(Bbox([[px - half, py - half], [px + half, py + half]]))
     placed = []
     for text in sorted(labels, key=lambda t: t.xy[0]):
-        for _ in range(len(labels) + 1):
-            box = text.get_window_extent(renderer).expanded(1.02, 1.1)
-            if not any(box.overlaps(other) for other in placed):
+        for dx, dy in _OFFSETS:
+            text.xyann = (dx, dy)
+            text.set_ha("left" if dx > 0 else "right")
+            box = text.get_window_extent(renderer)
+            inside = frame.x0 <= box.x0 and box.x1 <= frame.x1 and frame.y0 <= box.y0 and box.y1 <= frame.y1
+            if inside and not any(box.overlaps(o) for o in placed + markers):
                 break
-            x, y = text.get_position()
-            text.set_position((x, y + 11))
         placed.append(text.get_window_extent(renderer))
 
 

@@ -40,8 +40,8 @@ def plot_diagram(ds, path=None, state=None, branch=None, ax=None, overwrite=Fals
     branches = [branch] if branch else [str(b) for b in ds.branch.values]
     if ax is None:
         import matplotlib.pyplot as plt
-        fig, (ax, strip) = plt.subplots(2, 1, sharex=True, figsize=(10, 6.5),
-                                  gridspec_kw={"height_ratios": [5, 1 + 0.5 * (len(branches) - 1)]})
+        fig, (ax, strip) = plt.subplots(2, 1, sharex=True, figsize=(10, 7.2), layout="constrained",
+                                        gridspec_kw={"height_ratios": [5, 1 + 0.5 * (len(branches) - 1)]})
         own = True
     else:
         own = False
@@ -72,7 +72,10 @@ def plot_diagram(ds, path=None, state=None, branch=None, ax=None, overwrite=Fals
     handles += _grazing_marks(ds, ax, strip, branches, pvals)
     unit = "mm" if y_scale == 1e3 else ds[state].attrs.get("units", "")
     ax.set_ylabel(f"{ds[state].attrs.get('long_name', state)} [{unit}]")
-    ax.legend(handles=handles, fontsize=8, loc="best", framealpha=0.85)
+    if own:       # below the class strip, clear of the points (G14: it covered 7.5-10 Hz)
+        fig.legend(handles=handles, fontsize=8, loc="outside lower center", ncol=min(3, len(handles)), frameon=False)
+    else:         # beside the given Axes
+        ax.legend(handles=handles, fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     ax.grid(alpha=0.3)
     xlabel = f"{ds[par].attrs.get('long_name', par)} {par} [{ds[par].attrs.get('units', '')}]"
     if strip is None:
@@ -81,7 +84,6 @@ def plot_diagram(ds, path=None, state=None, branch=None, ax=None, overwrite=Fals
         _class_strip(ds, strip, branches, pvals, xlabel)
     if own:
         fig.suptitle(_title(ds), fontsize=9)
-        fig.tight_layout()
     if path is not None:
         save_figure(fig, path, overwrite=overwrite, dpi=130, close=own)
     return ax

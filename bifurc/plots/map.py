@@ -17,9 +17,10 @@ from ..storage.load import in_convention, require_kind
 from .diagram import CLASS_COLOURS
 
 #: colours of the periodic categories, most frequent first (beyond them: OTHER_PERIODIC)
-PERIODIC_COLOURS = ("#0072B2", "#56B4E9", "#CC79A7", "#F0E442", "#332288", "#117733", "#999933", "#004488",
+#: (no green: quasi-periodic is green; no grey: not-converged is grey; G12 of newcomer review 4)
+PERIODIC_COLOURS = ("#0072B2", "#56B4E9", "#CC79A7", "#F0E442", "#332288", "#663333", "#999933", "#004488",
                     "#EECC66")
-OTHER_PERIODIC = ("periodic, other n:m", "#BBBBBB")
+OTHER_PERIODIC = ("periodic, other n:m", "#FFAABB")
 MISSING = ("not computed", "#FFFFFF")
 #: hatching of cells where a panel's quantity was not computed (Lyapunov: periodic; impacts: not periodic)
 NOT_COMPUTED = "#999999"
@@ -99,10 +100,8 @@ def plot_regime_map(ds, path=None, ax=None, curves=None, overwrite=False, period
     span = float(np.nanmax(np.abs(ds.lyapunov.values))) if np.isfinite(ds.lyapunov.values).any() else 1.0
     im = ax[1].pcolormesh(x, y, lyap, cmap="PuOr_r", vmin=-span, vmax=span, shading="nearest")
     fig.colorbar(im, ax=ax[1], label="largest Lyapunov exponent [1/relay period]")
-    ax[1].set_title("Lyapunov exponent (hatched: not computed, periodic)")
-    imp = np.ma.masked_less(ds.impacts_per_period.values.T.astype(float), 0)
-    im = ax[2].pcolormesh(x, y, imp, cmap="cividis", shading="nearest")
-    fig.colorbar(im, ax=ax[2], label="impacts per period")
+    ax[1].set_title("Lyapunov exponent (hatched: exponent not computed)")
+    _impacts_panel(ax[2], fig, x, y, ds.impacts_per_period.values)
     ax[2].set_title("impacts per period (hatched: not periodic)")
     for a in ax:
         a.set_xlabel(f"{par} [{ds[par].attrs.get('units', '')}]")
@@ -120,6 +119,24 @@ def plot_regime_map(ds, path=None, ax=None, curves=None, overwrite=False, period
     if path is not None:
         save_figure(fig, path, overwrite=overwrite)
     return ax[0]
+
+
+def _impacts_panel(ax, fig, x, y, impacts) -> None:
+    """Impacts per period of the periodic cells, one colour band per count present (a rare large count does
+    not squeeze the common small ones into one colour), each band's tick its count."""
+    from matplotlib import colormaps
+    from matplotlib.colors import BoundaryNorm
+    counts = np.unique(impacts[impacts >= 0]).astype(int)
+    if not counts.size:
+        counts = np.array([0])
+    rank = np.full(impacts.shape, np.nan)
+    for r, c in enumerate(counts):
+        rank[impacts == c] = r
+    cmap = colormaps["cividis"].resampled(max(counts.size, 2))
+    im = ax.pcolormesh(x, y, np.ma.masked_invalid(rank.T), cmap=cmap, shading="nearest",
+                       norm=BoundaryNorm(np.arange(counts.size + 1) - 0.5, cmap.N))
+    bar = fig.colorbar(im, ax=ax, label="impacts per period (one band per count present)")
+    bar.set_ticks(np.arange(counts.size), labels=[str(c) for c in counts])
 
 
 def _hatch_missing(ax, x, y) -> None:

@@ -38,10 +38,16 @@ def progress_bar(values, planned, progress, desc, unit="values"):
     """A bar over ``values`` values of ``planned`` relay periods each (planned work), or one that shows nothing."""
     if not progress or values == 0:
         return NoBar()
-    try:                            # a widget in Jupyter (tqdm.auto needs ipywidgets for it), text elsewhere
+    bar = tqdm_class()(total=values * planned, desc=desc, unit="period", unit_scale=True, file=sys.stderr, smoothing=0.1)
+    return PeriodBar(bar, values, planned, unit)
+
+
+def tqdm_class():
+    """``tqdm.auto.tqdm`` where ipywidgets can be imported (a widget in Jupyter), else the text ``tqdm.tqdm``:
+    ``tqdm.auto`` in Jupyter without ipywidgets warns (``TqdmWarning: IProgress not found``) and prints text anyway."""
+    try:
         import ipywidgets  # noqa: F401
         from tqdm.auto import tqdm
-    except ImportError:             # without ipywidgets tqdm.auto would warn and print text anyway
+    except ImportError:
         from tqdm import tqdm
-    bar = tqdm(total=values * planned, desc=desc, unit="period", unit_scale=True, file=sys.stderr, smoothing=0.1)
-    return PeriodBar(bar, values, planned, unit)
+    return tqdm

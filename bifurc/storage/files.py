@@ -29,12 +29,13 @@ except ImportError:  # not POSIX: no lock
 
 #: variable attribute: the name of a variable stored under another one (:func:`stored_names`)
 STORED_AS = "bifurc_name"
-#: on disk, the units of elapsed time [s] with ``standard_name = "time"``: CF-1.10 4.4 asks a time
-#: coordinate for "<unit> since <epoch>" and a calendar; the epoch is nominal (t = 0: the start of the
-#: integration) and :func:`bifurc.storage.load.read` gives the variable its units "s" back
-ELAPSED_UNITS = "s since 1970-01-01 00:00:00"
-ELAPSED_ATTRS = {"units": ELAPSED_UNITS, "calendar": "proleptic_gregorian",
-                 "comment": "elapsed time from the start of the integration; the epoch is nominal"}
+#: on disk and in memory, a simulation's elapsed time [s] is a plain coordinate: units "s", no
+#: ``standard_name = "time"`` and no epoch, so that ``xr.open_dataset`` reads it as float seconds (a CF
+#: time coordinate needs "<unit> since <epoch>", which every netCDF reader decodes to dates)
+ELAPSED_ATTRS = {"units": "s", "long_name": "time", "comment": "elapsed time from the start of the integration"}
+#: files written before 0.2 stored elapsed time as a CF time coordinate with a nominal epoch;
+#: :func:`bifurc.storage.load.read` gives such a variable :data:`ELAPSED_ATTRS` back
+LEGACY_ELAPSED_UNITS = "s since 1970-01-01 00:00:00"
 #: dataset attributes that name a parameter with a variable of its own
 PARAMETER_ATTRS = ("swept_parameter", "swept_parameter2", "continuation_parameter")
 #: zlib level of every numeric netCDF variable (4: most of level 9's gain at a fraction of its time)
@@ -257,8 +258,8 @@ def write_netcdf(ds, path, overwrite: bool = False) -> Path:
         for old, new in renamed.items():
             out[new].attrs = {**out[new].attrs, STORED_AS: old}
     for name, var in out.variables.items():
-        if var.attrs.get("standard_name") == "time" and var.attrs.get("units") == "s":
-            out[name].attrs = {**var.attrs, **ELAPSED_ATTRS}
+        if var.attrs.get("standard_name") == "time" and var.attrs.get("units") == "s":  # an elapsed time
+            out[name].attrs = {k: v for k, v in var.attrs.items() if k not in ("standard_name", "calendar")}
     try:
         tmp = _temporary(path)
     except OSError as exc:

@@ -9,7 +9,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from .build import KIND_ATTR, KINDS
-from .files import ELAPSED_ATTRS, STORED_AS, BadFileError
+from .files import ELAPSED_ATTRS, LEGACY_ELAPSED_UNITS, STORED_AS, BadFileError
 
 #: former kind names still accepted
 ALIASES = {"simulate": "history"}
@@ -67,8 +67,8 @@ def read(path):
     with xr.open_dataset(path, decode_times=False) as ds:
         ds = ds.load()
     for var in ds.variables.values():
-        if var.attrs.get("units") == ELAPSED_ATTRS["units"] and var.attrs.get("comment") == ELAPSED_ATTRS["comment"]:
-            var.attrs = {k: v for k, v in var.attrs.items() if k not in ELAPSED_ATTRS} | {"units": "s"}
+        if var.attrs.get("units") == LEGACY_ELAPSED_UNITS:   # written before 0.2: a nominal epoch
+            var.attrs = {k: v for k, v in var.attrs.items() if k not in ("standard_name", "calendar")} | ELAPSED_ATTRS
     for key in ARRAY_ATTRS:
         if key in ds.attrs:
             ds.attrs[key] = np.atleast_1d(ds.attrs[key])

@@ -3,7 +3,8 @@ and "Bad input (Python API)"), as data for tests/test_bad_inputs.py.
 
 CLI rows: (review id, argv, exit code, what stderr holds). ``"error"``: exactly one line starting
 ``bifurc: error:``; ``"warning"``: exactly one ``bifurc: warning:`` line; ``None``: a run the review
-found acceptable (exit 0, nothing on stderr). ``slow``: the row computes (a sweep, a figure), run with
+found acceptable (exit 0, nothing on stderr); ``"progress"``: a run that reports its progress on stderr
+(exit 0, no traceback). ``slow``: the row computes (a sweep, a figure), run with
 --runslow. Placeholders: ``{d}`` the fixtures' folder (diagram.nc, run.nc, map.nc, branch.nc,
 stability.nc, accuracy.nc, random.nc, truncated.nc, empty.nc, text.nc, exists.nc, adir/, nonempty/,
 corrupt.nc.parts/, other.nc.parts/, busy.nc with its lock held), ``{ro}`` a read-only folder,
@@ -91,11 +92,11 @@ CLI = [
     ("C56", ["report", "{d}/truncated.nc"], 2, E),
     ("C57", ["report", "{d}/empty.nc"], 2, E),
     ("C58", ["report", "{d}/text.nc"], 2, E),
-    ("C59", ["report", "{d}/run.nc"], 2, E),
-    ("C60", ["report", "{d}/branch.nc"], 2, E),
-    ("C61", ["report", "{d}/map.nc"], 2, E),
-    ("C62", ["report", "{d}/stability.nc"], 2, E),
-    ("C63", ["report", "{d}/accuracy.nc"], 2, E),
+    ("C59", ["report", "{d}/run.nc"], 0, None),   # every kind has a report (issue 48)
+    ("C60", ["report", "{d}/branch.nc"], 0, None),   # every kind has a report (issue 48)
+    ("C61", ["report", "{d}/map.nc"], 0, None),   # every kind has a report (issue 48)
+    ("C62", ["report", "{d}/stability.nc"], 2, E),   # a stability dataset lacking its variables (the fixture)
+    ("C63", ["report", "{d}/accuracy.nc"], 2, E),   # a accuracy dataset lacking its variables (the fixture)
     ("C64", ["report", "{d}/diagram.nc", "--at", "50,abc"], 2, E),
     ("C65", ["simulate", "--periods", "0"], 2, E),
     ("C66", ["simulate", "--periods", "-2"], 2, E),
@@ -207,4 +208,84 @@ API = [
     ("A56", "bifurc.plot_diagram(d, folder + '/x.xyz')", "ParameterError"),
     ("A58", "bifurc.load(folder + '/diagram.nc', kind='map')", "BadFileError"),
     ("A60", "maps.simulate('thesis-1dof', x0={'q': 1})", "ParameterError"),
+]
+
+#: Review 4's new rows (shared/reviews/newcomer-review-4.md, "Bad input: corpus counts"): the review counts 36
+#: command lines and 24 API calls and describes them without their argv; these are written from its
+#: descriptions, in its order.
+ATT = ["attractors", "--scene", "impact-oscillator", "--param", "Omega", "--from", "1.3", "--to", "1.3",
+       "--starts", "4", "--quiet"]
+OMEGA = ["continue", "--scene", "impact-oscillator", "--param", "Omega"]
+CLI4 = [
+    ("N01", [*ATT, "--starts", "0", "-o", "{d}/o.nc"], 2, E),
+    ("N02", [*ATT, "--starts", "-5", "-o", "{d}/o.nc"], 2, E),
+    ("N03", [*ATT, "--starts", "1000000000", "-o", "{d}/o.nc"], 2, E),
+    ("N04", [*ATT, "--box", "x=0.03:0", "-o", "{d}/o.nc"], 2, E),
+    ("N05", [*ATT, "--box", "q=0:1", "-o", "{d}/o.nc"], 2, E),
+    ("N06", [*ATT, "--box", "x=abc", "-o", "{d}/o.nc"], 2, E),
+    ("N07", [*ATT, "--cells", "0", "-o", "{d}/o.nc"], 2, E),
+    ("N08", [*ATT, "--max-periods", "0", "-o", "{d}/o.nc"], 2, E),
+    ("N09", [*ATT, "--max-period", "0", "-o", "{d}/o.nc"], 2, E),
+    ("N10", [*ATT, "--refine-from", "{d}/missing.nc", "-o", "{d}/o.nc"], 2, E),
+    ("N11", [*ATT, "--refine-from", "{d}/diagram.nc", "-o", "{d}/o.nc"], 2, E),
+    ("N12", [*ATT, "--box", "x=-1:2", "--starts-from", "switch-on", "-o", "{d}/o.nc"], 2, E),
+    ("N13", [*ATT, "--starts-from", "switch-on", "-o", "{d}/o.nc"], 2, E),
+    ("N14", ["attractors", "--scene", "thesis-1dof", "--preset", "matlab-listing", "--param", "relay_hz", "--from", "9",
+             "--to", "9", "--starts", "2", "--max-periods", "100", "--quiet", "-o", "{d}/n14.nc"], 0, None, "slow"),
+    ("N15", [*ATT, "--seed", "-1", "-o", "{d}/o.nc"], 2, E),
+    ("N16", [*ATT, "--box", "x=-50:50,v=-2:2", "-o", "{d}/n16.nc"], 0, None, "slow"),
+    ("N17", [*ATT, "-o", "{d}/adir"], 2, E),
+    ("N18", ["study", "attractor-atlas", "--quick", "--case", "nope", "-o", "{d}/n18"], 2, E),
+    ("N19", ["study", "thesis-orbits", "--quick", "--workers", "0", "-o", "{d}/n19"], 2, E),
+    ("N20", ["study", "thesis-orbits", "--quick", "--scheduler", "banana", "-o", "{d}/n20"], 2, E),
+    ("N21", [*OMEGA, "--from", "0", "--to", "1", "-o", "{d}/o.nc"], 2, E),
+    ("N22", [*OMEGA, "--from", "1.3", "--to", "-3.5", "-o", "{d}/o.nc"], 2, E),
+    ("N23", [*OMEGA, "--from", "1.3", "--to", "1e9", "--max-points", "20", "-o", "{d}/n23.nc"], 0, "progress", "slow"),
+    ("N24", ["continue", "--scene", "thesis-1dof", "--preset", "matlab-listing", "--relay-hz", "9", "--param",
+             "f_mains", "--from", "50", "--to", "51", "-o", "{d}/n24.nc"], 1, E, "slow"),
+    ("N25", [*MAP, "--n2", "100000000", "-o", "{d}/o.nc"], 2, E),
+    ("N26", [*MAP, "--from2", "nan", "-o", "{d}/o.nc"], 2, E),
+    ("N27", [*MAP, "--param2", "nope", "-o", "{d}/o.nc"], 2, E),
+    ("N28", [*D, "--time-budget", "0", "-o", "{d}/o.nc"], 2, E),
+    ("N29", [*D, "--time-budget", "-5", "-o", "{d}/o.nc"], 2, E),
+    ("N30", [*D, "--time-budget", "nan", "-o", "{d}/o.nc"], 2, E),
+    ("N31", [*D, "--time-budget", "abc", "-o", "{d}/o.nc"], 2, E),
+    ("N32", [*D, "--budget", "0", "-o", "{d}/o.nc"], 2, E),
+    ("N33", [*D, "--budget", "5", "-o", "{d}/o.nc"], 2, E),
+    ("N34", [*D, "--budget", "1e12", "-o", "{d}/o.nc"], 2, E),
+    ("N35", [*D, "--budget", "100000000000", "-o", "{d}/o.nc"], 2, E),
+    ("N36", [*MAP, "--time-budget", "0", "-o", "{d}/o.nc"], 2, E),
+]
+#: the review-4 rows of the default run (the rest with --runslow)
+QUICK4 = {"N01", "N04", "N05", "N08", "N11", "N13", "N15", "N17", "N19", "N21", "N25", "N30", "N34"}
+
+OSC = "params={'F': 0.3, 'e': -1.0, 'r': 0.8}, n_starts=4, progress=False, link=False"
+ATTR = "bifurc.attractors('impact-oscillator', 'Omega', [1.3], "
+API4 = [
+    ("NA01", ATTR + OSC.replace("n_starts=4", "n_starts=0") + ")", "ParameterError"),
+    ("NA02", ATTR + OSC.replace("n_starts=4", "n_starts=-5") + ")", "ParameterError"),
+    ("NA03", ATTR + OSC.replace("n_starts=4", "n_starts=10**9") + ")", "ParameterError"),
+    ("NA04", ATTR + OSC + ", box={'x': (0.03, 0.0)})", "ParameterError"),
+    ("NA05", ATTR + OSC + ", box={'q': (0.0, 1.0)})", "ParameterError"),
+    ("NA06", ATTR + OSC + ", cells=0)", "ParameterError"),
+    ("NA07", ATTR + OSC + ", seed=-1)", "ParameterError"),
+    ("NA08", ATTR + OSC + ", budget=0)", "ParameterError"),
+    ("NA09", ATTR + OSC + ", max_period=0)", "ParameterError"),   # the CLI refuses it (G7)
+    ("NA10", ATTR + OSC + ", starts='switch-on')", "ParameterError"),
+    ("NA11", ATTR + OSC + ", starts='nope')", "ParameterError"),
+    ("NA12", ATTR + OSC + ", refine=[d])", "ParameterError"),
+    ("NA13", ATTR + OSC + ", path=folder)", "IsADirectoryError"),
+    ("NA14", "bifurc.attractors('impact-oscillator', 'nope', [1.3], " + OSC + ")", "ParameterError"),
+    ("NA15", "bifurc.attractors('impact-oscillator', 'Omega', [], " + OSC + ")", "ParameterError"),
+    ("NA16", "bifurc.continue_orbit('impact-oscillator', 'Omega', (0.0, 1.0))", "ParameterError"),
+    ("NA17", "bifurc.continue_orbit('impact-oscillator', 'Omega', (1.3, -3.5))", "ParameterError"),
+    ("NA18", "bifurc.regime_map('thesis-1dof', 'relay_hz', [5.0], 'V', [np.nan], " + SMALL + ")", "ParameterError"),
+    ("NA19", "bifurc.regime_map('thesis-1dof', 'relay_hz', [5.0], 'nope', [90.0], " + SMALL + ")", "ParameterError"),
+    ("NA20", "bifurc.sweep('thesis-1dof', 'relay_hz', [5.0], time_budget=0, " + SMALL + ")", "ParameterError"),
+    ("NA21", "bifurc.sweep('thesis-1dof', 'relay_hz', [5.0], time_budget=float('nan'), " + SMALL + ")",
+     "ParameterError"),
+    ("NA22", "bifurc.sweep('thesis-1dof', 'relay_hz', [5.0], budget=5, " + SMALL + ")", "ParameterError"),
+    ("NA23", "bifurc.sweep('thesis-1dof', 'relay_hz', [5.0], budget=10**12, " + SMALL + ")", "ParameterError"),
+    ("NA25", "bifurc.sweep('thesis-1dof', 'relay_hz', np.linspace(2, 10, 10**7), " + SMALL + ")", "ParameterError"),
+    # refused before computing by the size guard the API shares with the CLI (Run(allow_large=True) to run it)
 ]
