@@ -7,7 +7,7 @@ reasons that are not behaviour, so they are measured here and printed as ratios 
 2. ``--startup``: `bifurc --help` and `--version`, best of 3, against their budget (0.3 s, or 0.2 s over a
    bare ``python -c pass`` on a slow machine).
 3. ``--studies``: the quick forms of the attractor-atlas and regime-maps studies against their two minutes.
-4. The run-time estimate of the size guard (``bifurc.commands._guards.estimate``) against a measured run of
+4. The run-time estimate of the size guard (``bifurc.run.guard.estimate``) against a measured run of
    the README's main job on 9 values: prints estimate / measured per value-relay-period (the guard is meant
    to be an upper bound within 20x: a ratio between 1 and 20; below 0.1 or above 20 is flagged).
 
@@ -105,7 +105,7 @@ def studies() -> None:
 
 def estimate_ratio() -> tuple[float, float]:
     """(estimated, measured) seconds per value-relay-period of the README's main job on 9 values, one worker."""
-    from bifurc.commands._guards import estimate
+    from bifurc.run.guard import estimate
     from bifurc.sweeps.sweep import sweep
     with tempfile.TemporaryDirectory() as tmp:
         ds = sweep("thesis-1dof", "relay_hz", np.linspace(2, 10, 9), preset="matlab-listing", params={"V": 90},

@@ -62,12 +62,12 @@ def undecided_summary(ds) -> list[str]:
     """One line per kind of not-converged reason of a diagram or map: its count and the one-line remedy.
 
     A value's ``budget_needed`` is the budget its evidence asks for. Where that is more than
-    :data:`bifurc.sweeps.anytime.HOPELESS` budgets the sweep itself stopped extending it: a longer budget is
+    :data:`bifurc.labels.anytime.HOPELESS` budgets the sweep itself stopped extending it: a longer budget is
     unlikely to decide it, and no budget is suggested. Otherwise the largest such budget is suggested with
     its estimated computation time for those values: the periods each integrated (its copies included),
     scaled by the new budget over the old one, at the dataset's own measured seconds per relay period.
     Empty when every value is decided."""
-    from .sweeps.anytime import BUDGET, HOPELESS
+    from .labels.anytime import BUDGET, HOPELESS
     codes = np.asarray(ds.class_code.values).ravel()
     reasons = np.asarray(ds.class_reason.values).ravel()
     need = np.asarray(ds.budget_needed.values).ravel() if "budget_needed" in ds else np.zeros(codes.size)

@@ -109,7 +109,7 @@ def test_the_diagram_legend_lies_below_the_strip_clear_of_every_point(diagram):
     for a in fig.axes:
         assert not box.overlaps(a.get_window_extent()), a
     assert box.y1 <= fig.axes[1].get_window_extent().y0          # below the class strip
-    from bifurc.sweeps.classify import CLASS_LABELS
+    from bifurc.labels.classify import CLASS_LABELS
     texts = [t.get_text() for t in fig.legends[0].get_texts()]
     for code in set(diagram.class_code.values.ravel()):
         assert any(t.split(" (")[0] == CLASS_LABELS[int(code)] for t in texts), texts

@@ -74,7 +74,7 @@ def event_text(ds, i, j) -> str:
 def attractor_text(ds, i, j) -> str:
     """What attractor ``j`` is at value ``i``: "period-1, 1 impact (1:1)", "chaotic", "at rest on the stop"
     (a period-1 orbit without impact, stuck on or in contact with the stop at its node), an outcome's name."""
-    from ..sweeps.classify import CLASS_LABELS, describe
+    from ..labels.classify import CLASS_LABELS, describe
     label = str(ds.attractor_label.values[j])
     if not label.startswith("A"):
         return label.replace("_", " ")

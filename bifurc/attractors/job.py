@@ -1,5 +1,5 @@
-"""The census of one parameter value as a task: run on every core or on Dask (:mod:`bifurc.run.executor`)
-and kept on disk for a resume (:class:`bifurc.sweeps.resume.Parts`'s folder and manifest).
+"""The census of one parameter point as a task on the one grid driver (:mod:`bifurc.run.grid`): run on every core or Dask
+and kept on disk for a resume (:class:`bifurc.run.parts.Parts`, with :class:`CensusCodec`).
 
 Each value's census uses its fresh starts only, so it is the same whichever process runs it and whatever ran
 before: the same ``seed`` gives the same dataset with any ``workers`` and after a resume.  The seeding with the
