@@ -116,5 +116,11 @@ class BifurcAccessor:
         df.insert(2, "class", [CLASS_LABELS[c] if c >= 0 else "missing" for c in df["class_code"]])
         df.insert(3, "description", [describe(c, n, m) if c >= 0 else "missing" for c, n, m in
                                      zip(df["class_code"], df["period"], df["impacts_per_period"])])
+        if "record_used" in df:      # a label from a finite record says how long it held
+            chaotic = df["class"] == "chaotic"
+            df.loc[chaotic, "description"] = [
+                f"chaotic for at least {int(r)} relay periods (after {int(t)}): whether the set persists is the "
+                f"census' lifetime verdict (bifurc.attractors)" for r, t in
+                zip(df.loc[chaotic, "record_used"], df.loc[chaotic, "transient_used"])]
         df.attrs["units"] = {k: ds[k].attrs.get("units", "") for k in [par] + names}
         return df

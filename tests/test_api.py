@@ -308,3 +308,14 @@ def test_only_the_two_packages_declare_a_public_surface():
                    for node in tree.body):
                 declaring.append(str(path.relative_to(ROOT)))
     assert not declaring, declaring
+
+
+def test_a_chaotic_label_from_a_finite_record_says_how_long_it_held():
+    """Label stability (issue 45): "chaotic" is a statement about the record judged, so the table gives its length
+    and points to the census' lifetime verdict for persistence (9 Hz, 90 V, matlab-listing: chaotic on 800 periods)."""
+    d = bifurc.sweep("thesis-1dof", "relay_hz", [9.0], preset="matlab-listing", params={"V": 90}, error_sample=0,
+                     grazing=False, progress=False)
+    row = d.bifurc.table().iloc[0]
+    assert row["class"] == "chaotic"
+    assert row["description"].startswith(f"chaotic for at least {int(d.record_used.values[0, 0])} relay periods")
+    assert "lifetime" in row["description"] and int(d.record_used.values[0, 0]) >= 400
