@@ -154,3 +154,21 @@ def test_escape_ends_the_orbit_with_a_status(scene):
     o = smap.orbit(ac.initial_state(), 50)
     assert o.status == "escaped" and o.failure and math.isfinite(o.failure_time)
     assert o.points.shape[0] == o.n + 1 <= 50 and o.times[-1] <= o.failure_time
+
+
+def test_the_map_at_other_parameters_is_a_light_value_equal_to_a_fresh_map():
+    """``smap.at(params, phase=)`` leaves ``smap`` unchanged, shares its compiled engine, and steps exactly as a map
+    built anew at those parameters and that phase (bit for bit)."""
+    import maps
+    sc = maps.get_scene("thesis-1dof").with_options(dc_law="listing")
+    base = maps.StroboscopicMap(sc, sc.parameters(preset="matlab-listing", V=90.0, relay_hz=9.0), tol=1e-10)
+    view = base.at({"V": 110.0, "relay_hz": 7.0}, phase=0.25)
+    fresh = maps.StroboscopicMap(sc, sc.parameters(preset="matlab-listing", V=110.0, relay_hz=7.0), tol=1e-10,
+                                 phase=0.25)
+    assert base.params["V"] == 90.0 and base.phase == 0.0 and base.period == pytest.approx(1 / 9.0, rel=1e-15)
+    assert view.params["V"] == 110.0 and view.period == pytest.approx(1 / 7.0, rel=1e-15) and view._engine is base._engine
+    y0 = sc.initial_state()
+    a, b = view.orbit(y0, 8, transient=20), fresh.orbit(y0, 8, transient=20)
+    np.testing.assert_array_equal(a.points, b.points)
+    np.testing.assert_array_equal(base.orbit(y0, 3).points, maps.StroboscopicMap(
+        sc, sc.parameters(preset="matlab-listing", V=90.0, relay_hz=9.0), tol=1e-10).orbit(y0, 3).points)
