@@ -24,7 +24,7 @@ _LAZY = {
     "plot_time_history": "plots.history", "plot_regime_map": "plots.map", "plot_orbit": "plots.orbit",
     "regime_map": "sweeps.regime", "class_at": "report", "classification_report": "report", "sweep": "sweeps.sweep",
     "plot_basins": "attractors.plots",
-    "Run": "run.run", "Diagram": "sweeps.method", "Census": "attractors.method", "Box": "attractors.method",
+    "Run": "run.where", "Diagram": "sweeps.method", "Census": "attractors.method", "Box": "attractors.method",
     "Slice": "attractors.method", "SwitchOn": "attractors.method", "Given": "attractors.method",
     "ByDistance": "attractors.method", "grid_points": "attractors.atlas", "Shooting": "orbits.method",
     "PALC": "orbits.method",

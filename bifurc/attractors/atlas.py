@@ -19,7 +19,7 @@ from maps.poincare import StroboscopicMap
 from maps.provenance import recorded
 
 from ..run.inputs import analysis_inputs
-from ..run.run import Run
+from ..run.where import Run
 from ..run.settings import settle
 from ..storage.files import output_guard
 from .census import Memory, census_at

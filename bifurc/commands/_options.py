@@ -68,7 +68,7 @@ def settings_from_args(cls, args, exclude=(), **given):
 def add_run_options(parser, what: str = "value") -> None:
     """Where the job runs (workers, Dask scheduler, time budget, --yes) and its outputs (-o, --plot, --quiet,
     --force)."""
-    from ..run.run import Run
+    from ..run.where import Run
     add_settings_options(parser, Run, "where it runs")
     g = parser.add_argument_group("outputs")
     g.add_argument("-o", "--output", required=True, help="netCDF file to write; completed points are kept in "
@@ -80,5 +80,5 @@ def add_run_options(parser, what: str = "value") -> None:
 
 def run_from_args(args):
     """The :class:`bifurc.Run` of the parsed ``args``."""
-    from ..run.run import Run
+    from ..run.where import Run
     return settings_from_args(Run, args, path=args.output, overwrite=args.force, progress=not args.quiet)

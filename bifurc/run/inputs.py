@@ -10,7 +10,7 @@ from __future__ import annotations
 from maps.parameters import ParameterError
 from maps.problem import Problem, problem as make_problem
 
-from .run import Run
+from .where import Run
 from .settings import settle, split_options
 
 #: the keywords of :func:`maps.problem` an analysis accepts beside a scene

@@ -24,7 +24,7 @@ from maps.provenance import recorded
 from .errors import error_estimate
 from ..run.guard import check_size
 from ..run.inputs import analysis_inputs
-from ..run.run import Run
+from ..run.where import Run
 from ..storage.files import output_guard
 from .job import ValueJob
 from ..run.parts import Parts

@@ -31,7 +31,7 @@ from .errors import ErrorEstimate
 from ..run.executor import WorkerPool, result_of, submit_all
 from ..run.guard import check_size
 from ..run.inputs import analysis_inputs
-from ..run.run import Run
+from ..run.where import Run
 from ..storage.files import output_guard, write_netcdf
 from .grazing import bracket_cost, grazing_brackets, locate_bracket
 from ..labels.anytime import BUDGET
