@@ -74,7 +74,8 @@ def study_pages(docs: Path, studies: Path) -> None:
                 "a stated finding no longer holds." if flag is not None else f"Regenerate: {command}.", "",
                 "The figures the report names are written by that command into `DIR` (they are not committed). "
                 f"Source: `studies/{folder.name}/{file}`. The report follows, as committed.", "",
-                f"```{{include}} ../../studies/{folder.name}/{file}", ":heading-offset: 1", "```", ""]))
+                f"```{{include}} ../../studies/{folder.name}/{file}", ":heading-offset: 1", ":relative-images:", "```",
+                ""]))
     index = ["# Studies", "",
              "Each study is a reproducible question about the thesis model, run by `bifurc study NAME` "
              "(`--quick` for its reduced form); its last report is committed beside its code "
