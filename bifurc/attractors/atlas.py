@@ -78,7 +78,7 @@ def attractors(problem="thesis-1dof", param: str | None = "V", values=None, meth
     sampler = sampler_of(starts, opts)
     matcher = settle(ByDistance, match, {"threshold": opts.pop("match_threshold")} if "match_threshold" in opts else {})
     refine = opts.pop("refine", None)
-    pb, m, r, _ = analysis_inputs(problem, Census, method, run, opts)
+    pb, m, r = analysis_inputs(problem, Census, method, run, opts)
     if r.time_budget is not None:
         raise ParameterError("time_budget: a census follows every start to where it settles or to its budget; "
                              "bound it with the budget (Census(budget=...), --budget) instead")

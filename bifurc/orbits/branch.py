@@ -83,7 +83,7 @@ def continue_orbit(problem="thesis-1dof", param: str = "V", span=None, method: P
     **options
         Problem keywords (``preset``, ``params``, ``x0``, ``dc_law``, ...) and :class:`bifurc.PALC` fields by name.
     """
-    pb, m, _, _ = analysis_inputs(problem, PALC, method, None, options)
+    pb, m, _ = analysis_inputs(problem, PALC, method, None, options, runs=False)
     return _continue_orbit(pb, param, span, m, start, param2, span2, progress)
 
 

@@ -68,7 +68,7 @@ def periodic_orbit(problem="thesis-1dof", method: Shooting | None = None, *, sta
     Raises :class:`OrbitNotFound` (with the reason) when Newton does not converge, and
     :class:`~maps.parameters.ParameterError` for bad input (one line, naming the argument).
     """
-    pb, m, _, _ = analysis_inputs(problem, Shooting, method, None, options)
+    pb, m, _ = analysis_inputs(problem, Shooting, method, None, options, runs=False)
     return _periodic_orbit(pb, m, start)
 
 

@@ -17,19 +17,23 @@ from .settings import settle, split_options
 PROBLEM_KEYWORDS = ("preset", "params", "x0", "flags0", "circuit", "ac_sign", "dc_law", "soil", "compaction")
 
 
-def analysis_inputs(problem, method_cls, method, run, options: dict, extra: tuple = ()):
-    """(Problem, method, Run, extra options) from an entry point's arguments: ``problem`` a :class:`maps.Problem`
-    or a scene (name, Scene, HybridSystem); ``method`` an instance of ``method_cls`` or None (its defaults);
-    ``run`` a :class:`Run` or None; ``options`` changes to any of them by name; ``extra``: further names the entry
-    point takes itself (returned as a dict)."""
+def analysis_inputs(problem, method_cls, method, run, options: dict, runs: bool = True):
+    """(Problem, method, Run) from an entry point's arguments: ``problem`` a :class:`maps.Problem` or a scene (name,
+    Scene, HybridSystem); ``method`` an instance of ``method_cls`` or None (its defaults); ``run`` a :class:`Run` or
+    None; ``options`` changes to any of them by name.  ``runs=False``: an analysis that runs here only (one orbit, a
+    branch), whose options do not include the Run's (the Run returned is None)."""
     if method is not None and not isinstance(method, method_cls):
         raise ParameterError(f"method: expected a {method_cls.__name__} object, got {type(method).__name__} "
                              f"({method!r:.60})")
     if run is not None and not isinstance(run, Run):
         raise ParameterError(f"run: expected a bifurc.Run object, got {type(run).__name__} ({run!r:.60})")
-    pk, mk, rk, ek = split_options(options, PROBLEM_KEYWORDS, method_cls, Run, tuple(extra))
-    m, r = settle(method_cls, method, mk), settle(Run, run, rk)     # cheap checks first
-    return resolve_problem(problem, pk), m, r, ek
+    if runs:
+        pk, mk, rk = split_options(options, PROBLEM_KEYWORDS, method_cls, Run)
+    else:
+        (pk, mk), rk = split_options(options, PROBLEM_KEYWORDS, method_cls), None
+    m = settle(method_cls, method, mk)              # cheap checks first
+    r = settle(Run, run, rk) if runs else None
+    return resolve_problem(problem, pk), m, r
 
 
 def resolve_problem(problem, keywords: dict) -> Problem:

@@ -76,7 +76,7 @@ def regime_map(problem="thesis-1dof", param: str = "relay_hz", values=None, para
     **options
         Problem keywords, :class:`bifurc.Diagram` or :class:`bifurc.Run` fields by name.
     """
-    pb, m, r, _ = analysis_inputs(problem, Diagram, method, run, options)
+    pb, m, r = analysis_inputs(problem, Diagram, method, run, options)
     values = _grid(values if values is not None else [], "values")
     values2 = _grid(values2 if values2 is not None else [], "values2")
     if m.mode != "independent":

@@ -75,7 +75,7 @@ def sweep(problem="thesis-1dof", param: str = "relay_hz", values=None, method: D
     >>> pb = maps.problem("thesis-1dof", preset="matlab-listing", params={"V": 90})  # doctest: +SKIP
     >>> d = bifurc.sweep(pb, "relay_hz", np.linspace(2, 10, 41), bifurc.Diagram(record=100))  # doctest: +SKIP
     """
-    pb, m, r, _ = analysis_inputs(problem, Diagram, method, run, options)
+    pb, m, r = analysis_inputs(problem, Diagram, method, run, options)
     values = _grid(values, "values")
     check_size(values.size * len(MODES[m.mode]), m.transient, m.record, r.workers, m.budget, r.allow_large)
     with output_guard(r.path, r.overwrite):
