@@ -179,11 +179,8 @@ def _census(pb, names, points, m: Census, sampler, matcher: ByDistance, r: Run, 
     ds = to_dataset(pb, names, points, per_value, outcomes, n_ids, events, st, n_node=m.n_node, attrs=attrs,
                     transients=[(f.via, f.saddles) for f in fresh])
     if r.path is not None:
-        from ..run.grid import deferred_interrupt
-        from ..storage.files import write_netcdf
-        with deferred_interrupt():
-            write_netcdf(ds, r.path, overwrite=True)   # refused earlier unless overwrite (output_guard)
-            parts.remove()
+        from ..run.grid import write_result
+        write_result(ds, r.path, parts)
     return ds
 
 

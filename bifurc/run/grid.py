@@ -86,6 +86,15 @@ def deferred_interrupt():
             old(*got[0])
 
 
+def write_result(ds, path, parts) -> None:
+    """Write a grid's Dataset to ``path`` (refused earlier unless overwrite: :func:`bifurc.storage.files.output_guard`)
+    and remove its resume ``parts``, with Ctrl-C deferred so that both happen or neither."""
+    from ..storage.files import write_netcdf
+    with deferred_interrupt():
+        write_netcdf(ds, path, overwrite=True)
+        parts.remove()
+
+
 class Interrupted(KeyboardInterrupt):
     """Ctrl-C or a kernel interrupt stopped a sweep; the message says what was kept."""
 

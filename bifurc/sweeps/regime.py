@@ -30,7 +30,7 @@ from .job import ValueJob
 from ..run.parts import Parts
 from .parts import ValueCodec, manifest
 from .method import Diagram
-from ..run.grid import deferred_interrupt, run_points
+from ..run.grid import run_points, write_result
 from .sweep import _grid, _job, run_stats, with_time_budget
 
 @dataclass(frozen=True)
@@ -106,7 +106,6 @@ def _regime_map(pb, param, values, param2, values2, m: Diagram, r: Run):
                                                     r.chunk_size, r.progress, f"{pb.name} {param} x {param2}",
                                                     unit="cells")
     from . import dataset as storage  # xarray: imported where the Dataset is built
-    from ..storage.files import write_netcdf
     ds = storage.map_dataset(results["independent"], job)
     run_stats(ds, job, seconds, resumed, workers)
     if error_sample:
@@ -115,8 +114,6 @@ def _regime_map(pb, param, values, param2, values2, m: Diagram, r: Run):
         ds = storage.add_error_estimate(ds, sample_values=[a for a, _ in sampled], **est)
         ds.attrs["error_estimate_values2"] = np.asarray([b for _, b in sampled] or [np.nan], float)
     if path:
-        with deferred_interrupt():
-            write_netcdf(ds, path, overwrite=True)  # refused earlier unless overwrite (guarded_output)
-            parts.remove()
+        write_result(ds, path, parts)
     return ds
 

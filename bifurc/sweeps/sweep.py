@@ -32,12 +32,12 @@ from ..run.executor import WorkerPool, result_of, submit_all
 from ..run.guard import check_size
 from ..run.inputs import analysis_inputs
 from ..run.where import Run
-from ..storage.files import output_guard, write_netcdf
+from ..storage.files import output_guard
 from .grazing import bracket_cost, grazing_brackets, locate_bracket
 from ..labels.anytime import BUDGET
 from .job import ValueJob
 from .method import Diagram
-from ..run.grid import MODES, Interrupted, deferred_interrupt, execution, kept_message, run_points
+from ..run.grid import MODES, Interrupted, execution, kept_message, run_points, write_result
 from ..run.parts import Parts
 from .parts import ValueCodec, manifest
 
@@ -114,9 +114,7 @@ def _finish(ds, found, estimate, path, parts):
     if estimate is not None:
         ds = storage.add_error_estimate(ds, **estimate)
     if path:
-        with deferred_interrupt():
-            write_netcdf(ds, path, overwrite=True)  # refused earlier unless overwrite (guarded_output)
-            parts.remove()
+        write_result(ds, path, parts)
     return ds
 
 
