@@ -32,19 +32,28 @@ def _student_t(q: float, df: int) -> float:
     return float(stdtrit(df, q))
 
 
+def batch_means(stretch, batches: int = 10) -> np.ndarray:
+    """The means of ``batches`` consecutive batches of ``stretch`` (fewer below 50 steps, at least 2;
+    empty with fewer than 4 steps): nearly independent when a batch is longer than the correlation."""
+    s = np.asarray(stretch, dtype=float)
+    b = min(batches, s.size // 5) if s.size >= 50 else max(2, min(batches, s.size // 2))
+    if s.size < 4 or b < 2:
+        return np.zeros(0)
+    return np.array([np.mean(part) for part in np.array_split(s, b)])
+
+
 def exponent_interval(stretch, batches: int = 10, level: float = 0.95) -> tuple[float, float, float]:
     """(exponent, low, high) [per step] from the log stretch of each step: the mean, and a ``level``
-    Student-t interval from the spread of ``batches`` consecutive batch means (the steps are
-    correlated; batch means are nearly independent when a batch is longer than the correlation).
+    Student-t interval from the spread of ``batches`` consecutive batch means (:func:`batch_means`).
     NaN where a step failed; (mean, NaN, NaN) with fewer than 4 steps."""
     s = np.asarray(stretch, dtype=float)
     if s.size == 0 or not np.all(np.isfinite(s)):
         return math.nan, math.nan, math.nan
     mean = float(np.mean(s))
-    b = min(batches, s.size // 5) if s.size >= 50 else max(2, min(batches, s.size // 2))
-    if s.size < 4 or b < 2:
+    means = batch_means(s, batches)
+    if means.size < 2:
         return mean, math.nan, math.nan
-    means = np.array([np.mean(part) for part in np.array_split(s, b)])
+    b = means.size
     half = float(_student_t(0.5 + level / 2, b - 1) * np.std(means, ddof=1) / math.sqrt(b))
     return mean, mean - half, mean + half
 
@@ -58,23 +67,12 @@ def largest_lyapunov(step, y0, n: int, *, d0: float = 1e-8, scale=None, k0: int 
     translation the map commutes with (:func:`maps.translation.translation_basis`), removed
     from the separation.  NaN if a step fails or the separation collapses to zero.
     """
-    y = np.asarray(y0, dtype=float).copy()
-    s = np.ones_like(y) if scale is None else np.asarray(scale, dtype=float)
-    z = companion_start(y, d0, s)
-    if shift is not None:
-        z = renormalise(y, z, d0, s, shift)[0]
-    total = 0.0
-    for k in range(k0, k0 + int(n)):
-        try:
-            y1, z1 = step(y, k), step(z, k)
-        except Exception:  # a failed step leaves the exponent undetermined
-            return math.nan
-        z, stretch = renormalise(y1, z1, d0, s, shift)
-        if not math.isfinite(stretch):
-            return math.nan
-        total += stretch
-        y = y1
-    return total / n
+    y = [np.asarray(y0, dtype=float).copy()]
+
+    def reference(k):           # the reference trajectory, computed alongside its companion
+        y[0] = step(y[0], k)
+        return y[0]
+    return _benettin(step, reference, y[0], int(n), d0, scale, k0, shift)
 
 
 def lyapunov_along(step, points, *, d0: float = 1e-8, scale=None, k0: int = 0) -> float:
@@ -86,15 +84,23 @@ def lyapunov_along(step, points, *, d0: float = 1e-8, scale=None, k0: int = 0) -
     ``points[0]`` (for non-autonomous maps).  NaN if a step fails or the separation collapses.
     """
     y = np.asarray(points, dtype=float)
-    s = np.ones(y.shape[1]) if scale is None else np.asarray(scale, dtype=float)
-    z = companion_start(y[0], d0, s)
-    total, n = 0.0, y.shape[0] - 1
-    for k in range(n):
+    return _benettin(step, lambda k: y[k - k0 + 1], y[0], y.shape[0] - 1, d0, scale, k0, None)
+
+
+def _benettin(step, reference, y0, n: int, d0: float, scale, k0: int, shift) -> float:
+    """The one Benettin loop: the companion of ``y0`` stepped ``n`` times and renormalised to ``d0``
+    from ``reference(k)`` (the reference's state after step ``k``) each time; the mean log stretch."""
+    s = np.ones_like(y0) if scale is None else np.asarray(scale, dtype=float)
+    z = companion_start(y0, d0, s)
+    if shift is not None:
+        z = renormalise(y0, z, d0, s, shift)[0]
+    total = 0.0
+    for k in range(k0, k0 + n):
         try:
-            z1 = step(z, k0 + k)
+            y1, z1 = reference(k), step(z, k)
         except Exception:  # a failed step leaves the exponent undetermined
             return math.nan
-        z, stretch = renormalise(y[k + 1], z1, d0, s)
+        z, stretch = renormalise(y1, z1, d0, s, shift)
         if not math.isfinite(stretch):
             return math.nan
         total += stretch
