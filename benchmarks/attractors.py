@@ -104,7 +104,7 @@ def by_label(ds) -> dict:
     are summed (their ids differ between two censuses), outcomes by name."""
     from bifurc.labels.classify import describe
     n = ds.sizes["start"]
-    from bifurc.attractors.census import OUTCOMES
+    from bifurc.labels.codes import OUTCOMES
     out = {}
     for i in range(ds.sizes[ds.basin_fraction.dims[0]]):
         for j in range(ds.sizes["attractor"]):
@@ -121,7 +121,7 @@ def by_label(ds) -> dict:
 def grid_change(ds, half) -> str:
     """Every fraction (attractors by label, and the outcomes) of the census at half the cell size against the
     first census' 95 % Wilson interval of the same fraction."""
-    from bifurc.attractors.census import wilson
+    from bifurc.attractors.eventual import wilson
     n = ds.sizes["start"]
     a, b = by_label(ds), by_label(half)
     worst, outside, width = 0.0, [], 0.0

@@ -21,7 +21,7 @@ import numpy as np
 def by_label(ds, i) -> dict:
     """{label: (eventual, low, high)} at value index ``i``, the attractors of one label summed (bounds summed: a
     conservative interval of the sum)."""
-    from bifurc.attractors.census import OUTCOMES
+    from bifurc.labels.codes import OUTCOMES
     from bifurc.labels.classify import describe
     out = {}
     n_ids = ds.sizes["attractor"] - len(OUTCOMES)

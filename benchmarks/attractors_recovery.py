@@ -243,7 +243,7 @@ def main(argv=None):
 
     import bifurc
     import maps
-    from bifurc.attractors.census import OUTCOMES
+    from bifurc.labels.codes import OUTCOMES
     sys.path.insert(0, str(ROOT))
     from studies.thesis_orbits import PRESET
     bs = branches(a.branches) if a.refine else None

@@ -22,7 +22,7 @@ import pytest
 
 import bifurc
 import maps
-from bifurc.attractors.census import OUTCOMES
+from bifurc.labels.codes import OUTCOMES
 from bifurc.labels.codes import ClassCode
 from maps import HybridSystem, Parameter, PeriodicSwitch, State
 from one_dim_map import OneDimMap

@@ -17,7 +17,7 @@ import pytest
 
 import bifurc
 import maps
-from bifurc.attractors.census import OUTCOMES
+from bifurc.labels.codes import OUTCOMES
 from bifurc.attractors.eventual import eventual_fractions, saddle_groups
 from maps import HybridSystem, Parameter, State
 

@@ -101,7 +101,8 @@ def test_the_lifetime_is_stored_and_survives_a_resume_part():
     chaos = Attractor(int(ClassCode.CHAOTIC), points=np.zeros((3, 2)), lifetime=math.inf,
                       lifetime_interval=(5000.0, math.inf))
     orbit = Attractor(int(ClassCode.PERIODIC), 1, points=np.zeros((1, 2)))
-    cols = _columns([1.0], [{0: chaos, 1: orbit}], [[0, 1, 0]], 2, {})
+    from bifurc.attractors.fractions import census_fractions
+    cols = _columns([1.0], [{0: chaos, 1: orbit}], [[0, 1, 0]], 2, {}, census_fractions([[0, 1, 0]], 2))
     assert math.isinf(cols["lifetime"][0, 0]) and cols["lifetime_low"][0, 0] == 5000.0
     assert np.isnan(cols["lifetime"][0, 1]) and np.isnan(cols["lifetime_high"][0, 2])
     back = decode(encode(ValueCensus([0], [chaos], [10]))).found[0]

@@ -69,7 +69,8 @@ def attractors(problem="thesis-1dof", param: str | None = "V", values=None, meth
         impacts, exponent, the polished strobe states, the matching and the events.  Outcomes (escaped,
         not_converged, failed, neutral, transient: still on a chaotic saddle at the budget) are attractor entries,
         so the fractions sum to 1; ``eventual_fraction`` apportions the transient starts by where those that left
-        their saddle went.  The fractions are also returned by :func:`census_result` as values.
+        their saddle went.  The fractions are computed from the starts' outcomes before the dataset is written
+        (``bifurc.attractors.fractions.census_fractions``).
     """
     opts = dict(options)
     for old, new in RENAMED.items():
@@ -161,6 +162,7 @@ def _census(pb, names, points, m: Census, sampler, matcher: ByDistance, r: Run, 
     events = _link_all(pb, links, m.tol, workers)
     stages.append(_time.perf_counter())
     from .dataset import to_dataset
+    from .fractions import census_fractions
     attrs = {"workers": int(workers), "values_resumed": int(resumed), "cells_per_side": int(m.cells),
              "grid_cell_widths": grid.width.tolist(), "fresh_starts": len(st),
              "census_settings": repr(s), "census_method": repr(m), "starts_sampler": repr(sampler),
@@ -176,8 +178,10 @@ def _census(pb, names, points, m: Census, sampler, matcher: ByDistance, r: Run, 
                        "fractions with 95 % Wilson intervals; motion without impact or area contraction: neutral"}
     if added is not None:
         attrs["values_added_at_events"] = ", ".join(f"{v:.10g}" for v in added) or "none"
+    transients = [(f.via, f.saddles) for f in fresh]
+    fractions = census_fractions(outcomes, n_ids, transients)
     ds = to_dataset(pb, names, points, per_value, outcomes, n_ids, events, st, n_node=m.n_node, attrs=attrs,
-                    transients=[(f.via, f.saddles) for f in fresh])
+                    fractions=fractions, transients=transients)
     if r.path is not None:
         from ..run.grid import write_result
         write_result(ds, r.path, parts)

@@ -33,17 +33,12 @@ import numpy as np
 
 from maps.hybrid import HybridState
 
-from ..labels.codes import ClassCode
+from ..labels.codes import OUTCOMES, ClassCode
 from ..labels.classify import candidate_periods
 from .lifetime import Lifetime, estimate_lifetime, periodic_tail
 from .identify import (Attractor, Grid, approaching, area_rate, contracting, converging, from_chunk, identify,
                        newton_periods, no_contraction, polish_once, same_attractor, same_orbit)
 
-#: outcome ids of a start that reached no attractor (attractor ids are 0, 1, ...): "neutral" is motion that
-#: dissipates nothing over its record (:func:`_neutral`), on which a start keeps its own amplitude; "transient" a
-#: start still on a chaotic saddle or long-lived chaotic transient at ``max_periods`` (:func:`_still_on_saddle`:
-#: it is in chaotic motion there and will leave it; where it goes is estimated by :mod:`.eventual`)
-OUTCOMES = {"escaped": -1, "not_converged": -2, "failed": -3, "neutral": -4, "transient": -5}
 
 
 @dataclass(frozen=True)
@@ -482,17 +477,6 @@ def outcome_labels(outcomes, found: list) -> list:
     outcome's name."""
     names = {k: n for n, k in OUTCOMES.items()}
     return [names[o] if o < 0 else found[o].label() for o in outcomes]
-
-
-def wilson(k, n, z: float = 1.959963984540054) -> tuple[float, float]:
-    """Wilson score interval of a binomial proportion k/n (95 % by default)."""
-    if n <= 0:
-        return math.nan, math.nan
-    p = k / n
-    den = 1 + z * z / n
-    centre = (p + z * z / (2 * n)) / den
-    half = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / den
-    return max(0.0, centre - half), min(1.0, centre + half)
 
 
 def hybrid(y, flags=None) -> HybridState:

@@ -8,16 +8,11 @@ import numpy as np
 from maps.provenance import cf_attrs
 
 from .._version import __version__
-from ..labels.codes import ClassCode
 from ..storage.build import coord, dataset, put
 from ..storage.schema import ATTRACTOR, ATTRACTOR_COORDS, ATTRACTOR_EVENTS, flag_variable, state_variable
-from .census import OUTCOMES, wilson
-from .eventual import eventual_fractions, saddle_groups
+from ..labels.codes import OUTCOMES, Outcome
+from .eventual import saddle_groups
 
-#: the class code stored for each outcome entry
-OUTCOME_CODES = {"escaped": ClassCode.ESCAPED, "not_converged": ClassCode.NOT_CONVERGED, "failed": ClassCode.FAILED,
-                 "neutral": ClassCode.NOT_CONVERGED, "transient": ClassCode.NOT_CONVERGED}
-assert list(OUTCOME_CODES) == list(OUTCOMES), "one class code per outcome, in the outcomes' order"
 
 
 def attractor_count(ds) -> int:
@@ -141,28 +136,27 @@ def census_lines(ds) -> list[str]:
     return lines
 
 
-def _columns(values, per_value, outcomes, n_ids, events, transients=None):
-    """The ATTRACTOR rows as arrays (values, ids + the outcomes)."""
+def _columns(values, per_value, outcomes, n_ids, events, fractions, transients=None):
+    """The ATTRACTOR rows as arrays (values, ids + the outcomes); ``fractions``: the census'
+    :class:`~bifurc.attractors.fractions.Fractions`."""
     n_att = n_ids + len(OUTCOMES)
     sizes = {"v": len(values), "attractor": n_att}
     cols = {v.name: v.empty(sizes, "v") for v in ATTRACTOR}
-    keys = list(range(n_ids)) + list(OUTCOMES.values())
+    fr = fractions
+    keys = list(fr.keys)
+    cols["basin_fraction"][:], cols["basin_count"][:] = fr.fraction, fr.count
+    cols["basin_fraction_low"][:], cols["basin_fraction_high"][:] = fr.low, fr.high
+    cols["eventual_fraction"][:], cols["eventual_fraction_low"][:], cols["eventual_fraction_high"][:] = \
+        fr.eventual, fr.eventual_low, fr.eventual_high
     for i, (found, out) in enumerate(zip(per_value, outcomes)):
         out = np.asarray(out)
-        n = len(out)
         via, saddles = transients[i] if transients else ([], [])
-        cols["eventual_fraction"][i], cols["eventual_fraction_low"][i], cols["eventual_fraction_high"][i] = \
-            eventual_fractions(out, via, saddles, keys)
         _put_transient(cols, i, n_ids + list(OUTCOMES).index("transient"), out, via, saddles)
         for col in range(n_att):
             key = keys[col]
-            k = int(np.sum(out == key))
-            lo, hi = wilson(k, n)
-            cols["basin_fraction"][i, col], cols["basin_count"][i, col] = k / n, k
-            cols["basin_fraction_low"][i, col], cols["basin_fraction_high"][i, col] = lo, hi
             if col >= n_ids:
-                cols["class_code"][i, col] = int(list(OUTCOME_CODES.values())[col - n_ids])
-                cols["present"][i, col] = int(k > 0)
+                cols["class_code"][i, col] = int(Outcome(key).class_code)
+                cols["present"][i, col] = int(fr.count[i, col] > 0)
                 continue
             a = found.get(col)
             if a is not None:
@@ -206,8 +200,8 @@ def _put_attractor(cols, i, col, a) -> None:
     cols["match_distance"][i, col] = getattr(a, "match_distance", np.nan)
 
 
-def _flat_dataset(pb, param, values, per_value, outcomes, n_ids, events, starts, *, n_node, attrs, transients=None,
-                  skip=()):
+def _flat_dataset(pb, param, values, per_value, outcomes, n_ids, events, starts, *, n_node, attrs, fractions,
+                  transients=None, skip=()):
     """The Dataset of a census: ``per_value[i]`` {id: Attractor}, ``outcomes[i]`` the fresh starts' ids,
     ``transients[i]`` (each start's saddle index, the saddles) for the eventual fractions (:mod:`.eventual`)."""
     system = pb.system
@@ -219,7 +213,7 @@ def _flat_dataset(pb, param, values, per_value, outcomes, n_ids, events, starts,
                                        "node": ("node", np.arange(n_node)),
                                        "start": ("start", np.arange(len(starts)))})
     ds["attractor_label"] = coord(ATTRACTOR_COORDS[1], labels)
-    cols = _columns(values, per_value, outcomes, n_ids, events, transients)
+    cols = _columns(values, per_value, outcomes, n_ids, events, fractions, transients)
     for v in ATTRACTOR:
         put(ds, v, v.finish(cols[v.name]), param=param)
     _put_states(ds, system, param, per_value, len(labels), n_node)
@@ -240,15 +234,17 @@ def _flat_dataset(pb, param, values, per_value, outcomes, n_ids, events, starts,
     return ds
 
 
-def to_dataset(pb, names, points, per_value, outcomes, n_ids, events, starts, *, n_node, attrs, transients=None):
+def to_dataset(pb, names, points, per_value, outcomes, n_ids, events, starts, *, n_node, attrs, fractions,
+               transients=None):
     """The Dataset of a census at ``points`` ({name: value} of the parameters ``names``): dims (name, ``attractor``)
     for one parameter; (name, name2, ``attractor``) for a full two-parameter grid; else (``point``, ``attractor``)
     with one coordinate per parameter along ``point``.  ``per_value[i]`` {id: Attractor}, ``outcomes[i]`` the fresh
-    starts' ids, ``transients[i]`` (each start's saddle index, the saddles) for the eventual fractions
-    (:mod:`.eventual`)."""
+    starts' ids, ``fractions`` their basin and eventual fractions (:func:`.fractions.census_fractions`),
+    ``transients[i]`` (each start's saddle index, the saddles) for the transient entry's lifetime."""
     first = names[0]
     flat = _flat_dataset(pb, first, [p[first] for p in points], per_value, outcomes, n_ids, events, starts,
-                         n_node=n_node, attrs=attrs, transients=transients, skip=names[1:])
+                         n_node=n_node, attrs=attrs, fractions=fractions, transients=transients,
+                         skip=names[1:])
     if len(names) == 1:
         return flat
     flat = flat.rename({first: "point"}).drop_vars("point")

@@ -14,12 +14,25 @@ the resulting count among the starts; where no start is apportioned it is the ba
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
-from .census import OUTCOMES, wilson
+from ..labels.codes import OUTCOMES
 
 #: the normal quantile of a two-sided 97.5 % interval: two of them make a 95 % one (Bonferroni)
 Z_HALF = 2.241402727604947
+
+
+def wilson(k, n, z: float = 1.959963984540054) -> tuple[float, float]:
+    """Wilson score interval of a binomial proportion k/n (95 % by default)."""
+    if n <= 0:
+        return math.nan, math.nan
+    p = k / n
+    den = 1 + z * z / n
+    centre = (p + z * z / (2 * n)) / den
+    half = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / den
+    return max(0.0, centre - half), min(1.0, centre + half)
 
 
 def saddle_groups(saddles: list) -> list:

@@ -50,6 +50,33 @@ class Status(_Coded):
     FAILED = 2
 
 
+class Outcome(_Coded):
+    """Where a census start went when it reached no attractor (attractor ids are 0, 1, ...; outcomes are
+    negative): escaped; not converged at the budget; failed; "neutral", motion that dissipates nothing over its
+    record, on which a start keeps its own amplitude; "transient", still on a chaotic saddle or long-lived chaotic
+    transient at the budget (it is in chaotic motion there and will leave it)."""
+
+    ESCAPED = -1
+    NOT_CONVERGED = -2
+    FAILED = -3
+    NEUTRAL = -4
+    TRANSIENT = -5
+
+    @property
+    def key(self) -> str:
+        """The entry's name in a census and its dataset, e.g. "not_converged"."""
+        return self.name.lower()
+
+    @property
+    def class_code(self) -> ClassCode:
+        """The class code an attractors dataset stores for the outcome's entry."""
+        return {Outcome.ESCAPED: ClassCode.ESCAPED, Outcome.FAILED: ClassCode.FAILED}.get(self, ClassCode.NOT_CONVERGED)
+
+
+#: outcome name -> id, in the outcomes' order (the entries after the attractors in an attractors dataset)
+OUTCOMES = {o.key: int(o) for o in Outcome}
+
+
 def flag_attrs(codes: type[_Coded]) -> dict:
     """CF ``flag_values`` (int8) and ``flag_meanings`` (labels with "_" for "-") of an enum."""
     return {"flag_values": np.array([int(m) for m in codes], np.int8),

@@ -91,7 +91,7 @@ def neutral(ds):
 
 
 def _neutral_note(ds) -> str:
-    from bifurc.attractors.census import OUTCOMES
+    from bifurc.labels.codes import OUTCOMES
     still = neutral(ds).values
     n = int(still.sum())
     sets = int(((ds.present.values[:, :-len(OUTCOMES)] > 0) & (ds.period.values[:, :-len(OUTCOMES)] == 0)).sum())

@@ -206,7 +206,7 @@ def census(maps_, size, workers) -> list:
     mechanical period-1 attractor with impacts, with 95 % Wilson intervals."""
     import maps
     from bifurc.attractors.atlas import attractors
-    from bifurc.attractors.census import wilson
+    from bifurc.attractors.eventual import wilson
     out = []
     for case, m in maps_.items():
         for c in m["cells"]:

@@ -9,7 +9,7 @@ import numpy as np
 
 import bifurc
 import maps
-from bifurc.attractors.census import OUTCOMES
+from bifurc.labels.codes import OUTCOMES
 from bifurc.orbits.periodic import find_periodic_orbit
 from maps.hybrid import HybridState
 from maps.poincare import StroboscopicMap

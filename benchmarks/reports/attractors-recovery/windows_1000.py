@@ -10,7 +10,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[3]
 sys.path.insert(0,str(ROOT / 'benchmarks')); sys.path.insert(0,str(ROOT))
 import attractors_recovery as R, bifurc, maps
 from studies.thesis_orbits import PRESET
-from bifurc.attractors.census import OUTCOMES
+from bifurc.labels.codes import OUTCOMES
 def main():
     vals=np.array([128.0,128.455,128.5,177.5,178.0,178.5])
     t=time.perf_counter()
