@@ -305,3 +305,26 @@ def test_both_period_conventions_in_report_and_figure(tmp_path):
     assert list(in_convention(d, "mechanical").period.values[0]) == [1, 1]
     with pytest.raises(maps.ParameterError, match="period_of"):
         in_convention(d, "electrical")
+
+
+def test_a_chaotic_label_and_its_stored_interval_agree_or_the_label_says_what_decided():
+    """The impact oscillator near resonance is chaotic.  With 4 and with 6 tangent trajectories
+    (Diagram(trajectories=...)), the stored interval is over ``lyapunov_window`` periods and either lies above
+    the chaos threshold of that window (2 ln(n)/n, at least 2e-3: the rule the dataset states) or the reason
+    names the evidence that decided; the trajectories the interval came from are the method's."""
+    osc = dict(w0=1.0, zeta=0.02, F=0.1, e=-1.0, r=0.8, Omega=0.975)
+    pb = maps.problem("impact-oscillator", params=osc)
+    for k in (4, 6):
+        ds = bifurc.sweep(pb, "Omega", [0.975], bifurc.Diagram(record=100, tol=1e-12, grazing=False, error_sample=0,
+                                                               trajectories=k),
+                          run=bifurc.Run(progress=False)).isel(branch=0, Omega=0)
+        assert ClassCode(int(ds.class_code)) == ClassCode.CHAOTIC
+        assert int(ds.lyapunov_trajectories) == k and ds.attrs["lyapunov_trajectories"] == k
+        n = int(ds.lyapunov_window)
+        assert 400 <= n <= int(ds.record_used)
+        threshold = max(2 * math.log(n) / n, 2e-3)
+        reason = str(ds.class_reason.values)
+        if float(ds.lyapunov_low) > threshold:
+            assert reason == ""
+        else:
+            assert reason.startswith("chaotic on the evidence of") and f"{threshold:.3g}" in reason, reason

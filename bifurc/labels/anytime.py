@@ -29,13 +29,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .codes import ClassCode
-from .vocabulary import BUDGET
+from .vocabulary import BUDGET, TRAJECTORIES
 from .classify import DECAY_RATE, lyapunov_threshold
 from .evidence import QP_SAMPLES, TORUS_K, exponent_estimate, halves_differ, torus_evidence
 from .lyapunov import _student_t, exponent_interval
 
-#: tangent trajectories the exponent's interval comes from (the value's own and its copies)
-TRAJECTORIES = 4
 #: fewest periods a copy runs from its perturbed start before it is recorded (decorrelation)
 DECORRELATE = 100
 #: most periods a copy runs before it is recorded
@@ -55,9 +53,9 @@ HOPELESS = 4
 PERTURBATION = 1e-3
 #: how values are classified (stored with every sweep)
 ANYTIME_METHOD = ("anytime: judged on a stationary window (halves compared, a non-stationary first half discarded); "
-                  "periodic by recurrence; otherwise extended, doubling, up to the budget with "
-                  f"{TRAJECTORIES} tangent trajectories: chaotic when every trajectory's exponent interval is above "
-                  "the threshold, quasi-periodic when within it with a torus (0-1 test K below "
+                  "periodic by recurrence; otherwise extended, doubling, up to the budget with the method's "
+                  "tangent trajectories (lyapunov_trajectories): chaotic when every trajectory's exponent interval "
+                  "is above the threshold, quasi-periodic when within it with a torus (0-1 test K below "
                   f"{TORUS_K}, a converged rotation number not near a fraction with a recurring period)")
 
 
@@ -82,6 +80,7 @@ class Value:
     lyap: tuple = (math.nan, math.nan, math.nan)
     spread: float = math.nan
     trajectories: int = 1
+    window: int = 0                  # periods the exponent and its interval are measured over (0: none)
     rotation: float = math.nan
     zero_one: float = math.nan
     budget_needed: int = 0
@@ -112,11 +111,11 @@ class Value:
 
 
 def judge(v: Value, *, classify, stretch, budget: int, record: int, lyapunov: bool, observable,
-          max_period: int = 100) -> None:
+          max_period: int = 100, trajectories: int = TRAJECTORIES) -> None:
     """Set ``v.cls`` (the class on its current evidence) and ``v.action`` (the next extension, or
     None).  ``classify(orbit)``: the recurrence classification of a window; ``stretch(orbit)``: the
     log stretch per step of the window or of a copy; ``observable(orbit)``: the torus test's
-    samples (N, d)."""
+    samples (N, d); ``trajectories``: how many tangent trajectories the exponent comes from."""
     o = v.orbit
     v.action = None
     cls = classify(o)
@@ -135,7 +134,7 @@ def judge(v: Value, *, classify, stretch, budget: int, record: int, lyapunov: bo
     more = min(max(record, o.n), left)
     st = stretch(o) if lyapunov else None
     if st is not None:       # the value's own exponent, until copies give one that holds across trajectories
-        v.lyap = exponent_estimate(st[None, :])[:3]
+        v.lyap, v.window = exponent_estimate(st[None, :])[:3], len(st)
     if math.isfinite(cls["convergence_rate"]) and cls["convergence_rate"] < DECAY_RATE:
         v.cls = cls
         v.action = ("extend", more, 1) if more > 0 else None
@@ -153,23 +152,23 @@ def judge(v: Value, *, classify, stretch, budget: int, record: int, lyapunov: bo
     if not lyapunov:
         v.cls = _undecided(cls, cls.get("reason") or "no period found and no exponent (lyapunov=False)")
         return
-    _judge_exponent(v, cls, st, stretch, more, observable, max_period, budget)
+    _judge_exponent(v, cls, st, stretch, more, observable, max_period, budget, trajectories)
 
 
 def _judge_exponent(v: Value, cls, own, stretch, more: int, observable, max_period: int = 100,
-                    budget: int = BUDGET) -> None:
+                    budget: int = BUDGET, trajectories: int = TRAJECTORIES) -> None:
     """The exponent's part of :func:`judge`: chaotic, quasi-periodic, or extend."""
     o = v.orbit
-    if len(v.copies) + 1 < TRAJECTORIES:     # the interval must hold across trajectories: copies first
+    if len(v.copies) + 1 < trajectories:     # the interval must hold across trajectories: copies first
         v.cls = _undecided(cls, "the exponent needs other trajectories on the same attractor (out of budget "
                                 "before they could run)" if more <= 0 else "the exponent needs other trajectories")
-        v.action = ("extend", more, TRAJECTORIES) if more > 0 else None
+        v.action = ("extend", more, trajectories) if more > 0 else None
         v.budget_needed = 0 if more > 0 else v.end + 2 * v.decorrelate
         return
     m = min([c.n for c in v.copies] + [o.n])
     rows = [own[-m:]] + [stretch(c)[-m:] for c in v.copies]
     mean, lo, hi, spread = exponent_estimate(np.vstack(rows))
-    v.lyap, v.spread, v.trajectories = (mean, lo, hi), spread, len(rows)
+    v.lyap, v.spread, v.trajectories, v.window = (mean, lo, hi), spread, len(rows), m
     thr = lyapunov_threshold(m)
     each = [exponent_interval(r) for r in rows]       # each trajectory's own batch-means interval
     common = mean_interval(each)                       # the 95 % interval of their common mean
@@ -179,6 +178,12 @@ def _judge_exponent(v: Value, cls, own, stretch, more: int, observable, max_peri
         # every trajectory separates (whatever their spread), or every one's exponent is above the threshold
         # and so is the 95 % interval of their common mean: chaos
         v.cls = _labelled(cls, "chaotic")
+        if lo <= thr:   # the stored interval (another trajectory's) reaches the threshold: say what decided
+            v.cls["reason"] = (f"chaotic on the evidence of {len(rows)} trajectories over {m} periods: "
+                               + ("each one's exponent interval lies above the threshold" if all(e[1] > thr for e in each)
+                                  else f"each exponent and their common mean's 95 % interval [{common[0]:.3g}, "
+                                       f"{common[1]:.3g}] lie above the threshold")
+                               + f" {thr:.3g}; another trajectory's exponent may lie in [{lo:.3g}, {hi:.3g}]")
         return
     if short:
         why, need = f"the window ({m} periods) is shorter than {MIN_WINDOW}", MIN_WINDOW
@@ -206,7 +211,7 @@ def _judge_exponent(v: Value, cls, own, stretch, more: int, observable, max_peri
     v.cls = _undecided(cls, why)
     wanted = int(v.start + max(need, 2 * o.n))
     if more > 0 and (wanted <= HOPELESS * budget or v.end < budget // 2):
-        v.action = ("extend", more, TRAJECTORIES)
+        v.action = ("extend", more, trajectories)
     else:                 # out of budget, or the evidence says the budget cannot decide it: stop here
         v.budget_needed = wanted
 

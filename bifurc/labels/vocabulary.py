@@ -4,6 +4,10 @@ parser imports no numerical module."""
 #: default budget of a value [strobe periods of its own trajectory, transient included]
 BUDGET = 6000
 
+#: default number of tangent trajectories (the value's own and perturbed copies) a diagram's exponent interval
+#: comes from
+TRAJECTORIES = 4
+
 #: how a sweep's exponents are integrated (stored with every sweep as ``lyapunov_method``)
 METHODS = {
     "tangent": "tangent: one tangent vector integrated with the recorded window (variational equations along it, "

@@ -86,7 +86,8 @@ SWEEP = [
              "lower end of the exponent's 95 % interval, per relay period (lyapunov_interval_method; NaN: none)"),
     Variable("lyapunov_high", V, float, np.nan, "1",
              "upper end of the exponent's 95 % interval, per relay period (NaN: none)"),
-    Variable("class_reason", V, str, "", "1", "why the value is not-converged (empty otherwise)"),
+    Variable("class_reason", V, str, "", "1", "why the value is not-converged, or what decided a chaotic label whose stored exponent interval reaches "
+             "the chaos threshold (empty otherwise)"),
     Variable("budget_needed", V, np.int64, 0, "1",
              "relay periods per value that the evidence of a not-converged value suggests would decide it "
              "(0: decided; see --budget)"),
@@ -103,6 +104,9 @@ SWEEP = [
              "relay periods integrated for the value: transient, record, extensions and the exponent's copies"),
     Variable("lyapunov_trajectories", V, np.int16, 0, "1",
              "tangent trajectories on the same attractor the exponent and its interval come from (0: none)"),
+    Variable("lyapunov_window", V, np.int32, -1, "1",
+             "relay periods each trajectory's exponent is measured over: the window the stored interval predicts "
+             "another trajectory's exponent on (-1: none)"),
     Variable("rotation_number", V, float, np.nan, "1",
              "rotation number of a quasi-periodic orbit per relay period, in [0, 1/2] (NaN: none)"),
     Variable("zero_one_k", V, float, np.nan, "1",

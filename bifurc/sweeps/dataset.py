@@ -28,13 +28,14 @@ from ..storage.schema import (CELL_VARIABLES, GRAZING, GRAZING_FLAG, GRAZING_GAP
                               SWEEP, SWEEP_COORDS, flag_variable, grazing_flag, state_variable)
 from ..labels.classify import lyapunov_threshold
 from .job import FORCING_PERIODS
-from ..labels.anytime import ANYTIME_METHOD, TRAJECTORIES
+from ..labels.anytime import ANYTIME_METHOD
 from ..labels.lyapunov import INTERVAL_METHOD, METHODS
 
 #: how the stored exponent interval is made
-INTERVAL_METHOD_K = (f"the wider of a 95 % Student-t prediction interval for another trajectory's mean exponent from "
-                     f"the spread of {TRAJECTORIES} tangent trajectories (the value's own and perturbed copies of its "
-                     f"state; lyapunov_spread) and their batch-means intervals ({INTERVAL_METHOD})")
+INTERVAL_METHOD_K = ("the wider of a 95 % Student-t prediction interval for another trajectory's mean exponent over the "
+                     "same window (lyapunov_window) from the spread of lyapunov_trajectories tangent trajectories (the "
+                     "value's own and perturbed copies of its state; lyapunov_spread) and their batch-means intervals "
+                     f"({INTERVAL_METHOD})")
 
 STATUS_MEANINGS = " ".join(s.label for s in Status)
 
@@ -161,7 +162,7 @@ def run_attrs(job, history, skip=()) -> dict:
         "lyapunov_threshold_rule": "2 ln(n)/n (at least 2e-3) for an n-step window (the finite-window bias on a "
                                    "sheared torus); a value's own threshold uses its window",
         "lyapunov_interval_method": INTERVAL_METHOD_K, "lyapunov_method": METHODS[job.lyapunov_method],
-        "lyapunov_trajectories": TRAJECTORIES,
+        "lyapunov_trajectories": job.trajectories,
         "initial_state": ", ".join(f"{k}={v:g}" for k, v in job.x0.items()),
         "grazing_gap_threshold_m": GRAZING_GAP, "grazing_speed_threshold_m_s": GRAZING_SPEED,
         "bifurc_version": __version__, "heyoka_version": hy.__version__, "numpy_version": np.__version__,

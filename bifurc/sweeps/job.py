@@ -18,7 +18,7 @@ from maps.translation import reduce_points, translation_basis
 
 from maps.hybrid import HybridState
 
-from ..labels.anytime import BUDGET, Value
+from ..labels.anytime import BUDGET, TRAJECTORIES, Value
 from ..labels.classify import candidate_periods, classify_orbit, mechanical_period, state_scale
 from ..labels.codes import ClassCode, Status
 
@@ -79,6 +79,7 @@ class ValueResult:
     impacts_per_period_mechanical: int = -1  # impacts per mechanical period (-1: not periodic)
     period_difference: str = ""             # why the mechanical period differs from the full one ("": it does not)
     lyapunov_spread: float = math.nan       # standard deviation of the exponent between trajectories
+    lyapunov_window: int = -1               # relay periods each trajectory's exponent is measured over (-1: none)
     lyapunov_trajectories: int = 0          # tangent trajectories the exponent comes from (0: none)
     rotation_number: float = math.nan       # a torus' rotation number per strobe period, in [0, 1/2] (NaN: none)
     zero_one_k: float = math.nan            # the 0-1 test's K on the window (NaN: not tested)
@@ -120,6 +121,7 @@ class ValueJob:
     max_record: int | None = None   # cap of the record extension [relay periods] (None: RECORD_FACTOR x record)
     lyapunov_method: str = "tangent"  # "tangent": a tangent vector with the batch engine's record; "companion"
     budget: int = BUDGET              # relay periods per value, transient included (anytime classification)
+    trajectories: int = TRAJECTORIES  # tangent trajectories of the exponent (the value's own and its copies)
     deadline: float | None = None     # wall-clock time (time.time(), s) after which no value is extended
 
     #: the default workers keep at least this many values each (a worker's start and compilation cost ~1-2 s)
@@ -243,7 +245,8 @@ class ValueJob:
 
         judge(v, classify=lambda o: self._classify(o, v.q), stretch=stretch_of, budget=self.spent,
               record=self.record_for(v.q), lyapunov=self.lyapunov,
-              observable=lambda o: self._reduced(o)[:, mech] / v.scale[mech], max_period=self.max_period)
+              observable=lambda o: self._reduced(o)[:, mech] / v.scale[mech], max_period=self.max_period,
+              trajectories=self.trajectories)
 
     def _anytime(self, smap, vs: list, method: str) -> None:
         """Judge every value; extend the undecided ones together until each is decided or out of budget."""
@@ -369,6 +372,7 @@ class ValueJob:
             held_time=float(o.mode_time[keep - 1]) if o.mode_time is not None and len(o.mode_time) >= keep else math.nan,
             period_mechanical=mech[0], impacts_per_period_mechanical=mech[1], period_difference=mech[2],
             lyapunov_spread=v.spread, lyapunov_trajectories=v.trajectories if np.isfinite(lyap[0]) else 0,
+            lyapunov_window=v.window if np.isfinite(lyap[0]) else -1,
             rotation_number=v.rotation, zero_one_k=v.zero_one, periods_integrated=v.periods,
             budget_needed=v.budget_needed if not periodic and
             ClassCode(cls["code"]) == ClassCode.NOT_CONVERGED else 0)

@@ -5,7 +5,7 @@ from dataclasses import dataclass
 
 from maps.parameters import ParameterError
 
-from ..labels.vocabulary import BUDGET, METHODS
+from ..labels.vocabulary import BUDGET, METHODS, TRAJECTORIES
 from ..run.settings import MODES, Settings, setting
 
 
@@ -42,6 +42,9 @@ class Diagram(Settings):
     lyapunov: bool = setting(True, "the largest Lyapunov exponent where the orbit is not periodic",
                              flag="--no-lyapunov")
     lyapunov_method: str = setting("tangent", "how the exponent is integrated", choices=tuple(METHODS), cli="")
+    trajectories: int = setting(TRAJECTORIES, "tangent trajectories on the same attractor (the value's own and "
+                                "perturbed copies of its state) the exponent and its interval come from: more "
+                                "narrow the interval and cost periods", low=2, high=64, whole=True)
     grazing: bool = setting(True, "locate grazing values where neighbours change between impacting and not",
                             flag="--no-grazing")
     grazing_xtol: float | None = setting(None, "tolerance of the located grazing value (default: a fraction of the "

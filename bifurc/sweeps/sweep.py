@@ -169,7 +169,8 @@ def _job(pb, param: str, values: np.ndarray, m: Diagram) -> ValueJob:
         pb.with_values(**{param: v})
     return ValueJob(pb, param, m.transient, m.record, m.tol, m.max_period, m.rtol, m.atol, m.lyapunov,
                     max_transient=m.max_transient, batch_size=m.batch_size, max_record=m.max_record,
-                    lyapunov_method=m.lyapunov_method, budget=BUDGET if m.budget is None else m.budget)
+                    lyapunov_method=m.lyapunov_method, budget=BUDGET if m.budget is None else m.budget,
+                    trajectories=m.trajectories)
 
 
 def with_time_budget(job, seconds):
