@@ -1,6 +1,7 @@
 """`bifurc continue`: follow a periodic orbit in one parameter; locate folds, period doublings,
 Neimark-Sacker points and grazings; optionally switch onto the doubled branch."""
-from ._common import add_force_option, add_scene_options, check_outputs, check_plot, scene_kwargs
+from ._common import add_force_option, add_scene_options, check_outputs, check_plot, problem_kwargs
+from ._options import add_settings_options
 
 
 def register(subparsers):
@@ -10,20 +11,12 @@ def register(subparsers):
                                           "unstable parts alike; locate folds (LP), period doublings (PD), "
                                           "Neimark-Sacker points (NS) and grazings (G); stop where an event makes "
                                           "the map non-smooth and say why.")
-    add_scene_options(p)
+    add_scene_options(p, default_tol=None)
     p.add_argument("--param", required=True, help="the continuation parameter (not relay_hz under mains forcing)")
     p.add_argument("--from", dest="p_from", type=float, required=True, help="start value of the parameter")
     p.add_argument("--to", dest="p_to", type=float, required=True, help="end value of the parameter")
-    p.add_argument("--period", type=int, default=None,
-                   help="period in strobe (relay) periods, a multiple of the forcing period q (default: q)")
-    p.add_argument("--transient", type=int, default=300,
-                   help="strobe periods integrated from --x0 to the first guess (default 300)")
-    p.add_argument("--max-points", type=int, default=200, help="branch points per branch at most (default 200)")
-    p.add_argument("--step", type=float, default=0.02, help="first arclength step, scaled units (default 0.02)")
-    p.add_argument("--branch-switch", action="store_true",
-                   help="follow the doubled branch from each located period doubling")
-    p.add_argument("--no-error", action="store_true",
-                   help="skip the re-solve at tol/100 at the special points (multiplier error)")
+    from ..orbits.method import PALC
+    add_settings_options(p, PALC, "how the branch is followed (bifurc.PALC)")
     p.add_argument("--param2", default=None,
                    help="a second parameter: continue each fold, period doubling and grazing in (param, param2)")
     p.add_argument("--from2", type=float, default=None, help="start value of --param2 (the branch is computed there)")
@@ -60,18 +53,17 @@ def run(args) -> int:
             from maps.parameters import ParameterError
             raise ParameterError(f"--diagram {args.diagram} sweeps {diagram.attrs.get('swept_parameter')!r}, the "
                                  f"branch {args.param!r}: give a diagram of --param {args.param}")
-    kw = scene_kwargs(args)
-    params = kw.pop("params")
+    from ..orbits.method import PALC
+    from ._options import settings_from_args
+    method = settings_from_args(PALC, args)
 
     def progress(line):
         print(f"  {line}", file=sys.stderr, flush=True)
     try:
-        ds = continue_orbit(args.scene, args.param, (args.p_from, args.p_to), params=params, period=args.period,
-                            transient=args.transient, max_points=args.max_points, step=args.step,
-                            branch_switch=args.branch_switch, error=not args.no_error, progress=progress,
-                            param2=args.param2, span2=None if args.param2 is None else (args.from2, args.to2), **kw)
+        ds = continue_orbit(args.scene, args.param, (args.p_from, args.p_to), method, progress=progress,
+                            param2=args.param2, span2=None if args.param2 is None else (args.from2, args.to2),
+                            **problem_kwargs(args))
     except OrbitNotFound as exc:
-        import sys
         print(f"bifurc: error: no periodic orbit found at {args.param} = {args.p_from:g}: {exc.reason}",
               file=sys.stderr)   # a result, not a bad input: exit 1
         return 1

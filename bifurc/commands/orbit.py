@@ -1,5 +1,6 @@
 """`bifurc orbit`: a periodic orbit (stable or unstable) by multiple shooting, with its multipliers."""
-from ._common import add_force_option, add_scene_options, check_outputs, scene_kwargs
+from ._common import add_force_option, add_scene_options, check_outputs, problem_kwargs
+from ._options import add_settings_options
 
 
 def register(subparsers):
@@ -7,12 +8,9 @@ def register(subparsers):
                               description="Find a periodic orbit of the stroboscopic map (stable or unstable) by "
                                           "Newton's method with multiple shooting; print its period, impacts, "
                                           "multipliers, stability, residual and multiplier error.")
-    add_scene_options(p)
-    p.add_argument("--period", type=int, default=None,
-                   help="period in strobe (relay) periods, a multiple of the forcing period q (default: q)")
-    p.add_argument("--transient", type=int, default=300,
-                   help="strobe periods integrated from --x0 to the first guess (default 300)")
-    p.add_argument("--no-error", action="store_true", help="skip the re-solve at tol/100 (multiplier error)")
+    add_scene_options(p, default_tol=None)
+    from ..orbits.method import Shooting
+    add_settings_options(p, Shooting, "how the orbit is found (bifurc.Shooting)")
     p.add_argument("-o", "--output", default=None, help="netCDF file to write")
     add_force_option(p)
     p.set_defaults(func=run)
@@ -22,13 +20,12 @@ def run(args) -> int:
     from ..storage.files import write_netcdf
     from ..orbits.orbit import periodic_orbit
     from ..orbits.periodic import OrbitNotFound
+    from ..orbits.method import Shooting
+    from ._options import settings_from_args
     if args.output:
         check_outputs(args, args.output)
-    kw = scene_kwargs(args)
-    x0 = kw.pop("x0")
     try:
-        ds = periodic_orbit(args.scene, period=args.period, x0=x0, transient=args.transient,
-                            error=not args.no_error, **kw)
+        ds = periodic_orbit(args.scene, settings_from_args(Shooting, args), **problem_kwargs(args))
     except OrbitNotFound as exc:
         import sys
         print(f"bifurc: error: no periodic orbit found: {exc.reason}", file=sys.stderr)   # a result: exit 1
