@@ -40,6 +40,8 @@ def check_port(port: int) -> None:
 
 
 def run(args) -> int:
+    from pathlib import Path
+
     from maps.parameters import ParameterError
 
     from ..storage.load import load
@@ -54,7 +56,7 @@ def run(args) -> int:
                              f"\"bifurc[explore]\", or -e \".[explore]\" in a clone") from None
     print(f"bifurc explore: {args.dataset} on http://127.0.0.1:{args.port}/ (Ctrl-C stops it)", flush=True)
     try:
-        serve(ds, args.port, show=not args.no_browser, title=f"bifurc explore {args.dataset}", workers=args.workers)
+        serve(ds, args.port, show=not args.no_browser, title=f"bifurc explore {Path(args.dataset).name}", workers=args.workers)
     except KeyboardInterrupt:
         print("bifurc explore: stopped", flush=True)
     return 0

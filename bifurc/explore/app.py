@@ -126,12 +126,11 @@ class Explorer:
             r.step("t", "relay", source=self.history_source, color="#666666", mode="after")
             panels.append(r)
         vel = "v" if "v" in self.computer.problem.system.state_names else "v1"
-        phase = figure(height=300, width=320, name="phase", title="phase portrait (the same periods)",
+        phase = figure(height=300, width=320, name="phase", title="phase portrait; dots: the orbit's strobe nodes",
                        x_axis_label=f"{state} [{unit}]", y_axis_label=f"{vel} [m/s]", tools="pan,wheel_zoom,reset")
         phase.line("y", "v", source=self.history_source, color="#0072B2")
-        phase.scatter("y", "v", source=self.node_source, size=6, color="black", legend_label="orbit's strobe nodes")
-        phase.legend.location = "top_left"
-        circle = figure(height=300, width=300, name="multipliers", title="Floquet multipliers", match_aspect=True,
+        phase.scatter("y", "v", source=self.node_source, size=6, color="black")
+        circle = figure(frame_height=220, frame_width=220, name="multipliers", title="Floquet multipliers",
                         x_range=(-1.3, 1.3), y_range=(-1.3, 1.3), tools="", toolbar_location=None)
         t = np.linspace(0, 2 * np.pi, 200)
         circle.line(np.cos(t), np.sin(t), color="#999999")

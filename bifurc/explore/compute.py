@@ -210,7 +210,8 @@ def branch_points(br, state: str) -> tuple[np.ndarray, np.ndarray]:
 
 class Zoom:
     """A range of the diagram swept anew in a child process (:func:`bifurc.sweep` on a :class:`bifurc.Run` with
-    every core), in two stages: a first picture (the dataset's transient and record, no extension), then the
+    every core), in two stages: a first picture (the dataset's transient and record, no extension, no exponent
+    and no grazing search: the points and the periodic classes), then the
     anytime labels (undecided values extended up to the dataset's budget).  :meth:`stop` ends the child and its
     workers (a newer zoom replaces a stale one); :meth:`poll` tells the stage, values done and a finished
     stage's dataset."""
@@ -224,7 +225,7 @@ class Zoom:
         transient, record = int(a.get("transient_periods", 300)), int(a.get("recorded_periods", 100))
         budget = int(a.get("budget_periods", transient + record))
         self.chunk = max(1, int(n) // 20)
-        self.stages = [("first picture", dict(budget=transient + record)),
+        self.stages = [("first picture", dict(budget=transient + record, lyapunov=False, grazing=False)),
                        ("anytime labels", dict(budget=max(budget, transient + record)))]
         spec = {"problem": computer.kwargs, "param": computer.param, "values": self.values.tolist(),
                 "method": {"transient": transient, "record": record, "tol": computer.tol,
@@ -285,6 +286,7 @@ def zoom_main() -> None:
     values = np.asarray(spec["values"])
     for stage in spec["stages"]:
         tmp = stage["out"] + ".tmp.nc"
-        sweep(pb, spec["param"], values, Diagram(budget=stage["budget"], **spec["method"]),
+        settings = {k: v for k, v in stage.items() if k not in ("name", "out")}
+        sweep(pb, spec["param"], values, Diagram(**settings, **spec["method"]),
               run=Run(workers=spec["workers"], path=tmp, chunk_size=spec["chunk"], progress=False))
         os.replace(tmp, stage["out"])
