@@ -232,3 +232,66 @@ def test_the_problem_is_rebuilt_from_the_stored_attributes(stored):
     after = nxt[0] if isinstance(nxt, tuple) else nxt
     stored_next = np.array([float(d[s].values[1]) for s in pb.system.state_names])
     assert np.allclose(after.y, stored_next, rtol=1e-6, atol=1e-8)
+
+
+def test_a_branch_passes_through_the_stored_strobe_points_of_the_diagram(tmp_path):
+    """The impact oscillator's period-1 branch through e = 0.15, continued to both ends of a diagram over e: at
+    each stored periodic value it meets, its strobe point is the stored one (the sweep's, computed before)."""
+    from bifurc.explore.app import Explorer
+    path = tmp_path / "osc.nc"
+    bifurc.sweep("impact-oscillator", "e", np.linspace(0.0, 0.3, 7), bifurc.Diagram(transient=100, record=50,
+                                                                                     budget=150, error_sample=0),
+                 run=bifurc.Run(workers=1, progress=False, path=str(path)))
+    ds = bifurc.load(path)
+    ex = Explorer(ds, zoom=False)
+    try:
+        ex.select(0.15, wait=True)
+        assert not ex.branch_button.disabled
+        ex.continue_branch(wait=True)
+        p, y = np.asarray(ex.branch_source.data["p"]), np.asarray(ex.branch_source.data["y"])
+        assert p.size >= 10 and p.min() <= 0.0 + 1e-9 and p.max() >= 0.3 - 1e-9     # both ends reached
+        d = ds.isel(branch=0)
+        for e in d.e.values:
+            sub = d.sel(e=e)
+            if int(sub.class_code) != 0 or int(sub.period) != 1:
+                continue
+            stored = sub.x.values[np.isfinite(sub.x.values)]
+            assert np.ptp(stored) < 1e-6                        # a period-1 orbit: one strobe point
+            order = np.argsort(p)
+            on_branch = np.interp(e, p[order], y[order]) / ex._y        # the page's y is in mm
+            assert abs(on_branch - stored[0]) < 1e-3 * max(0.1, abs(stored[0])), (e, on_branch, stored[0])
+        assert "points in" in ex.status
+    finally:
+        ex.close()
+
+
+def test_relay_frequency_has_no_branch_and_says_so_in_one_line(stored):
+    from bifurc.explore.compute import Computer
+    r = Computer(bifurc.load(stored)).branch(CLICKED, max_points=5)
+    assert r["branches"] == [] and "relay_hz" in r["error"] and "\n" not in r["error"]
+
+
+def test_a_zoom_sweeps_the_range_anew_and_labels_the_stored_value_alike(stored):
+    """Three values around 8.5 Hz in the child process: both stages finish and 8.5 Hz gets the stored class."""
+    from bifurc.explore.compute import Computer, Zoom
+    ds = bifurc.load(stored)
+    z = Zoom(Computer(ds), 8.45, 8.55, 3, workers=1)
+    stages = []
+    try:
+        end = time.monotonic() + 240
+        while time.monotonic() < end:
+            s = z.poll()
+            assert not s["error"], s["error"]
+            if s["dataset"] is not None:
+                stages.append(s["dataset"])
+            if s["stage"] >= 2:
+                break
+            time.sleep(0.2)
+    finally:
+        z.stop()
+    assert len(stages) == 2
+    code, n, m = _expected(ds, CLICKED)
+    for zd in stages:
+        assert np.allclose(zd.relay_hz.values, [8.45, 8.5, 8.55])
+        got = zd.isel(branch=0).sel(relay_hz=8.5)
+        assert (int(got.class_code), int(got.period), int(got.impacts_per_period)) == (code, n, m)

@@ -145,7 +145,7 @@ class Explorer:
         self.branch_button.on_click(lambda event: self.continue_branch())
         self.whole_button = pn.widgets.Button(name="Whole stored diagram", disabled=True)
         self.whole_button.on_click(lambda event: self.whole())
-        self.zoom_check = pn.widgets.Checkbox(name="recompute a zoomed range", value=self._zoom_auto)
+        self.zoom_check = pn.widgets.Checkbox(label="recompute a zoomed range", value=self._zoom_auto)
         self.layout = pn.Column(
             pn.pane.Bokeh(d, sizing_mode="stretch_width"), pn.pane.Bokeh(strip, sizing_mode="stretch_width"),
             pn.Row(self.branch_button, self.whole_button, self.zoom_check), self.progress, self.status_pane,
