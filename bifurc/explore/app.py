@@ -140,10 +140,10 @@ class Explorer:
         self.history_pane = pn.pane.Markdown("", name="history_text", css_classes=["history-text"])
         self.orbit_pane = pn.pane.Markdown("", name="orbit_text", css_classes=["orbit-text"])
         self.progress = pn.indicators.Progress(value=0, max=100, visible=False, sizing_mode="stretch_width", height=12)
-        self.branch_button = pn.widgets.Button(name="Continue branch", button_type="primary", disabled=True,
+        self.branch_button = pn.widgets.Button(label="Continue branch", color="primary", disabled=True,
                                                css_classes=["branch-button"])
         self.branch_button.on_click(lambda event: self.continue_branch())
-        self.whole_button = pn.widgets.Button(name="Whole stored diagram", disabled=True)
+        self.whole_button = pn.widgets.Button(label="Whole stored diagram", disabled=True)
         self.whole_button.on_click(lambda event: self.whole())
         self.zoom_check = pn.widgets.Checkbox(label="recompute a zoomed range", value=self._zoom_auto)
         self.layout = pn.Column(
