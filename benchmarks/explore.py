@@ -102,6 +102,7 @@ def main(argv=None) -> int:
             labels = s["seconds"]
             break
         time.sleep(0.05)
+    z.close()
     print(f"  zoom 200 values 8-9 Hz: first progress {first_progress:.2f} s, first picture {first_picture:.2f} s, "
           f"anytime labels {labels:.1f} s")
     run.figure("zoom 200 values: first progress (a chunk done)", round(first_progress, 2), "s")

@@ -288,7 +288,8 @@ def test_a_zoom_sweeps_the_range_anew_and_labels_the_stored_value_alike(stored):
                 break
             time.sleep(0.2)
     finally:
-        z.stop()
+        z.close()
+    assert not z.folder.exists()
     assert len(stages) == 2
     code, n, m = _expected(ds, CLICKED)
     for zd in stages:

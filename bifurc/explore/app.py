@@ -156,7 +156,6 @@ class Explorer:
 
     def _show_dataset(self, ds) -> None:
         """Paint ``ds`` (the stored diagram or a zoom's) on the diagram and the strip; clicks then refer to it."""
-        par = self.computer.param
         self.computer = self.stored_computer if ds is self.stored else self.stored_computer.on(ds)
         rows = value_rows(ds)
         vals = rows["value"]
@@ -236,8 +235,7 @@ class Explorer:
     # ----- results ----------------------------------------------------------------------------------------------
     def _show_history(self, r, wall) -> None:
         h, par, units = r["history"], self.computer.param, self.computer.ds[self.computer.param].attrs.get("units", "")
-        state = self._state if self._state in h else h.data_vars.__iter__().__next__()
-        y = h[state].values * self._y
+        y = h[self._state].values * self._y
         t = h["time"].values
         self.history_source.data = dict(t=t, y=y, i=h["i"].values if "i" in h else np.zeros(t.size),
                                         relay=h["relay"].values if "relay" in h else np.zeros(t.size),
@@ -291,7 +289,7 @@ class Explorer:
         """Sweep ``lo`` to ``hi`` anew on ``n`` values in a child process (every core): a first picture, then the
         anytime labels; each stage repaints the diagram when it ends."""
         if self._zoom is not None:
-            self._zoom.stop()
+            self._zoom.close()
         self._zoom = Zoom(self.stored_computer, float(lo), float(hi), n, self.workers)
         self.progress.visible, self.progress.value = True, 0
         self.status = f"zoom {lo:g} to {hi:g}: sweeping {n} values..."
@@ -300,7 +298,7 @@ class Explorer:
     def whole(self) -> None:
         """Back to the stored diagram (a running zoom is stopped)."""
         if self._zoom is not None:
-            self._zoom.stop()
+            self._zoom.close()
             self._zoom = None
         self._show_dataset(self.stored)
         self.whole_button.disabled = True
@@ -323,39 +321,24 @@ class Explorer:
             self.whole_button.disabled = False
         if s["error"]:
             self.status = f"zoom failed: {s['error']}"
+            z.close()
             self._zoom, self.progress.visible = None, False
         elif s["stage"] >= len(z.stages):
             self.status = f"zoom {z.values[0]:g} to {z.values[-1]:g}: anytime labels shown ({s['seconds']:.1f} s)"
+            z.close()
             self._zoom, self.progress.visible = None, False
         else:
             self.progress.value = int(100 * s["done"] / s["total"])
             self.status = (f"zoom {z.values[0]:g} to {z.values[-1]:g}, {s['name']}: {s['done']} of {s['total']} "
                            f"values ({s['seconds']:.1f} s)")
 
-    # ----- texts the page shows -------------------------------------------------------------------------------
-    @property
-    def status(self) -> str:
-        return self.status_pane.object
-
-    @status.setter
-    def status(self, text: str) -> None:
-        self.status_pane.object = text
-
-    @property
-    def history_text(self) -> str:
-        return self.history_pane.object
-
-    @history_text.setter
-    def history_text(self, text: str) -> None:
-        self.history_pane.object = text
-
-    @property
-    def orbit_text(self) -> str:
-        return self.orbit_pane.object
-
-    @orbit_text.setter
-    def orbit_text(self, text: str) -> None:
-        self.orbit_pane.object = text
+    # ----- texts the page shows (Markdown panes) --------------------------------------------------------------
+    status = property(lambda self: self.status_pane.object, lambda self, text: _set(self.status_pane, text),
+                      doc="the status line: what runs, its progress, how long a result took")
+    history_text = property(lambda self: self.history_pane.object, lambda self, text: _set(self.history_pane, text),
+                            doc="the clicked value: its class, the periods of its time history and their impacts")
+    orbit_text = property(lambda self: self.orbit_pane.object, lambda self, text: _set(self.orbit_pane, text),
+                          doc="the clicked value's periodic orbit with its Floquet multipliers, or why none")
 
     # ----- showing it -------------------------------------------------------------------------------------------
     def start(self) -> "Explorer":
@@ -380,10 +363,14 @@ class Explorer:
     def close(self) -> None:
         """Stop the background work (a zoom's processes, the thread)."""
         if self._zoom is not None:
-            self._zoom.stop()
+            self._zoom.close()
         if self._callback is not None:
             self._callback.stop()
         self._pool.shutdown(wait=False, cancel_futures=True)
+
+
+def _set(pane, text: str) -> None:
+    pane.object = text
 
 
 def serve(ds, port: int, show: bool = True, title: str | None = None, workers: int | None = None):

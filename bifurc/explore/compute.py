@@ -235,9 +235,10 @@ class Zoom:
                 "workers": workers, "chunk": self.chunk}
         (self.folder / "spec.json").write_text(json.dumps(spec))
         self.started = _time.perf_counter()
-        self.child = subprocess.Popen([sys.executable, "-c", "from bifurc.explore.compute import zoom_main; "
-                                       "zoom_main()", str(self.folder / "spec.json")], start_new_session=True,
-                                      stdout=subprocess.DEVNULL, stderr=open(self.folder / "stderr.txt", "wb"))
+        with open(self.folder / "stderr.txt", "wb") as err:
+            self.child = subprocess.Popen([sys.executable, "-c", "from bifurc.explore.compute import zoom_main; "
+                                           "zoom_main()", str(self.folder / "spec.json")], start_new_session=True,
+                                          stdout=subprocess.DEVNULL, stderr=err)
         self.seen = -1
 
     def poll(self) -> dict:
@@ -272,6 +273,12 @@ class Zoom:
             except ProcessLookupError:
                 pass
             self.child.wait(timeout=10)
+
+    def close(self) -> None:
+        """Stop it and remove its folder (spec, stage files, resume parts)."""
+        import shutil
+        self.stop()
+        shutil.rmtree(self.folder, ignore_errors=True)
 
 
 def zoom_main() -> None:
