@@ -296,3 +296,18 @@ def test_a_zoom_sweeps_the_range_anew_and_labels_the_stored_value_alike(stored):
         assert np.allclose(zd.relay_hz.values, [8.45, 8.5, 8.55])
         got = zd.isel(branch=0).sel(relay_hz=8.5)
         assert (int(got.class_code), int(got.period), int(got.impacts_per_period)) == (code, n, m)
+
+
+def test_a_newer_click_makes_the_older_one_stale(stored):
+    """Two clicks in a row: the page shows the second value only (the first's result, if it ran, is dropped)."""
+    from bifurc.explore.app import Explorer
+    ds = bifurc.load(stored)
+    ex = Explorer(ds, zoom=False)
+    try:
+        ex.select(8.3)
+        ex.select(CLICKED, wait=True)
+        _check_history(ds, ex.history_text)
+        assert ex.history_text.startswith(f"**relay_hz = {CLICKED:g} Hz")
+        assert not ex._pending or all(f.done() for _, _, f, _ in ex._pending)
+    finally:
+        ex.close()

@@ -205,6 +205,8 @@ class Explorer:
 
     def _submit(self, kind, fn, *args, wait=False):
         self._generation += 1
+        for _, _, waiting, _ in self._pending:
+            waiting.cancel()                 # stale: not started yet, never started (a running one is dropped)
         self.progress.visible, self.progress.value = True, -1          # indeterminate while it runs
         future = self._pool.submit(fn, *args)
         self._pending.append((self._generation, kind, future, _time.perf_counter()))
@@ -221,7 +223,7 @@ class Explorer:
             if not future.done():
                 continue
             self._pending.remove(entry)
-            if generation != self._generation:
+            if generation != self._generation or future.cancelled():
                 continue                     # a newer click came since: stale
             self.progress.visible = False
             try:
