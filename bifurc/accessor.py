@@ -90,6 +90,16 @@ class BifurcAccessor:
         from .plots.phase import plot_phase
         return plot_phase(self._ds, x, t_from=t_from, path=path, ax=ax, overwrite=overwrite)
 
+    def explore(self, workers: int | None = None, zoom: bool = True):
+        """This diagram in Jupyter, interactive: hover a value for its class, click it for its time history, phase
+        portrait and periodic orbit, continue its branch, zoom to sweep a range anew (the explore extra:
+        HoloViz Panel).  Returns the :class:`bifurc.explore.app.Explorer` (shown as the output; its ``select``,
+        ``continue_branch`` and ``zoom`` do from Python what the clicks do).  ``workers``: a zoom's worker
+        processes (default every core); ``zoom``: sweep a zoomed range anew."""
+        self._need("diagram")
+        from .explore.app import Explorer
+        return Explorer(self._ds, workers=workers, zoom=zoom)
+
     def class_at(self, value, branch=None) -> dict:
         """Class of the grid value nearest to ``value`` (see :func:`bifurc.class_at`)."""
         from .report import class_at

@@ -22,7 +22,7 @@ from .storage.files import BadFileError
 
 #: subcommand modules in bifurc.commands, each with register(subparsers); missing ones are skipped
 COMMANDS = ["scenes", "params", "simulate", "diagram", "map", "orbit", "branch", "report", "accuracy", "verify", "study",
-            "attractors"]
+            "attractors", "explore"]
 
 #: user-facing failures: one line on stderr, exit code 2 (any OSError: a file system refusing a file)
 USER_ERRORS = (ParameterError, BadFileError, FileNotFoundError, FileExistsError, IsADirectoryError,

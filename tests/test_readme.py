@@ -170,7 +170,7 @@ def test_the_readme_is_short_and_keeps_its_two_commands_at_the_top():
     assert len(lines) <= 200
     first = [line for line in lines if line.startswith("    ")][:2]
     assert first[0].startswith("    python3 -m venv .venv && .venv/bin/pip install -q -e . && .venv/bin/bifurc diagram")
-    assert first[1] == "    python3 -m venv .venv && .venv/bin/pip install -q -e \".[test,dask]\" && .venv/bin/python -m pytest -q"
+    assert first[1] == "    python3 -m venv .venv && .venv/bin/pip install -q -e \".[test,dask,explore]\" && .venv/bin/python -m pytest -q"
     for link in re.findall(r"\]\(((?:docs/|CHANGELOG)[^)#]+)", text):      # its links into the docs resolve
         assert (ROOT / link).is_file(), link
 

@@ -1,0 +1,387 @@
+"""The explorer's page, on HoloViz Panel (Bokeh figures): one stored diagram, its hover, a click's time history,
+phase portrait and periodic orbit, a branch overlaid on a button's press, a zoomed range swept anew.
+
+The same :class:`Explorer` is a Jupyter output (``ds.bifurc.explore()``) and a served page (``bifurc explore``,
+:func:`serve`).  Work runs off the page: a click's computation on a thread (a newer click makes an older one's
+result stale, and it is dropped), a zoom in a child process that a newer zoom ends (:class:`bifurc.explore.compute.Zoom`);
+a periodic callback moves finished results onto the page and shows progress.
+"""
+from __future__ import annotations
+
+import math
+import time as _time
+from concurrent.futures import ThreadPoolExecutor
+
+import numpy as np
+
+from maps.parameters import ParameterError
+
+from ..labels.classify import CLASS_LABELS
+from ..plots.diagram import CLASS_COLOURS
+from .compute import PERIODIC, ZOOM_VALUES, Computer, Zoom, branch_points, value_rows
+
+#: milliseconds between two looks at the background work
+POLL_MS = 150
+#: a zoomed view narrower than this fraction of the shown grid's span is swept anew
+ZOOM_FRACTION = 0.6
+#: seconds the view must rest before a zoom starts
+ZOOM_REST = 0.8
+
+
+def _state(ds) -> str:
+    return "x" if "x" in ds else "x1"
+
+
+def _scale(ds, state) -> tuple[float, str]:
+    return (1e3, "mm") if ds[state].attrs.get("units") == "m" else (1.0, ds[state].attrs.get("units", ""))
+
+
+class Explorer:
+    """A stored diagram explored in the browser: hover a value for its class, click it for its time history and
+    orbit, press "Continue branch" for its branch, zoom for a finer grid.
+
+    ``select(value, wait=True)``, ``continue_branch(wait=True)`` and ``zoom(lo, hi)`` do from Python what the
+    clicks do; ``status``, ``history_text`` and ``orbit_text`` hold what the page shows.
+    """
+
+    def __init__(self, ds, title: str | None = None, workers: int | None = None, zoom: bool = True):
+        import panel as pn
+        pn.extension(notifications=False)
+        self.stored = ds
+        self.computer = self.stored_computer = Computer(ds)
+        self.workers = workers
+        self.title = title or str(ds.attrs.get("title", "diagram"))
+        self._pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="bifurc-explore")
+        self._generation = 0
+        self._pending: list = []             # (generation, kind, future)
+        self._zoom: Zoom | None = None
+        self._zoom_auto = zoom
+        self._range_seen = (None, 0.0)       # (range, when it last changed)
+        self._selected = None
+        self._callback = None
+        self._warm = self._pool.submit(self.computer.warm)
+        self._build(pn)
+        self._show_dataset(ds)
+
+    # ----- the page ------------------------------------------------------------------------------------------
+    def _build(self, pn) -> None:
+        from bokeh.models import ColumnDataSource, HoverTool, TapTool
+        from bokeh.plotting import figure
+        ds, par = self.stored, self.computer.param
+        state = _state(ds)
+        scale, unit = _scale(ds, state)
+        self._state, self._y = state, scale
+        units = ds[par].attrs.get("units", "")
+        self.points = ColumnDataSource(dict(p=[], y=[], colour=[]))
+        self.columns = ColumnDataSource(dict(left=[], right=[], value=[], text=[], nm=[], exponent=[], reason=[],
+                                             colour=[], label=[], bottom=[], top=[]))
+        self.branch_source = ColumnDataSource(dict(p=[], y=[]))
+        tips = [(f"{par} [{units}]", "@value{0.[0000]}"), ("class", "@text"), ("n:m", "@nm"),
+                ("exponent", "@exponent"), ("reason", "@reason")]
+        d = figure(height=360, sizing_mode="stretch_width", tools="xpan,xwheel_zoom,box_zoom,reset",
+                   toolbar_location="above", name="diagram", y_axis_label=f"{state} [{unit}] at the strobe",
+                   title=f"{self.title}: hover a value, click it for its orbit")
+        d.scatter("p", "y", source=self.points, size=2.5, color="colour", alpha=0.7)
+        cols = d.quad(left="left", right="right", bottom="bottom", top="top", source=self.columns, fill_alpha=0,
+                      line_alpha=0, hover_fill_color="black", hover_fill_alpha=0.08, selection_fill_alpha=0.12,
+                      selection_fill_color="black", nonselection_fill_alpha=0, nonselection_line_alpha=0)
+        d.scatter("p", "y", source=self.branch_source, size=3, color="black", marker="diamond",
+                  legend_label="branch (continued)")
+        d.legend.location, d.legend.visible = "top_left", False
+        self._branch_legend = d.legend
+        d.add_tools(HoverTool(renderers=[cols], tooltips=tips), TapTool(renderers=[cols]))
+        strip = figure(height=110, sizing_mode="stretch_width", x_range=d.x_range, tools="", toolbar_location=None,
+                       name="strip", x_axis_label=f"{ds[par].attrs.get('long_name', par)} {par} [{units}]",
+                       y_axis_label="class")
+        rects = strip.quad(left="left", right="right", bottom=0, top=1, source=self.columns, fill_color="colour",
+                           line_color="white", line_width=0.5, hover_fill_alpha=0.6, nonselection_fill_alpha=0.9)
+        strip.yaxis.visible = False
+        strip.ygrid.visible = False
+        strip.add_tools(HoverTool(renderers=[rects], tooltips=tips), TapTool(renderers=[rects]))
+        self.columns.selected.on_change("indices", self._on_tap)
+        d.x_range.on_change("start", self._on_range)
+        d.x_range.on_change("end", self._on_range)
+        self.diagram_figure, self.strip_figure = d, strip
+        # the clicked value's panels
+        self.history_source = ColumnDataSource(dict(t=[], y=[], i=[], relay=[], v=[]))
+        self.impact_source = ColumnDataSource(dict(t=[], y=[]))
+        self.node_source = ColumnDataSource(dict(y=[], v=[]))
+        self.multiplier_source = ColumnDataSource(dict(re=[], im=[]))
+        h = figure(height=220, sizing_mode="stretch_width", name="history", title="time history (click a value)",
+                   x_axis_label="time after the record's sample [s]", y_axis_label=f"{state} [{unit}]",
+                   tools="xpan,xwheel_zoom,reset")
+        h.line("t", "y", source=self.history_source, color="#0072B2")
+        h.scatter("t", "y", source=self.impact_source, marker="triangle", size=8, color="#D55E00",
+                  legend_label="impacts")
+        h.legend.location = "top_right"
+        panels = [h]
+        if "i" in self.computer.problem.system.state_names:
+            c = figure(height=150, sizing_mode="stretch_width", x_range=h.x_range, y_axis_label="current i [A]",
+                       tools="", toolbar_location=None)
+            c.line("t", "i", source=self.history_source, color="#009E73")
+            panels.append(c)
+        if self.computer.problem.options is not None and self.computer.problem.options.relay != "none":
+            r = figure(height=110, sizing_mode="stretch_width", x_range=h.x_range, y_axis_label="relay",
+                       x_axis_label="time [s]", tools="", toolbar_location=None)
+            r.step("t", "relay", source=self.history_source, color="#666666", mode="after")
+            panels.append(r)
+        vel = "v" if "v" in self.computer.problem.system.state_names else "v1"
+        phase = figure(height=300, width=320, name="phase", title="phase portrait; dots: the orbit's strobe nodes",
+                       x_axis_label=f"{state} [{unit}]", y_axis_label=f"{vel} [m/s]", tools="pan,wheel_zoom,reset")
+        phase.line("y", "v", source=self.history_source, color="#0072B2")
+        phase.scatter("y", "v", source=self.node_source, size=6, color="black")
+        circle = figure(frame_height=220, frame_width=220, name="multipliers", title="Floquet multipliers",
+                        x_range=(-1.3, 1.3), y_range=(-1.3, 1.3), tools="", toolbar_location=None)
+        t = np.linspace(0, 2 * np.pi, 200)
+        circle.line(np.cos(t), np.sin(t), color="#999999")
+        circle.scatter("re", "im", source=self.multiplier_source, size=9, color="#D55E00")
+        self._vel = vel
+        self.status_pane = pn.pane.Markdown("Loading the integrators...", name="status", css_classes=["status"])
+        self.history_pane = pn.pane.Markdown("", name="history_text", css_classes=["history-text"])
+        self.orbit_pane = pn.pane.Markdown("", name="orbit_text", css_classes=["orbit-text"])
+        self.progress = pn.indicators.Progress(value=0, max=100, visible=False, sizing_mode="stretch_width", height=12)
+        self.branch_button = pn.widgets.Button(label="Continue branch", color="primary", disabled=True,
+                                               css_classes=["branch-button"])
+        self.branch_button.on_click(lambda event: self.continue_branch())
+        self.whole_button = pn.widgets.Button(label="Whole stored diagram", disabled=True)
+        self.whole_button.on_click(lambda event: self.whole())
+        self.zoom_check = pn.widgets.Checkbox(label="recompute a zoomed range", value=self._zoom_auto)
+        self.layout = pn.Column(
+            pn.pane.Bokeh(d, sizing_mode="stretch_width"), pn.pane.Bokeh(strip, sizing_mode="stretch_width"),
+            pn.Row(self.branch_button, self.whole_button, self.zoom_check), self.progress, self.status_pane,
+            pn.Row(pn.Column(self.history_pane, *[pn.pane.Bokeh(f, sizing_mode="stretch_width") for f in panels],
+                             sizing_mode="stretch_width"),
+                   pn.Column(pn.pane.Bokeh(phase), pn.pane.Bokeh(circle), self.orbit_pane, width=340)),
+            sizing_mode="stretch_width", name="bifurc explore")
+
+    def _show_dataset(self, ds) -> None:
+        """Paint ``ds`` (the stored diagram or a zoom's) on the diagram and the strip; clicks then refer to it."""
+        self.computer = self.stored_computer if ds is self.stored else self.stored_computer.on(ds)
+        rows = value_rows(ds)
+        vals = rows["value"]
+        width = np.diff(vals).min() if vals.size > 1 else 1.0
+        sub = ds.isel(branch=0)
+        pts = sub[self._state].values * self._y                     # (value, sample)
+        colours = [CLASS_COLOURS.get(lab, "#000000") for lab in rows["label"]]
+        keep = np.isfinite(pts)
+        self.points.data = dict(p=np.repeat(vals, pts.shape[1])[keep.ravel()], y=pts[keep],
+                                colour=np.repeat(np.asarray(colours), pts.shape[1])[keep.ravel()].tolist())
+        finite = pts[keep]
+        lo, hi = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 1.0)
+        pad = 0.05 * (hi - lo or 1.0)
+        self.columns.selected.indices = []
+        self.columns.data = dict(left=vals - width / 2, right=vals + width / 2, value=vals, text=rows["text"],
+                                 nm=rows["nm"], exponent=rows["exponent"], reason=rows["reason"], colour=colours,
+                                 label=rows["label"], bottom=np.full(vals.size, lo - pad),
+                                 top=np.full(vals.size, hi + pad))
+        self.branch_source.data = dict(p=[], y=[])
+        self._branch_legend.visible = False
+        self.diagram_figure.x_range.start, self.diagram_figure.x_range.end = vals.min() - width, vals.max() + width
+        self._span = (float(vals.min() - width), float(vals.max() + width))
+        self._range_seen = (self._span, _time.monotonic())
+
+    # ----- what a click does -----------------------------------------------------------------------------------
+    def _on_tap(self, attr, old, new) -> None:
+        if new:
+            self.select(float(self.columns.data["value"][new[0]]))
+
+    def select(self, value, wait: bool = False):
+        """Show ``value``'s time history, phase portrait and periodic orbit (the nearest grid value); ``wait``:
+        return when they are shown (from Python), else in the background (a click)."""
+        i = self.computer.index(value)
+        self._selected = float(self.computer.values[i])
+        self.branch_button.disabled = True
+        par = self.computer.param
+        self.status = f"computing {par} = {self._selected:g}: time history and orbit..."
+        return self._submit("history", self.computer.history, self._selected, wait=wait)
+
+    def continue_branch(self, wait: bool = False):
+        """Continue the selected value's periodic orbit along the swept parameter to both ends of the diagram and
+        overlay its strobe points (:func:`bifurc.continue_orbit`)."""
+        if self._selected is None:
+            raise ParameterError("no value selected: click a periodic value first")
+        self.status = f"continuing the branch through {self.computer.param} = {self._selected:g}..."
+        return self._submit("branch", self.computer.branch, self._selected, wait=wait)
+
+    def _submit(self, kind, fn, *args, wait=False):
+        self._generation += 1
+        for _, _, waiting, _ in self._pending:
+            waiting.cancel()                 # stale: not started yet, never started (a running one is dropped)
+        self.progress.visible, self.progress.value = True, -1          # indeterminate while it runs
+        future = self._pool.submit(fn, *args)
+        self._pending.append((self._generation, kind, future, _time.perf_counter()))
+        if wait:
+            future.result()
+            self._poll()
+        return self
+
+    def _poll(self) -> None:
+        """Move finished work onto the page (stale results dropped), show a zoom's progress, start a zoom once
+        the view rests."""
+        for entry in list(self._pending):
+            generation, kind, future, started = entry
+            if not future.done():
+                continue
+            self._pending.remove(entry)
+            if generation != self._generation or future.cancelled():
+                continue                     # a newer click came since: stale
+            self.progress.visible = False
+            try:
+                result = future.result()
+            except Exception as exc:  # noqa: BLE001 - one line on the page, never a traceback
+                self.status = f"error: {' '.join(str(exc).split())[:300]}"
+                continue
+            getattr(self, f"_show_{kind}")(result, _time.perf_counter() - started)
+        self._poll_zoom()
+
+    # ----- results ----------------------------------------------------------------------------------------------
+    def _show_history(self, r, wall) -> None:
+        h, par, units = r["history"], self.computer.param, self.computer.ds[self.computer.param].attrs.get("units", "")
+        y = h[self._state].values * self._y
+        t = h["time"].values
+        self.history_source.data = dict(t=t, y=y, i=h["i"].values if "i" in h else np.zeros(t.size),
+                                        relay=h["relay"].values if "relay" in h else np.zeros(t.size),
+                                        v=h[self._vel].values if self._vel in h else np.zeros(t.size))
+        ti = h["impact_time"].values if "impact_time" in h else np.array([])
+        ti = ti[np.isfinite(ti)]
+        self.impact_source.data = dict(t=ti, y=np.interp(ti, t, y))
+        row = self.columns.data
+        j = int(np.argmin(np.abs(np.asarray(row["value"]) - r["value"])))
+        per = "relay periods" if par == "relay_hz" or "relay_hz" in self.computer.problem.values else "periods"
+        self.history_text = (f"**{par} = {r['value']:g} {units}: {row['text'][j]}.** Time history over "
+                             f"{r['periods']} {per} after the record: **{r['impacts']} impacts**")
+        o = r["orbit"]
+        if o is not None:
+            mu = o.multiplier_abs.values * np.exp(1j * o.multiplier_arg.values)
+            self.multiplier_source.data = dict(re=mu.real, im=mu.imag)
+            nodes = o[self._state].values * self._y
+            self.node_source.data = dict(y=nodes, v=o[self._vel].values if self._vel in o else np.zeros(nodes.size))
+            listed = ", ".join(f"{a:.4g}" + (f" (arg {b:+.3f})" if abs(b) > 1e-9 else "")
+                               for a, b in zip(o.multiplier_abs.values, o.multiplier_arg.values))
+            self.orbit_text = (f"**Periodic orbit**: period {int(o.period)}, {int(o.impacts_per_period)} impacts per "
+                               f"period, {'stable' if int(o.stable) else 'unstable'}; Floquet multipliers "
+                               f"|mu| = {listed}; Newton residual {float(o.newton_residual):.1e}")
+            self.branch_button.disabled = False
+        else:
+            self.multiplier_source.data = dict(re=[], im=[])
+            self.node_source.data = dict(y=[], v=[])
+            self.orbit_text = f"No periodic orbit: {r['orbit_error']}"
+            self.branch_button.disabled = True
+        self.status = f"{par} = {r['value']:g}: shown in {wall:.2f} s"
+
+    def _show_branch(self, r, wall) -> None:
+        ps, ys = [], []
+        for br in r["branches"]:
+            p, y = branch_points(br, self._state)
+            ps.append(p)
+            ys.append(y * self._y)
+        self.branch_source.data = dict(p=np.concatenate(ps) if ps else [], y=np.concatenate(ys) if ys else [])
+        self._branch_legend.visible = bool(ps)
+        points = sum(br.sizes["point"] for br in r["branches"])
+        self.status = (f"branch through {self.computer.param} = {r['value']:g}: {points} points in {wall:.2f} s"
+                       + (f"; {r['error']}" if r["error"] else "") if points else f"no branch: {r['error']}")
+
+    # ----- zoom -------------------------------------------------------------------------------------------------
+    def _on_range(self, attr, old, new) -> None:
+        r = self.diagram_figure.x_range
+        if r.start is not None and r.end is not None:
+            self._range_seen = ((float(r.start), float(r.end)), _time.monotonic())
+
+    def zoom(self, lo: float, hi: float, n: int = ZOOM_VALUES):
+        """Sweep ``lo`` to ``hi`` anew on ``n`` values in a child process (every core): a first picture, then the
+        anytime labels; each stage repaints the diagram when it ends."""
+        if self._zoom is not None:
+            self._zoom.close()
+        self._zoom = Zoom(self.stored_computer, float(lo), float(hi), n, self.workers)
+        self.progress.visible, self.progress.value = True, 0
+        self.status = f"zoom {lo:g} to {hi:g}: sweeping {n} values..."
+        return self._zoom
+
+    def whole(self) -> None:
+        """Back to the stored diagram (a running zoom is stopped)."""
+        if self._zoom is not None:
+            self._zoom.close()
+            self._zoom = None
+        self._show_dataset(self.stored)
+        self.whole_button.disabled = True
+        self.status = "the stored diagram"
+
+    def _poll_zoom(self) -> None:
+        (lo, hi), since = self._range_seen
+        span = self._span[1] - self._span[0]
+        if self.zoom_check.value and lo is not None and _time.monotonic() - since > ZOOM_REST and \
+                hi - lo < ZOOM_FRACTION * span and (self._zoom is None or self._zoom.values[[0, -1]].tolist() !=
+                                                     [lo, hi]):
+            self._range_seen = ((lo, hi), math.inf)   # once per resting view
+            self.zoom(lo, hi)
+        z = self._zoom
+        if z is None:
+            return
+        s = z.poll()
+        if s["dataset"] is not None:
+            self._show_dataset(s["dataset"])
+            self.whole_button.disabled = False
+        if s["error"]:
+            self.status = f"zoom failed: {s['error']}"
+            z.close()
+            self._zoom, self.progress.visible = None, False
+        elif s["stage"] >= len(z.stages):
+            self.status = f"zoom {z.values[0]:g} to {z.values[-1]:g}: anytime labels shown ({s['seconds']:.1f} s)"
+            z.close()
+            self._zoom, self.progress.visible = None, False
+        else:
+            self.progress.value = int(100 * s["done"] / s["total"])
+            self.status = (f"zoom {z.values[0]:g} to {z.values[-1]:g}, {s['name']}: {s['done']} of {s['total']} "
+                           f"values ({s['seconds']:.1f} s)")
+
+    # ----- texts the page shows (Markdown panes) --------------------------------------------------------------
+    status = property(lambda self: self.status_pane.object, lambda self, text: _set(self.status_pane, text),
+                      doc="the status line: what runs, its progress, how long a result took")
+    history_text = property(lambda self: self.history_pane.object, lambda self, text: _set(self.history_pane, text),
+                            doc="the clicked value: its class, the periods of its time history and their impacts")
+    orbit_text = property(lambda self: self.orbit_pane.object, lambda self, text: _set(self.orbit_pane, text),
+                          doc="the clicked value's periodic orbit with its Floquet multipliers, or why none")
+
+    # ----- showing it -------------------------------------------------------------------------------------------
+    def start(self) -> "Explorer":
+        """Start the periodic look at the background work (in a served session or a live notebook)."""
+        import panel as pn
+        if self._callback is None:
+            self._callback = pn.state.add_periodic_callback(self._poll, period=POLL_MS)
+            self._warm.add_done_callback(lambda f: None)
+            if self.status.startswith("Loading"):
+                self.status = "hover a value for its class; click it for its time history and orbit"
+        return self
+
+    def servable(self):
+        """The page's layout, with its periodic callback started."""
+        self.start()
+        return self.layout
+
+    def _repr_mimebundle_(self, include=None, exclude=None):
+        self.start()
+        return self.layout._repr_mimebundle_(include, exclude)
+
+    def close(self) -> None:
+        """Stop the background work (a zoom's processes, the thread)."""
+        if self._zoom is not None:
+            self._zoom.close()
+        if self._callback is not None:
+            self._callback.stop()
+        self._pool.shutdown(wait=False, cancel_futures=True)
+
+
+def _set(pane, text: str) -> None:
+    pane.object = text
+
+
+def serve(ds, port: int, show: bool = True, title: str | None = None, workers: int | None = None):
+    """Serve an :class:`Explorer` of ``ds`` on 127.0.0.1:``port`` (a new one per browser session) until Ctrl-C;
+    ``show``: open the user's browser."""
+    import panel as pn
+
+    def page():
+        return Explorer(ds, title=title, workers=workers).servable()
+    return pn.serve({"/": page}, address="127.0.0.1", port=port, show=show, title=title or "bifurc explore",
+                    websocket_origin=[f"127.0.0.1:{port}", f"localhost:{port}"], threaded=False, verbose=False,
+                    print_url=False)

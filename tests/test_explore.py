@@ -1,0 +1,313 @@
+"""The explorer (``bifurc explore``, ``ds.bifurc.explore()``) on a small stored diagram of the main job's scene:
+served and driven in headless Chromium (hover a value, click it), executed as a notebook, its refusals in one line,
+and its problem rebuilt from the stored attributes.
+
+The truths are the stored diagram's own labels, computed by the sweep before the explorer exists: the hovered
+class text is the stored class's, and a periodic value's re-simulated time history over a whole number j of its
+periods holds exactly j times its stored impacts per period.
+"""
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import socket
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import bifurc
+from bifurc.cli import main
+from bifurc.labels.classify import describe
+
+ROOT = Path(__file__).resolve().parents[1]
+CHROMIUM, DRIVER = Path("/usr/bin/chromium"), Path("/usr/bin/chromedriver")
+#: where the how-to page's screenshot is written when BIFURC_SCREENSHOTS=1 (docs/how-to/explore.md)
+SCREENSHOT = ROOT / "docs" / "images" / "explore.png"
+VALUES = [8.3, 8.5, 8.6]
+CLICKED = 8.5
+
+panel = pytest.importorskip("panel", reason="the explore extra (panel) is not installed")
+
+
+@pytest.fixture(scope="module")
+def stored(tmp_path_factory):
+    """A 3-value diagram of the README's main job around 8.5 Hz (300 + 100 relay periods, no extension)."""
+    path = tmp_path_factory.mktemp("explore") / "diagram.nc"
+    pb = __import__("maps").problem("thesis-1dof", preset="matlab-listing", params={"V": 90})
+    bifurc.sweep(pb, "relay_hz", np.array(VALUES), bifurc.Diagram(transient=300, record=100, budget=400,
+                                                                  error_sample=0),
+                 run=bifurc.Run(workers=1, progress=False, path=str(path)))
+    return path
+
+
+def _expected(ds, value):
+    d = ds.isel(branch=0).sel(relay_hz=value)
+    return int(d.class_code), int(d.period), int(d.impacts_per_period)
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def _history_numbers(text: str) -> tuple[int, int]:
+    m = re.search(r"over (\d+) relay periods after the record: \**(\d+) impacts", text)
+    assert m, text
+    return int(m.group(1)), int(m.group(2))
+
+
+def _check_history(ds, text: str) -> None:
+    """The time history's impact count: j periods of a period-n orbit with m impacts each hold j m / n impacts."""
+    code, n, m = _expected(ds, CLICKED)
+    assert code == 0 and n > 0, "the stored value is periodic"
+    periods, impacts = _history_numbers(text)
+    assert periods % n == 0 and periods >= n
+    assert impacts == m * periods // n
+
+
+# ----- the page in a real browser ---------------------------------------------------------------------------
+#: every shadow root's visible text (Bokeh and Panel draw inside shadow DOM)
+TEXT_JS = """
+function walk(root, out) { for (const el of root.querySelectorAll('*')) { if (el.shadowRoot) walk(el.shadowRoot, out); }
+  out.push(root); return out; }
+return walk(document, []).map(r => r === document ? document.body.innerText :
+  [...r.children].filter(c => !['STYLE', 'LINK', 'SCRIPT'].includes(c.tagName)).map(c => c.innerText || '').join(' '))
+  .join(' | ');"""
+#: the viewport pixel of a parameter value at the middle height of a named figure's frame
+PIXEL_JS = """
+function find(v, id) { if (v.model && v.model.id === id) return v;
+  for (const c of (v.child_views ? [...v.child_views] : [])) { const r = find(c, id); if (r) return r; } return null; }
+const f = Bokeh.documents[0].get_model_by_name(arguments[0]);
+let view = null; for (const k of Object.keys(Bokeh.index)) { view = find(Bokeh.index[k], f.id); if (view) break; }
+if (!view) return null;
+const r = view.canvas_view.el.getBoundingClientRect();
+return [r.x + view.frame.x_scale.compute(arguments[1]), r.y + view.frame.bbox.vcenter];"""
+
+
+def _browser():
+    """A headless Chromium driven by selenium, or a skip with the one-line reason."""
+    if not (CHROMIUM.exists() and DRIVER.exists()):
+        pytest.skip("no browser: /usr/bin/chromium and /usr/bin/chromedriver (apt-get install chromium chromium-driver)")
+    webdriver = pytest.importorskip("selenium.webdriver", reason="selenium is not installed (the test extra)")
+    from selenium.webdriver.chrome.service import Service
+    import tempfile
+    opts = webdriver.ChromeOptions()
+    opts.binary_location = str(CHROMIUM)
+    for flag in ("--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+                 "--disable-background-networking", "--disable-component-update", "--disable-sync",
+                 f"--user-data-dir={tempfile.mkdtemp(prefix='bifurc-chromium-')}", "--window-size=1400,1500"):
+        opts.add_argument(flag)
+    opts.set_capability("goog:loggingPrefs", {"browser": "ALL"})
+    return webdriver.Chrome(service=Service(str(DRIVER)), options=opts)
+
+
+def _wait(predicate, seconds: float, what: str):
+    end = time.monotonic() + seconds
+    while time.monotonic() < end:
+        value = predicate()
+        if value:
+            return value
+        time.sleep(0.25)
+    raise AssertionError(f"waited {seconds:g} s for {what}")
+
+
+def _move(driver, xy, click=False):
+    from selenium.webdriver.common.actions.action_builder import ActionBuilder
+    ab = ActionBuilder(driver)
+    ab.pointer_action.move_to_location(int(xy[0]), int(xy[1]))
+    if click:
+        ab.pointer_action.click()
+    ab.perform()
+
+
+def test_served_page_hover_shows_the_stored_class_and_a_click_its_history_and_orbit(stored, tmp_path):
+    ds = bifurc.load(stored)
+    code, n, m = _expected(ds, CLICKED)
+    driver = _browser()
+    port = _free_port()
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    server = subprocess.Popen([sys.executable, "-m", "bifurc", "explore", str(stored), "--port", str(port),
+                               "--no-browser"], env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    try:
+        def up():
+            try:
+                socket.create_connection(("127.0.0.1", port), 1).close()
+                return True
+            except OSError:
+                assert server.poll() is None, server.stderr.read().decode()
+                return False
+        _wait(up, 60, "the server")
+        driver.get(f"http://127.0.0.1:{port}/")
+        xy = _wait(lambda: driver.execute_script("return window.Bokeh && Bokeh.documents.length ? 1 : 0") and
+                   driver.execute_script(PIXEL_JS, "diagram", CLICKED), 30, "the diagram drawn")
+        _move(driver, xy)
+        hovered = describe(code, n, m)                   # "period-17, 12 impacts (17:12)"
+        text = _wait(lambda: (t := driver.execute_script(TEXT_JS)) and hovered in t and t, 10, "the hover tooltip")
+        assert re.search(rf"class:\s*{re.escape(hovered)}", text)
+        _move(driver, xy, click=True)
+        text = _wait(lambda: (t := driver.execute_script(TEXT_JS)) and "after the record" in t and
+                     "Periodic orbit" in t and t, 40, "the time history and the orbit")
+        _check_history(ds, text)
+        assert re.search(rf"Periodic orbit: period {n}, {m} impacts per period, stable", text)
+        driver.save_screenshot(str(tmp_path / "explore.png"))
+        if os.environ.get("BIFURC_SCREENSHOTS") == "1":
+            shutil.copy(tmp_path / "explore.png", SCREENSHOT)
+        severe = [e["message"] for e in driver.get_log("browser") if e["level"] == "SEVERE"]
+        assert not severe, severe
+        assert (tmp_path / "explore.png").stat().st_size > 10_000
+    finally:
+        driver.quit()
+        server.terminate()
+        server.wait(timeout=30)
+
+
+# ----- the notebook form --------------------------------------------------------------------------------------
+def test_the_notebook_form_executes_and_its_widgets_hold_the_clicked_value(stored, tmp_path):
+    nbformat = pytest.importorskip("nbformat")
+    nbclient = pytest.importorskip("nbclient")
+    ds = bifurc.load(stored)
+    code, n, m = _expected(ds, CLICKED)
+    nb = nbformat.v4.new_notebook()
+    nb.cells = [nbformat.v4.new_code_cell(f"import bifurc\nds = bifurc.load({str(stored)!r})\nex = ds.bifurc.explore()\nex"),
+                nbformat.v4.new_code_cell(f"ex.select({CLICKED}, wait=True)\nprint(ex.history_text)\n"
+                                          f"print(ex.orbit_text)\nprint('multipliers', len(ex.multiplier_source.data['re']))\n"
+                                          f"print('button', ex.branch_button.disabled)\nex.close()")]
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    before = dict(os.environ)
+    os.environ.update(env)
+    try:
+        nbclient.NotebookClient(nb, timeout=300, kernel_name="python3",
+                                resources={"metadata": {"path": str(tmp_path)}}).execute()
+    finally:
+        os.environ.clear()
+        os.environ.update(before)
+    outputs = [o for c in nb.cells for o in c.get("outputs", [])]
+    assert not [o for o in outputs if o.output_type == "error"]
+    shown = nb.cells[0].outputs[-1].get("data", {})
+    assert "application/vnd.holoviews_exec.v0+json" in shown or "text/html" in shown, list(shown)
+    text = "".join(o.get("text", "") for o in nb.cells[1].outputs)
+    _check_history(ds, text)
+    assert f"period {n}, {m} impacts per period" in text
+    assert "multipliers 4" in text and "button False" in text    # 4 states: 4 multipliers; a periodic value
+
+
+# ----- refusals and the rebuilt problem -------------------------------------------------------------------------
+def test_bad_input_is_refused_in_one_line(stored, tmp_path, capsys):
+    port = _free_port()
+    history = tmp_path / "run.nc"
+    bifurc.load  # noqa: B018 - the same loader the command uses
+    assert main(["simulate", "--relay-hz", "9", "--periods", "1", "-o", str(history)]) == 0
+    capsys.readouterr()
+    cases = [([str(tmp_path / "none.nc")], "no dataset at"),
+             ([str(history)], "holds a history dataset"),
+             ([str(stored), "--port", "80"], "--port 80: allowed 1024 to 65535"),
+             ([str(stored), "--port", "70000"], "--port 70000: allowed 1024 to 65535")]
+    with socket.socket() as busy:
+        busy.bind(("127.0.0.1", port))
+        busy.listen()
+        cases.append(([str(stored), "--port", str(port)], f"--port {port}: in use on 127.0.0.1"))
+        for argv, words in cases:
+            assert main(["explore", *argv, "--no-browser"]) == 2, argv
+            err = capsys.readouterr().err
+            assert err.count("\n") == 1 and err.startswith("bifurc: error:") and words in err, err
+
+
+def test_the_problem_is_rebuilt_from_the_stored_attributes(stored):
+    """The rebuilt problem reproduces a stored strobe point: one relay period from a stored sample."""
+    import maps
+    from bifurc.explore.compute import problem_of
+    ds = bifurc.load(stored)
+    pb = problem_of(ds).with_values(relay_hz=CLICKED)
+    assert pb.options.dc_law == "listing" and pb.values["V"] == 90 and pb.preset == "matlab-listing"
+    d = ds.isel(branch=0).sel(relay_hz=CLICKED)
+    start, k = bifurc.sweep_point(ds, CLICKED, sample=0)
+    smap = maps.StroboscopicMap(pb, tol=float(ds.attrs["tol"]))
+    nxt = smap.step(start, k)
+    after = nxt[0] if isinstance(nxt, tuple) else nxt
+    stored_next = np.array([float(d[s].values[1]) for s in pb.system.state_names])
+    assert np.allclose(after.y, stored_next, rtol=1e-6, atol=1e-8)
+
+
+def test_a_branch_passes_through_the_stored_strobe_points_of_the_diagram(tmp_path):
+    """The impact oscillator's period-1 branch through e = 0.15, continued to both ends of a diagram over e: at
+    each stored periodic value it meets, its strobe point is the stored one (the sweep's, computed before)."""
+    from bifurc.explore.app import Explorer
+    path = tmp_path / "osc.nc"
+    bifurc.sweep("impact-oscillator", "e", np.linspace(0.0, 0.3, 7), bifurc.Diagram(transient=100, record=50,
+                                                                                     budget=150, error_sample=0),
+                 run=bifurc.Run(workers=1, progress=False, path=str(path)))
+    ds = bifurc.load(path)
+    ex = Explorer(ds, zoom=False)
+    try:
+        ex.select(0.15, wait=True)
+        assert not ex.branch_button.disabled
+        ex.continue_branch(wait=True)
+        p, y = np.asarray(ex.branch_source.data["p"]), np.asarray(ex.branch_source.data["y"])
+        assert p.size >= 10 and p.min() <= 0.0 + 1e-9 and p.max() >= 0.3 - 1e-9     # both ends reached
+        d = ds.isel(branch=0)
+        for e in d.e.values:
+            sub = d.sel(e=e)
+            if int(sub.class_code) != 0 or int(sub.period) != 1:
+                continue
+            stored = sub.x.values[np.isfinite(sub.x.values)]
+            assert np.ptp(stored) < 1e-6                        # a period-1 orbit: one strobe point
+            order = np.argsort(p)
+            on_branch = np.interp(e, p[order], y[order]) / ex._y        # the page's y is in mm
+            assert abs(on_branch - stored[0]) < 1e-3 * max(0.1, abs(stored[0])), (e, on_branch, stored[0])
+        assert "points in" in ex.status
+    finally:
+        ex.close()
+
+
+def test_relay_frequency_has_no_branch_and_says_so_in_one_line(stored):
+    from bifurc.explore.compute import Computer
+    r = Computer(bifurc.load(stored)).branch(CLICKED, max_points=5)
+    assert r["branches"] == [] and "relay_hz" in r["error"] and "\n" not in r["error"]
+
+
+def test_a_zoom_sweeps_the_range_anew_and_labels_the_stored_value_alike(stored):
+    """Three values around 8.5 Hz in the child process: both stages finish and 8.5 Hz gets the stored class."""
+    from bifurc.explore.compute import Computer, Zoom
+    ds = bifurc.load(stored)
+    z = Zoom(Computer(ds), 8.45, 8.55, 3, workers=1)
+    stages = []
+    try:
+        end = time.monotonic() + 240
+        while time.monotonic() < end:
+            s = z.poll()
+            assert not s["error"], s["error"]
+            if s["dataset"] is not None:
+                stages.append(s["dataset"])
+            if s["stage"] >= 2:
+                break
+            time.sleep(0.2)
+    finally:
+        z.close()
+    assert not z.folder.exists()
+    assert len(stages) == 2
+    code, n, m = _expected(ds, CLICKED)
+    for zd in stages:
+        assert np.allclose(zd.relay_hz.values, [8.45, 8.5, 8.55])
+        got = zd.isel(branch=0).sel(relay_hz=8.5)
+        assert (int(got.class_code), int(got.period), int(got.impacts_per_period)) == (code, n, m)
+
+
+def test_a_newer_click_makes_the_older_one_stale(stored):
+    """Two clicks in a row: the page shows the second value only (the first's result, if it ran, is dropped)."""
+    from bifurc.explore.app import Explorer
+    ds = bifurc.load(stored)
+    ex = Explorer(ds, zoom=False)
+    try:
+        ex.select(8.3)
+        ex.select(CLICKED, wait=True)
+        _check_history(ds, ex.history_text)
+        assert ex.history_text.startswith(f"**relay_hz = {CLICKED:g} Hz")
+        assert not ex._pending or all(f.done() for _, _, f, _ in ex._pending)
+    finally:
+        ex.close()
