@@ -17,21 +17,28 @@ GROUP = "bifurc.studies"
 
 #: What each study costs on the shared 2-core development machine: (quick form, full form, where the figures
 #: come from). Committed measurements only, with their commit, date and load where stated; "idle" marks a
-#: figure from a quiet machine (a loaded one is slower by about the load over the cores). `bifurc study --help`
+#: figure from a quiet machine (a loaded one is slower by about the load over the cores); "s of CPU" is the seconds of
+#: processor time the form used (user + system, its worker processes included): on an idle machine one process's
+#: wall time, and with 2 workers about half of it plus the serial parts. `bifurc study --help`
 #: prints this table and README.md states it (tests/test_readme.py checks that they agree).
 DURATIONS = {
-    "dc-well": ("157 s at load 6-8 (89 s of CPU)", "513 s at 411e9dd, before its census and windows were added (more "
-                "now, not measured)", "quick at 1ba7984, full at 411e9dd, 2026-11-29"),
-    "attractor-atlas": ("30 s", "12 min (718 s)", "both at fc9ed40, 2026-11-27, report commit 8dc852c"),
+    "dc-well": ("53 s of CPU; 109 s at load 9-10", "513 s at 411e9dd, before its census and windows were added (more "
+                "now, not measured)", "quick at b03ac21, 2026-11-29; full at 411e9dd, 2026-11-29"),
+    "attractor-atlas": ("91 s of CPU over 2 workers; 383 s at load 7-8", "12 min (718 s)",
+                        "quick at b03ac21, 2026-11-29; full at fc9ed40, 2026-11-27, report commit 8dc852c"),
     "prototype-progression": ("about 30 s", "1-3 min (62-180 s)", "reports of e448f76 and b9c6343, 2026-11-26, shared cores"),
-    "regime-maps": ("6.5 min (391 s)", "not measured: 41 x 41 cells a map, 34 times the quick form's",
-                    "quick at 64561d9, 2026-11-26, its report's four map times"),
+    "regime-maps": ("326 s of CPU over 2 workers; 743 s at load 9-10", "not measured: 41 x 41 cells a map, 34 times "
+                    "the quick form's", "quick at b03ac21, 2026-11-29"),
     "sensitivity": ("17 s", "66 min (3964 s) at load 3-6", "reports of 4cb9b9d and 9ca1eec, 2026-11-26"),
-    "thesis-1dof-relay": ("138 s at load 8.5; about 40 s idle (its 68 s of CPU over 2 cores)", "833 s at load 7-9; about 1.5 min idle (3 diagrams like the main job's 28.9 s)",
-                          "quick at b962ece, 2026-11-29 (benchmarks/results); full at b962ece, 2026-11-27, newcomer review 4"),
-    "thesis-2dof-rig": ("12 s", "72 s", "reports of e448f76 and adc9ad6, 2026-11-26"),
-    "thesis-orbits": ("under 1 min", "22 min (1303 s)", "full at dabb3d8, 2026-11-26; quick: README of 2026-11-25"),
-    "thesis-replay": ("13 s of runs", "9 min (547 s)", "quick at cb9f5b7, full at f2a2b4e, 2026-11-27"),
+    "thesis-1dof-relay": ("86 s of CPU over 2 workers; 416 s at load 9-11", "833 s at load 7-9; about 1.5 min idle (3 "
+                          "diagrams like the main job's 28.9 s)",
+                          "quick at b03ac21, 2026-11-29; full at b962ece, 2026-11-27, newcomer review 4"),
+    "thesis-2dof-rig": ("5 s of CPU; 5.3 s at load 5", "72 s", "quick at b03ac21, 2026-11-29; full: report of adc9ad6, "
+                        "2026-11-26"),
+    "thesis-orbits": ("53 s of CPU; 329 s at load 9-11", "22 min (1303 s)", "quick at b03ac21, 2026-11-29; full at "
+                      "dabb3d8, 2026-11-26"),
+    "thesis-replay": ("20 s of CPU; 63 s at load 5-6", "9 min (547 s)", "quick at b03ac21, 2026-11-29; full at f2a2b4e, "
+                      "2026-11-27"),
 }
 
 
