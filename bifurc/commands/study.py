@@ -18,8 +18,9 @@ GROUP = "bifurc.studies"
 #: What each study costs on the shared 2-core development machine: (quick form, full form, where the figures
 #: come from). Committed measurements only, with their commit, date and load where stated; "idle" marks a
 #: figure from a quiet machine (a loaded one is slower by about the load over the cores); "s of CPU" is the seconds of
-#: processor time the form used (user + system, its worker processes included): on an idle machine one process's
-#: wall time, and with 2 workers about half of it plus the serial parts. `bifurc study --help`
+#: processor time the form used (user + system, its worker processes included) at the load stated: an upper bound of
+#: one process's idle wall time (CPU time grows under load too: the main job used 155-163 s of CPU at load 5-7 on
+#: 2026-11-29, against 25.3 s of wall on 2 idle cores at ed0af0c). `bifurc study --help`
 #: prints this table and README.md states it (tests/test_readme.py checks that they agree).
 DURATIONS = {
     "dc-well": ("53 s of CPU; 109 s at load 9-10", "513 s at 411e9dd, before its census and windows were added (more "
