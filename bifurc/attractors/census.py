@@ -431,7 +431,7 @@ def _saddle_of(smap, a: Attractor, record, k0: int, grid, s: Settings, found: li
         return None
     life = _persists(smap, record, k0, s)
     a.lifetime, a.lifetime_interval = life.tau, (life.low, life.high)
-    verdict = life.verdict(s.persist)
+    verdict = a.lifetime_verdict = life.verdict(s.persist)
     a.how += f"; {life.text()}: " + {"attractor": "an attractor", "saddle": "a chaotic saddle (lifetime surely below "
                                      f"{s.persist} periods)", "long-lived": "a chaotic transient, not shown to "
                                      f"persist (its lifetime's interval reaches {s.persist} periods)"}[verdict]
@@ -452,10 +452,10 @@ def _undecided_transient(smap, record, k0: int, grid, s: Settings, saddles: list
     if (sd := _known_saddle(cells, saddles)) is not None:
         return sd
     life = _persists(smap, record, k0, s)
-    if life.verdict(s.persist) == "attractor":
+    if (verdict := life.verdict(s.persist)) == "attractor":
         return None
     a = Attractor(int(ClassCode.NOT_CONVERGED), points=np.asarray(record.points, dtype=float).copy(), k0=k0,
-                  cells=cells, lifetime=life.tau, lifetime_interval=(life.low, life.high),
+                  cells=cells, lifetime=life.tau, lifetime_interval=(life.low, life.high), lifetime_verdict=verdict,
                   how=f"{s.max_tries} records undecided; {life.text()}: a transient")
     saddles.append(a)
     return a

@@ -1,6 +1,7 @@
 """The attractors Dataset (kind "attractors"): dims (the parameter, ``attractor``), plus ``node`` for the
 attractors' strobe states and ``start`` for the fresh starts and where each went (basin pictures).
-Every variable is a row of :data:`bifurc.storage.schema.ATTRACTOR`."""
+Every variable is a row of :data:`bifurc.storage.schema.ATTRACTOR` (and the multipliers' rows,
+:data:`bifurc.storage.schema.ATTRACTOR_MULTIPLIERS`, along ``multiplier``)."""
 from __future__ import annotations
 
 import numpy as np
@@ -10,7 +11,8 @@ from maps.provenance import cf_attrs
 from .._version import __version__
 from ..labels.codes import ClassCode
 from ..storage.build import coord, dataset, put
-from ..storage.schema import ATTRACTOR, ATTRACTOR_COORDS, ATTRACTOR_EVENTS, flag_variable, state_variable
+from ..storage.schema import (ATTRACTOR, ATTRACTOR_COORDS, ATTRACTOR_EVENTS, ATTRACTOR_MULTIPLIERS, LIFETIME_VERDICTS,
+                              flag_variable, state_variable)
 from .census import OUTCOMES, wilson
 from .eventual import eventual_fractions, saddle_groups
 
@@ -187,6 +189,13 @@ def _put_transient(cols, i, col, out, via, saddles) -> None:
         return
     cols["lifetime"][i, col] = a.lifetime
     cols["lifetime_low"][i, col], cols["lifetime_high"][i, col] = a.lifetime_interval
+    cols["lifetime_verdict"][i, col] = _verdict(a)
+
+
+def _verdict(a) -> int:
+    """The code of ``a``'s lifetime verdict (:data:`bifurc.storage.schema.LIFETIME_VERDICTS`; 0: none)."""
+    v = getattr(a, "lifetime_verdict", "")
+    return LIFETIME_VERDICTS.index(v) if v in LIFETIME_VERDICTS else 0
 
 
 def _put_attractor(cols, i, col, a) -> None:
@@ -202,6 +211,7 @@ def _put_attractor(cols, i, col, a) -> None:
     cols["lifetime_low"][i, col], cols["lifetime_high"][i, col] = a.lifetime_interval
     cols["area_rate"][i, col] = a.area_rate
     cols["area_rate_low"][i, col], cols["area_rate_high"][i, col] = a.area_rate_interval
+    cols["lifetime_verdict"][i, col] = _verdict(a)
     cols["n_points"][i, col] = len(a.points)
     cols["match_distance"][i, col] = getattr(a, "match_distance", np.nan)
 
@@ -223,6 +233,7 @@ def _flat_dataset(pb, param, values, per_value, outcomes, n_ids, events, starts,
     for v in ATTRACTOR:
         put(ds, v, v.finish(cols[v.name]), param=param)
     _put_states(ds, system, param, per_value, len(labels), n_node)
+    _put_multipliers(ds, system, param, per_value, len(labels))
     for j, st in enumerate(system.states):
         ds[f"start_{st.name}"] = ("start", starts.points[:, j], {"units": st.unit, "long_name": f"start: {st.long_name}"})
     out = np.asarray(outcomes, dtype=np.int32)
@@ -293,6 +304,22 @@ def _as_grid(flat, names):
     ds = xr.Dataset(out, coords=coords, attrs=flat.attrs)
     ds.attrs["swept_parameter2"] = names[1]
     return ds
+
+
+def _put_multipliers(ds, system, param, per_value, n_att) -> None:
+    """Every polished periodic attractor's Floquet multipliers (modulus and argument, largest first; NaN beyond its
+    own count or where none were computed), along a ``multiplier`` dimension of one per state."""
+    d = len(system.states)
+    ds.coords["multiplier"] = coord(ATTRACTOR_COORDS[2], d)
+    data = {v.name: v.empty({"v": len(per_value), "attractor": n_att, "multiplier": d}, "v")
+            for v in ATTRACTOR_MULTIPLIERS}
+    for i, found in enumerate(per_value):
+        for col, a in found.items():
+            m = min(len(a.multiplier_abs), d)
+            data["multiplier_abs"][i, col, :m] = a.multiplier_abs[:m]
+            data["multiplier_arg"][i, col, :m] = a.multiplier_arg[:m]
+    for v in ATTRACTOR_MULTIPLIERS:
+        put(ds, v, data[v.name], param=param)
 
 
 def _put_states(ds, system, param, per_value, n_att, n_node) -> None:
