@@ -398,8 +398,10 @@ def census_table(ds):
     keep = (df["basin_fraction"] > 0) | (df["present"] > 0)
     df = df[keep.values].reset_index(drop=True)
     codes = df["class_code"].to_numpy()
+    from .attractors.dataset import flow_text
+    words = (lambda c, n, m: flow_text(c, n)) if "sample_step" in ds.attrs else describe
     df.insert(len(dims), "description", [
-        describe(int(c), int(n), int(m)) if lab.startswith("A") and c >= 0 else lab.replace("_", " ")
+        words(int(c), int(n), int(m)) if lab.startswith("A") and c >= 0 else lab.replace("_", " ")
         for c, n, m, lab in zip(codes, df["period"], df["impacts_per_period"], df["attractor"])])
     if verdicts:
         df["lifetime_verdict"] = [verdicts[int(v)] for v in df["lifetime_verdict"]]

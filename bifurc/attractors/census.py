@@ -31,10 +31,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from maps.hybrid import HybridState
+from maps.hybrid import HybridState, IntegrationFailure
 
 from ..labels.codes import ClassCode
 from ..labels.classify import candidate_periods
+from ..labels.lyapunov import exponent_interval
 from .lifetime import Lifetime, estimate_lifetime, periodic_tail
 from .identify import (Attractor, Grid, approaching, area_rate, contracting, converging, from_chunk, identify,
                        newton_periods, no_contraction, polish_once, same_attractor, same_orbit)
@@ -361,6 +362,8 @@ def _record_and_classify(smap, tracks, rest, grid, s: Settings, found: list, own
             t.outcome = OUTCOMES["escaped" if o.status == "escaped" else "failed"]
             continue
         a = identify(smap, o, t.k, grid, max_period=s.max_period, tol=s.newton_tol, tried=mem.tried)
+        if a is not None and _on_an_equilibrium(smap, a, grid):
+            a = None                 # undecided: it runs on until it leaves the equilibrium
         if _neutral(smap, o, t.k, a):
             t.outcome, t.periods = OUTCOMES["neutral"], t.periods + length
             continue
@@ -392,6 +395,16 @@ def _record_and_classify(smap, tracks, rest, grid, s: Settings, found: list, own
             _with_area_rate(smap, a, o, t.k)          # once per new non-periodic attractor
 
 
+def _on_an_equilibrium(smap, a: Attractor, grid: Grid) -> bool:
+    """Whether a non-periodic set ``a`` of an autonomous flow (``sample_step``) spans less than a grid cell: a start still
+    on an unstable equilibrium, stretching at its rate, not a chaotic set.  The Hopf normal form of
+    tests/test_census_flows.py past its Hopf point: the seed from the neighbouring value's fixed point (the origin,
+    an equilibrium at every value) sits on it to 1e-17 and its record's exponent is mu dt > 0; it was listed as a
+    chaotic attractor."""
+    return bool(getattr(smap.system, "autonomous", False) and not a.periodic
+                and np.max(np.ptp(grid.gridded(a.points), axis=0)) < 1.0)
+
+
 def _with_area_rate(smap, a: Attractor, record, k0: int) -> Attractor:
     """``a`` with the area rate of its record (:func:`.identify.area_rate`; 48 exact one-period Jacobians, so it is
     computed only for a new attractor or an impact-free record)."""
@@ -409,9 +422,30 @@ def _neutral(smap, record, k0: int, a) -> bool:
     the 16 non-periodic sets the census met; their 146 undecided starts ran to the periods' budget)."""
     if a is not None and a.periodic or np.any(np.asarray(record.impacts_per_step)):
         return False
+    if getattr(smap.system, "autonomous", False):      # a flow's own direction neither stretches nor contracts
+        lo, hi = volume_rate(smap, record, k0)[1:]
+        return bool(no_contraction(lo, hi) and hi - lo <= NEUTRAL_WIDTH)
     lo, hi = _with_area_rate(smap, a, record, k0).area_rate_interval if a is not None else \
         area_rate(smap, record, k0)[1:]
     return bool(no_contraction(lo, hi) and hi - lo <= NEUTRAL_WIDTH)
+
+
+def volume_rate(smap, record, k0: int) -> tuple[float, float, float]:
+    """(rate, low, high): the mean log |det J| [per sample] of the exact one-sample Jacobians over a record, with
+    the 95 % batch-means interval (:func:`bifurc.labels.lyapunov.exponent_interval`): the sum of all Lyapunov
+    exponents, the flow's divergence times the step.  The neutrality test of an autonomous flow (``sample_step``):
+    on its limit cycle one exponent is 0 along the flow, so the two leading exponents' sum (the area rate) is the
+    transverse one alone, near 0 close to a Hopf point although the cycle attracts; the whole volume's rate is 0
+    only where the flow dissipates nothing (the modified Lorenz-84 flow of docs/howto/autonomous-flows.md: divergence
+    -1 everywhere, yet with the area rate 11 of 20 starts at a = 5 were "neutral").  NaN where a step fails."""
+    s = []
+    try:
+        for j in range(len(record.points) - 1):
+            with np.errstate(divide="ignore"):
+                s.append(float(np.log(abs(np.linalg.det(smap.linearize(record.state(j), k0 + j).J)))))
+    except (IntegrationFailure, ValueError, ZeroDivisionError, np.linalg.LinAlgError):
+        return math.nan, math.nan, math.nan
+    return exponent_interval(np.asarray(s))
 
 
 #: widest interval of the area rate [per strobe period] that can show a record to be neutral

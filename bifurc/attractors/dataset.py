@@ -10,6 +10,7 @@ from maps.provenance import cf_attrs
 
 from .._version import __version__
 from ..labels.codes import ClassCode
+from ..labels.evidence import rotation_number
 from ..storage.build import coord, dataset, put
 from ..storage.schema import (ATTRACTOR, ATTRACTOR_COORDS, ATTRACTOR_EVENTS, ATTRACTOR_MULTIPLIERS, LIFETIME_VERDICTS,
                               flag_variable, state_variable)
@@ -85,7 +86,25 @@ def attractor_text(ds, i, j) -> str:
         return "absent"
     if CLASS_LABELS[code] == "periodic-no-impact" and int(ds.period.values[i, j]) == 1 and _resting(ds, i, j):
         return "at rest on the stop"
+    if "sample_step" in ds.attrs:
+        return flow_text(code, int(ds.period.values[i, j]))
     return describe(code, int(ds.period.values[i, j]), int(ds.impacts_per_period.values[i, j]))
+
+
+def flow_text(code: int, period: int) -> str:
+    """An autonomous flow's attractor (sampled every ``sample_step``) in the flow's words: a fixed point (the
+    sampled map's period-1 point without impact), a limit cycle (an invariant circle of the sampled map: its samples
+    turn about it, "quasi-periodic"; or a closed orbit whose period is locked to a whole number of steps), a chaotic
+    attractor."""
+    from ..labels.classify import CLASS_LABELS, describe
+    label = CLASS_LABELS[code]
+    if label == "periodic-no-impact":
+        return "fixed point" if period == 1 else f"limit cycle of {period} steps"
+    if label == "quasi-periodic":
+        return "limit cycle"
+    if label == "chaotic":
+        return "chaotic attractor"
+    return describe(code, period, 0)
 
 
 #: mode flags that hold while the bar rests on the stop (thesis-1dof: stuck_bar; a contact mode: contact)
@@ -143,8 +162,9 @@ def census_lines(ds) -> list[str]:
     return lines
 
 
-def _columns(values, per_value, outcomes, n_ids, events, transients=None):
-    """The ATTRACTOR rows as arrays (values, ids + the outcomes)."""
+def _columns(values, per_value, outcomes, n_ids, events, transients=None, step=None):
+    """The ATTRACTOR rows as arrays (values, ids + the outcomes); ``step``: an autonomous flow's sampling step [s]
+    (its limit cycles' periods)."""
     n_att = n_ids + len(OUTCOMES)
     sizes = {"v": len(values), "attractor": n_att}
     cols = {v.name: v.empty(sizes, "v") for v in ATTRACTOR}
@@ -169,6 +189,8 @@ def _columns(values, per_value, outcomes, n_ids, events, transients=None):
             a = found.get(col)
             if a is not None:
                 _put_attractor(cols, i, col, a)
+                if step is not None and a.code == int(ClassCode.QUASI_PERIODIC):
+                    cols["cycle_period"][i, col] = step / rotation_number(a.points)[0]
             ev = events.get((i, col))
             if ev is not None:
                 cols["event"][i, col] = ATTRACTOR_EVENTS.index(ev[0])
@@ -229,7 +251,7 @@ def _flat_dataset(pb, param, values, per_value, outcomes, n_ids, events, starts,
                                        "node": ("node", np.arange(n_node)),
                                        "start": ("start", np.arange(len(starts)))})
     ds["attractor_label"] = coord(ATTRACTOR_COORDS[1], labels)
-    cols = _columns(values, per_value, outcomes, n_ids, events, transients)
+    cols = _columns(values, per_value, outcomes, n_ids, events, transients, system.sample_step)
     for v in ATTRACTOR:
         put(ds, v, v.finish(cols[v.name]), param=param)
     _put_states(ds, system, param, per_value, len(labels), n_node)
@@ -248,6 +270,10 @@ def _flat_dataset(pb, param, values, per_value, outcomes, n_ids, events, starts,
                      **pb.attrs(skip=(param, *skip))})
     if starts.seed is not None:
         ds.attrs["seed"] = int(starts.seed)
+    if system.sample_step is not None:
+        ds.attrs.update(sample_step=system.sample_step, sample_step_units="s",
+                        sampling="an autonomous flow sampled every sample_step: fixed points, limit cycles (invariant "
+                                 "circles of the sampled map) and chaotic attractors of the flow")
     return ds
 
 

@@ -323,6 +323,10 @@ ATTRACTOR = [
              "of its starts are on; none: periodic, not estimated, or another outcome)",
              (("flag_values", np.arange(4, dtype=np.int8)), ("flag_meanings", "none attractor long_lived saddle"))),
     Variable("area_rate_high", PA, float, np.nan, "1", "upper end of the area rate's 95 % interval"),
+    Variable("cycle_period", PA, float, np.nan, "s",
+             "autonomous flow (sample_step): a limit cycle's period, sample_step / the rotation number of its samples "
+             "about their centre (a cycle winding once about its centre, sampled more than twice a period; NaN: "
+             "not a limit cycle or not an autonomous flow)"),
     Variable("n_points", PA, np.int32, 0, "1", "stored strobe states of the attractor (its period, or recorded points)"),
     Variable("match_distance", PA, float, np.nan, "1",
              "state-space distance in grid cells to the attractor it continues at the previous value (NaN: none)"),
