@@ -135,3 +135,46 @@ def test_a_negative_multiplier_has_argument_pi_and_a_chaotic_set_its_verdict():
     assert np.all(np.isnan(ds.multiplier_abs.values[1, k]))
     df = ds.bifurc.table()
     assert list(df.loc[df["r"] == 4.0, "lifetime_verdict"]) == ["attractor"]
+
+
+def _rectified():
+    """q' = -q + cos(pi t) (a drive of period 2 s, as a relay flipping the current), x' = v, v' = -x - v + q^2 (the
+    mechanics see q^2, of period 1 s), sampled every 1 s: the orbit repeats after 2 samples, its mechanical states
+    (x, v) after 1."""
+    import heyoka as hy
+    from maps import HybridSystem, Parameter, State
+    return HybridSystem("rectified-drive", states=[State("x", "m", "position"), State("v", "m s-1", "velocity"),
+                                                   State("q", "C", "charge")],
+                        parameters=[Parameter("g", "1", "drive gain", 0, 10)],
+                        rhs=lambda s: [s.v, -s.x - s.v + s.g * s.q * s.q, -s.q + hy.cos(math.pi * s.t)],
+                        strobe_period=lambda p: 1.0, forcing=lambda p: [0.5], mechanical=("x", "v"))
+
+
+def test_the_mechanical_period_is_that_of_the_mechanical_states_and_the_multipliers_those_of_the_linear_parts():
+    """Closed forms: q = Re(exp(i pi t) / (1 + i pi)) of period 2, so q^2 = |Q|^2 / 2 (1 + Re(Q^2 / |Q|^2 exp(2 i pi t)))
+    of period 1, and x = |Q|^2 / 2 + Re(|Q|^2 / 2 (Q^2/|Q|^2) exp(2 i pi t) / (1 - 4 pi^2 + 2 i pi)) (g = 1).  The
+    variational system is triangular (x, v do not act on q): the monodromy over the 2-sample orbit has the
+    multipliers exp(-2) (q) and exp(2 lambda), lambda = (-1 +- i sqrt 3) / 2 (x, v): a complex pair of modulus exp(-1),
+    arguments +-sqrt 3."""
+    import maps
+    sc = maps.Scene("rectified-drive", "tests/test_census_records.py", None, preset=None,
+                    overrides={"g": (1.0, "tests/test_census_records.py")}, x0={"x": 0.0, "v": 0.0, "q": 0.0},
+                    builder=_rectified, box={"x": (-0.5, 0.5), "v": (-0.5, 0.5), "q": (-1.0, 1.0)})
+    ds = bifurc.attractors(sc, "g", [1.0], n_starts=4, seed=1, progress=False, workers=1, link=False)
+    (j,) = [k for k in range(ds.sizes["attractor"] - len(OUTCOMES)) if ds.present.values[0, k]]
+    assert int(ds.period.values[0, j]) == 2 and int(ds.period_mechanical.values[0, j]) == 1
+    Q = 1.0 / (1.0 + 1j * math.pi)
+    A2 = abs(Q) ** 2 / 2
+
+    def exact(t):
+        X = A2 * (Q ** 2 / abs(Q) ** 2) / (1 - 4 * math.pi ** 2 + 2j * math.pi)
+        e = np.exp(2j * math.pi * t)
+        return np.array([A2 + (X * e).real, (2j * math.pi * X * e).real, (Q * np.exp(1j * math.pi * t)).real])
+    k0 = int(ds.attractor_k0.values[0, j])
+    for node in range(2):
+        got = [float(ds[s].values[0, j, node]) for s in ("x", "v", "q")]
+        assert np.allclose(got, exact(k0 + node), atol=1e-8, rtol=0), (node, got, exact(k0 + node))
+    lam = (-1 + 1j * math.sqrt(3)) / 2
+    _same_multipliers(_multipliers(ds, 0, j), [math.exp(-2.0), np.exp(2 * lam), np.exp(2 * lam.conjugate())], 1e-8)
+    df = ds.bifurc.table()
+    assert list(df["period_mechanical"]) == [1] and df.attrs["units"]["q_at_section"] == "C"
