@@ -100,8 +100,8 @@ def main(argv=None) -> int:
     mod = scene_module()
     import bifurc
     values = np.round(np.arange(4.7, 6.0 + 1e-9, 0.02), 10)
-    ds = bifurc.attractors(mod.LORENZ, "a", values, bifurc.Census(cells=100), starts=bifurc.Box(n=a.starts, seed=1),
-                           progress=True, workers=a.workers)
+    ds = bifurc.attractors(mod.LORENZ, "a", values, bifurc.Census(cells=100, locate=768),
+                           starts=bifurc.Box(n=a.starts, seed=1), progress=True, workers=a.workers)
     seconds = time.perf_counter() - t
     kids = resource.getrusage(resource.RUSAGE_CHILDREN)
     ds.to_netcdf(Path(tempfile.gettempdir()) / f"lorenz84-{a.starts}.nc")
