@@ -112,12 +112,18 @@ class BifurcAccessor:
         return class_at(self._ds, value, branch)
 
     def table(self):
-        """One row per (branch, value): class, period, impacts, Lyapunov exponent, clearance, status...
+        """One row per (branch, value): class, period, impacts, Lyapunov exponent, clearance, status...; on an
+        attractor census one row per (value, attractor present or outcome reached): fraction, periods, impacts,
+        exponent interval, lifetime verdict, every Floquet multiplier, the state at the section
+        (:func:`bifurc.report.census_table`).
 
         A tidy pandas DataFrame (``ds.to_dataframe()`` has no rows when a dimension such as
         ``grazing`` is empty). ``df.attrs["units"]`` maps each column to its units.
         """
         from .labels.classify import CLASS_LABELS, describe
+        if self.kind == "attractors":
+            from .report import census_table
+            return census_table(self._ds)
         self._need("diagram")
         ds = self._ds
         par = ds.attrs["swept_parameter"]

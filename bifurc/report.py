@@ -367,6 +367,48 @@ def attractors_report(ds) -> str:
     return "\n".join(lines) + "\n"
 
 
+def census_table(ds):
+    """An attractors dataset as a tidy table: one row per (point, attractor or outcome) present or reached by a
+    start, with its class in words, basin fraction and interval, periods (strobe and mechanical), impacts, exponent
+    and its interval, lifetime and its verdict, every Floquet multiplier (``multiplier_abs_k``, ``multiplier_arg_k``,
+    k = 1 largest) and its state at the section (node 0, ``<state>_at_section``); ``df.attrs["units"]`` maps each
+    column to its units."""
+    import pandas as pd
+    require_kind(ds, "attractors", "census_table")
+    dims = tuple(d for d in ds.basin_fraction.dims)
+    names = [k for k, v in ds.data_vars.items() if v.dims == dims]
+    cols = {k: ds[k] for k in names}
+    units = {k: ds[k].attrs.get("units", "") for k in names}
+    verdicts = ds.lifetime_verdict.attrs["flag_meanings"].split() if "lifetime_verdict" in ds else []
+    if "multiplier_abs" in ds:
+        for m in range(ds.sizes["multiplier"]):
+            for part in ("abs", "arg"):
+                k = f"multiplier_{part}_{m + 1}"
+                cols[k], units[k] = ds[f"multiplier_{part}"].isel(multiplier=m, drop=True), \
+                    ds[f"multiplier_{part}"].attrs.get("units", "")
+    for st in [k for k, v in ds.data_vars.items() if v.dims == dims + ("node",) and not k.startswith("flag_")]:
+        k = f"{st}_at_section"
+        cols[k], units[k] = ds[st].isel(node=0, drop=True), ds[st].attrs.get("units", "")
+    df = pd.DataFrame({k: v.values.ravel() for k, v in cols.items()})
+    grid = np.meshgrid(*[np.arange(ds.sizes[d]) for d in dims], indexing="ij")
+    for d, idx in zip(dims, grid):
+        df.insert(list(dims).index(d), d, ds[d].values[idx.ravel()] if d != "attractor" else
+                  ds.attractor_label.values[idx.ravel()])
+        units[d] = ds[d].attrs.get("units", "") if d != "attractor" else "1"
+    keep = (df["basin_fraction"] > 0) | (df["present"] > 0)
+    df = df[keep.values].reset_index(drop=True)
+    codes = df["class_code"].to_numpy()
+    from .attractors.dataset import flow_text
+    words = (lambda c, n, m: flow_text(c, n)) if "sample_step" in ds.attrs else describe
+    df.insert(len(dims), "description", [
+        words(int(c), int(n), int(m)) if lab.startswith("A") and c >= 0 else lab.replace("_", " ")
+        for c, n, m, lab in zip(codes, df["period"], df["impacts_per_period"], df["attractor"])])
+    if verdicts:
+        df["lifetime_verdict"] = [verdicts[int(v)] for v in df["lifetime_verdict"]]
+    df.attrs["units"] = {k: units.get(k, "") for k in df.columns}
+    return df
+
+
 #: the report of each dataset kind
 REPORTS = {"attractors": attractors_report, "diagram": classification_report, "map": map_report, "history": history_report, "orbit": orbit_report,
            "branch": branch_report, "accuracy": accuracy_report, "stability": stability_report}

@@ -26,6 +26,7 @@ system structure, tolerance and floating-point type.
 """
 from __future__ import annotations
 
+import functools
 import inspect
 import math
 import os
@@ -227,6 +228,25 @@ def settle_may_act(system, flags, y=None, params=None) -> bool:
     return False
 
 
+def _constant(value: float, params=None) -> float:
+    """``value`` whatever the parameters (an autonomous flow's sampling step as its strobe period; picklable)."""
+    return value
+
+
+def _sample_step(name: str, step, strobe_period, switches, forcing) -> float | None:
+    """The declared sampling step [s] of an autonomous flow, checked: positive and finite, and declared alone
+    (a switch, a forcing or a strobe period is a clock of its own)."""
+    if step is None:
+        return None
+    if strobe_period is not None or switches or forcing:
+        raise ValueError(f"{name!r}: sample_step declares an autonomous flow's sampling step; it has a clock "
+                         f"already (strobe_period, a switch or a forcing): declare one of them")
+    step = float(step)
+    if not (math.isfinite(step) and step > 0.0):
+        raise ParameterError(f"sample_step = {step!r} of {name!r}: must be a finite time step above 0 [s]")
+    return step
+
+
 class HybridSystem:
     """A piecewise-smooth system: states, parameters, flags, rhs, guards, switches; the whole
     declaration is the constructor's arguments (nothing is assigned afterwards).  Keyword-only:
@@ -245,6 +265,10 @@ class HybridSystem:
       2-DOF scenes: bar and rig shifted together); orbits are solved in reduced coordinates.
     - ``strobe_period``: ``f(params) -> T`` [s], the stroboscopic period; by default the period of the
       first periodic switch (1 / its frequency), else of the first forcing frequency.
+    - ``sample_step``: Δt [s], an autonomous flow's sampling step (no switch, no forcing, no
+      ``strobe_period``): its map is the flow sampled every Δt, as Attractors.jl samples a flow
+      (``system.autonomous`` is then True; a census names its attractors fixed points, limit cycles
+      and chaotic sets of the flow).
     - ``forcing``: the forcing frequencies [Hz] in absolute time, as parameter names or
       ``f(params) -> frequencies``: with the switches they give the map's forcing period q.
     - ``options``: the structural options the system was built from (a model's), or None.
@@ -261,7 +285,7 @@ class HybridSystem:
                  settle_if: tuple | Callable | None = None, projections: Mapping | None = None,
                  mode_projections: Mapping | None = None, translation: Mapping[str, float] | None = None,
                  strobe_period: Callable | None = None, forcing: Sequence[str] | Callable | None = None,
-                 options=None, mechanical: Sequence[str] | None = None):
+                 options=None, mechanical: Sequence[str] | None = None, sample_step: float | None = None):
         """``rhs(sym) -> list of expressions`` and ``guards(sym) -> list of Guard`` receive a
         :class:`Symbols` giving ``sym.x``/``sym['x']`` for states, parameters and flags,
         and ``sym.t`` for time.  ``settle(t, y, flags, params) -> flags`` makes the flags
@@ -297,7 +321,9 @@ class HybridSystem:
         self.projections = dict(projections or {})
         self.mode_projections = dict(mode_projections or {})
         self.translation = dict(translation) if translation else None
-        self.strobe_period = strobe_period
+        self.sample_step = _sample_step(name, sample_step, strobe_period, switches, forcing)
+        self.strobe_period = strobe_period if sample_step is None else functools.partial(_constant,
+                                                                                          self.sample_step)
         self.forcing = forcing
         self.options = options
         self.mechanical = tuple(mechanical) if mechanical is not None else None
@@ -407,6 +433,11 @@ class HybridSystem:
         if self.strobe_period is None and self.switches:
             return params[self.switches[0].frequency]
         return None
+
+    @property
+    def autonomous(self) -> bool:
+        """True for an autonomous flow sampled every ``sample_step`` (no switch, no forcing)."""
+        return self.sample_step is not None
 
     @property
     def declares_clock(self) -> bool:

@@ -102,9 +102,18 @@ def _census(ns):
     assert abs(fractions - 1).max() < 1e-12                                     # the fractions sum to 1
 
 
+def _lorenz84(ns):                     # at a = 5 Attractors.jl's tutorial shows a limit cycle beside a chaotic attractor
+    df = ns["table"]
+    assert sorted(df["description"]) == ["chaotic attractor", "limit cycle"]
+    assert abs(df["basin_fraction"].sum() - 1) < 1e-12
+    chaos = df[df["description"] == "chaotic attractor"].iloc[0]
+    assert chaos["lyapunov_low"] > 0 and chaos["lifetime_verdict"] == "attractor"
+
+
 #: what the values a page's blocks comment on must be (the page's path: its check)
 CHECKS = {"README.md": _quick_start, "docs/tutorials/main-job.md": _main_job,
-          "docs/tutorials/frequency-response.md": _branches, "docs/tutorials/census.md": _census}
+          "docs/tutorials/frequency-response.md": _branches, "docs/tutorials/census.md": _census,
+          "docs/howto/autonomous-flows.md": _lorenz84}
 
 
 def test_the_checked_pages_exist():

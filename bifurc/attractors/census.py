@@ -31,10 +31,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from maps.hybrid import HybridState
+from maps.hybrid import HybridState, IntegrationFailure
 
 from ..labels.codes import OUTCOMES, ClassCode
 from ..labels.classify import candidate_periods
+from ..labels.lyapunov import exponent_interval
 from .lifetime import Lifetime, estimate_lifetime, periodic_tail
 from .identify import (Attractor, Grid, approaching, area_rate, contracting, converging, from_chunk, identify,
                        newton_periods, no_contraction, polish_once, same_attractor, same_orbit)
@@ -356,6 +357,8 @@ def _record_and_classify(smap, tracks, rest, grid, s: Settings, found: list, own
             t.outcome = OUTCOMES["escaped" if o.status == "escaped" else "failed"]
             continue
         a = identify(smap, o, t.k, grid, max_period=s.max_period, tol=s.newton_tol, tried=mem.tried)
+        if a is not None and _on_an_equilibrium(smap, a, grid):
+            a = None                 # undecided: it runs on until it leaves the equilibrium
         if _neutral(smap, o, t.k, a):
             t.outcome, t.periods = OUTCOMES["neutral"], t.periods + length
             continue
@@ -387,6 +390,16 @@ def _record_and_classify(smap, tracks, rest, grid, s: Settings, found: list, own
             _with_area_rate(smap, a, o, t.k)          # once per new non-periodic attractor
 
 
+def _on_an_equilibrium(smap, a: Attractor, grid: Grid) -> bool:
+    """Whether a non-periodic set ``a`` of an autonomous flow (``sample_step``) spans less than a grid cell: a start still
+    on an unstable equilibrium, stretching at its rate, not a chaotic set.  The Hopf normal form of
+    tests/test_census_flows.py past its Hopf point: the seed from the neighbouring value's fixed point (the origin,
+    an equilibrium at every value) sits on it to 1e-17 and its record's exponent is mu dt > 0; it was listed as a
+    chaotic attractor."""
+    return bool(getattr(smap.system, "autonomous", False) and not a.periodic
+                and np.max(np.ptp(grid.gridded(a.points), axis=0)) < 1.0)
+
+
 def _with_area_rate(smap, a: Attractor, record, k0: int) -> Attractor:
     """``a`` with the area rate of its record (:func:`.identify.area_rate`; 48 exact one-period Jacobians, so it is
     computed only for a new attractor or an impact-free record)."""
@@ -404,10 +417,36 @@ def _neutral(smap, record, k0: int, a) -> bool:
     the 16 non-periodic sets the census met; their 146 undecided starts ran to the periods' budget)."""
     if a is not None and a.periodic or np.any(np.asarray(record.impacts_per_step)):
         return False
+    if getattr(smap.system, "autonomous", False):      # a flow's own direction neither stretches nor contracts
+        lo, hi = volume_rate(smap, record, k0)[1:]
+        return bool(no_contraction(lo, hi) and hi - lo <= NEUTRAL_WIDTH)
     lo, hi = _with_area_rate(smap, a, record, k0).area_rate_interval if a is not None else \
         area_rate(smap, record, k0)[1:]
     return bool(no_contraction(lo, hi) and hi - lo <= NEUTRAL_WIDTH)
 
+
+def volume_rate(smap, record, k0: int) -> tuple[float, float, float]:
+    """(rate, low, high): the mean log |det J| [per sample] of the exact one-sample Jacobians over a record, with
+    the 95 % batch-means interval (:func:`bifurc.labels.lyapunov.exponent_interval`): the sum of all Lyapunov
+    exponents, the flow's divergence times the step.  The neutrality test of an autonomous flow (``sample_step``):
+    on its limit cycle one exponent is 0 along the flow, so the two leading exponents' sum (the area rate) is the
+    transverse one alone, near 0 close to a Hopf point although the cycle attracts; the whole volume's rate is 0
+    only where the flow dissipates nothing (the modified Lorenz-84 flow of docs/howto/autonomous-flows.md: divergence
+    -1 everywhere, yet with the area rate 11 of 20 starts at a = 5 were "neutral").  The record's first
+    VOLUME_SAMPLES steps (each an exact Jacobian).  NaN where a step fails."""
+    s = []
+    try:
+        for j in range(min(len(record.points) - 1, VOLUME_SAMPLES)):
+            with np.errstate(divide="ignore"):
+                s.append(float(np.log(abs(np.linalg.det(smap.linearize(record.state(j), k0 + j).J)))))
+    except (IntegrationFailure, ValueError, ZeroDivisionError, np.linalg.LinAlgError):
+        return math.nan, math.nan, math.nan
+    return exponent_interval(np.asarray(s))
+
+
+#: steps of a record whose Jacobians give :func:`volume_rate` (96 batches-means samples; the modified Lorenz-84 flow's
+#: divergence is -1 everywhere, its rate exactly -sample_step)
+VOLUME_SAMPLES = 96
 
 #: widest interval of the area rate [per strobe period] that can show a record to be neutral
 NEUTRAL_WIDTH = 0.2
@@ -426,7 +465,7 @@ def _saddle_of(smap, a: Attractor, record, k0: int, grid, s: Settings, found: li
         return None
     life = _persists(smap, record, k0, s)
     a.lifetime, a.lifetime_interval = life.tau, (life.low, life.high)
-    verdict = life.verdict(s.persist)
+    verdict = a.lifetime_verdict = life.verdict(s.persist)
     a.how += f"; {life.text()}: " + {"attractor": "an attractor", "saddle": "a chaotic saddle (lifetime surely below "
                                      f"{s.persist} periods)", "long-lived": "a chaotic transient, not shown to "
                                      f"persist (its lifetime's interval reaches {s.persist} periods)"}[verdict]
@@ -447,10 +486,10 @@ def _undecided_transient(smap, record, k0: int, grid, s: Settings, saddles: list
     if (sd := _known_saddle(cells, saddles)) is not None:
         return sd
     life = _persists(smap, record, k0, s)
-    if life.verdict(s.persist) == "attractor":
+    if (verdict := life.verdict(s.persist)) == "attractor":
         return None
     a = Attractor(int(ClassCode.NOT_CONVERGED), points=np.asarray(record.points, dtype=float).copy(), k0=k0,
-                  cells=cells, lifetime=life.tau, lifetime_interval=(life.low, life.high),
+                  cells=cells, lifetime=life.tau, lifetime_interval=(life.low, life.high), lifetime_verdict=verdict,
                   how=f"{s.max_tries} records undecided; {life.text()}: a transient")
     saddles.append(a)
     return a

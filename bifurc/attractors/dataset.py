@@ -1,6 +1,7 @@
 """The attractors Dataset (kind "attractors"): dims (the parameter, ``attractor``), plus ``node`` for the
 attractors' strobe states and ``start`` for the fresh starts and where each went (basin pictures).
-Every variable is a row of :data:`bifurc.storage.schema.ATTRACTOR`."""
+Every variable is a row of :data:`bifurc.storage.schema.ATTRACTOR` (and the multipliers' rows,
+:data:`bifurc.storage.schema.ATTRACTOR_MULTIPLIERS`, along ``multiplier``)."""
 from __future__ import annotations
 
 import numpy as np
@@ -8,9 +9,11 @@ import numpy as np
 from maps.provenance import cf_attrs
 
 from .._version import __version__
+from ..labels.codes import OUTCOMES, ClassCode, Outcome
+from ..labels.evidence import rotation_number
 from ..storage.build import coord, dataset, put
-from ..storage.schema import ATTRACTOR, ATTRACTOR_COORDS, ATTRACTOR_EVENTS, flag_variable, state_variable
-from ..labels.codes import OUTCOMES, Outcome
+from ..storage.schema import (ATTRACTOR, ATTRACTOR_COORDS, ATTRACTOR_EVENTS, ATTRACTOR_MULTIPLIERS, LIFETIME_VERDICTS,
+                              flag_variable, state_variable)
 from .eventual import saddle_groups
 
 
@@ -78,7 +81,25 @@ def attractor_text(ds, i, j) -> str:
         return "absent"
     if CLASS_LABELS[code] == "periodic-no-impact" and int(ds.period.values[i, j]) == 1 and _resting(ds, i, j):
         return "at rest on the stop"
+    if "sample_step" in ds.attrs:
+        return flow_text(code, int(ds.period.values[i, j]))
     return describe(code, int(ds.period.values[i, j]), int(ds.impacts_per_period.values[i, j]))
+
+
+def flow_text(code: int, period: int) -> str:
+    """An autonomous flow's attractor (sampled every ``sample_step``) in the flow's words: a fixed point (the
+    sampled map's period-1 point without impact), a limit cycle (an invariant circle of the sampled map: its samples
+    turn about it, "quasi-periodic"; or a closed orbit whose period is locked to a whole number of steps), a chaotic
+    attractor."""
+    from ..labels.classify import CLASS_LABELS, describe
+    label = CLASS_LABELS[code]
+    if label == "periodic-no-impact":
+        return "fixed point" if period == 1 else f"limit cycle of {period} steps"
+    if label == "quasi-periodic":
+        return "limit cycle"
+    if label == "chaotic":
+        return "chaotic attractor"
+    return describe(code, period, 0)
 
 
 #: mode flags that hold while the bar rests on the stop (thesis-1dof: stuck_bar; a contact mode: contact)
@@ -136,9 +157,10 @@ def census_lines(ds) -> list[str]:
     return lines
 
 
-def _columns(values, per_value, outcomes, n_ids, events, fractions, transients=None):
+def _columns(values, per_value, outcomes, n_ids, events, fractions, transients=None, step=None):
     """The ATTRACTOR rows as arrays (values, ids + the outcomes); ``fractions``: the census'
-    :class:`~bifurc.attractors.fractions.Fractions`."""
+    :class:`~bifurc.attractors.fractions.Fractions`; ``step``: an autonomous flow's sampling step [s] (its limit
+    cycles' periods)."""
     n_att = n_ids + len(OUTCOMES)
     sizes = {"v": len(values), "attractor": n_att}
     cols = {v.name: v.empty(sizes, "v") for v in ATTRACTOR}
@@ -161,6 +183,8 @@ def _columns(values, per_value, outcomes, n_ids, events, fractions, transients=N
             a = found.get(col)
             if a is not None:
                 _put_attractor(cols, i, col, a)
+                if step is not None and a.code == int(ClassCode.QUASI_PERIODIC):
+                    cols["cycle_period"][i, col] = step / rotation_number(a.points)[0]
             ev = events.get((i, col))
             if ev is not None:
                 cols["event"][i, col] = ATTRACTOR_EVENTS.index(ev[0])
@@ -181,6 +205,13 @@ def _put_transient(cols, i, col, out, via, saddles) -> None:
         return
     cols["lifetime"][i, col] = a.lifetime
     cols["lifetime_low"][i, col], cols["lifetime_high"][i, col] = a.lifetime_interval
+    cols["lifetime_verdict"][i, col] = _verdict(a)
+
+
+def _verdict(a) -> int:
+    """The code of ``a``'s lifetime verdict (:data:`bifurc.storage.schema.LIFETIME_VERDICTS`; 0: none)."""
+    v = getattr(a, "lifetime_verdict", "")
+    return LIFETIME_VERDICTS.index(v) if v in LIFETIME_VERDICTS else 0
 
 
 def _put_attractor(cols, i, col, a) -> None:
@@ -196,6 +227,7 @@ def _put_attractor(cols, i, col, a) -> None:
     cols["lifetime_low"][i, col], cols["lifetime_high"][i, col] = a.lifetime_interval
     cols["area_rate"][i, col] = a.area_rate
     cols["area_rate_low"][i, col], cols["area_rate_high"][i, col] = a.area_rate_interval
+    cols["lifetime_verdict"][i, col] = _verdict(a)
     cols["n_points"][i, col] = len(a.points)
     cols["match_distance"][i, col] = getattr(a, "match_distance", np.nan)
 
@@ -213,10 +245,11 @@ def _flat_dataset(pb, param, values, per_value, outcomes, n_ids, events, starts,
                                        "node": ("node", np.arange(n_node)),
                                        "start": ("start", np.arange(len(starts)))})
     ds["attractor_label"] = coord(ATTRACTOR_COORDS[1], labels)
-    cols = _columns(values, per_value, outcomes, n_ids, events, fractions, transients)
+    cols = _columns(values, per_value, outcomes, n_ids, events, fractions, transients, system.sample_step)
     for v in ATTRACTOR:
         put(ds, v, v.finish(cols[v.name]), param=param)
     _put_states(ds, system, param, per_value, len(labels), n_node)
+    _put_multipliers(ds, system, param, per_value, len(labels))
     for j, st in enumerate(system.states):
         ds[f"start_{st.name}"] = ("start", starts.points[:, j], {"units": st.unit, "long_name": f"start: {st.long_name}"})
     out = np.asarray(outcomes, dtype=np.int32)
@@ -231,6 +264,10 @@ def _flat_dataset(pb, param, values, per_value, outcomes, n_ids, events, starts,
                      **pb.attrs(skip=(param, *skip))})
     if starts.seed is not None:
         ds.attrs["seed"] = int(starts.seed)
+    if system.sample_step is not None:
+        ds.attrs.update(sample_step=system.sample_step, sample_step_units="s",
+                        sampling="an autonomous flow sampled every sample_step: fixed points, limit cycles (invariant "
+                                 "circles of the sampled map) and chaotic attractors of the flow")
     return ds
 
 
@@ -289,6 +326,22 @@ def _as_grid(flat, names):
     ds = xr.Dataset(out, coords=coords, attrs=flat.attrs)
     ds.attrs["swept_parameter2"] = names[1]
     return ds
+
+
+def _put_multipliers(ds, system, param, per_value, n_att) -> None:
+    """Every polished periodic attractor's Floquet multipliers (modulus and argument, largest first; NaN beyond its
+    own count or where none were computed), along a ``multiplier`` dimension of one per state."""
+    d = len(system.states)
+    ds.coords["multiplier"] = coord(ATTRACTOR_COORDS[2], d)
+    data = {v.name: v.empty({"v": len(per_value), "attractor": n_att, "multiplier": d}, "v")
+            for v in ATTRACTOR_MULTIPLIERS}
+    for i, found in enumerate(per_value):
+        for col, a in found.items():
+            m = min(len(a.multiplier_abs), d)
+            data["multiplier_abs"][i, col, :m] = a.multiplier_abs[:m]
+            data["multiplier_arg"][i, col, :m] = a.multiplier_arg[:m]
+    for v in ATTRACTOR_MULTIPLIERS:
+        put(ds, v, data[v.name], param=param)
 
 
 def _put_states(ds, system, param, per_value, n_att, n_node) -> None:

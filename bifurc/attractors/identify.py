@@ -85,6 +85,9 @@ class Attractor:
     lifetime_interval: tuple = (math.nan, math.nan)   # its interval (bifurc.attractors.lifetime)
     area_rate: float = math.nan          # non-periodic: sum of the two leading exponents [per period] (area_rate)
     area_rate_interval: tuple = (math.nan, math.nan)  # its 95 % interval
+    multiplier_abs: tuple = ()           # periodic, polished: every Floquet multiplier's modulus, largest first
+    multiplier_arg: tuple = ()           # and its argument [rad] (the orbit solver's periodic Schur product)
+    lifetime_verdict: str = ""           # non-periodic: "attractor", "long-lived" or "saddle" (lifetime.verdict)
 
     @property
     def periodic(self) -> bool:
@@ -483,11 +486,20 @@ def _polish(smap, orbit, k0, n, grid, tol, rtol, atol, unstable: list | None = N
     code = ClassCode.PERIODIC if m > 0 else ClassCode.PERIODIC_NO_IMPACT
     return Attractor(int(code), n, pm, m, mm, lyapunov=math.log(mu) / n if mu > 0 else -math.inf,
                      max_multiplier=mu, points=nodes, flags=[dict(s.flags or {}) for s in po.nodes],
+                     **multiplier_fields(po.multipliers),
                      k0=po.k0, cells={c for c in grid.keys(np.vstack([nodes, orbit.points[j:]])) if c is not None},
                      min_flight_clearance=_min_flight(orbit),
                      residual=float(po.residual),
                      how=f"recurrence on the grid, then Newton (residual {po.residual:.2g}, "
                          f"{po.iterations} iterations)")
+
+
+def multiplier_fields(mu) -> dict:
+    """The Attractor fields of the Floquet multipliers ``mu``: moduli and arguments [rad], largest modulus first."""
+    mu = np.asarray(mu, dtype=complex)
+    mu = mu[np.argsort(-np.abs(mu), kind="stable")]
+    return {"multiplier_abs": tuple(float(x) for x in np.abs(mu)),
+            "multiplier_arg": tuple(float(x) for x in np.angle(mu))}
 
 
 def _least_period(nodes, q: int, rtol: float, atol: float) -> int:

@@ -20,8 +20,9 @@ from .identify import Attractor, Grid
 
 #: version of the census parts' layout (2: non-periodic sets judged by their lifetime, stored on them; 3: and their
 #: area rate, and each value's saddles; 4: and the saddle each start was last seen on; 5: the one resume store of
-#: bifurc.run.parts, points as parameter dicts; a resume from parts of an older layout is refused)
-CENSUS_PARTS_FORMAT = 5
+#: bifurc.run.parts, points as parameter dicts; 6: and each periodic attractor's
+#: multipliers, each non-periodic set's lifetime verdict; a resume from parts of an older layout is refused)
+CENSUS_PARTS_FORMAT = 6
 
 
 @dataclass

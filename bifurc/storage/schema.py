@@ -321,7 +321,16 @@ ATTRACTOR = [
              "non-periodic attractor: sum of the two leading Lyapunov exponents per strobe period (below 0: the set "
              "contracts areas; about 0: no contraction, as on an area-preserving map's invariant tori; NaN: periodic)"),
     Variable("area_rate_low", PA, float, np.nan, "1", "lower end of the area rate's 95 % interval"),
+    Variable("lifetime_verdict", PA, np.int8, 0, "1",
+             "non-periodic set: its lifetime's interval against the census' horizon (attractor: surely above; "
+             "long_lived: it reaches the horizon; saddle: surely below; the transient entry: that of the saddle most "
+             "of its starts are on; none: periodic, not estimated, or another outcome)",
+             (("flag_values", np.arange(4, dtype=np.int8)), ("flag_meanings", "none attractor long_lived saddle"))),
     Variable("area_rate_high", PA, float, np.nan, "1", "upper end of the area rate's 95 % interval"),
+    Variable("cycle_period", PA, float, np.nan, "s",
+             "autonomous flow (sample_step): a limit cycle's period, sample_step / the rotation number of its samples "
+             "about their centre (a cycle winding once about its centre, sampled more than twice a period; NaN: "
+             "not a limit cycle or not an autonomous flow)"),
     Variable("n_points", PA, np.int32, 0, "1", "stored strobe states of the attractor (its period, or recorded points)"),
     Variable("match_distance", PA, float, np.nan, "1",
              "state-space distance in grid cells to the attractor it continues at the previous value (NaN: none)"),
@@ -333,10 +342,22 @@ ATTRACTOR = [
              "grazing, impact_lost, stick_onset) or global"),
     Variable("event_evidence", PA, str, "", "1", "what links the event, or why it is flagged global"),
 ]
+#: the verdicts of :data:`ATTRACTOR`'s lifetime_verdict (bifurc.attractors.lifetime.Lifetime.verdict's words)
+LIFETIME_VERDICTS = ("none", "attractor", "long-lived", "saddle")
+PAM = (PARAM, "attractor", "multiplier")
+#: a periodic attractor's Floquet multipliers (the orbit solver's periodic Schur product, bifurc.orbits.floquet)
+ATTRACTOR_MULTIPLIERS = [
+    Variable("multiplier_abs", PAM, float, np.nan, "1",
+             "modulus of the polished periodic attractor's Floquet multiplier, largest first (NaN: not periodic, not "
+             "polished, or fewer multipliers)"),
+    Variable("multiplier_arg", PAM, float, np.nan, "rad",
+             "argument of the polished periodic attractor's Floquet multiplier, in (-pi, pi]"),
+]
 ATTRACTOR_COORDS = [
     Variable("attractor", A_, np.int32, 0, "1", "attractor id, matched across values (outcomes last)"),
     Variable("attractor_label", A_, str, "", "1", "attractor name (A0, A1, ... or an outcome: escaped, "
              "not_converged, failed, neutral, transient)"),
+    Variable("multiplier", ("multiplier",), np.int32, 0, "1", "Floquet multiplier of an attractor, by modulus"),
 ]
 
 T = ("time",)
