@@ -146,9 +146,7 @@ def rate(sample: dict, size: dict) -> float:
     cfg = configure(sample, SCENE_2DOF)
     h = maps.simulate(SCENE_2DOF, periods=size["periods_2dof"], dc_law=cfg["dc_law"], ac_sign=cfg["ac_sign"],
                       soil="drift", params=cfg["params"], dt=2e-3, tol=TOL)
-    r = float(h.attrs.get("progression_rate", math.nan)) if "progression_rate" in h.attrs else \
-        float(getattr(h, "progression_rate", math.nan))
-    return 1e3 * r if h.attrs.get("status", "ok") == "ok" else math.nan
+    return 1e3 * float(h.progression_rate) if h.attrs.get("status", "ok") == "ok" else math.nan
 
 
 class SampleJob:
