@@ -46,10 +46,12 @@ FULL = dict(freqs=tuple(np.round(np.arange(4.0, 8.81, 0.2), 1)), volts=tuple(ran
             map_threshold={"coulomb": tuple(np.round(np.geomspace(30, 1000, 9), 1)),
                            "drift": tuple(np.round(np.geomspace(10, 300, 9), 1))},
             map_freqs=tuple(np.round(np.arange(4.0, 8.81, 0.6), 1)), map_volts=(40, 60, 80, 100),
-            depth_freqs=(4.0, 6.0, 8.0), depth_t_max=90.0, fig_5_22_t_max=1500.0)
+            depth_freqs=(4.0, 6.0, 8.0), depth_t_max=90.0, fig_5_22_t_max=1500.0,
+            variant_freqs=(4.0, 4.4, 4.6, 5.2, 6.0, 7.0, 8.0, 8.8))
 QUICK = dict(freqs=(4.4, 5.2, 6.0, 8.0), volts=(50, 90), actuator=(6, 20), ac_levels=(90,), transient=10, record=10,
              map_force=(31.1, 300.0), map_threshold={"coulomb": (100.0, 1000.0), "drift": (30.0, 100.0)},
-             map_freqs=(5.0, 7.0), map_volts=(50, 90), depth_freqs=(6.0,), depth_t_max=15.0, fig_5_22_t_max=None)
+             map_freqs=(5.0, 7.0), map_volts=(50, 90), depth_freqs=(6.0,), depth_t_max=15.0, fig_5_22_t_max=None,
+             variant_freqs=(4.4, 5.2, 6.0, 8.0))
 
 
 def _sweep(param, values, law, size, dc_law=None, options=None, **params):

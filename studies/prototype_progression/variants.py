@@ -40,7 +40,7 @@ def measure(size, sweep, v_amplitude, f_static, quick, say=print) -> dict:
     for name, (opts, params) in VARIANTS.items():
         clock = _time.perf_counter()
         for soil in SOILS:
-            out["freq"][(name, soil)] = sweep("relay_hz", size["freqs"], soil, size, options=opts, **params)
+            out["freq"][(name, soil)] = sweep("relay_hz", _freqs(size), soil, size, options=opts, **params)
             if name in REST_VARIANTS:
                 out["volt"][(name, soil)] = sweep("V", [math.sqrt(2.0) * v for v in size["volts"]], soil, size,
                                                   options=opts, relay_hz=6.0, **params)
@@ -49,6 +49,12 @@ def measure(size, sweep, v_amplitude, f_static, quick, say=print) -> dict:
         say(f"variant {name}: sweeps in {_time.perf_counter() - clock:.1f} s", flush=True)
     out["cells_4hz"] = cells_4hz(V_4HZ["quick" if quick else "full"])
     return out
+
+
+def _freqs(size) -> tuple:
+    """The variants' relay frequencies: ``variant_freqs`` (the full form: 8 of the 25, the escaped ones among
+    them, to fit its budget), else the form's own."""
+    return tuple(size.get("variant_freqs", size["freqs"]))
 
 
 def escapes(freqs, periods, v_amplitude, f_static) -> list:
@@ -108,20 +114,26 @@ def cells_4hz(volts) -> list:
 def report_lines(v, m, size, t55, t52) -> list:
     """The report's sections on the variants, the escapes and the 4 Hz cells."""
     from bifurc.labels.codes import Status
-    freqs = size["freqs"]
+    freqs, main = _freqs(size), list(np.round(size["freqs"], 6))
 
     def cell(sw, i):
         st = int(sw["status"][i])
         return f"{sw['rate'][i]:.3g}" if st == Status.OK else Status(st).name.lower()
 
     names = ["thesis geometry"] + list(VARIANTS)
-    get = lambda name, soil: m["freq"][soil] if name == "thesis geometry" else v["freq"][(name, soil)]  # noqa: E731
+    def get(name, soil):     # the thesis geometry's sweep read at the variants' frequencies
+        if name != "thesis geometry":
+            return v["freq"][(name, soil)]
+        idx = [main.index(round(f, 6)) for f in freqs]
+        return {k: np.asarray(a)[idx] for k, a in m["freq"][soil].items()}
     lines = ["## Variants: the rear stop, the coil delay and the dc-well rest height", "",
              "Each variant on top of the scene (dc_law listing, AC 90 V RMS, F_static 31.1 N): `rear stop`: the housing "
              "at e_rear = 0.1125 m (an assumption); `coil delay`: the DC coil's tau_dc = 1/48 s; `rest 3 mm`: the DC "
              f"well's rest {1e3 * REST:g} mm above the stop (`dc_rest`, the dc-well study's rest height with the most "
              "cells in the thesis' regime), the thesis' geometry having it at d_dc = 62.5 mm.  Rates in mm/s; "
-             "`escaped`: the bar left the model's domain.", ""]
+             f"`escaped`: the bar left the model's domain.  Relay frequencies: {', '.join(f'{f:g}' for f in freqs)} Hz"
+             + (" (8 of the full sweep's 25, the escaped ones among them: the variants' sweeps at all 25 exceed the "
+                "full form's budget on the shared machine)" if len(freqs) < len(main) else "") + ".", ""]
     for soil in SOILS:
         lines += [f"### Rate against relay frequency, {soil} soil (Table 5.5: AC 90 V RMS, actuator 10 V)", "",
                   "| relay [Hz] | thesis | " + " | ".join(names) + " |", "|---" * (2 + len(names)) + "|"]
@@ -226,7 +238,7 @@ def findings(v, m, size) -> list:
     """Per variant the drift and coulomb rates at 6 Hz (+-10 %, at least 0.05 mm/s), the escape census (exact
     counts) and the 4 Hz cells (exact)."""
     from bifurc.findings import Finding
-    i6 = int(np.argmin(np.abs(np.asarray(size["freqs"]) - 6.0)))
+    i6 = int(np.argmin(np.abs(np.asarray(_freqs(size)) - 6.0)))
     out = []
     for (name, soil), sw in v["freq"].items():
         r = float(sw["rate"][i6])
