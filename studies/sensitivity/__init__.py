@@ -244,6 +244,7 @@ def converged(indices: dict, conf_key: str) -> tuple:
 def analyse(rows, Y) -> dict:
     """Per output: Sobol ST with 95 % intervals and its convergence; where it does not converge, delta."""
     from SALib.analyze import delta, sobol
+    from scipy.stats import rankdata
     spec = problem_spec()
     out = {"sobol": {}, "delta": {}, "filled": {}}
     for o in OUTPUTS:
@@ -262,7 +263,7 @@ def analyse(rows, Y) -> dict:
         if not ok:
             try:
                 with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):  # its notices
-                    d = delta.analyze(spec, rows, y, num_resamples=50, seed=1)
+                    d = delta.analyze(spec, rows, rankdata(y) / y.size, num_resamples=50, seed=1)
                 key = next(k for k in ("delta_balanced", "delta_raw", "delta") if k in d)   # SALib's versions
                 dd = {n: {"value": float(d[key][j]), "conf": float(d[key + "_conf"][j])}
                       for j, n in enumerate(spec["names"])}
@@ -312,9 +313,13 @@ def report(result, size, quick) -> str:
               "indices).", "", "## Total indices", "",
               f"Sobol ST with its bootstrap 95 % interval (+- half-width); converged: the top three intervals "
               f"narrower than {WIDTH:g} and no index above 1 beyond its interval.  Where Sobol does not converge, "
-              "the moment-independent delta (Borgonovo, bias-reduced by Plischke's balanced estimator where SALib has it; 50 bootstrap resamples) from the same samples, "
-              "which needs no variance decomposition and so no Saltelli pairs to agree: it converges on a skewed "
-              "or rare output where the Sobol estimator's bootstrap does not.", ""]
+              "the moment-independent delta (Borgonovo; Plischke's bias-reduced estimator where SALib has it; 50 "
+              "bootstrap resamples) from the same samples, on the output's ranks: delta compares the output's "
+              "distribution with and without each input known, so it needs no variance decomposition (a few huge "
+              "values, like the rate's, make the Sobol estimator's bootstrap intervals explode) and is unchanged by a "
+              "monotone transform of the output, which the ranks are (they keep its kernel density estimate off "
+              "the outliers).  Saltelli's rows are not independent draws, which delta assumes: its intervals here "
+              "are indicative.", ""]
     for o, label in OUTPUTS.items():
         lines += [f"### {o}: {label}", ""]
         s, d = result["sobol"][o], result["delta"].get(o)
@@ -334,8 +339,22 @@ def report(result, size, quick) -> str:
                 row += f" {d['indices'][k]['value']:.3f} | ±{d['indices'][k]['conf']:.3f} |"
             lines.append(row)
         lines.append("")
+    floor = inert_floor(result)
+    if floor is not None:
+        lines += [f"The rate does not depend on `start` (the prototype keeps its own start): its delta there, "
+                  f"{floor[0]:.3f} ± {floor[1]:.3f}, is what an inert input reads on these samples, the floor below "
+                  "which no delta ranks an input.", ""]
     lines += ["## Finding", "", finding(result), ""]
     return "\n".join(lines)
+
+
+def inert_floor(result):
+    """(delta, half-width) of ``start`` for the rate (an input the prototype's run does not read), or None."""
+    d = result["delta"].get("rate_mm_s")
+    if not d or not d["indices"]:
+        return None
+    v = d["indices"]["start"]
+    return v["value"], v["conf"]
 
 
 def ranking(result, o) -> tuple:
