@@ -32,6 +32,7 @@ import io
 import json
 import math
 import time as _time
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -262,7 +263,9 @@ def analyse(rows, Y) -> dict:
         out["sobol"][o] = {"indices": s, "converged": ok, "why": why}
         if not ok:
             try:
-                with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):  # its notices
+                with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()), \
+                        warnings.catch_warnings():          # SALib's bin and bias notices (stated in the report)
+                    warnings.simplefilter("ignore")
                     d = delta.analyze(spec, rows, rankdata(y) / y.size, num_resamples=50, seed=1)
                 key = next(k for k in ("delta_balanced", "delta_raw", "delta") if k in d)   # SALib's versions
                 dd = {n: {"value": float(d[key][j]), "conf": float(d[key + "_conf"][j])}
