@@ -23,6 +23,11 @@ def _check(text, path):
     share = float(re.search(r"within ([0-9.e-]+) % of it", viscous).group(1))
     assert share < 1.0
     assert (path / "rates.png").stat().st_size > 20_000 and (path / "maps.png").stat().st_size > 20_000
+    # the stated variants and the 1-DOF 4 Hz cells (issue 46 section 4), each table under its heading
+    for head in ("## Variants: the rear stop, the coil delay and the dc-well rest height",
+                 "## The escaped frequencies: what the bar does there",
+                 "## The 4 Hz mechanical period-1 cells (thesis-1dof, dc_law listing)"):
+        assert head in text
 
 
 def test_tiny_study_report_names_every_law_and_a_cause_per_disagreement(tmp_path, monkeypatch):

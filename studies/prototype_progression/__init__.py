@@ -12,6 +12,11 @@ Conventions this study assumes, stated in its report:
 - the measured scatter: two runs at the same nominal settings (6 Hz, AC 90 V, actuator 10 V) gave
   4.92 mm/s (Table 5.4) and 7.93 mm/s (Table 5.5), so a measured rate is compared within the band
   [x 4.92/7.93, x 7.93/4.92] = [x 0.62, x 1.61].
+
+"Thesis geometry" is the scene as it stands: no rear stop, no coil delay, the DC well's rest at d_dc = 62.5 mm.
+The stated variants (studies/prototype_progression/variants.py) add the rear stop, the coil delay, both, and the
+dc-well study's rest height of 3 mm; the escaped frequencies are re-run as time histories; and the 1-DOF model's
+4 Hz mechanical period-1 cells under `listing` are swept in V.  Every finding names its variant.
 """
 from __future__ import annotations
 
@@ -41,20 +46,25 @@ FULL = dict(freqs=tuple(np.round(np.arange(4.0, 8.81, 0.2), 1)), volts=tuple(ran
             map_threshold={"coulomb": tuple(np.round(np.geomspace(30, 1000, 9), 1)),
                            "drift": tuple(np.round(np.geomspace(10, 300, 9), 1))},
             map_freqs=tuple(np.round(np.arange(4.0, 8.81, 0.6), 1)), map_volts=(40, 60, 80, 100),
-            depth_freqs=(4.0, 6.0, 8.0), depth_t_max=90.0, fig_5_22_t_max=1500.0)
-QUICK = dict(freqs=(5.2, 6.0, 8.0), volts=(50, 90), actuator=(6, 20), ac_levels=(90,), transient=10, record=10,
+            depth_freqs=(4.0, 6.0, 8.0), depth_t_max=90.0, fig_5_22_t_max=1500.0,
+            variant_freqs=(4.0, 4.4, 4.6, 5.2, 6.0, 7.0, 8.0, 8.8))
+QUICK = dict(freqs=(4.4, 5.2, 6.0, 8.0), volts=(50, 90), actuator=(6, 20), ac_levels=(90,), transient=10, record=10,
              map_force=(31.1, 300.0), map_threshold={"coulomb": (100.0, 1000.0), "drift": (30.0, 100.0)},
-             map_freqs=(5.0, 7.0), map_volts=(50, 90), depth_freqs=(6.0,), depth_t_max=15.0, fig_5_22_t_max=None)
+             map_freqs=(5.0, 7.0), map_volts=(50, 90), depth_freqs=(6.0,), depth_t_max=15.0, fig_5_22_t_max=None,
+             variant_freqs=(4.4, 5.2, 6.0, 8.0))
 
 
-def _sweep(param, values, law, size, dc_law=None, **params):
-    """Progression rate [mm/s], impact energy per period [J], class and status over ``values``."""
-    from bifurc.sweeps.sweep import sweep
+def _sweep(param, values, law, size, dc_law=None, options=None, **params):
+    """Progression rate [mm/s], impact energy per period [J], class and status over ``values`` (``options``: the
+    problem's structural options of a variant, e.g. ``rear_stop=True``)."""
+    import bifurc
+    import maps
     base = {"V": RMS_TO_AMPLITUDE * REF["ac_rms"], "F_static": ACTUATOR_N_PER_V * REF["actuator"]}
     base.update(params)
-    ds = sweep(SCENE, param, np.asarray(values, float), soil=law, dc_law=dc_law, params=base, transient=size["transient"],
-               record=size["record"], tol=TOL, workers=1, progress=False, lyapunov=False, grazing=False,
-               error_sample=0)
+    pb = maps.problem(SCENE, params=base, soil=law, dc_law=dc_law, **(options or {}))
+    ds = bifurc.sweep(pb, param, np.asarray(values, float),
+                      bifurc.Diagram(transient=size["transient"], record=size["record"], tol=TOL, lyapunov=False,
+                                     grazing=False, error_sample=0), run=bifurc.Run(workers=1, progress=False))
     sub = ds.isel(branch=0)
     return {"rate": 1e3 * sub.progression_rate.values,
             "energy": sub.impact_energy_per_period.values, "class": sub.class_code.values,
@@ -89,6 +99,14 @@ def measure(size, progress=True) -> dict:
         out.setdefault("reference", {})[law] = {V: reference(law, size, V) for V in (REF["ac_rms"], 0.0)}
     from . import depth
     out["depth"] = depth.measure(size, RMS_TO_AMPLITUDE * REF["ac_rms"], ACTUATOR_N_PER_V * REF["actuator"], say)
+    from . import variants
+    out["variants"] = variants.measure(size, _sweep, RMS_TO_AMPLITUDE * REF["ac_rms"], ACTUATOR_N_PER_V * REF["actuator"],
+                                       quick=size is QUICK, say=say)
+    from bifurc.labels.codes import Status
+    gone = [f for f, st in zip(size["freqs"], out["freq"]["drift"]["status"]) if st == Status.ESCAPED]
+    out["variants"]["escape_periods"] = size["transient"] + size["record"]
+    out["variants"]["escapes"] = variants.escapes(gone, size["transient"] + size["record"],
+                                                  RMS_TO_AMPLITUDE * REF["ac_rms"], ACTUATOR_N_PER_V * REF["actuator"])
     out["table55"] = load_table("progression_vs_frequency")
     out["tables52_54"] = load_table("progression_vs_static")
     return out
@@ -385,6 +403,8 @@ def report(m, size, quick, seconds) -> str:
     from . import depth
     steady = {(law, f): float(m["freq"][law]["rate"][i]) for law in LAWS for i, f in enumerate(size["freqs"])}
     lines += [""] + depth.report_lines(m["depth"], size, t55, steady)
+    from . import variants
+    lines += variants.report_lines(m["variants"], m, size, t55, t)
     lines += ["## What it would take (maps.png)", "",
               "Progression-rate maps over (F_static, soil threshold) at 6 Hz and 90 V RMS, and over (relay "
               "frequency, AC voltage) at F_static 31.1 N, for the coulomb and drift laws; white contours mark "
@@ -403,7 +423,8 @@ def report(m, size, quick, seconds) -> str:
                      (f" ({'; '.join(rows)})" if rows else "") + ".")
     lines += ["", "## Disagreements, each with its measured cause", ""]
     lines += [f"- {s}" for s in disagreements(m, size)]
-    lines += ["", "Figures: rates.png (model against the tables), maps.png (the maps).", ""]
+    lines += ["", "Figures: rates.png (model against the tables), maps.png (the maps), escape.png (an escaped frequency's "
+              "time history, without and with the rear stop).", ""]
     return "\n".join(lines)
 
 
@@ -411,7 +432,7 @@ def run(out, quick=False, progress=True, overwrite=False) -> dict:
     """The study into folder ``out``: ``report.md``, ``rates.png``, ``maps.png``."""
     from bifurc.storage.files import refuse_existing, write_text
     out = Path(out)
-    for name in ("report.md", "rates.png", "maps.png"):
+    for name in ("report.md", "rates.png", "maps.png", "escape.png"):
         refuse_existing(out / name, overwrite, hint="use --force")
     out.mkdir(parents=True, exist_ok=True)
     size = QUICK if quick else FULL
@@ -419,6 +440,8 @@ def run(out, quick=False, progress=True, overwrite=False) -> dict:
     m = measure(size, progress=progress)
     seconds = _time.perf_counter() - clock
     figures(m, size, out)
+    from . import variants
+    variants.figure(m["variants"], out)
     write_text(out / "report.md", report(m, size, quick, seconds), overwrite=True)
     return {"measured": m, "seconds": seconds}
 
@@ -435,6 +458,9 @@ def findings(results, quick) -> list:
     out = []
     for law in LAWS:
         r = float(m["freq"][law]["rate"][i6])
-        out.append(Finding(f"steady rate, {law}, 6 Hz", round(r, 4), round(max(0.1 * abs(r), 0.05), 4), "mm s-1"))
-    return out + depth.findings(m["depth"])
+        out.append(Finding(f"steady rate, {law}, 6 Hz, thesis geometry", round(r, 4), round(max(0.1 * abs(r), 0.05), 4),
+                           "mm s-1"))
+    from . import variants
+    thesis = [Finding(f"{f.name}, thesis geometry", f.value, f.tolerance, f.unit) for f in depth.findings(m["depth"])]
+    return out + thesis + variants.findings(m["variants"], m, size)
 
