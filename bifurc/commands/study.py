@@ -27,10 +27,13 @@ DURATIONS = {
                 "now, not measured)", "quick at b03ac21, 2026-11-29; full at 411e9dd, 2026-11-29"),
     "attractor-atlas": ("91 s of CPU over 2 workers; 383 s at load 7-8", "12 min (718 s)",
                         "quick at b03ac21, 2026-11-29; full at fc9ed40, 2026-11-27, report commit 8dc852c"),
-    "prototype-progression": ("about 30 s", "1-3 min (62-180 s)", "reports of e448f76 and b9c6343, 2026-11-26, shared cores"),
+    "prototype-progression": ("21-124 s at load 6-9", "1396 s at load 6-9 (8 of 25 frequencies for the variants)",
+                              "both at 34b2ffa, 2026-11-29"),
     "regime-maps": ("326 s of CPU over 2 workers; 743 s at load 9-10", "not measured: 41 x 41 cells a map, 34 times "
                     "the quick form's", "quick at b03ac21, 2026-11-29"),
-    "sensitivity": ("17 s", "66 min (3964 s) at load 3-6", "reports of 4cb9b9d and 9ca1eec, 2026-11-26"),
+    "sensitivity": ("38-41 s at load about 7", "not run at N = 256 (about 0.6 h on 2 idle cores by its 1.8 s of CPU "
+                    "per sample); the committed report's reduced N = 32: 2534 s on 1 worker at load 6-9",
+                    "both at dfb2286, 2026-11-29"),
     "thesis-1dof-relay": ("86 s of CPU over 2 workers; 416 s at load 9-11", "833 s at load 7-9; about 1.5 min idle (3 "
                           "diagrams like the main job's 28.9 s)",
                           "quick at b03ac21, 2026-11-29; full at b962ece, 2026-11-27, newcomer review 4"),
