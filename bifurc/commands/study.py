@@ -16,33 +16,27 @@ from ._common import add_force_option
 GROUP = "bifurc.studies"
 
 #: What each study costs on the shared 2-core development machine: (quick form, full form, where the figures
-#: come from). Committed measurements only, with their commit, date and load where stated; "idle" marks a
-#: figure from a quiet machine (a loaded one is slower by about the load over the cores); "s of CPU" is the seconds of
-#: processor time the form used (user + system, its worker processes included) at the load stated: an upper bound of
-#: one process's idle wall time (CPU time grows under load too: the main job used 155-163 s of CPU at load 5-7 on
-#: 2026-11-29, against 25.3 s of wall on 2 idle cores at ed0af0c). `bifurc study --help`
-#: prints this table and README.md states it (tests/test_readme.py checks that they agree).
+#: come from). Committed measurements only, with their commit, date and load where stated; "idle" marks a figure
+#: from a quiet machine (each quick form run alone, one after another, load 0.9-1.7 from the run itself; a loaded
+#: machine is slower by about the load over the cores). `bifurc study --help` prints this table and README.md states
+#: it (tests/test_readme.py checks that they agree).
 DURATIONS = {
-    "dc-well": ("53 s of CPU; 109 s at load 9-10", "513 s at 411e9dd, before its census and windows were added (more "
-                "now, not measured)", "quick at b03ac21, 2026-11-29; full at 411e9dd, 2026-11-29"),
-    "attractor-atlas": ("91 s of CPU over 2 workers; 383 s at load 7-8", "12 min (718 s)",
-                        "quick at b03ac21, 2026-11-29; full at fc9ed40, 2026-11-27, report commit 8dc852c"),
-    "prototype-progression": ("21-124 s at load 6-9", "1396 s at load 6-9 (8 of 25 frequencies for the variants)",
-                              "both at 34b2ffa, 2026-11-29"),
-    "regime-maps": ("326 s of CPU over 2 workers; 743 s at load 9-10", "not measured: 41 x 41 cells a map, 34 times "
-                    "the quick form's", "quick at b03ac21, 2026-11-29"),
-    "sensitivity": ("38-41 s at load about 7", "not run at N = 256 (about 0.6 h on 2 idle cores by its 1.8 s of CPU "
-                    "per sample); the committed report's reduced N = 32: 2534 s on 1 worker at load 6-9",
-                    "both at dfb2286, 2026-11-29"),
-    "thesis-1dof-relay": ("86 s of CPU over 2 workers; 416 s at load 9-11", "833 s at load 7-9; about 1.5 min idle (3 "
-                          "diagrams like the main job's 28.9 s)",
-                          "quick at b03ac21, 2026-11-29; full at b962ece, 2026-11-27, newcomer review 4"),
-    "thesis-2dof-rig": ("5 s of CPU; 5.3 s at load 5", "72 s", "quick at b03ac21, 2026-11-29; full: report of adc9ad6, "
-                        "2026-11-26"),
-    "thesis-orbits": ("53 s of CPU; 329 s at load 9-11", "22 min (1303 s)", "quick at b03ac21, 2026-11-29; full at "
-                      "dabb3d8, 2026-11-26"),
-    "thesis-replay": ("20 s of CPU; 63 s at load 5-6", "9 min (547 s)", "quick at b03ac21, 2026-11-29; full at f2a2b4e, "
-                      "2026-11-27"),
+    "dc-well": ("37 s idle", "513 s at 411e9dd, before its census and windows were added (more now, not measured)",
+                "quick idle at 7ba01d4, 2026-11-29; full at 411e9dd, 2026-11-29"),
+    "attractor-atlas": ("65 s idle", "12 min (718 s)",
+                        "quick idle at 7ba01d4, 2026-11-29; full at fc9ed40, 2026-11-27, report commit 8dc852c"),
+    "prototype-progression": ("20 s idle", "1396 s at load 6-9 (8 of 25 frequencies for the variants)",
+                              "quick idle at 7ba01d4, 2026-11-29; full at 34b2ffa, 2026-11-29"),
+    "regime-maps": ("154 s idle", "not measured: 41 x 41 cells a map, 34 times the quick form's",
+                    "quick idle at 7ba01d4, 2026-11-29"),
+    "sensitivity": ("14 s idle", "not run at N = 256 (about 0.6 h on 2 idle cores by its 1.8 s of CPU per sample); "
+                    "the committed report's reduced N = 32: 2534 s on 1 worker at load 6-9",
+                    "quick idle at 7ba01d4, 2026-11-29; reduced full at dfb2286, 2026-11-29"),
+    "thesis-1dof-relay": ("63 s idle", "833 s at load 7-9 (3 diagrams like the main job's 61 s idle)",
+                          "quick idle at 7ba01d4, 2026-11-29; full at b962ece, 2026-11-27, newcomer review 4"),
+    "thesis-2dof-rig": ("5 s idle", "72 s", "quick idle at 7ba01d4, 2026-11-29; full: report of adc9ad6, 2026-11-26"),
+    "thesis-orbits": ("32 s idle", "22 min (1303 s)", "quick idle at 7ba01d4, 2026-11-29; full at dabb3d8, 2026-11-26"),
+    "thesis-replay": ("17 s idle", "9 min (547 s)", "quick idle at 7ba01d4, 2026-11-29; full at f2a2b4e, 2026-11-27"),
 }
 
 
