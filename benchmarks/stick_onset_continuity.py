@@ -55,8 +55,7 @@ def main():
         if before.impacts == after.impacts or sp.index < 1:
             continue
         earlier = branch.points[sp.index - 1]
-        smap.phase = after.phase
-        back = ContinuationProblem(smap, "V", period, after.k0, scale=cont.scale, p_scale=V1 - V0, p_ref=V0,
+        back = ContinuationProblem(smap.at(phase=after.phase), "V", period, after.k0, scale=cont.scale, p_scale=V1 - V0, p_ref=V0,
                                    tol=1e-11)
         piece = continue_piece(back, SimpleNamespace(nodes=after.nodes), after.p, sp.p - 1.0, max_points=60)
         end = piece.points[-1]

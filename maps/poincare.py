@@ -9,7 +9,6 @@ integral).  A periodic orbit's period is then a multiple of q.
 """
 from __future__ import annotations
 
-import copy
 import functools
 import math
 import time as _time
@@ -305,7 +304,8 @@ class StroboscopicMap:
     def at(self, params: dict | None = None, *, phase: float | None = None) -> "StroboscopicMap":
         """This map at other parameter values (changes to its own) and/or another sampling ``phase``, as a new light
         value: it shares the compiled integrators (the engines and their runs) and leaves this map unchanged."""
-        view = copy.copy(self)
+        view = object.__new__(type(self))
+        view.__dict__.update(self.__dict__)      # a shallow copy: the engines and their caches are shared
         if phase is not None:
             view.phase = validate_value("phase", phase, 0.0, 1.0, high_open=True, long_name="sampling phase")
         if params:

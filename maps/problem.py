@@ -84,6 +84,22 @@ class Problem:
         v = self.values if values is None else values
         return self.system.forcing_q(v, self.strobe_period(v))
 
+    def parameter(self, name: str):
+        """The parameter ``name`` an analysis varies (:class:`~maps.parameters.Parameter`); a one-line error for an
+        unknown name, and for a DC-well input (``dc_rest``, ``dc_stiffness``: set once, they place ``d_dc`` and
+        ``dc_scale`` on the law), naming the parameter to vary instead and how it moves the input here."""
+        from .well import WELL_INPUTS, well
+        if name in WELL_INPUTS and self.options is not None and self.options.dc:
+            w, law = well(self.options, self.values), self.options.dc_law
+            if name == "dc_rest":
+                how = (f"vary d_dc: at these values the rest height is d_dc + {(w['dc_rest'] - self.values['d_dc']) * 1e3:.6g}"
+                       f" mm (dc_law {law}, dc_scale {self.values['dc_scale']:g})")
+            else:
+                how = f"vary dc_scale: the stiffness is {w['dc_stiffness']:.6g} N m-1 at dc_scale {self.values['dc_scale']:g} (dc_law {law})"
+            raise ParameterError(f"parameter {name!r} is a DC-well input, set once (--set {name}=..., or params="
+                                 f"{{{name!r}: ...}}), not varied by an analysis; {how}")
+        return self.system.parameter(name)
+
     # ----- variants ---------------------------------------------------------------
     def with_values(self, **values) -> "Problem":
         """The same problem with parameter values changed (validated; provenance "set by user")."""

@@ -319,3 +319,21 @@ def test_a_chaotic_label_from_a_finite_record_says_how_long_it_held():
     assert row["class"] == "chaotic"
     assert row["description"].startswith(f"chaotic for at least {int(d.record_used.values[0, 0])} relay periods")
     assert "lifetime" in row["description"] and int(d.record_used.values[0, 0]) >= 400
+
+
+def test_only_maps_changes_a_map_every_analysis_takes_a_new_value():
+    """Issue 45 §4: a map at other parameters or another phase is a new value (``StroboscopicMap.at``); no module of
+    bifurc, studies or benchmarks calls ``set_params`` or assigns a map's ``phase`` (a scan of their source)."""
+    import ast
+    offenders = []
+    for d in ("bifurc", "studies", "benchmarks"):
+        for f in sorted((ROOT / d).rglob("*.py")):
+            for node in ast.walk(ast.parse(f.read_text())):
+                if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "set_params":
+                    offenders.append(f"{f.relative_to(ROOT)}:{node.lineno} set_params")
+                targets = node.targets if isinstance(node, ast.Assign) else []
+                for t in targets:
+                    for el in (t.elts if isinstance(t, ast.Tuple) else [t]):
+                        if isinstance(el, ast.Attribute) and el.attr == "phase":
+                            offenders.append(f"{f.relative_to(ROOT)}:{node.lineno} .phase =")
+    assert offenders == []

@@ -523,7 +523,11 @@ def test_a_fold_that_newton_cannot_locate_at_a_period_doubling_birth_says_so():
 
     def fail(*args, **kw):
         raise NoConvergence("singular bordered Jacobian")
-    problem = SimpleNamespace(smap=SimpleNamespace(phase=0.0), k0=0, correct=fail)
+    class Section(SimpleNamespace):         # a map's sampling section, a value as maps.StroboscopicMap.at gives
+        def at(self, params=None, *, phase=None):
+            return Section(phase=self.phase if phase is None else phase)
+
+    problem = SimpleNamespace(smap=Section(phase=0.0), k0=0, correct=fail)
     sp = detect(problem, a, b, "fold")
     assert sp.kind == "fold" and sp.point is None
     assert "born at a period doubling of a period-2 orbit" in sp.note and "0.0099" in sp.note

@@ -240,3 +240,30 @@ def test_c14s_law_needs_the_listings_reversed_ac_sign():
     hits = moving.impact_time.values
     hits = hits[np.isfinite(hits) & (hits > 15.0)]
     assert len(hits) == 10                                 # one per relay period over the last 10
+
+
+def test_every_analysis_refuses_to_vary_a_well_input_and_names_what_moves_it(capsys):
+    """dc_rest and dc_stiffness are set once; a diagram, map, census or branch in them is refused in one line,
+    before anything runs, naming d_dc (or dc_scale) and the offset between rest and d_dc here: under `fit`
+    the double well's lower root xa* = -(a2 + sqrt(a2^2 + 4 a1 a3)) / (2 a3) (derived here), so rest = d_dc + xa*."""
+    import bifurc
+    p = _pb("fit").values
+    a1, a2, a3 = p["a1"], p["a2"], p["a3"]
+    xa = -(a2 + math.sqrt(a2 * a2 + 4 * a1 * a3)) / (2 * a3)
+    calls = [lambda: bifurc.sweep("thesis-1dof", "dc_rest", [0.005, 0.01], dc_law="fit"),
+             lambda: bifurc.regime_map("thesis-1dof", "V", [80, 90], "dc_rest", [0.005, 0.01], dc_law="fit"),
+             lambda: bifurc.attractors("thesis-1dof", "dc_rest", [0.005], dc_law="fit"),
+             lambda: bifurc.continue_orbit("thesis-1dof", "dc_rest", (0.005, 0.01), dc_law="fit")]
+    for call in calls:
+        with pytest.raises(ParameterError) as err:
+            call()
+        msg = str(err.value)
+        assert "\n" not in msg and "'dc_rest' is a DC-well input" in msg and "vary d_dc" in msg
+        offset_mm = float(msg.split("d_dc + ")[1].split(" mm")[0])
+        assert offset_mm == pytest.approx(xa * 1e3, rel=1e-5)
+    with pytest.raises(ParameterError, match="vary dc_scale: the stiffness is"):
+        bifurc.sweep("thesis-1dof", "dc_stiffness", [10.0, 20.0])
+    assert main(["diagram", "--scene", "thesis-1dof", "--param", "dc_rest", "--from", "0.003", "--to", "0.02",
+                 "--n", "3", "-o", "never.nc"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "vary d_dc" in err

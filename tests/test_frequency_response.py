@@ -93,6 +93,7 @@ def test_branch_switching_at_the_period_doubling_in_omega_at_default_settings():
     free): a stable period-2 orbit on it is the attractor of a long simulation, to 1e-9."""
     import maps
     ds = bifurc.continue_orbit("impact-oscillator", "Omega", (2.5, 3.5), params=P, branch_switch=True, error=False)
+    assert ds.attrs["strobe_period_s"] == pytest.approx(2 * math.pi / 2.5, rel=1e-15)   # at the first value
     doubled = ds.where(ds.branch_id == 1, drop=True)
     assert doubled.sizes["point"] >= 20 and set(doubled.period.values.astype(int)) == {2}
     stable = doubled.where(doubled.stable == 1, drop=True)

@@ -112,7 +112,6 @@ def grid_points(param: str, values, param2: str, values2) -> list:
 
 def _points(param, values, pb) -> tuple[tuple, list]:
     """(parameter names, [point {name: value}]) of an entry point's ``param`` and ``values``."""
-    system = pb.system
     if values is not None and len(values) and all(isinstance(v, Mapping) for v in values):
         names = tuple(values[0])
         if not names or any(tuple(v) != names for v in values):
@@ -130,9 +129,7 @@ def _points(param, values, pb) -> tuple[tuple, list]:
             raise ParameterError(f"values of {param}: a non-empty 1-D list of finite numbers; got {values!r:.60}")
         points = [{param: float(x)} for x in v]
     for k in names:
-        if k not in system.param_names:
-            raise ParameterError(f"param {k!r} is not a parameter of {system.name!r}; its parameters: "
-                                 f"{', '.join(system.param_names)}")
+        pb.parameter(k)     # raises for an unknown name or a well input
     for p in points:
         if not all(np.isfinite(list(p.values()))):
             raise ParameterError(f"points: finite numbers only; got {p}")

@@ -227,19 +227,20 @@ def _resection(problem, pt):
         return None
     old = (smap.phase, problem.k0)
     try:
-        smap.set_params(**{problem.param: pt.p})
+        smap = problem.smap = smap.at({problem.param: pt.p})
         nodes = []
         for j, node in enumerate(pt.nodes):
             t = smap.sample_time(problem.k0 + j) + shift * T
             L = smap.linearize(node, problem.k0 + j, until=min(t, smap.sample_time(problem.k0 + j + 1)))
             nodes.append(L.state)
         phase = smap.phase + shift
-        smap.phase, problem.k0 = (phase - 1.0, problem.k0 + 1) if phase >= 1.0 else (phase, problem.k0)
+        phase, problem.k0 = (phase - 1.0, problem.k0 + 1) if phase >= 1.0 else (phase, problem.k0)
+        problem.smap = smap.at(phase=phase)
         e_p = np.zeros(pt.u.size)
         e_p[-1] = 1.0
         u, F, DF, lins, flags, its = problem.correct(problem.pack(nodes, pt.p), e_p, [dict(s.flags) for s in nodes])
         reference = pt.tangent[-1] * e_p if abs(pt.tangent[-1]) > 1e-3 else e_p
         return problem.point(u, F, DF, lins, flags, its, reference)
     except (NoConvergence, IntegrationFailure, ParameterError):
-        smap.phase, problem.k0 = old
+        problem.smap, problem.k0 = problem.smap.at(phase=old[0]), old[1]
         return None

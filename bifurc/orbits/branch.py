@@ -92,6 +92,9 @@ def _continue_orbit(pb, param, span, m: PALC, start, param2, span2, progress):
         m.period, m.k0, m.transient, m.tol, m.newton_tol, m.step, m.max_step, m.max_points, m.branch_switch, m.error)
     clock = _time.perf_counter()
     a, b = _span("span", span, "from, to")
+    for name in (param, param2):
+        if name is not None:
+            pb.parameter(name)     # an unknown name or a well input: one line, before any value is placed
     values_in = {param: a}
     if param2 is not None:
         if param2 == param:
@@ -150,7 +153,7 @@ def _curves(problem, branches, param2, span2, span, max_points, progress, measur
                 curve = follow_curve(cp, w0, flags_of(sp.point), span2[1], span, max_points=max_points)
                 if measure is not None and curve.special:
                     measure_codim2(cp, curve, *measure)
-                problem.smap.set_params(**{param2: span2[0]})
+                problem.smap = problem.smap.at({param2: span2[0]})
             curve.start = index - 1
             out.append(curve)
             if progress:
@@ -188,7 +191,7 @@ def _switch(smap, problem, sp, span, step, max_step, max_points, say):
     """Follow the period-2n branch born at the period doubling ``sp``: start on the doubled orbit,
     tangent along the multiplier -1's eigenvector v at node 0 (v_{j+1} = J_j v_j, then -v)."""
     pt = sp.point
-    smap.phase = pt.phase                     # the section the period doubling was located in
+    smap = smap.at(phase=pt.phase)            # the section the period doubling was located in
     w, V = np.linalg.eig(monodromy(pt.jacobians))
     v = np.real(V[:, int(np.argmin(np.abs(w + 1.0)))])
     vs = []

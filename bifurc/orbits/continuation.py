@@ -134,7 +134,7 @@ class ContinuationProblem:
         p = self.parameter(u)
         if not math.isfinite(p):
             raise IntegrationFailure("non-finite parameter")
-        self.smap.set_params(**{self.param: p})
+        self.smap = self.smap.at({self.param: p})
         nodes = [self.consistent(s) for s in self.states(u, flags)]
         F, M, C, lins = self.shooting(nodes, (self.param,), np.array([self.p_scale]))
         return F, np.column_stack([M, C]), lins
@@ -275,9 +275,9 @@ def flags_of(pt) -> list:
 @contextlib.contextmanager
 def in_section(problem, pt):
     """Work in the strobe section of branch point ``pt`` (phase and k0), then restore the problem's."""
-    section = (problem.smap.phase, problem.k0)
-    problem.smap.phase, problem.k0 = pt.phase, pt.k0
+    phase, k0 = problem.smap.phase, problem.k0
+    problem.smap, problem.k0 = problem.smap.at(phase=pt.phase), pt.k0
     try:
         yield
-    finally:
-        problem.smap.phase, problem.k0 = section
+    finally:      # the section only: the parameters stay where the work left them
+        problem.smap, problem.k0 = problem.smap.at(phase=phase), k0

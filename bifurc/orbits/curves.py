@@ -111,7 +111,7 @@ class CurveProblem:
         if not np.all(np.isfinite(p)):
             raise NoConvergence("non-finite parameters")
         try:
-            self.base.smap.set_params(**dict(zip(self.names, p)))
+            self.base.smap = self.base.smap.at(dict(zip(self.names, p)))
             nodes = self.base.states(w, flags)
             F, M, C, lins = self.base.shooting(nodes, self.names, self.p_scales)
         except (IntegrationFailure, ZeroDivisionError, ParameterError) as exc:
@@ -302,7 +302,7 @@ def _feedback(problem, w, flags, shift: float = 1e-9) -> float:
     if best is None:
         return math.nan
     _, nodes, lins, w2 = best
-    problem.base.smap.set_params(**dict(zip(problem.names, problem.values(w2))))
+    problem.base.smap = problem.base.smap.at(dict(zip(problem.names, problem.values(w2))))
     try:
         Js = [co.R @ L.J @ co.E for L in lins]
         return normal_form(problem.base, nodes, Js, problem.node, float(w[-1]) * problem.base.smap.period)[-1]
@@ -344,7 +344,7 @@ def _fold_tests(problem, w, flags, eps: float = 1e-5) -> tuple:
         M_plus, M_minus = problem._shoot(w + dv, flags)[2], problem._shoot(w - dv, flags)[2]
         A_pd = M.copy()
         A_pd[problem.N - problem.base.d:, :problem.base.d] += 2 * np.eye(problem.base.d)
-        problem.base.smap.set_params(**dict(zip(problem.names, problem.values(w))))
+        problem.base.smap = problem.base.smap.at(dict(zip(problem.names, problem.values(w))))
     except NoConvergence:
         return math.nan, math.nan
     return float(b @ (M_plus - M_minus) @ v / (2 * eps)), float(np.linalg.det(A_pd))

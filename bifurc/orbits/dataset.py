@@ -151,7 +151,8 @@ def branch_dataset(branches, problem, pb, *, clearances, curves=(), seconds=math
     ds.attrs.update({
         "title": f"{pb.name}: branch of periodic orbits in {param}", "scene": pb.name,
         "continuation_parameter": param, "continuation_parameter_units": p.unit, "k0": problem.k0,
-        "strobe_period_s": problem.smap.period, "tol": problem.smap.tol, "newton_tol": problem.tol,
+        "strobe_period_s": problem.smap.period_for(dict(problem.smap.params, **{param: problem.p_ref})),
+        "tol": problem.smap.tol, "newton_tol": problem.tol,
         "branch_labels": " | ".join(br.label for br in branches),
         "branch_stop_reasons": " | ".join(br.stop_reason for br in branches),
         "newton_iterations_total": int(sum(br.newton_iterations for br in branches)),

@@ -103,9 +103,9 @@ def predict(problem, sp, *, dp_probe: float = 1e-6, max_period: int = 64) -> Gra
     pt = sp.point
     if pt is None or problem.co.a is not None or "t_g" not in sp.data:
         return None
-    smap, param = problem.smap, problem.param
+    param = problem.param
     j, t_g = sp.data["node"], sp.data["t_g"]
-    smap.set_params(**{param: pt.p})
+    problem.smap = problem.smap.at({param: pt.p})
     L, a, gh, hp, M, b, K = normal_form(problem, pt.nodes, pt.jacobians, j, t_g, (param,))
     t = pt.tangent
     dz = t[j * problem.d:(j + 1) * problem.d] * problem.scale / (t[-1] * problem.p_scale)

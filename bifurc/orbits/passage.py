@@ -67,7 +67,7 @@ def restart(problem, sp, last, lo: float, hi: float):
                 tried.append(f"{p:.10g} outside [{lo:.6g}, {hi:.6g}]")
                 break
             nodes = _guess(problem, ref, p - ref.p, None if impacting_side else pred)
-            problem.smap.set_params(**{problem.param: p})
+            problem.smap = problem.smap.at({problem.param: p})
             try:
                 orbit = find_periodic_orbit(problem.smap, nodes, problem.n, k0=problem.k0, tol=problem.tol)
             except (OrbitNotFound, IntegrationFailure, ParameterError) as exc:
@@ -92,8 +92,8 @@ def _graze_virtual(problem, sp, last) -> None:
     """Locate the grazing that the impact slowing to 0 of branch point ``last`` approaches: its orbit less
     that impact (the state just before it with the gap rate set to 0, integrated to the next sample and
     stepped round the period) starts the augmented system (:func:`_graze`)."""
-    smap, system = problem.smap, problem.smap.system
-    smap.set_params(**{problem.param: last.p})
+    smap = problem.smap = problem.smap.at({problem.param: last.p})
+    system = smap.system
     hits = [(abs(system.gap(ev.y_minus, smap.params, ev.t)[1]), j, ev) for j, evs in enumerate(last.events)
             for ev in evs if system.role_of(ev.name) == "impact"]
     if not hits:

@@ -91,7 +91,7 @@ def _regime_map(pb, param, values, param2, values2, m: Diagram, r: Run):
         raise ParameterError(f"param2 {param2!r}: must be a parameter name other than param ({param!r})")
     if values2.size == 0 or not np.all(np.isfinite(values2)):
         raise ParameterError("values2 must be a non-empty array of finite numbers")
-    pb.system.parameter(param2)  # raises for an unknown name
+    pb.parameter(param2)  # raises for an unknown name or a well input
     job = _job(pb.with_values(**{param2: float(values2[0])}), param, values, m)
     pb = job.problem
     for v in values2:            # every value of param2 valid before anything runs

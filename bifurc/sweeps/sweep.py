@@ -164,7 +164,7 @@ def _job(pb, param: str, values: np.ndarray, m: Diagram) -> ValueJob:
     """The ValueJob of a diagram (or a map's first parameter), every value checked before anything runs."""
     if values.size == 0 or not np.all(np.isfinite(values)):
         raise ParameterError("values must be a non-empty array of finite numbers")
-    pb.system.parameter(param)  # raises for an unknown name
+    pb.parameter(param)  # raises for an unknown name or a well input
     for v in values:  # every value must be valid before anything runs
         pb.with_values(**{param: v})
     return ValueJob(pb, param, m.transient, m.record, m.tol, m.max_period, m.rtol, m.atol, m.lyapunov,
