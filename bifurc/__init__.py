@@ -27,7 +27,7 @@ _LAZY = {
     "Run": "run.where", "Diagram": "sweeps.method", "Census": "attractors.method", "Box": "attractors.method",
     "Slice": "attractors.method", "SwitchOn": "attractors.method", "Given": "attractors.method",
     "ByDistance": "attractors.method", "grid_points": "attractors.atlas", "Shooting": "orbits.method",
-    "PALC": "orbits.method",
+    "PALC": "orbits.method", "ClassCode": "labels.codes", "Status": "labels.codes", "Outcome": "labels.codes",
 }
 
 register_accessor_with_xarray()  # ds.bifurc, without importing xarray in worker processes
@@ -36,7 +36,7 @@ __all__ = ["__version__", "sweep", "load", "plot_diagram", "plot_time_history", 
            "classification_report", "class_at", "periodic_orbit", "continue_orbit", "plot_branch", "plot_curves", "plot_orbit",
            "sweep_point", "find_periodic_orbit", "OrbitNotFound", "attractors", "plot_basins",
            "Run", "Diagram", "Census", "Box", "Slice", "SwitchOn", "Given", "ByDistance", "grid_points",
-           "Shooting", "PALC"]
+           "Shooting", "PALC", "ClassCode", "Status", "Outcome"]
 
 
 _lazy_getattr, __dir__ = lazy_exports(__name__, _LAZY, globals())

@@ -84,6 +84,13 @@ class Problem:
         v = self.values if values is None else values
         return self.system.forcing_q(v, self.strobe_period(v))
 
+    def well(self) -> dict:
+        """The DC well at these values (:mod:`maps.well`): ``dc_rest`` [m] (the rest height above the stop, AC off),
+        ``dc_stiffness`` [N m-1], ``dc_depth`` [J], ``dc_range`` [m] (the undamped swing's top from the stop),
+        ``dc_stop_force`` [N]; empty for a scene without a DC solenoid."""
+        from .well import well
+        return well(self.options, self.values)
+
     def parameter(self, name: str):
         """The parameter ``name`` an analysis varies (:class:`~maps.parameters.Parameter`); a one-line error for an
         unknown name, and for a DC-well input (``dc_rest``, ``dc_stiffness``: set once, they place ``d_dc`` and

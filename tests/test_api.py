@@ -337,3 +337,38 @@ def test_only_maps_changes_a_map_every_analysis_takes_a_new_value():
                         if isinstance(el, ast.Attribute) and el.attr == "phase":
                             offenders.append(f"{f.relative_to(ROOT)}:{node.lineno} .phase =")
     assert offenders == []
+
+
+#: what the studies still import from inside the packages (issue 45 §5: studies on public names only), by name.
+#: The list may only shrink: the study kit (findings, never-overwrite writers, provenance), census and label
+#: internals read by the atlas and replay studies, and model measures not yet given a public form.
+STUDY_INTERNALS = {
+    "bifurc.attractors.dataset.attractor_count",
+    "bifurc.attractors.identify.no_contraction", "bifurc.attractors.plots.plot_attractors", "bifurc.findings.Finding",
+    "bifurc.labels.classify.classify_orbit", "bifurc.labels.classify.describe", "bifurc.labels.classify.lyapunov_threshold",
+    "bifurc.labels.codes.OUTCOMES", "bifurc.labels.evidence.torus_evidence", "bifurc.labels.lyapunov.lyapunov_along",
+    "bifurc.orbits.special_points.BIRTH_NOTE", "bifurc.orbits.special_points.LOCATED_KINDS",
+    "bifurc.plots.map.regime_categories", "bifurc.run.executor.available_cores", "bifurc.run.executor.map_values",
+    "bifurc.storage.files.check_figure_output", "bifurc.storage.files.refuse_existing", "bifurc.storage.files.save_figure",
+    "bifurc.storage.files.write_netcdf", "bifurc.storage.files.write_text", "bifurc.storage.load.in_convention",
+    "bifurc.storage.schema.SPECIAL_KINDS", "maps.impacts.impact_table", "maps.progression.held_mode",
+    "maps.progression.held_time", "maps.progression.progression_measures", "maps.provenance.git_commit",
+    "maps.thesis_data.load_table", "maps.transitions.start_flags"}
+
+
+def test_studies_import_public_names_and_no_new_internal_one():
+    """A study imports ``bifurc`` and ``maps`` names from the packages' public surface (``__all__``); the internal
+    names some still use are listed above, and no other may be added (a scan of every study's imports)."""
+    import bifurc
+    import maps
+    public = {"bifurc": set(bifurc.__all__), "maps": set(maps.__all__)}
+    used = set()
+    for f in sorted((ROOT / "studies").rglob("*.py")):
+        for node in ast.walk(ast.parse(f.read_text())):
+            if isinstance(node, ast.ImportFrom) and node.level == 0 and node.module \
+                    and node.module.split(".")[0] in public:
+                top = node.module.split(".")[0]
+                used |= {f"{node.module}.{a.name}" for a in node.names
+                         if not (node.module == top and a.name in public[top])}
+    assert used <= STUDY_INTERNALS, sorted(used - STUDY_INTERNALS)
+    assert STUDY_INTERNALS <= used, f"no longer used, remove from the list: {sorted(STUDY_INTERNALS - used)}"

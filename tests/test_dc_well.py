@@ -267,3 +267,10 @@ def test_every_analysis_refuses_to_vary_a_well_input_and_names_what_moves_it(cap
                  "--n", "3", "-o", "never.nc"]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "vary d_dc" in err
+
+
+def test_a_problem_gives_its_well():
+    """``Problem.well()`` is the public form of the well's numbers: the listing cubic rests at d_dc (its root 0)."""
+    pb = _pb("listing", d_dc=0.02)
+    assert pb.well()["dc_rest"] == pytest.approx(0.02, abs=1e-12) and pb.well() == _well(pb)
+    assert maps.problem("ac-only").well() == {}

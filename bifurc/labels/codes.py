@@ -26,7 +26,8 @@ class _Coded(IntEnum):
 
 
 class ClassCode(_Coded):
-    """Class of a stroboscopic orbit (see :mod:`bifurc.labels.classify`)."""
+    """Class of a stroboscopic orbit, as datasets store it in ``class_code``: ``ds.class_code == ClassCode.CHAOTIC``
+    selects the chaotic values; ``ClassCode(3).label`` is "chaotic"."""
 
     PERIODIC = 0
     PERIODIC_NO_IMPACT = 1
@@ -43,7 +44,7 @@ class ClassCode(_Coded):
 
 
 class Status(_Coded):
-    """How the integration of one parameter value ended."""
+    """How the integration of one parameter value ended, as datasets store it in ``status``."""
 
     OK = 0
     ESCAPED = 1

@@ -72,11 +72,10 @@ def _dc_only(law, params, t_end, dt=1e-3):
 def structure() -> dict:
     """Per law: the derived well and the DC-only measures; the dc_scale runs; the 90 V gap figure."""
     import maps
-    from maps.well import well
     laws = {}
     for law in LAWS:
         pb = maps.problem("dc-only", preset=PRESET, dc_law=law)
-        w = well(pb.options, pb.values)
+        w = pb.well()
         swing = _dc_only(law, {}, 2.0, dt=1e-4)
         row = dict(w, x_max=float(swing.x.max()), x_min=float(swing.x.min()))
         if w["dc_rest"] > 0:
@@ -118,9 +117,8 @@ def settling() -> dict:
 
 def _stop_force(law, scale):
     import maps
-    from maps.well import well
     pb = maps.problem("dc-only", preset=PRESET, dc_law=law, params={"dc_scale": scale})
-    return well(pb.options, pb.values)["dc_stop_force"]
+    return pb.well()["dc_stop_force"]
 
 
 # ----- part 2: the map ------------------------------------------------------------------------------------
@@ -134,7 +132,7 @@ def _stroke(law, sign, params, hz, periods):
 
 
 def _cells(ds, law, sign, params, rest, relays) -> list:
-    from bifurc.report import class_at
+    from bifurc import class_at
     from bifurc.storage.load import in_convention
     dm = in_convention(ds, "mechanical")
     out = []
@@ -158,7 +156,7 @@ def _hammers(cell) -> bool:
 
 def run(out, quick=False, progress=True, overwrite=False, workers=None) -> dict:
     from bifurc.storage.files import write_netcdf, write_text
-    from bifurc.sweeps.sweep import sweep
+    from bifurc import sweep
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     size = QUICK if quick else FULL
@@ -205,8 +203,8 @@ def census(maps_, size, workers) -> list:
     :data:`EXAMPLE`: the share of starts that end on a mechanical period-1 one-impact attractor, and on any
     mechanical period-1 attractor with impacts, with 95 % Wilson intervals."""
     import maps
-    from bifurc.attractors.atlas import attractors
-    from bifurc.attractors.eventual import wilson
+    from bifurc import attractors
+    from scipy.stats import binomtest
     out = []
     for case, m in maps_.items():
         for c in m["cells"]:
@@ -222,8 +220,9 @@ def census(maps_, size, workers) -> list:
             one = int(counts[(code == 0) & (pm == 1) & (im == 1)].sum())
             p1 = int(counts[(code == 0) & (pm == 1) & (im >= 1)].sum())
             n = size["census_starts"]
+            ci = tuple(map(float, binomtest(one, n).proportion_ci(method="wilson")))      # 95 % Wilson score
             out.append({"case": case, "rest": c["rest"], "relay": c["relay"], "n": n, "p1_one": one, "p1": p1,
-                        "p1_one_ci": wilson(one, n), "attractors": int((row.present.values > 0).sum())})
+                        "p1_one_ci": ci, "attractors": int((row.present.values > 0).sum())})
     return out
 
 
@@ -235,10 +234,10 @@ def windows(maps_, sweeps, size) -> list:
     located fold, period doubling, Neimark-Sacker point or grazing, or "branch end" where the continuation
     stopped at ``window_points`` points or the span's end still stable)."""
     from bifurc import continue_orbit, sweep_point
-    from bifurc.report import class_at
+    from bifurc import class_at
     from bifurc.storage.schema import SPECIAL_KINDS
-    from maps.parameters import ParameterError
-    from bifurc.orbits.periodic import OrbitNotFound
+    from maps import ParameterError
+    from bifurc import OrbitNotFound
     out = []
     for case, m in maps_.items():
         if m["law"] not in ("listing", "dynamics-script"):

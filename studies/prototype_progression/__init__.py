@@ -102,7 +102,7 @@ def measure(size, progress=True) -> dict:
     from . import variants
     out["variants"] = variants.measure(size, _sweep, RMS_TO_AMPLITUDE * REF["ac_rms"], ACTUATOR_N_PER_V * REF["actuator"],
                                        quick=size is QUICK, say=say)
-    from bifurc.labels.codes import Status
+    from bifurc import Status
     gone = [f for f, st in zip(size["freqs"], out["freq"]["drift"]["status"]) if st == Status.ESCAPED]
     out["variants"]["escape_periods"] = size["transient"] + size["record"]
     out["variants"]["escapes"] = variants.escapes(gone, size["transient"] + size["record"],
@@ -118,7 +118,7 @@ def reference(law, size, ac_rms) -> dict:
     releases per relay period (the slider starts to yield, the rig to slip), impact energy per relay period [J]."""
     from maps.impacts import impact_table
     from maps.progression import held_mode, held_time, progression_measures
-    from maps.simulate import run_scene
+    from maps import run_scene
     W = REF["relay_hz"]
     p = {"relay_hz": W, "V": RMS_TO_AMPLITUDE * ac_rms, "F_static": ACTUATOR_N_PER_V * REF["actuator"]}
     samples = []
@@ -148,7 +148,7 @@ def _fmt(x):
 
 def _cell(sw, i) -> str:
     """A rate [mm/s] from a sweep's measures, or how the value ended (escaped, failed)."""
-    from bifurc.labels.codes import Status
+    from bifurc import Status
     st = int(sw["status"][i])
     return _fmt(float(sw["rate"][i])) if st == Status.OK else Status(st).name.lower()
 
@@ -231,7 +231,7 @@ def _frequency_trends(m, size) -> list[str]:
     """Escapes and the rate's peak over the relay frequency against Table 5.5."""
     t55, out = m["table55"], []
     freqs = np.asarray(size["freqs"], float)
-    from bifurc.labels.codes import Status
+    from bifurc import Status
     for law in LAWS:
         f = m["freq"][law]
         gone = np.flatnonzero(f["status"] == Status.ESCAPED)

@@ -22,8 +22,8 @@ def depth_run(law, *, compaction=False, relay_hz=6.0, v_amplitude=127.28, f_stat
     """Run the prototype (soil ``law``) from its start until it is ``max(depths)`` [m] into the soil or
     ``t_max`` [s] passed; returns {"times": first time [s] at each depth (NaN: not reached),
     "t", "depth": the samples [s, m], ``per_period`` per relay period, "status": "ok"/"escaped"/"failed"}."""
-    from maps.hybrid import Escaped, IntegrationFailure
-    from maps.simulate import run_scene
+    from maps import Escaped, IntegrationFailure
+    from maps import run_scene
     params = {"relay_hz": float(relay_hz), "V": float(v_amplitude), "F_static": float(f_static)}
     period = 1.0 / float(relay_hz) / int(per_period)
     ts, xs = [], []
@@ -36,7 +36,7 @@ def depth_run(law, *, compaction=False, relay_hz=6.0, v_amplitude=127.28, f_stat
                 xs.append(float(np.asarray(c_out(state["next"]))[ix]))
             state["next"] += period
 
-    from maps.problem import problem
+    from maps import problem
     pb = problem("prototype", None, params, soil=law, compaction=compaction or None, dc_law=dc_law)
     ix = list(pb.system.state_names).index("x2")
     x_start = float(pb.x0["x2"])

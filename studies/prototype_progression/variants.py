@@ -97,7 +97,7 @@ def cells_4hz(volts) -> list:
     """thesis-1dof, listing, 4 Hz: [(V, mechanical class text, full-state class text)] (bifurc.sweep)."""
     import bifurc
     import maps
-    from bifurc.report import class_at
+    from bifurc import class_at
     from bifurc.storage.load import in_convention
     pb = maps.problem("thesis-1dof", dc_law="listing", params={"relay_hz": 4.0})
     ds = bifurc.sweep(pb, "V", np.asarray(volts, float), bifurc.Diagram(lyapunov=False, grazing=False, error_sample=0),
@@ -113,7 +113,7 @@ def cells_4hz(volts) -> list:
 
 def report_lines(v, m, size, t55, t52) -> list:
     """The report's sections on the variants, the escapes and the 4 Hz cells."""
-    from bifurc.labels.codes import Status
+    from bifurc import Status
     freqs, main = _freqs(size), list(np.round(size["freqs"], 6))
 
     def cell(sw, i):

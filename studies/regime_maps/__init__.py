@@ -36,8 +36,8 @@ def run(out, quick=False, progress=True, overwrite=False) -> dict:
     """Every map into folder ``out`` (refused before if occupied, see bifurc.commands.study.run_study):
     ``<case>.nc``, ``<case>.png`` and ``report.md``; returns {case: dataset}."""
     from bifurc.storage.files import write_text
-    from bifurc.plots.map import plot_regime_map
-    from bifurc.sweeps.regime import regime_map
+    from bifurc import plot_regime_map
+    from bifurc import regime_map
     out = Path(out)
     size = QUICK if quick else FULL
     clock = _time.perf_counter()
@@ -56,7 +56,7 @@ def run(out, quick=False, progress=True, overwrite=False) -> dict:
 def hammering(ds, period_of: str = "mechanical"):
     """Boolean (param, param2) mask of the cells that hammer periodically: period-1, 1 impact, in the
     convention ``period_of`` ("mechanical": the bar's; "full": the whole state's)."""
-    from bifurc.labels.codes import ClassCode
+    from bifurc import ClassCode
     from bifurc.storage.load import in_convention
     ds = in_convention(ds, period_of)
     return (ds.class_code == ClassCode.PERIODIC) & (ds.period == 1) & (ds.impacts_per_period == 1)
@@ -80,7 +80,7 @@ def _where(ds, mask) -> str:
 
 def _finding(ds) -> str:
     """The study's question for one map, answered from the cells."""
-    from bifurc.labels.codes import ClassCode
+    from bifurc import ClassCode
     h = hammering(ds)
     n = int(h.sum())
     volt = "V"
@@ -121,7 +121,7 @@ def _counts(ds):
 
 
 def report(results, quick, seconds) -> str:
-    from bifurc.labels.codes import ClassCode
+    from bifurc import ClassCode
     size = QUICK if quick else FULL
     lines = [f"# {NAME}: where the thesis model hammers periodically", "", (__doc__ or "").strip(), "",
              f"Size: {'quick' if quick else 'full'}: {size['n']} x {size['n2']} cells per map, "
@@ -155,7 +155,7 @@ def findings(results, quick) -> list:
     those that are period-1 in the full state too (+-1), the chaotic and not-converged cells (+-2 and 5 %
     of the map: chaotic labels near the threshold may move with round-off), the lowest hammering voltage
     (+- one grid step; NaN: none)."""
-    from bifurc.labels.codes import ClassCode
+    from bifurc import ClassCode
     from bifurc.findings import Finding
     out = []
     for case, ds in results.items():

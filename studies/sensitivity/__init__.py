@@ -91,19 +91,14 @@ def configure(sample: dict, scene: str) -> dict:
     """The model at one sample: {"dc_law", "ac_sign", "params", "x0"} for ``scene`` (the 1-DOF start: at rest at
     ``start`` times the rest height; the 2-DOF scene keeps its own start)."""
     import maps
-    from maps.well import well
     law, sign = level(sample["law"], LAWS), level(sample["ac_sign"], SIGNS)
     preset = PRESET if scene == SCENE else None
-    own = well(*_opts_values(maps.problem(scene, preset, dc_law=law)))
+    own = maps.problem(scene, preset, dc_law=law).well()
     rest = 1e-3 * 10 ** sample["log10_rest_mm"]
     params = {"dc_rest": rest, "dc_stiffness": own["dc_stiffness"] * 2.0 ** sample["log2_stiffness"],
               "c_air": sample["c_air"], "V": sample["V"], "relay_hz": sample["relay_hz"]}
     x0 = {"x": sample["start"] * rest, "v": 0.0, "i": I0, "z": 0.0} if scene == SCENE else None
     return {"dc_law": law, "ac_sign": sign, "params": params, "x0": x0}
-
-
-def _opts_values(pb):
-    return pb.options, pb.values
 
 
 def evaluate(sample: dict, size: dict) -> dict:
@@ -282,7 +277,7 @@ def _f(v, fmt=".3g"):
 
 
 def report(result, size, quick) -> str:
-    from maps._version import __version__
+    from maps import __version__
 
     from .. import provenance
     form = "quick" if quick else "full" if size == FULL else f"reduced full (the full form's runs, N = {size['N']})"

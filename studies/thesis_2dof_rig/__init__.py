@@ -49,8 +49,8 @@ def static_rate(law, params) -> float:
 def measure(size, progress=True) -> dict:
     """{(soil law, DC law): {"rate": (volts, freqs) [mm/s], "impacts": impacts per relay period, "class": codes,
     "status": codes, "static": mm/s}}."""
-    from bifurc.sweeps.sweep import sweep
-    from maps.problem import problem
+    from bifurc import sweep
+    from maps import problem
     say = print if progress else (lambda *a, **k: None)
     out = {}
     for law, dc in ((law, dc) for law in LAWS for dc in DC_LAWS):
@@ -82,7 +82,7 @@ def advanced(m, size) -> dict:
 
 
 def report(m, size, quick, seconds) -> str:
-    from bifurc.labels.codes import ClassCode
+    from bifurc import ClassCode
     lines = [f"# {NAME}: do the impacts advance the horizontal rig?{' -- quick form' if quick else ''}", "",
              (__doc__ or "").strip(), "", provenance(NAME, quick), "",
              f"Form: {'quick' if quick else 'full'}: relay {', '.join(f'{f:g}' for f in size['freqs'])} Hz x AC "

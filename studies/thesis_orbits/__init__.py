@@ -57,8 +57,8 @@ def run(out, quick=False, progress=True, overwrite=False) -> dict:
 
 def _case(law, hz, size, progress) -> dict:
     from bifurc import continue_orbit, sweep
-    from bifurc.orbits.periodic import OrbitNotFound
-    from maps.parameters import ParameterError
+    from bifurc import OrbitNotFound
+    from maps import ParameterError
     params = {"relay_hz": hz}
     diagram = sweep(SCENE, "V", np.linspace(*V_RANGE, size["sweep_n"]), preset=PRESET, dc_law=law, params=params,
                     transient=size["transient"], record=size["record"], progress=False)
@@ -257,7 +257,7 @@ def _restarted_at_stick_onset(branches) -> bool:
 
 
 def report(cases, quick, seconds) -> str:
-    from bifurc.report import class_at
+    from bifurc import class_at
     from bifurc.storage.schema import SPECIAL_KINDS
     lines = [f"# {NAME}: periodic orbits of thesis-1dof continued in V ({'quick' if quick else 'full'} run)", "",
              f"Scene {SCENE}, preset {PRESET} (Table C.1), V over {V_RANGE[0]:g}-{V_RANGE[1]:g} V; relay frequency and "
@@ -329,7 +329,7 @@ def _stroke(ds, law, hz, lo, hi) -> str:
     """The stroke of a period-1 one-impact orbit at the stable point nearest the middle of [lo, hi] V:
     x's range over one relay period and its impact speed and energy (one period simulated from the
     branch's node), as text."""
-    from maps.simulate import simulate
+    from maps import simulate
     V = ds.V.values
     mid = 0.5 * (lo + hi)
     ok = np.flatnonzero((ds.stable.values == 1) & (V >= lo) & (V <= hi))
@@ -354,7 +354,7 @@ def _figure(case, path, overwrite):
     import matplotlib.pyplot as plt
 
     from bifurc.storage.files import save_figure
-    from bifurc.plots.branch import plot_branch
+    from bifurc import plot_branch
     fig, ax = plt.subplots(figsize=(9, 5.5))
     first = True
     for k, ds in enumerate(case["branches"]):
@@ -366,7 +366,7 @@ def _figure(case, path, overwrite):
                     label=f"from {V[0]:g} V toward {way} V")
         first = False
     if first:
-        from bifurc.plots.diagram import plot_diagram
+        from bifurc import plot_diagram
         plt.close(fig)
         plot_diagram(case["diagram"], path, overwrite=overwrite)
         return

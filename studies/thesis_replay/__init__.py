@@ -106,9 +106,9 @@ def well_frequency(law: str, seconds: float = 30.0) -> float:
 def measure(W: float, V: float, law: str, *, preset=PRESET, ac_sign=AC_SIGN, circuit=CIRCUIT, x0=None,
             long_periods=LONG_PERIODS, long_window=LONG_WINDOW, tol=TOL) -> dict:
     """One replay: relay W [Hz], source amplitude V [V], DC law; the 3 s window and the long run."""
-    from maps.engines.scalar import HybridRun
-    from maps.hybrid import Escaped, IntegrationFailure
-    from maps.problem import problem
+    from maps import HybridRun
+    from maps import Escaped, IntegrationFailure
+    from maps import problem
     pb = problem(SCENE, preset, {"V": V, "relay_hz": W}, X0 if x0 is None else x0, circuit=circuit, ac_sign=ac_sign,
                  dc_law=law)
     p, system, y0 = dict(pb.values), pb.system, pb.state_vector()
@@ -149,7 +149,7 @@ def measure(W: float, V: float, law: str, *, preset=PRESET, ac_sign=AC_SIGN, cir
         labelL, perL = _label(strobe[long_from:], imps[long_from:], rtol=1e-6, atol=1e-9)
         if not perL and int(long_window) >= 3:     # not periodic: the Lyapunov exponent tells chaos apart
             from bifurc.labels.lyapunov import lyapunov_along
-            from maps.poincare import StroboscopicMap
+            from maps import StroboscopicMap
             smap = StroboscopicMap(pb, tol=tol)
             lyap = lyapunov_along(smap.step, strobe[long_from:], k0=long_from,
                                   scale=np.maximum(np.abs(strobe[long_from:]).max(axis=0), 1e-9))
