@@ -20,7 +20,7 @@ import time
 import numpy as np
 
 import bifurc
-from bifurc.labels.codes import ClassCode
+from bifurc import ClassCode
 
 
 def main(argv=None) -> int:

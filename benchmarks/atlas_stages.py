@@ -21,7 +21,7 @@ def census_job(law: str, preset, values, n_starts: int):
     from bifurc.attractors.identify import Grid
     from bifurc.attractors.job import CensusJob
     from bifurc.attractors.starts import make_starts
-    from maps.problem import problem
+    from maps import problem
     pb = problem("thesis-1dof", preset, {"relay_hz": 10.0}, dc_law=law)
     st = make_starts(pb, "box", n=n_starts, box={"x": (0.0, 0.03), "v": (-1.5, 1.5)}, seed=1)
     grid = Grid.over(st.box, pb.system, 100, pb.state_vector())
@@ -41,7 +41,7 @@ def main(argv=None):
     a = ap.parse_args(argv)
     from bifurc.attractors import atlas
     from bifurc.attractors.follow import link_event
-    from maps.poincare import StroboscopicMap
+    from maps import StroboscopicMap
     values = np.linspace(a.lo, 220.0, a.n)
     pb, grid, s, job = census_job(a.law, a.preset, values, a.starts)
     clock = time.perf_counter()

@@ -44,7 +44,7 @@ import numpy as np
 import maps
 from bifurc.run.executor import map_values
 from maps.tangent import TANGENT_SIZE
-from bifurc.sweeps.sweep import sweep
+from bifurc import sweep
 
 
 @dataclass(frozen=True)
@@ -518,7 +518,7 @@ def default_diagram(args):
 def bare_tangent(problem, values, full, workers) -> tuple[float, float]:
     """Time :class:`BareBatchTangent` over ``values`` (records as long as those of the product's
     diagram ``full``) and compare its exponents with the product's; returns (wall, CPU) time [s]."""
-    from bifurc.labels.codes import ClassCode
+    from bifurc import ClassCode
     used = full["record_used"].values.ravel()
     problem = replace(problem, records=tuple((float(v), int(r)) for v, r in zip(values, used)
                                              if 0 < r != problem.record))

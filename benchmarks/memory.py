@@ -20,7 +20,7 @@ import time
 
 import numpy as np
 
-from bifurc.sweeps.sweep import sweep
+from bifurc import sweep
 
 
 def main(argv=None):

@@ -48,7 +48,7 @@ from maps.hybrid import settle_may_act
 from maps.poincare import forcing_period_steps
 from bifurc.sweeps.job import ValueJob
 from bifurc.run.executor import map_values
-from bifurc.sweeps.sweep import sweep
+from bifurc import sweep
 from frequency_diagram import BareBatch, _Same
 
 LAWS = ("viscous", "coulomb", "drift")

@@ -27,8 +27,8 @@ import maps
 from bifurc.orbits.arclength import continue_branch, continue_piece
 from bifurc.orbits.continuation import ContinuationProblem
 from bifurc.orbits.orbit import first_guess
-from bifurc.orbits.periodic import find_periodic_orbit
-from maps.poincare import StroboscopicMap
+from bifurc import find_periodic_orbit
+from maps import StroboscopicMap
 
 V0, V1 = 95.0, 300.0
 

@@ -106,7 +106,7 @@ def studies() -> None:
 def estimate_ratio() -> tuple[float, float]:
     """(estimated, measured) seconds per value-relay-period of the README's main job on 9 values, one worker."""
     from bifurc.run.guard import estimate
-    from bifurc.sweeps.sweep import sweep
+    from bifurc import sweep
     with tempfile.TemporaryDirectory() as tmp:
         ds = sweep("thesis-1dof", "relay_hz", np.linspace(2, 10, 9), preset="matlab-listing", params={"V": 90},
                    transient=300, record=100, progress=False, workers=1, path=Path(tmp) / "m.nc")

@@ -1,5 +1,5 @@
 import sys, time, numpy as np
-from maps.poincare import StroboscopicMap
+from maps import StroboscopicMap
 from _census_setup import job, pb, starts
 S = list(starts)
 smap = StroboscopicMap(pb, tol=1e-10); smap.orbits([{}], [S[0]], 1, batch_size=4, events=False)

@@ -1,5 +1,5 @@
 import time, numpy as np, maps
-from maps.poincare import StroboscopicMap
+from maps import StroboscopicMap
 from bifurc.attractors.starts import make_starts
 pb = maps.problem("thesis-1dof", params={"relay_hz": 10.0}, dc_law="measured")
 st = make_starts(pb, "box", n=40, box={"x": (0.0, 0.03), "v": (-1.5, 1.5)}, seed=1)
