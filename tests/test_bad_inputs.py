@@ -13,7 +13,6 @@ import os
 import shutil
 import subprocess
 import sys
-import time
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
@@ -102,19 +101,19 @@ def socket_port():
 
 
 def _run(argv):
+    """(exit code, stdout, stderr) of one command line; (None, "", "timeout") for a hang."""
     env = dict(os.environ, PYTHONPATH=str(ROOT))
-    t0 = time.perf_counter()
     try:
         r = subprocess.run([sys.executable, "-m", "bifurc", *argv], env=env, capture_output=True, text=True,
                            timeout=HANG)
-        return r.returncode, r.stdout, r.stderr, time.perf_counter() - t0, argv
+        return r.returncode, r.stdout, r.stderr
     except subprocess.TimeoutExpired:
-        return None, "", "timeout", time.perf_counter() - t0, argv
+        return None, "", "timeout"
 
 
 @pytest.fixture(scope="module")
 def results(files, request):
-    """Every selected CLI row run once, two at a time: {id: (code, stdout, stderr, seconds)}."""
+    """Every selected CLI row run once, two at a time: {id: (code, stdout, stderr)}."""
     slow = request.config.getoption("--runslow")
     rows = {r[0]: [a.format(**files) for a in r[1]] for r in CLI + CLI4
             if (slow or r[0] in QUICK | QUICK4) and not ("{full}" in " ".join(r[1]) and files["full"] is None)}
@@ -136,7 +135,7 @@ def test_cli_row(row, results, files):
     rid, argv, code, stream = row[:4]
     if "{full}" in " ".join(argv) and files["full"] is None:
         pytest.skip("no small tmpfs can be mounted here; the disk-full path is tested in-process below")
-    got, out, err, seconds, _ = results[rid]
+    got, out, err = results[rid]
     assert got == code, (rid, got, err)
     assert "Traceback" not in err and "Traceback" not in out, (rid, err)
     lines = err.strip().splitlines()
