@@ -271,31 +271,42 @@ def test_relay_frequency_has_no_branch_and_says_so_in_one_line(stored):
     assert r["branches"] == [] and "relay_hz" in r["error"] and "\n" not in r["error"]
 
 
-def test_a_zoom_sweeps_the_range_anew_and_labels_the_stored_value_alike(stored):
-    """Three values around 8.5 Hz in the child process: both stages finish and 8.5 Hz gets the stored class."""
-    from bifurc.explore.compute import Computer, Zoom
+def test_a_zoom_streams_its_chunks_and_labels_the_stored_value_alike(stored):
+    """Six values up to 8.5 Hz in two warm zoom processes (chunks of 5): the picture grows chunk by chunk, both
+    stages finish, every value is there once in order, and 8.5 Hz gets the stored class and the stored strobe
+    points at each stage (the stored diagram was swept with the same transient, record and budget)."""
+    from bifurc.explore.compute import ZOOM_CHUNK, Computer, Spares, Zoom
     ds = bifurc.load(stored)
-    z = Zoom(Computer(ds), 8.45, 8.55, 3, workers=1)
-    stages = []
+    c = Computer(ds)
+    spares = Spares(c, workers=2).fill()
+    values = np.linspace(8.4, 8.5, 6)                       # two chunks: 5 and 1 values (8.5 Hz alone)
+    z = Zoom(c, 8.4, 8.5, 6, workers=2, spares=spares)
+    assert len(z.children) == 2 and not spares.children  # both taken
+    sizes, at_stage = [], {}
     try:
         end = time.monotonic() + 240
         while time.monotonic() < end:
             s = z.poll()
             assert not s["error"], s["error"]
             if s["dataset"] is not None:
-                stages.append(s["dataset"])
+                sizes.append(s["dataset"].sizes["relay_hz"])
+                at_stage.setdefault(s["stage"], s["dataset"])
             if s["stage"] >= 2:
                 break
-            time.sleep(0.2)
+            time.sleep(0.1)
     finally:
         z.close()
-    assert not z.folder.exists()
-    assert len(stages) == 2
+        spares.close()
+    assert not z.folder.exists() and not spares.dir.exists()
+    assert ZOOM_CHUNK == 5 and sizes[0] in (1, 5) and sizes[-1] == 6 and 1 in at_stage and 2 in at_stage
     code, n, m = _expected(ds, CLICKED)
-    for zd in stages:
-        assert np.allclose(zd.relay_hz.values, [8.45, 8.5, 8.55])
-        got = zd.isel(branch=0).sel(relay_hz=8.5)
+    for stage in (1, 2):
+        zd = at_stage[stage]
+        assert np.allclose(zd.relay_hz.values, values)
+        got = zd.isel(branch=0).sel(relay_hz=CLICKED)
         assert (int(got.class_code), int(got.period), int(got.impacts_per_period)) == (code, n, m)
+        stored_x = ds.isel(branch=0).sel(relay_hz=CLICKED).x.values
+        assert np.allclose(got.x.values, stored_x, rtol=1e-9, atol=1e-12, equal_nan=True)
 
 
 def test_a_newer_click_makes_the_older_one_stale(stored):

@@ -3,7 +3,7 @@ phase portrait and periodic orbit, a branch overlaid on a button's press, a zoom
 
 The same :class:`Explorer` is a Jupyter output (``ds.bifurc.explore()``) and a served page (``bifurc explore``,
 :func:`serve`).  Work runs off the page: a click's computation on a thread (a newer click makes an older one's
-result stale, and it is dropped), a zoom in a child process that a newer zoom ends (:class:`bifurc.explore.compute.Zoom`);
+result stale, and it is dropped), a zoom in warm processes that a newer zoom ends (:class:`bifurc.explore.compute.Zoom`, streaming its chunks);
 a periodic callback moves finished results onto the page and shows progress.
 """
 from __future__ import annotations
@@ -18,7 +18,7 @@ from maps.parameters import ParameterError
 
 from ..labels.classify import CLASS_LABELS
 from ..plots.diagram import CLASS_COLOURS
-from .compute import PERIODIC, ZOOM_VALUES, Computer, Zoom, branch_points, value_rows
+from .compute import PERIODIC, ZOOM_VALUES, Computer, Spares, Zoom, branch_points, value_rows
 
 #: milliseconds between two looks at the background work
 POLL_MS = 150
@@ -60,6 +60,10 @@ class Explorer:
         self._selected = None
         self._callback = None
         self._warm = self._pool.submit(self.computer.warm)
+        # warm zoom processes, started once the click's integrators are compiled (they would compete for the cores)
+        self._spares = Spares(self.computer, workers) if zoom else None
+        if self._spares is not None:
+            self._warm.add_done_callback(lambda f: self._spares.fill() if self._spares is not None else None)
         self._build(pn)
         self._show_dataset(ds)
 
@@ -154,8 +158,9 @@ class Explorer:
                    pn.Column(pn.pane.Bokeh(phase), pn.pane.Bokeh(circle), self.orbit_pane, width=340)),
             sizing_mode="stretch_width", name="bifurc explore")
 
-    def _show_dataset(self, ds) -> None:
-        """Paint ``ds`` (the stored diagram or a zoom's) on the diagram and the strip; clicks then refer to it."""
+    def _show_dataset(self, ds, span=None) -> None:
+        """Paint ``ds`` (the stored diagram or a zoom's) on the diagram and the strip; clicks then refer to it;
+        ``span``: the shown range (a zoom's whole range while its chunks land), else the values' own."""
         self.computer = self.stored_computer if ds is self.stored else self.stored_computer.on(ds)
         rows = value_rows(ds)
         vals = rows["value"]
@@ -176,8 +181,8 @@ class Explorer:
                                  top=np.full(vals.size, hi + pad))
         self.branch_source.data = dict(p=[], y=[])
         self._branch_legend.visible = False
-        self.diagram_figure.x_range.start, self.diagram_figure.x_range.end = vals.min() - width, vals.max() + width
-        self._span = (float(vals.min() - width), float(vals.max() + width))
+        self._span = span or (float(vals.min() - width), float(vals.max() + width))
+        self.diagram_figure.x_range.start, self.diagram_figure.x_range.end = self._span
         self._range_seen = (self._span, _time.monotonic())
 
     # ----- what a click does -----------------------------------------------------------------------------------
@@ -292,7 +297,8 @@ class Explorer:
         anytime labels; each stage repaints the diagram when it ends."""
         if self._zoom is not None:
             self._zoom.close()
-        self._zoom = Zoom(self.stored_computer, float(lo), float(hi), n, self.workers)
+        self._zoom = Zoom(self.stored_computer, float(lo), float(hi), n, self.workers, spares=self._spares)
+        self._zoom_refilled = False
         self.progress.visible, self.progress.value = True, 0
         self.status = f"zoom {lo:g} to {hi:g}: sweeping {n} values..."
         return self._zoom
@@ -303,6 +309,8 @@ class Explorer:
             self._zoom.close()
             self._zoom = None
         self._show_dataset(self.stored)
+        if self._spares is not None:
+            self._spares.fill()
         self.whole_button.disabled = True
         self.status = "the stored diagram"
 
@@ -319,8 +327,12 @@ class Explorer:
             return
         s = z.poll()
         if s["dataset"] is not None:
-            self._show_dataset(s["dataset"])
+            step = (z.values[-1] - z.values[0]) / (z.values.size - 1)
+            self._show_dataset(s["dataset"], span=(float(z.values[0] - step), float(z.values[-1] + step)))
             self.whole_button.disabled = False
+        if s["stage"] >= 1 and not self._zoom_refilled and self._spares is not None:
+            self._spares.fill()              # the first picture is shown: warm processes for the next zoom
+            self._zoom_refilled = True
         if s["error"]:
             self.status = f"zoom failed: {s['error']}"
             z.close()
@@ -366,6 +378,9 @@ class Explorer:
         """Stop the background work (a zoom's processes, the thread)."""
         if self._zoom is not None:
             self._zoom.close()
+        if self._spares is not None:
+            self._spares.close()
+            self._spares = None
         if self._callback is not None:
             self._callback.stop()
         self._pool.shutdown(wait=False, cancel_futures=True)
