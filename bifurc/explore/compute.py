@@ -49,7 +49,8 @@ def problem_kwargs(ds) -> dict:
     if "scene" not in a:
         raise ParameterError("this dataset records no scene (attribute 'scene'): written by another tool")
     params = {k[6:]: float(v) for k, v in a.items() if k.startswith("param_") and not k.endswith(("_units", "_source"))}
-    params.pop(a.get("swept_parameter"), None)
+    for par in _swept(ds):
+        params.pop(par, None)
     x0 = {}
     for item in str(a.get("initial_state", "")).split(","):
         name, sep, value = item.partition("=")
@@ -62,6 +63,11 @@ def problem_kwargs(ds) -> dict:
     if a.get("soil_compaction", "none") != "none":
         out["compaction"] = True
     return out
+
+
+def _swept(ds) -> tuple:
+    """The dataset's swept parameters (one, or two for a regime map or a census over two)."""
+    return tuple(ds.attrs[k] for k in ("swept_parameter", "swept_parameter2") if k in ds.attrs)
 
 
 def problem_of(ds):
@@ -199,6 +205,149 @@ class Computer:
             except Exception as exc:  # noqa: BLE001 - shown with its reason
                 errors.append(" ".join(str(exc).split())[:200])
         return {"value": v, "branches": out, "error": "; ".join(errors), "seconds": _time.perf_counter() - clock}
+
+
+class MapComputer:
+    """One stored regime map's clicks: a cell is swept anew as a one-value diagram with the map's own settings
+    (:func:`bifurc.sweep`; the map stores no states), whose :class:`Computer` then gives the cell's time history
+    and periodic orbit as for a diagram value."""
+
+    def __init__(self, ds):
+        require_kind(ds, "map", "the regime map's explorer")
+        self.ds = ds
+        self.param, self.param2 = ds.attrs["swept_parameter"], ds.attrs["swept_parameter2"]
+        self.kwargs = problem_kwargs(ds)
+        a = ds.attrs
+        transient, record = int(a.get("transient_periods", 300)), int(a.get("recorded_periods", 100))
+        self.method = dict(transient=transient, record=record, tol=float(a.get("tol", 1e-10)),
+                           budget=max(int(a.get("budget_periods", transient + record)), transient + record),
+                           max_period=int(a.get("max_period", 100)), error_sample=0, grazing=False)
+        self.values, self.values2 = ds[self.param].values.astype(float), ds[self.param2].values.astype(float)
+
+    def index(self, value, value2) -> tuple[int, int]:
+        """The cell nearest to (value, value2); outside the map refused in one line."""
+        out = []
+        for name, grid, v in ((self.param, self.values, value), (self.param2, self.values2, value2)):
+            step = np.diff(np.sort(grid)).min() if grid.size > 1 else 0.0
+            if not grid.min() - step <= float(v) <= grid.max() + step:
+                raise ParameterError(f"{name} = {v:g}: outside the map's {grid.min():g} to {grid.max():g}")
+            out.append(int(np.argmin(np.abs(grid - float(v)))))
+        return out[0], out[1]
+
+    def cell(self, value, value2) -> dict:
+        """The cell's stored class and, from its one-value diagram, its time history and periodic orbit:
+        :meth:`Computer.history`'s dict with "cell" (i, j), "value2" and "stored" (the map's class text)."""
+        import maps
+
+        from ..sweeps.method import Diagram
+        from ..sweeps.sweep import sweep
+        from ..run.where import Run
+        clock = _time.perf_counter()
+        i, j = self.index(value, value2)
+        v, v2 = float(self.values[i]), float(self.values2[j])
+        kw = copy.deepcopy(self.kwargs)
+        kw["params"][self.param2] = v2
+        d = sweep(maps.problem(**kw), self.param, np.array([v]), Diagram(**self.method),
+                  run=Run(workers=1, progress=False))
+        out = Computer(d).history(v)
+        c = self.ds.isel({self.param: i, self.param2: j})
+        code = int(c.class_code)
+        out.update(cell=(i, j), value2=v2, seconds=_time.perf_counter() - clock,
+                   stored=describe(code, int(c.period), int(c.impacts_per_period)) if code >= 0 else "not computed",
+                   swept=describe(*(int(d.isel(branch=0)[k].values[0]) for k in ("class_code", "period",
+                                                                                  "impacts_per_period"))))
+        return out
+
+
+def map_rows(ds) -> dict:
+    """Per cell of a regime map (flat, row-major over (param, param2)): both values, class label and text."""
+    p1, p2 = ds.attrs["swept_parameter"], ds.attrs["swept_parameter2"]
+    d = ds.transpose(p1, p2)
+    codes = d.class_code.values.astype(int).ravel()
+    n, m = d.period.values.astype(int).ravel(), d.impacts_per_period.values.astype(int).ravel()
+    v1, v2 = np.meshgrid(d[p1].values, d[p2].values, indexing="ij")
+    return {"value": v1.ravel().astype(float), "value2": v2.ravel().astype(float),
+            "label": [CLASS_LABELS[c] if c >= 0 else "missing" for c in codes],
+            "text": [describe(c, a, b) if c >= 0 else "not computed" for c, a, b in zip(codes, n, m)]}
+
+
+class CensusComputer:
+    """One stored census' clicks (an attractors dataset over one parameter): a value's attractors with their
+    class, basin fraction and interval, stored strobe states and the fresh starts' basins, and an attractor's time
+    history from its stored state (:func:`maps.simulate`)."""
+
+    def __init__(self, ds):
+        require_kind(ds, "attractors", "the census' explorer")
+        if "swept_parameter2" in ds.attrs:
+            raise ParameterError("a census over two parameters: the explorer shows a census over one parameter; "
+                                 "ds.bifurc.plot() draws this one")
+        self.ds = ds
+        self.param = ds.attrs["swept_parameter"]
+        self.kwargs = problem_kwargs(ds)
+        self.problem = problem_of(ds)
+        self.values = ds[self.param].values.astype(float)
+        self.states = [k for k in self.problem.system.state_names if k in ds and "node" in ds[k].dims]
+
+    def index(self, value) -> int:
+        lo, hi = self.values.min(), self.values.max()
+        step = np.diff(np.sort(self.values)).min() if self.values.size > 1 else 0.0
+        if not lo - step <= float(value) <= hi + step:
+            raise ParameterError(f"{self.param} = {value:g}: outside the census' {lo:g} to {hi:g}")
+        return int(np.argmin(np.abs(self.values - float(value))))
+
+    def attractors(self, value) -> dict:
+        """{"index", "value", "rows": one per attractor or outcome a start reached or present (label, class text,
+        fraction, low, high, its stored strobe states {state: nodes} for an attractor), "starts": each fresh
+        start's state {state: values} and the label it reached}."""
+        from ..attractors.dataset import attractor_text
+        ds, i = self.ds, self.index(value)
+        rows = []
+        for j, label in enumerate(ds.attractor_label.values):
+            label = str(label)
+            frac = float(ds.basin_fraction.values[i, j])
+            if not (frac > 0 or ds.present.values[i, j]):
+                continue
+            nodes = {}
+            if label.startswith("A"):
+                n = int(ds.period.values[i, j]) if int(ds.period.values[i, j]) > 0 else ds.sizes["node"]
+                nodes = {st: ds[st].values[i, j, :n][np.isfinite(ds[st].values[i, j, :n])] for st in self.states}
+            rows.append({"j": j, "label": label, "text": attractor_text(ds, i, j) if label.startswith("A")
+                         else label.replace("_", " "), "fraction": frac,
+                         "low": float(ds.basin_fraction_low.values[i, j]),
+                         "high": float(ds.basin_fraction_high.values[i, j]), "nodes": nodes})
+        labels = [str(s) for s in ds.attractor_label.values]
+        went = ds.start_attractor.values[i] if "start_attractor" in ds else np.array([], int)
+        starts = {st: ds[f"start_{st}"].values for st in self.states if f"start_{st}" in ds}
+        return {"index": i, "value": float(self.values[i]), "rows": rows, "starts": starts,
+                "went": [labels[k] if 0 <= k < len(labels) else "none" for k in went]}
+
+    def history(self, value, label: str, periods: int = HISTORY_PERIODS) -> dict:
+        """Attractor ``label``'s time history at ``value`` from its stored strobe state (the node at which the
+        forcing is in its phase at t = 0): {"value", "label", "history", "periods", "impacts", "seconds"}."""
+        import maps
+        clock = _time.perf_counter()
+        ds, i = self.ds, self.index(value)
+        labels = [str(s) for s in ds.attractor_label.values]
+        if label not in labels or not label.startswith("A") or not ds.present.values[i, labels.index(label)]:
+            raise ParameterError(f"attractor {label!r}: not an attractor present at {self.param} = "
+                                 f"{self.values[i]:g}")
+        j = labels.index(label)
+        v = float(self.values[i])
+        pb = self.problem.with_values(**{self.param: v})
+        q = maps.StroboscopicMap(pb).forcing_period_for(dict(pb.values))
+        k0 = int(ds.attractor_k0.values[i, j])
+        n = max(1, int(ds.period.values[i, j]))
+        nodes = [r for r in range(min(n, ds.sizes["node"])) if q <= 1 or (k0 + r) % q == 0] or [0]
+        r = nodes[0]
+        start = {st: float(ds[st].values[i, j, r]) for st in pb.system.state_names if st in ds}
+        flags = {k[5:]: bool(ds[k].values[i, j, r]) for k in ds.data_vars if k.startswith("flag_")
+                 and "node" in ds[k].dims}
+        periods = n * max(1, math.ceil(MIN_HISTORY_PERIODS / n)) if int(ds.period.values[i, j]) > 0 else periods
+        T = pb.strobe_period()
+        h = maps.simulate(pb.with_start(start, flags or None), periods=periods,
+                          tol=float(ds.attrs.get("tol", 1e-10)), dt=T / SAMPLES_PER_PERIOD)
+        return {"value": v, "label": label, "history": h, "periods": periods,
+                "impacts": int(h.sizes.get("impact", 0)), "seconds": _time.perf_counter() - clock}
 
 
 def branch_points(br, state: str) -> tuple[np.ndarray, np.ndarray]:
