@@ -575,7 +575,7 @@ class CensusExplorer(Page):
         sa, sb = (ds.attrs.get("slice_states", "") or " ".join(c.states[:2])).split()[:2] \
             if len(c.states) > 1 else (state, state)
         self._pair = (sa, sb)
-        ua, ub = (ds[s].attrs.get("units", "") for s in (sa, sb))
+        ua, ub = (_scale(ds, s)[1] for s in (sa, sb))
         basin = figure(height=300, width=340, name="basins", tools="pan,wheel_zoom,reset",
                        title="basins: each fresh start by the attractor it reached",
                        x_axis_label=f"{sa} [{ua}] at the start", y_axis_label=f"{sb} [{ub}]")
