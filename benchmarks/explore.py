@@ -8,7 +8,7 @@
 - branch: the branch of the impact oscillator's period-1 orbit through e = 0.15 continued to both ends of a diagram
   over e (:meth:`bifurc.explore.compute.Computer.branch`, 200 points at most each way).  Target <= 2 s for 200 points.
 - zoom: 200 new values of the main job (8 to 9 Hz) swept by the explorer's warm zoom processes, one per core
-  (:class:`bifurc.explore.compute.Spares`, ready as a page has them once loaded; :class:`bifurc.explore.compute.Zoom`):
+  (:class:`bifurc.explore.compute.Spares`, ready as a page has them after a click; :class:`bifurc.explore.compute.Zoom`):
   first progress (a chunk of 5 values stored), the first picture (300 + 100 relay periods, no extension), then the
   anytime labels (undecided values extended up to the budget).
   Target: first picture <= 5 s, progress from the first second.
@@ -86,7 +86,7 @@ def main(argv=None) -> int:
     run.figure("branch: time per 200 points (best, scaled)", round(min(times) * 200 / max(points, 1), 3), "s",
                target="2 s")
 
-    spares = Spares(Computer(d)).fill()                     # what the page starts once it has loaded
+    spares = Spares(Computer(d)).fill()                     # what the page starts after the first click
     while spares.ready() < spares.n:
         time.sleep(0.05)
     z = Zoom(Computer(d), 8.0, 9.0, 200, spares=spares)

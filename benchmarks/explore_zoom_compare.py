@@ -7,8 +7,8 @@ Each measurement is a fresh process in the checkout (``PYTHONPATH`` set to it): 
 main job's problem (8.5 Hz), then :class:`bifurc.explore.compute.Zoom` over 8 to 9 Hz on 200 values, timed from the
 zoom's start to its first stored chunk ("first progress") and to its first picture of every value (300 + 100
 relay periods, no extension).  Where the checkout has :class:`bifurc.explore.compute.Spares` (warm zoom processes,
-started with the page), a second figure "new, warm" waits for them to be ready before the zoom, as a page does
-once it has loaded.  Rounds alternate old, new, new warm so that a burst of load falls on all.
+started after the page's first click), a second figure "new, warm" waits for them to be ready before the zoom, as
+on a page a few seconds after a click.  Rounds alternate old, new, new warm so that a burst of load falls on all.
 """
 from __future__ import annotations
 

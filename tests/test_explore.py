@@ -135,11 +135,19 @@ def _move(driver, xy, click=False):
     ab.perform()
 
 
-@contextlib.contextmanager
-def _served(path):
-    """``bifurc explore path`` served on a free loopback port, and a headless Chromium on its page (the page's
-    figures drawn); at the end, no severe message in the browser's console."""
+@pytest.fixture(scope="module")
+def chromium():
+    """One headless Chromium for the module's pages."""
     driver = _browser()
+    yield driver
+    driver.quit()
+
+
+@contextlib.contextmanager
+def _served(path, driver):
+    """``bifurc explore path`` served on a free loopback port, and the headless Chromium ``driver`` on its page
+    (the page's figures drawn); at the end, no severe message in the browser's console."""
+    driver.get_log("browser")                                  # a former page's messages are not this one's
     port = _free_port()
     env = dict(os.environ, PYTHONPATH=str(ROOT))
     server = subprocess.Popen([sys.executable, "-m", "bifurc", "explore", str(path), "--port", str(port),
@@ -159,7 +167,7 @@ def _served(path):
         severe = [e["message"] for e in driver.get_log("browser") if e["level"] == "SEVERE"]
         assert not severe, severe
     finally:
-        driver.quit()
+        driver.get("about:blank")
         server.terminate()
         server.wait(timeout=30)
 
@@ -176,10 +184,10 @@ def _screenshot(driver, tmp_path, name: str) -> None:
         shutil.copy(tmp_path / name, SCREENSHOT.parent / name)
 
 
-def test_served_page_hover_shows_the_stored_class_and_a_click_its_history_and_orbit(stored, tmp_path):
+def test_served_page_hover_shows_the_stored_class_and_a_click_its_history_and_orbit(stored, chromium, tmp_path):
     ds = bifurc.load(stored)
     code, n, m = _expected(ds, CLICKED)
-    with _served(stored) as driver:
+    with _served(stored, chromium) as driver:
         xy = _wait(lambda: driver.execute_script(PIXEL_JS, "diagram", CLICKED), 30, "the diagram drawn")
         _move(driver, xy)
         hovered = describe(code, n, m)                   # "period-17, 12 impacts (17:12)"
@@ -210,7 +218,7 @@ def census(tmp_path_factory):
     return path
 
 
-def test_served_census_click_shows_each_attractor_its_fraction_and_a_history(census, tmp_path):
+def test_served_census_click_shows_each_attractor_its_fraction_and_a_history(census, chromium, tmp_path):
     """Click Omega = 1.3 of a census in the browser: each attractor's class and basin fraction (its starts' count
     over 36, counted here from where each start went) with its interval, and the largest basin's time history,
     whose impacts are j m / n over j periods of a period-n orbit with m impacts."""
@@ -221,7 +229,7 @@ def test_served_census_click_shows_each_attractor_its_fraction_and_a_history(cen
     present = [j for j in range(len(labels)) if labels[j].startswith("A") and (went == j).any()]
     assert len(present) == 2, "the oscillator is bistable at Omega = 1.3"
     from bifurc.attractors.dataset import attractor_text
-    with _served(census) as driver:
+    with _served(census, chromium) as driver:
         xy = _wait(lambda: driver.execute_script(PIXEL_JS, "census", 1.3), 30, "the census drawn")
         _move(driver, xy, click=True)
         text = _wait(lambda: (t := _text(driver)) and "from its stored strobe state" in t and t, 40,
@@ -249,14 +257,14 @@ def regime(tmp_path_factory):
     return path
 
 
-def test_served_map_click_shows_the_cells_class_history_and_orbit(regime, tmp_path):
+def test_served_map_click_shows_the_cells_class_history_and_orbit(regime, chromium, tmp_path):
     """Click the cell (1.25, 0.8) in the browser: its stored class (the map's, computed before), a time history
     with j m / n impacts over j periods, and its periodic orbit with the same period and impacts."""
     ds = bifurc.load(regime)
     c = ds.sel(Omega=1.25, r=0.8)
     code, n, m = int(c.class_code), int(c.period), int(c.impacts_per_period)
     assert code == 0 and n >= 1 and m >= 1, "a periodic cell with impacts"
-    with _served(regime) as driver:
+    with _served(regime, chromium) as driver:
         xy = _wait(lambda: driver.execute_script(PIXEL_JS, "map", 1.25, 0.8), 30, "the map drawn")
         _move(driver, xy)
         text = _wait(lambda: (t := _text(driver)) and describe(code, n, m) in t and t, 10, "the hover tooltip")

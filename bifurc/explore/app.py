@@ -232,10 +232,8 @@ class Explorer(Page):
         self._range_seen = (None, 0.0)       # (range, when it last changed)
         self._selected = None
         self._warm = self._pool.submit(self.computer.warm)
-        # warm zoom processes, started once the click's integrators are compiled (they would compete for the cores)
+        # warm zoom processes, started once the first click is shown (before, they would compete with it)
         self._spares = Spares(self.computer, workers) if zoom else None
-        if self._spares is not None:
-            self._warm.add_done_callback(lambda f: self._spares.fill() if self._spares is not None else None)
         self._build(pn)
         self._show_dataset(ds)
 
@@ -352,6 +350,8 @@ class Explorer(Page):
                                                f"**{r['impacts']} impacts**")
         self.branch_button.disabled = not self.panels.show_orbit(r["orbit"], r["orbit_error"])
         self.status = f"{par} = {r['value']:g}: shown in {wall:.2f} s"
+        if self._spares is not None and not self._spares.children and self._zoom is None:
+            self._spares.fill()              # the first click is shown: warm processes for a zoom
 
     def _show_branch(self, r, wall) -> None:
         ps, ys = [], []

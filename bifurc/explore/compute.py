@@ -410,7 +410,7 @@ def _end(child: subprocess.Popen) -> None:
 
 
 class Spares:
-    """Warm zoom processes kept ready for the next zoom (one per worker): started with the page, each has
+    """Warm zoom processes kept ready for the next zoom (one per worker): started after the first click, each has
     imported bifurc and compiled the problem's integrators before a zoom needs it, so that a zoom's first chunk
     lands within a second.  :meth:`take` hands them to a :class:`Zoom`; :meth:`fill` starts new ones."""
 
