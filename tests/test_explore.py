@@ -434,3 +434,45 @@ def test_a_newer_click_makes_the_older_one_stale(stored):
         assert not ex._pending or all(f.done() for _, _, f, _ in ex._pending)
     finally:
         ex.close()
+
+
+def test_a_zoom_repaints_the_page_from_its_first_chunk_and_its_values_are_clicked_alike(stored):
+    """The page's zoom (Explorer.zoom, 6 values to 8.5 Hz): the diagram is repainted as chunks land (a part of the
+    values first, all at the end), the view stays on the zoomed range, and 8.5 Hz of the zoom, clicked, shows the
+    stored value's impacts (the stored diagram is the truth: same transient, record and budget)."""
+    from bifurc.explore.app import Explorer
+    ds = bifurc.load(stored)
+    ex = Explorer(ds, zoom=False)
+    try:
+        ex.zoom(8.4, 8.5, 6)
+        painted, end = [], time.monotonic() + 240
+        while time.monotonic() < end and "anytime labels shown" not in ex.status:
+            ex._poll()
+            n = len(ex.columns.data["value"])
+            if ex.computer is not ex.stored_computer and (not painted or painted[-1] != n):
+                painted.append(n)
+                r = ex.diagram_figure.x_range
+                assert np.isclose(r.start, 8.38) and np.isclose(r.end, 8.52), (r.start, r.end)
+            assert not ex.status.startswith("zoom failed"), ex.status
+            time.sleep(0.1)
+        assert "anytime labels shown" in ex.status, ex.status
+        assert painted[0] in (1, 5) and painted[-1] == 6, painted
+        ex.select(CLICKED, wait=True)
+        _check_history(ds, ex.history_text)
+    finally:
+        ex.close()
+
+
+def test_map_and_census_refusals_are_one_line(regime, census, tmp_path):
+    from bifurc.explore.app import explorer_of
+    from bifurc.explore.compute import CensusComputer, MapComputer
+    from maps.parameters import ParameterError
+    with pytest.raises(ParameterError, match=r"^Omega = 9: outside the map's 1.25 to 1.3$"):
+        MapComputer(bifurc.load(regime)).index(9.0, 0.8)
+    with pytest.raises(ParameterError, match=r"^Omega = 2: outside the census' 1.25 to 1.3$"):
+        CensusComputer(bifurc.load(census)).attractors(2.0)
+    with pytest.raises(ParameterError, match=r"^attractor 'A7': not an attractor present at Omega = 1.3$"):
+        CensusComputer(bifurc.load(census)).history(1.3, "A7")
+    h = __import__("maps").simulate("impact-oscillator", periods=1)
+    with pytest.raises(ParameterError, match=r"needs a diagram, map or attractors dataset.*this is a history dataset$"):
+        explorer_of(h)

@@ -131,7 +131,10 @@ class Page:
     result stale: it is dropped), a periodic callback that moves finished work onto the page, the status line and
     progress bar."""
 
-    def _start_page(self, pn) -> None:
+    def _start_page(self, pn, ds, computer, title, default: str) -> None:
+        pn.extension(notifications=False)
+        self.stored, self.computer = ds, computer
+        self.title = title or str(ds.attrs.get("title", default))
         self._pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="bifurc-explore")
         self._generation = 0
         self._pending: list = []             # (generation, kind, future, started)
@@ -221,12 +224,9 @@ class Explorer(Page):
 
     def __init__(self, ds, title: str | None = None, workers: int | None = None, zoom: bool = True):
         import panel as pn
-        pn.extension(notifications=False)
-        self.stored = ds
-        self.computer = self.stored_computer = Computer(ds)
+        self._start_page(pn, ds, Computer(ds), title, "diagram")
+        self.stored_computer = self.computer
         self.workers = workers
-        self.title = title or str(ds.attrs.get("title", "diagram"))
-        self._start_page(pn)
         self._zoom: Zoom | None = None
         self._zoom_auto = zoom
         self._range_seen = (None, 0.0)       # (range, when it last changed)
@@ -445,10 +445,7 @@ class MapExplorer(Page):
         import panel as pn
         from bokeh.models import ColumnDataSource, HoverTool, TapTool
         from bokeh.plotting import figure
-        pn.extension(notifications=False)
-        self.stored, self.computer = ds, MapComputer(ds)
-        self.title = title or str(ds.attrs.get("title", "regime map"))
-        self._start_page(pn)
+        self._start_page(pn, ds, MapComputer(ds), title, "regime map")
         p1, p2 = self.computer.param, self.computer.param2
         rows = map_rows(ds)
         half = [np.diff(np.sort(g)).min() / 2 if g.size > 1 else 0.5 for g in (self.computer.values,
@@ -512,10 +509,7 @@ class CensusExplorer(Page):
         import panel as pn
         from bokeh.models import ColumnDataSource, HoverTool, TapTool
         from bokeh.plotting import figure
-        pn.extension(notifications=False)
-        self.stored, self.computer = ds, CensusComputer(ds)
-        self.title = title or str(ds.attrs.get("title", "census"))
-        self._start_page(pn)
+        self._start_page(pn, ds, CensusComputer(ds), title, "census")
         c, par = self.computer, self.computer.param
         state = c.states[0]
         scale, unit = _scale(ds, state)

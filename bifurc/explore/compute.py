@@ -100,6 +100,15 @@ def value_rows(ds) -> dict:
     return rows
 
 
+def nearest(grid, value, name: str, whose: str) -> int:
+    """The index of ``grid``'s value nearest to ``value``; more than a grid step outside refused in one line."""
+    lo, hi = grid.min(), grid.max()
+    step = np.diff(np.sort(grid)).min() if grid.size > 1 else 0.0
+    if not lo - step <= float(value) <= hi + step:
+        raise ParameterError(f"{name} = {value:g}: outside {whose} {lo:g} to {hi:g}")
+    return int(np.argmin(np.abs(grid - float(value))))
+
+
 def start_sample(ds, index: int) -> int:
     """The last recorded sample of value ``index`` at which the forcing is in its phase at t = 0 (the sample's
     period count a multiple of the forcing period q), so that a simulation started there at t = 0 continues the
@@ -129,11 +138,7 @@ class Computer:
 
     def index(self, value) -> int:
         """The stored value nearest to ``value``; outside the grid refused in one line."""
-        lo, hi = self.values.min(), self.values.max()
-        step = np.diff(np.sort(self.values)).min() if self.values.size > 1 else 0.0
-        if not lo - step <= float(value) <= hi + step:
-            raise ParameterError(f"{self.param} = {value:g}: outside the diagram's {lo:g} to {hi:g}")
-        return int(np.argmin(np.abs(self.values - float(value))))
+        return nearest(self.values, value, self.param, "the diagram's")
 
     def on(self, ds) -> "Computer":
         """The same problem and integrators for another diagram of it (a zoom's)."""
@@ -226,13 +231,8 @@ class MapComputer:
 
     def index(self, value, value2) -> tuple[int, int]:
         """The cell nearest to (value, value2); outside the map refused in one line."""
-        out = []
-        for name, grid, v in ((self.param, self.values, value), (self.param2, self.values2, value2)):
-            step = np.diff(np.sort(grid)).min() if grid.size > 1 else 0.0
-            if not grid.min() - step <= float(v) <= grid.max() + step:
-                raise ParameterError(f"{name} = {v:g}: outside the map's {grid.min():g} to {grid.max():g}")
-            out.append(int(np.argmin(np.abs(grid - float(v)))))
-        return out[0], out[1]
+        return (nearest(self.values, value, self.param, "the map's"),
+                nearest(self.values2, value2, self.param2, "the map's"))
 
     def cell(self, value, value2) -> dict:
         """The cell's stored class and, from its one-value diagram, its time history and periodic orbit:
@@ -289,11 +289,7 @@ class CensusComputer:
         self.states = [k for k in self.problem.system.state_names if k in ds and "node" in ds[k].dims]
 
     def index(self, value) -> int:
-        lo, hi = self.values.min(), self.values.max()
-        step = np.diff(np.sort(self.values)).min() if self.values.size > 1 else 0.0
-        if not lo - step <= float(value) <= hi + step:
-            raise ParameterError(f"{self.param} = {value:g}: outside the census' {lo:g} to {hi:g}")
-        return int(np.argmin(np.abs(self.values - float(value))))
+        return nearest(self.values, value, self.param, "the census'")
 
     def attractors(self, value) -> dict:
         """{"index", "value", "rows": one per attractor or outcome a start reached or present (label, class text,
