@@ -204,6 +204,12 @@ def test_served_page_hover_shows_the_stored_class_and_a_click_its_history_and_or
         assert _wait(lambda: driver.execute_script(BUTTON_JS, "Continue branch"), 10, "the branch button enabled")
         text = _wait(lambda: (t := _text(driver)) and "no branch:" in t and t, 60, "the branch's answer")
         assert re.search(r"no branch: [^|]*relay_hz", text)
+        # a zoom, as the toolbar's box zoom sets the range: once the view rests, 200 values are swept anew and the
+        # status line counts them from the first chunk
+        driver.execute_script("const r = Bokeh.documents[0].get_model_by_name('diagram').x_range; "
+                              "r.start = 8.45; r.end = 8.55;")
+        text = _wait(lambda: (t := _text(driver)) and re.search(r"zoom 8.45 to 8.55, first picture: [1-9]\d* of 200", t)
+                     and t, 90, "the zoom's progress")
 
 
 OSC = dict(w0=1.0, zeta=0.05, F=0.3, Omega=1.3, e=-1.0, r=0.8)

@@ -560,12 +560,14 @@ def zoom_worker() -> None:
     """A zoom process (``python -c ... <ready folder>``, see :func:`_start_child`): the first line on its standard
     input warms it (problem, parameter, a value, the first picture's settings); the second, a zoom's job (folder,
     values, its chunks, stages), sweeps each of its chunks at each stage with :func:`bifurc.sweep` and stores it
-    as ``s<stage>-c<chunk>.pickle`` in the folder (atomically: the page never reads half a file)."""
+    as ``s<stage>-c<chunk>.pickle`` in the folder (atomically: the page never reads half a file).  It ends after
+    the chunk it is on when the page's process has ended (in its own process group, nothing else would stop it)."""
     import maps
 
     from ..run.where import Run
     from ..sweeps.method import Diagram
     from ..sweeps.sweep import sweep
+    parent = os.getppid()
     warm = json.loads(sys.stdin.readline())
     pb = maps.problem(**warm["problem"])
     sweep(pb, warm["param"], np.array([warm["value"]]), Diagram(**warm["method"]), run=Run(workers=1, progress=False))
@@ -577,6 +579,8 @@ def zoom_worker() -> None:
     folder, values = Path(job["folder"]), np.asarray(job["values"])
     for s, settings in enumerate(job["stages"]):
         for a, b in job["chunks"]:
+            if os.getppid() != parent:
+                return                  # the page's process ended (Ctrl-C, a closed server): nobody to show it to
             out = folder / f"s{s}-c{a // ZOOM_CHUNK:04d}.pickle"
             ds = sweep(pb, warm["param"], values[a:b], Diagram(**settings, **job["method"]),
                        run=Run(workers=1, progress=False))
