@@ -520,14 +520,13 @@ class CensusExplorer(Page):
         labels = [str(x) for x in ds.attractor_label.values]
         self._colours = {lab: PALETTE[j % len(PALETTE)] for j, lab in enumerate(labels)}
         summary = []
-        for i in range(vals.size):
-            r = c.attractors(vals[i])
-            summary.append("; ".join(f"{x['label']} {x['text']} {x['fraction']:.2f}" for x in r["rows"]))
         pts = {"p": [], "y": [], "colour": [], "label": []}
         bars = {"p": [], "bottom": [], "top": [], "colour": [], "label": []}
-        for i, v in enumerate(vals):
+        for v in vals:
+            rows = c.attractors(v)["rows"]
+            summary.append("; ".join(f"{x['label']} {x['text']} {x['fraction']:.2f}" for x in rows))
             below = 0.0
-            for x in c.attractors(v)["rows"]:
+            for x in rows:
                 for y in x["nodes"].get(state, []):
                     pts["p"].append(v)
                     pts["y"].append(float(y) * scale)
