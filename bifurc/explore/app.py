@@ -695,7 +695,9 @@ def serve(ds, port: int, show: bool = True, title: str | None = None, workers: i
     import panel as pn
 
     def page():
-        return explorer_of(ds, title=title, workers=workers).servable()
+        ex = explorer_of(ds, title=title, workers=workers)
+        pn.state.on_session_destroyed(lambda context: ex.close())     # a closed tab: its thread and processes end
+        return ex.servable()
     return pn.serve({"/": page}, address="127.0.0.1", port=port, show=show, title=title or "bifurc explore",
                     websocket_origin=[f"127.0.0.1:{port}", f"localhost:{port}"], threaded=False, verbose=False,
                     print_url=False)
