@@ -191,17 +191,17 @@ def test_served_page_hover_shows_the_stored_class_and_a_click_its_history_and_or
         xy = _wait(lambda: driver.execute_script(PIXEL_JS, "diagram", CLICKED), 30, "the diagram drawn")
         _move(driver, xy)
         hovered = describe(code, n, m)                   # "period-17, 12 impacts (17:12)"
-        text = _wait(lambda: (t := _text(driver)) and hovered in t and t, 10, "the hover tooltip")
+        text = _wait(lambda: (t := _text(driver)) and hovered in t and t, 30, "the hover tooltip")
         assert re.search(rf"class:\s*{re.escape(hovered)}", text)
         _move(driver, xy, click=True)
         text = _wait(lambda: (t := _text(driver)) and "after the record" in t and
-                     "Periodic orbit" in t and t, 40, "the time history and the orbit")
+                     "Periodic orbit" in t and t, 90, "the time history and the orbit")
         _check_history(ds, text)
         assert re.search(rf"Periodic orbit: period {n}, {m} impacts per period, stable", text)
         _screenshot(driver, tmp_path, "explore.png")
         # the branch button, pressed in the browser: relay_hz sets the relay period under mains forcing, so its
         # continuation is refused, in one line on the status line
-        assert _wait(lambda: driver.execute_script(BUTTON_JS, "Continue branch"), 10, "the branch button enabled")
+        assert _wait(lambda: driver.execute_script(BUTTON_JS, "Continue branch"), 30, "the branch button enabled")
         text = _wait(lambda: (t := _text(driver)) and "no branch:" in t and t, 60, "the branch's answer")
         assert re.search(r"no branch: [^|]*relay_hz", text)
         # a zoom, as the toolbar's box zoom sets the range: once the view rests, 200 values are swept anew and the
@@ -238,7 +238,7 @@ def test_served_census_click_shows_each_attractor_its_fraction_and_a_history(cen
     with _served(census, chromium) as driver:
         xy = _wait(lambda: driver.execute_script(PIXEL_JS, "census", 1.3), 30, "the census drawn")
         _move(driver, xy, click=True)
-        text = _wait(lambda: (t := _text(driver)) and "from its stored strobe state" in t and t, 40,
+        text = _wait(lambda: (t := _text(driver)) and "from its stored strobe state" in t and t, 90,
                      "the attractors and a time history")
         for j in present:
             share = (went == j).sum() / went.size
@@ -273,10 +273,10 @@ def test_served_map_click_shows_the_cells_class_history_and_orbit(regime, chromi
     with _served(regime, chromium) as driver:
         xy = _wait(lambda: driver.execute_script(PIXEL_JS, "map", 1.25, 0.8), 30, "the map drawn")
         _move(driver, xy)
-        text = _wait(lambda: (t := _text(driver)) and describe(code, n, m) in t and t, 10, "the hover tooltip")
+        text = _wait(lambda: (t := _text(driver)) and describe(code, n, m) in t and t, 30, "the hover tooltip")
         _move(driver, xy, click=True)
         text = _wait(lambda: (t := _text(driver)) and "after the cell's record" in t and "Periodic orbit" in t and t,
-                     40, "the cell's history and orbit")
+                     90, "the cell's history and orbit")
         assert f"Omega = 1.25, r = 0.8: {describe(code, n, m)}" in text
         got = re.search(r"over (\d+) periods after the cell's record: \**(\d+) impacts", text)
         periods, impacts = int(got.group(1)), int(got.group(2))
