@@ -91,14 +91,18 @@ class BifurcAccessor:
         return plot_phase(self._ds, x, t_from=t_from, path=path, ax=ax, overwrite=overwrite)
 
     def explore(self, workers: int | None = None, zoom: bool = True):
-        """This diagram in Jupyter, interactive: hover a value for its class, click it for its time history, phase
-        portrait and periodic orbit, continue its branch, zoom to sweep a range anew (the explore extra:
-        HoloViz Panel).  Returns the :class:`bifurc.explore.app.Explorer` (shown as the output; its ``select``,
-        ``continue_branch`` and ``zoom`` do from Python what the clicks do).  ``workers``: a zoom's worker
-        processes (default every core); ``zoom``: sweep a zoomed range anew."""
-        self._need("diagram")
-        from .explore.app import Explorer
-        return Explorer(self._ds, workers=workers, zoom=zoom)
+        """This diagram, regime map or census in Jupyter, interactive (the explore extra: HoloViz Panel).  A
+        diagram: hover a value for its class, click it for its time history, phase portrait and periodic orbit,
+        continue its branch, zoom to sweep a range anew (:class:`bifurc.explore.app.Explorer`; its ``select``,
+        ``continue_branch`` and ``zoom`` do from Python what the clicks do; ``workers``: a zoom's processes,
+        default every core; ``zoom``: sweep a zoomed range anew).  A regime map: click a cell for its time
+        history and orbit (:class:`bifurc.explore.app.MapExplorer`).  A census: click a value for its attractors,
+        basins and orbits (:class:`bifurc.explore.app.CensusExplorer`).  Returns the page (shown as the output)."""
+        if self.kind not in ("diagram", "map", "attractors"):
+            raise ParameterError(f"explore needs a diagram, map or attractors dataset; this is "
+                                 f"{'a ' + self.kind if self.kind else 'another kind of'} dataset")
+        from .explore.app import explorer_of
+        return explorer_of(self._ds, workers=workers, zoom=zoom)
 
     def class_at(self, value, branch=None) -> dict:
         """Class of the grid value nearest to ``value`` (see :func:`bifurc.class_at`)."""

@@ -1,6 +1,6 @@
 """The explorer (``bifurc explore``, ``ds.bifurc.explore()``) on a small stored diagram of the main job's scene:
 served and driven in headless Chromium (hover a value, click it), executed as a notebook, its refusals in one line,
-and its problem rebuilt from the stored attributes.
+its problem rebuilt from the stored attributes; a census' and a regime map's pages clicked in the browser.
 
 The truths are the stored diagram's own labels, computed by the sweep before the explorer exists: the hovered
 class text is the stored class's, and a periodic value's re-simulated time history over a whole number j of its
@@ -8,6 +8,7 @@ periods holds exactly j times its stored impacts per period.
 """
 from __future__ import annotations
 
+import contextlib
 import os
 import re
 import shutil
@@ -87,7 +88,15 @@ const f = Bokeh.documents[0].get_model_by_name(arguments[0]);
 let view = null; for (const k of Object.keys(Bokeh.index)) { view = find(Bokeh.index[k], f.id); if (view) break; }
 if (!view) return null;
 const r = view.canvas_view.el.getBoundingClientRect();
-return [r.x + view.frame.x_scale.compute(arguments[1]), r.y + view.frame.bbox.vcenter];"""
+return [r.x + view.frame.x_scale.compute(arguments[1]),
+        r.y + (arguments[2] === undefined ? view.frame.bbox.vcenter : view.frame.y_scale.compute(arguments[2]))];"""
+#: click the first button whose label is arguments[0] (Panel draws its widgets inside shadow DOM)
+BUTTON_JS = """
+const label = arguments[0];
+function walk(root) { for (const el of root.querySelectorAll('*')) {
+    if (el.tagName === 'BUTTON' && el.innerText.trim() === label && !el.disabled) { el.click(); return true; }
+    if (el.shadowRoot) { const r = walk(el.shadowRoot); if (r) return r; } } return false; }
+return walk(document);"""
 
 
 def _browser():
@@ -126,13 +135,22 @@ def _move(driver, xy, click=False):
     ab.perform()
 
 
-def test_served_page_hover_shows_the_stored_class_and_a_click_its_history_and_orbit(stored, tmp_path):
-    ds = bifurc.load(stored)
-    code, n, m = _expected(ds, CLICKED)
+@pytest.fixture(scope="module")
+def chromium():
+    """One headless Chromium for the module's pages."""
     driver = _browser()
+    yield driver
+    driver.quit()
+
+
+@contextlib.contextmanager
+def _served(path, driver):
+    """``bifurc explore path`` served on a free loopback port, and the headless Chromium ``driver`` on its page
+    (the page's figures drawn); at the end, no severe message in the browser's console."""
+    driver.get_log("browser")                                  # a former page's messages are not this one's
     port = _free_port()
     env = dict(os.environ, PYTHONPATH=str(ROOT))
-    server = subprocess.Popen([sys.executable, "-m", "bifurc", "explore", str(stored), "--port", str(port),
+    server = subprocess.Popen([sys.executable, "-m", "bifurc", "explore", str(path), "--port", str(port),
                                "--no-browser"], env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
     try:
         def up():
@@ -144,27 +162,127 @@ def test_served_page_hover_shows_the_stored_class_and_a_click_its_history_and_or
                 return False
         _wait(up, 60, "the server")
         driver.get(f"http://127.0.0.1:{port}/")
-        xy = _wait(lambda: driver.execute_script("return window.Bokeh && Bokeh.documents.length ? 1 : 0") and
-                   driver.execute_script(PIXEL_JS, "diagram", CLICKED), 30, "the diagram drawn")
-        _move(driver, xy)
-        hovered = describe(code, n, m)                   # "period-17, 12 impacts (17:12)"
-        text = _wait(lambda: (t := driver.execute_script(TEXT_JS)) and hovered in t and t, 10, "the hover tooltip")
-        assert re.search(rf"class:\s*{re.escape(hovered)}", text)
-        _move(driver, xy, click=True)
-        text = _wait(lambda: (t := driver.execute_script(TEXT_JS)) and "after the record" in t and
-                     "Periodic orbit" in t and t, 40, "the time history and the orbit")
-        _check_history(ds, text)
-        assert re.search(rf"Periodic orbit: period {n}, {m} impacts per period, stable", text)
-        driver.save_screenshot(str(tmp_path / "explore.png"))
-        if os.environ.get("BIFURC_SCREENSHOTS") == "1":
-            shutil.copy(tmp_path / "explore.png", SCREENSHOT)
+        _wait(lambda: driver.execute_script("return window.Bokeh && Bokeh.documents.length ? 1 : 0"), 30, "the page")
+        yield driver
         severe = [e["message"] for e in driver.get_log("browser") if e["level"] == "SEVERE"]
         assert not severe, severe
-        assert (tmp_path / "explore.png").stat().st_size > 10_000
     finally:
-        driver.quit()
+        driver.get("about:blank")
         server.terminate()
         server.wait(timeout=30)
+
+
+def _text(driver):
+    return driver.execute_script(TEXT_JS)
+
+
+def _screenshot(driver, tmp_path, name: str) -> None:
+    """A screenshot of the page; copied to docs/images/ when BIFURC_SCREENSHOTS=1 (the how-to page's pictures)."""
+    driver.save_screenshot(str(tmp_path / name))
+    assert (tmp_path / name).stat().st_size > 10_000
+    if os.environ.get("BIFURC_SCREENSHOTS") == "1":
+        shutil.copy(tmp_path / name, SCREENSHOT.parent / name)
+
+
+def test_served_page_hover_shows_the_stored_class_and_a_click_its_history_and_orbit(stored, chromium, tmp_path):
+    ds = bifurc.load(stored)
+    code, n, m = _expected(ds, CLICKED)
+    with _served(stored, chromium) as driver:
+        xy = _wait(lambda: driver.execute_script(PIXEL_JS, "diagram", CLICKED), 30, "the diagram drawn")
+        _move(driver, xy)
+        hovered = describe(code, n, m)                   # "period-17, 12 impacts (17:12)"
+        text = _wait(lambda: (t := _text(driver)) and hovered in t and t, 30, "the hover tooltip")
+        assert re.search(rf"class:\s*{re.escape(hovered)}", text)
+        _move(driver, xy, click=True)
+        text = _wait(lambda: (t := _text(driver)) and "after the record" in t and
+                     "Periodic orbit" in t and t, 90, "the time history and the orbit")
+        _check_history(ds, text)
+        assert re.search(rf"Periodic orbit: period {n}, {m} impacts per period, stable", text)
+        _screenshot(driver, tmp_path, "explore.png")
+        # the branch button, pressed in the browser: relay_hz sets the relay period under mains forcing, so its
+        # continuation is refused, in one line on the status line
+        assert _wait(lambda: driver.execute_script(BUTTON_JS, "Continue branch"), 30, "the branch button enabled")
+        text = _wait(lambda: (t := _text(driver)) and "no branch:" in t and t, 60, "the branch's answer")
+        assert re.search(r"no branch: [^|]*relay_hz", text)
+        # a zoom, as the toolbar's box zoom sets the range: once the view rests, 200 values are swept anew and the
+        # status line counts them from the first chunk
+        driver.execute_script("const r = Bokeh.documents[0].get_model_by_name('diagram').x_range; "
+                              "r.start = 8.45; r.end = 8.55;")
+        text = _wait(lambda: (t := _text(driver)) and re.search(r"zoom 8.45 to 8.55, first picture: [1-9]\d* of 200", t)
+                     and t, 90, "the zoom's progress")
+
+
+OSC = dict(w0=1.0, zeta=0.05, F=0.3, Omega=1.3, e=-1.0, r=0.8)
+
+
+@pytest.fixture(scope="module")
+def census(tmp_path_factory):
+    """A census of the impact oscillator at two values of Omega, 36 fresh starts on a 6 x 6 slice of (x, v)."""
+    path = tmp_path_factory.mktemp("census") / "census.nc"
+    bifurc.attractors("impact-oscillator", "Omega", [1.25, 1.3], params=OSC, box={"x": (-1.0, 2.0), "v": (-2.0, 2.0)},
+                      starts="slice", shape=(6, 6), progress=False, workers=1, link=False, path=str(path))
+    return path
+
+
+def test_served_census_click_shows_each_attractor_its_fraction_and_a_history(census, chromium, tmp_path):
+    """Click Omega = 1.3 of a census in the browser: each attractor's class and basin fraction (its starts' count
+    over 36, counted here from where each start went) with its interval, and the largest basin's time history,
+    whose impacts are j m / n over j periods of a period-n orbit with m impacts."""
+    ds = bifurc.load(census)
+    i = 1
+    went = ds.start_attractor.values[i]
+    labels = [str(x) for x in ds.attractor_label.values]
+    present = [j for j in range(len(labels)) if labels[j].startswith("A") and (went == j).any()]
+    assert len(present) == 2, "the oscillator is bistable at Omega = 1.3"
+    from bifurc.attractors.dataset import attractor_text
+    with _served(census, chromium) as driver:
+        xy = _wait(lambda: driver.execute_script(PIXEL_JS, "census", 1.3), 30, "the census drawn")
+        _move(driver, xy, click=True)
+        text = _wait(lambda: (t := _text(driver)) and "from its stored strobe state" in t and t, 90,
+                     "the attractors and a time history")
+        for j in present:
+            share = (went == j).sum() / went.size
+            row = rf"{labels[j]}\s*\|?\s*{re.escape(attractor_text(ds, i, j))}\s*\|?\s*{share:.3f} \["
+            assert re.search(row, text), (row, text[:2000])
+        top = max(present, key=lambda j: (went == j).sum())
+        n, m = int(ds.period.values[i, top]), int(ds.impacts_per_period.values[i, top])
+        got = re.search(rf"{labels[top]} at Omega = 1.3: [^.]*\.\** Time history over (\d+) periods from its stored "
+                        rf"strobe state: \**(\d+) impacts", text)
+        assert got, text[:2000]
+        periods, impacts = int(got.group(1)), int(got.group(2))
+        assert periods % n == 0 and impacts == m * periods // n
+        _screenshot(driver, tmp_path, "explore-census.png")
+
+
+@pytest.fixture(scope="module")
+def regime(tmp_path_factory):
+    """A 2 x 2 regime map of the impact oscillator over Omega and the restitution r."""
+    path = tmp_path_factory.mktemp("map") / "map.nc"
+    bifurc.regime_map("impact-oscillator", "Omega", [1.25, 1.3], "r", [0.7, 0.8], params=OSC, transient=100,
+                      record=50, budget=150, error_sample=0, workers=1, progress=False, path=str(path))
+    return path
+
+
+def test_served_map_click_shows_the_cells_class_history_and_orbit(regime, chromium, tmp_path):
+    """Click the cell (1.25, 0.8) in the browser: its stored class (the map's, computed before), a time history
+    with j m / n impacts over j periods, and its periodic orbit with the same period and impacts."""
+    ds = bifurc.load(regime)
+    c = ds.sel(Omega=1.25, r=0.8)
+    code, n, m = int(c.class_code), int(c.period), int(c.impacts_per_period)
+    assert code == 0 and n >= 1 and m >= 1, "a periodic cell with impacts"
+    with _served(regime, chromium) as driver:
+        xy = _wait(lambda: driver.execute_script(PIXEL_JS, "map", 1.25, 0.8), 30, "the map drawn")
+        _move(driver, xy)
+        text = _wait(lambda: (t := _text(driver)) and describe(code, n, m) in t and t, 30, "the hover tooltip")
+        _move(driver, xy, click=True)
+        text = _wait(lambda: (t := _text(driver)) and "after the cell's record" in t and "Periodic orbit" in t and t,
+                     90, "the cell's history and orbit")
+        assert f"Omega = 1.25, r = 0.8: {describe(code, n, m)}" in text
+        got = re.search(r"over (\d+) periods after the cell's record: \**(\d+) impacts", text)
+        periods, impacts = int(got.group(1)), int(got.group(2))
+        assert periods % n == 0 and impacts == m * periods // n
+        assert re.search(rf"Periodic orbit: period {n}, {m} impacts? per period", text)
+        _screenshot(driver, tmp_path, "explore-map.png")
 
 
 # ----- the notebook form --------------------------------------------------------------------------------------
@@ -271,31 +389,42 @@ def test_relay_frequency_has_no_branch_and_says_so_in_one_line(stored):
     assert r["branches"] == [] and "relay_hz" in r["error"] and "\n" not in r["error"]
 
 
-def test_a_zoom_sweeps_the_range_anew_and_labels_the_stored_value_alike(stored):
-    """Three values around 8.5 Hz in the child process: both stages finish and 8.5 Hz gets the stored class."""
-    from bifurc.explore.compute import Computer, Zoom
+def test_a_zoom_streams_its_chunks_and_labels_the_stored_value_alike(stored):
+    """Six values up to 8.5 Hz in two warm zoom processes (chunks of 5): the picture grows chunk by chunk, both
+    stages finish, every value is there once in order, and 8.5 Hz gets the stored class and the stored strobe
+    points at each stage (the stored diagram was swept with the same transient, record and budget)."""
+    from bifurc.explore.compute import ZOOM_CHUNK, Computer, Spares, Zoom
     ds = bifurc.load(stored)
-    z = Zoom(Computer(ds), 8.45, 8.55, 3, workers=1)
-    stages = []
+    c = Computer(ds)
+    spares = Spares(c, workers=2).fill()
+    values = np.linspace(8.4, 8.5, 6)                       # two chunks: 5 and 1 values (8.5 Hz alone)
+    z = Zoom(c, 8.4, 8.5, 6, workers=2, spares=spares)
+    assert len(z.children) == 2 and not spares.children  # both taken
+    sizes, at_stage = [], {}
     try:
         end = time.monotonic() + 240
         while time.monotonic() < end:
             s = z.poll()
             assert not s["error"], s["error"]
             if s["dataset"] is not None:
-                stages.append(s["dataset"])
+                sizes.append(s["dataset"].sizes["relay_hz"])
+                at_stage.setdefault(s["stage"], s["dataset"])
             if s["stage"] >= 2:
                 break
-            time.sleep(0.2)
+            time.sleep(0.1)
     finally:
         z.close()
-    assert not z.folder.exists()
-    assert len(stages) == 2
+        spares.close()
+    assert not z.folder.exists() and not spares.dir.exists()
+    assert ZOOM_CHUNK == 5 and sizes[0] in (1, 5) and sizes[-1] == 6 and 1 in at_stage and 2 in at_stage
     code, n, m = _expected(ds, CLICKED)
-    for zd in stages:
-        assert np.allclose(zd.relay_hz.values, [8.45, 8.5, 8.55])
-        got = zd.isel(branch=0).sel(relay_hz=8.5)
+    for stage in (1, 2):
+        zd = at_stage[stage]
+        assert np.allclose(zd.relay_hz.values, values)
+        got = zd.isel(branch=0).sel(relay_hz=CLICKED)
         assert (int(got.class_code), int(got.period), int(got.impacts_per_period)) == (code, n, m)
+        stored_x = ds.isel(branch=0).sel(relay_hz=CLICKED).x.values
+        assert np.allclose(got.x.values, stored_x, rtol=1e-9, atol=1e-12, equal_nan=True)
 
 
 def test_a_newer_click_makes_the_older_one_stale(stored):
@@ -311,3 +440,45 @@ def test_a_newer_click_makes_the_older_one_stale(stored):
         assert not ex._pending or all(f.done() for _, _, f, _ in ex._pending)
     finally:
         ex.close()
+
+
+def test_a_zoom_repaints_the_page_from_its_first_chunk_and_its_values_are_clicked_alike(stored):
+    """The page's zoom (Explorer.zoom, 6 values to 8.5 Hz): the diagram is repainted as chunks land (a part of the
+    values first, all at the end), the view stays on the zoomed range, and 8.5 Hz of the zoom, clicked, shows the
+    stored value's impacts (the stored diagram is the truth: same transient, record and budget)."""
+    from bifurc.explore.app import Explorer
+    ds = bifurc.load(stored)
+    ex = Explorer(ds, zoom=False)
+    try:
+        ex.zoom(8.4, 8.5, 6)
+        painted, end = [], time.monotonic() + 240
+        while time.monotonic() < end and "anytime labels shown" not in ex.status:
+            ex._poll()
+            n = len(ex.columns.data["value"])
+            if ex.computer is not ex.stored_computer and (not painted or painted[-1] != n):
+                painted.append(n)
+                r = ex.diagram_figure.x_range
+                assert np.isclose(r.start, 8.38) and np.isclose(r.end, 8.52), (r.start, r.end)
+            assert not ex.status.startswith("zoom failed"), ex.status
+            time.sleep(0.1)
+        assert "anytime labels shown" in ex.status, ex.status
+        assert painted[0] in (1, 5) and painted[-1] == 6, painted
+        ex.select(CLICKED, wait=True)
+        _check_history(ds, ex.history_text)
+    finally:
+        ex.close()
+
+
+def test_map_and_census_refusals_are_one_line(regime, census, tmp_path):
+    from bifurc.explore.app import explorer_of
+    from bifurc.explore.compute import CensusComputer, MapComputer
+    from maps.parameters import ParameterError
+    with pytest.raises(ParameterError, match=r"^Omega = 9: outside the map's 1.25 to 1.3$"):
+        MapComputer(bifurc.load(regime)).index(9.0, 0.8)
+    with pytest.raises(ParameterError, match=r"^Omega = 2: outside the census' 1.25 to 1.3$"):
+        CensusComputer(bifurc.load(census)).attractors(2.0)
+    with pytest.raises(ParameterError, match=r"^attractor 'A7': not an attractor present at Omega = 1.3$"):
+        CensusComputer(bifurc.load(census)).history(1.3, "A7")
+    h = __import__("maps").simulate("impact-oscillator", periods=1)
+    with pytest.raises(ParameterError, match=r"needs a diagram, map or attractors dataset.*this is a history dataset$"):
+        explorer_of(h)

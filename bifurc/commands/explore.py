@@ -1,4 +1,5 @@
-"""`bifurc explore`: a stored diagram in the browser (hover a value, click it for its orbit), served on 127.0.0.1."""
+"""`bifurc explore`: a stored diagram, regime map or census in the browser (hover, click for orbits), served on
+127.0.0.1."""
 from __future__ import annotations
 
 #: the port a page is served on unless --port says otherwise (Bokeh's and Panel's own default)
@@ -6,15 +7,19 @@ DEFAULT_PORT = 5006
 
 
 def register(subparsers):
-    p = subparsers.add_parser("explore", help="explore a diagram in the browser: hover, click a value for its orbit",
+    p = subparsers.add_parser("explore", help="explore a diagram, map or census in the browser: click for orbits",
                               description="Serve a stored diagram as a local web page (127.0.0.1 only) and open the "
                                           "browser: hover a value for its class, n:m, exponent with its interval and "
                                           "reason; click it for its time history (position with impacts, current, "
                                           "relay), phase portrait and periodic orbit with its Floquet multipliers; "
                                           "'Continue branch' overlays its branch; zooming sweeps the range anew on a "
-                                          "finer grid. Needs the explore extra: pip install -e \".[explore]\". "
+                                          "finer grid. A regime map (bifurc map): click a cell for its time history "
+                                          "and orbit. A census (bifurc attractors): click a value for its attractors "
+                                          "(class, basin fraction with its interval), their basins and orbits. "
+                                          "Needs the explore extra: pip install -e \".[explore]\". "
                                           "Ctrl-C stops it.")
-    p.add_argument("dataset", help="netCDF diagram written by bifurc diagram (or bifurc.sweep)")
+    p.add_argument("dataset", help="netCDF diagram (bifurc diagram), regime map (bifurc map) or census "
+                                   "(bifurc attractors)")
     p.add_argument("--port", type=int, default=DEFAULT_PORT,
                    help=f"port on 127.0.0.1 (1024 to 65535; default {DEFAULT_PORT})")
     p.add_argument("--no-browser", action="store_true", help="serve without opening the browser (print the address)")
@@ -48,7 +53,15 @@ def run(args) -> int:
     if args.workers is not None and args.workers < 1:
         raise ParameterError(f"--workers {args.workers}: need at least 1")
     check_port(args.port)
-    ds = load(args.dataset, "diagram")
+    from ..storage.build import KINDS
+    from ..storage.load import kind_of
+    ds = load(args.dataset)
+    kind = kind_of(ds)
+    if kind not in ("diagram", "map", "attractors"):
+        what = f"{'an' if kind[0] in 'aeiou' else 'a'} {kind} dataset (from {KINDS.get(kind, 'another tool')})" \
+            if kind else "another kind of dataset"
+        raise ParameterError(f"{args.dataset} holds {what}; bifurc explore needs a diagram, map or attractors "
+                             f"dataset (from {KINDS['diagram']}, {KINDS['map']} or {KINDS['attractors']})")
     try:
         from ..explore.app import serve
     except ModuleNotFoundError as exc:

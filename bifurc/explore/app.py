@@ -1,9 +1,11 @@
-"""The explorer's page, on HoloViz Panel (Bokeh figures): one stored diagram, its hover, a click's time history,
-phase portrait and periodic orbit, a branch overlaid on a button's press, a zoomed range swept anew.
+"""The explorer's pages, on HoloViz Panel (Bokeh figures): a stored diagram (its hover, a click's time history,
+phase portrait and periodic orbit, a branch overlaid on a button's press, a zoomed range swept anew), a regime map
+(a cell's time history and orbit) and a census (a value's attractors, basins and orbits).
 
 The same :class:`Explorer` is a Jupyter output (``ds.bifurc.explore()``) and a served page (``bifurc explore``,
 :func:`serve`).  Work runs off the page: a click's computation on a thread (a newer click makes an older one's
-result stale, and it is dropped), a zoom in a child process that a newer zoom ends (:class:`bifurc.explore.compute.Zoom`);
+result stale, and it is dropped), a zoom in warm processes that a newer zoom ends
+(:class:`bifurc.explore.compute.Zoom`, streaming its chunks);
 a periodic callback moves finished results onto the page and shows progress.
 """
 from __future__ import annotations
@@ -18,7 +20,8 @@ from maps.parameters import ParameterError
 
 from ..labels.classify import CLASS_LABELS
 from ..plots.diagram import CLASS_COLOURS
-from .compute import PERIODIC, ZOOM_VALUES, Computer, Zoom, branch_points, value_rows
+from .compute import (ZOOM_VALUES, CensusComputer, Computer, MapComputer, Spares, Zoom, branch_points, map_rows,
+                      problem_of, value_rows)
 
 #: milliseconds between two looks at the background work
 POLL_MS = 150
@@ -36,7 +39,180 @@ def _scale(ds, state) -> tuple[float, str]:
     return (1e3, "mm") if ds[state].attrs.get("units") == "m" else (1.0, ds[state].attrs.get("units", ""))
 
 
-class Explorer:
+class OrbitPanels:
+    """A clicked value's panels, shared by the diagram's, the regime map's and the census' pages: its time history
+    (position with impacts, current, relay), phase portrait with the orbit's strobe nodes, Floquet multipliers on
+    the unit circle, and the two texts above them."""
+
+    def __init__(self, pn, problem, title: str = "time history (click a value)"):
+        from bokeh.models import ColumnDataSource
+        from bokeh.plotting import figure
+        state = "x" if "x" in problem.system.state_names else problem.system.state_names[0]
+        unit = next(s.unit for s in problem.system.states if s.name == state)
+        scale, unit = (1e3, "mm") if unit == "m" else (1.0, unit)
+        self.state, self.y, self.unit = state, scale, unit
+        self.vel = "v" if "v" in problem.system.state_names else "v1"
+        self.history_source = ColumnDataSource(dict(t=[], y=[], i=[], relay=[], v=[]))
+        self.impact_source = ColumnDataSource(dict(t=[], y=[]))
+        self.node_source = ColumnDataSource(dict(y=[], v=[]))
+        self.multiplier_source = ColumnDataSource(dict(re=[], im=[]))
+        h = figure(height=220, sizing_mode="stretch_width", name="history", title=title,
+                   x_axis_label="time after the start [s]", y_axis_label=f"{state} [{unit}]",
+                   tools="xpan,xwheel_zoom,reset")
+        h.line("t", "y", source=self.history_source, color="#0072B2")
+        h.scatter("t", "y", source=self.impact_source, marker="triangle", size=8, color="#D55E00",
+                  legend_label="impacts")
+        h.legend.location = "top_right"
+        self.figures = [h]
+        if "i" in problem.system.state_names:
+            c = figure(height=150, sizing_mode="stretch_width", x_range=h.x_range, y_axis_label="current i [A]",
+                       tools="", toolbar_location=None)
+            c.line("t", "i", source=self.history_source, color="#009E73")
+            self.figures.append(c)
+        if problem.options is not None and problem.options.relay != "none":
+            r = figure(height=110, sizing_mode="stretch_width", x_range=h.x_range, y_axis_label="relay",
+                       x_axis_label="time [s]", tools="", toolbar_location=None)
+            r.step("t", "relay", source=self.history_source, color="#666666", mode="after")
+            self.figures.append(r)
+        self.phase = figure(height=300, width=320, name="phase", title="phase portrait; dots: the orbit's strobe nodes",
+                            x_axis_label=f"{state} [{unit}]", y_axis_label=f"{self.vel} [m/s]",
+                            tools="pan,wheel_zoom,reset")
+        self.phase.line("y", "v", source=self.history_source, color="#0072B2")
+        self.phase.scatter("y", "v", source=self.node_source, size=6, color="black")
+        self.circle = figure(frame_height=220, frame_width=220, name="multipliers", title="Floquet multipliers",
+                             x_range=(-1.3, 1.3), y_range=(-1.3, 1.3), tools="", toolbar_location=None)
+        t = np.linspace(0, 2 * np.pi, 200)
+        self.circle.line(np.cos(t), np.sin(t), color="#999999")
+        self.circle.scatter("re", "im", source=self.multiplier_source, size=9, color="#D55E00")
+        self.history_pane = pn.pane.Markdown("", name="history_text", css_classes=["history-text"])
+        self.orbit_pane = pn.pane.Markdown("", name="orbit_text", css_classes=["orbit-text"])
+
+    def row(self, pn, *right):
+        """The panels as one row: history text and figures; phase portrait, multipliers, orbit text and ``right``."""
+        return pn.Row(pn.Column(self.history_pane, *[pn.pane.Bokeh(f, sizing_mode="stretch_width")
+                                                     for f in self.figures], sizing_mode="stretch_width"),
+                      pn.Column(pn.pane.Bokeh(self.phase), pn.pane.Bokeh(self.circle), self.orbit_pane, *right,
+                                width=340))
+
+    def show_history(self, h, text: str) -> None:
+        """Draw the time history ``h`` (maps.simulate's dataset) and write ``text`` above it."""
+        y = h[self.state].values * self.y
+        t = h["time"].values
+        self.history_source.data = dict(t=t, y=y, i=h["i"].values if "i" in h else np.zeros(t.size),
+                                        relay=h["relay"].values if "relay" in h else np.zeros(t.size),
+                                        v=h[self.vel].values if self.vel in h else np.zeros(t.size))
+        ti = h["impact_time"].values if "impact_time" in h else np.array([])
+        ti = ti[np.isfinite(ti)]
+        self.impact_source.data = dict(t=ti, y=np.interp(ti, t, y))
+        _set(self.history_pane, text)
+
+    def show_orbit(self, o, why: str = "") -> bool:
+        """Draw periodic_orbit's dataset ``o`` (its strobe nodes and multipliers) and its text; None: say ``why``
+        there is none.  True when an orbit is shown."""
+        if o is None:
+            self.multiplier_source.data = dict(re=[], im=[])
+            self.node_source.data = dict(y=[], v=[])
+            _set(self.orbit_pane, f"No periodic orbit: {why}")
+            return False
+        mu = o.multiplier_abs.values * np.exp(1j * o.multiplier_arg.values)
+        self.multiplier_source.data = dict(re=mu.real, im=mu.imag)
+        nodes = o[self.state].values * self.y
+        self.node_source.data = dict(y=nodes, v=o[self.vel].values if self.vel in o else np.zeros(nodes.size))
+        listed = ", ".join(f"{a:.4g}" + (f" (arg {b:+.3f})" if abs(b) > 1e-9 else "")
+                           for a, b in zip(o.multiplier_abs.values, o.multiplier_arg.values))
+        _set(self.orbit_pane, f"**Periodic orbit**: period {int(o.period)}, {int(o.impacts_per_period)} impacts per "
+                              f"period, {'stable' if int(o.stable) else 'unstable'}; Floquet multipliers "
+                              f"|mu| = {listed}; Newton residual {float(o.newton_residual):.1e}")
+        return True
+
+
+class Page:
+    """What every explorer page shares: one background thread for the clicks' work (a newer click makes an older
+    result stale: it is dropped), a periodic callback that moves finished work onto the page, the status line and
+    progress bar."""
+
+    def _start_page(self, pn, ds, computer, title, default: str) -> None:
+        pn.extension(notifications=False)
+        self.stored, self.computer = ds, computer
+        self.title = title or str(ds.attrs.get("title", default))
+        self._pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="bifurc-explore")
+        self._generation = 0
+        self._pending: list = []             # (generation, kind, future, started)
+        self._callback = None
+        self.status_pane = pn.pane.Markdown("Loading the integrators...", name="status", css_classes=["status"])
+        self.progress = pn.indicators.Progress(value=0, max=100, visible=False, sizing_mode="stretch_width", height=12)
+
+    def _submit(self, kind, fn, *args, wait=False):
+        self._generation += 1
+        for _, _, waiting, _ in self._pending:
+            waiting.cancel()                 # stale: not started yet, never started (a running one is dropped)
+        self.progress.visible, self.progress.value = True, -1          # indeterminate while it runs
+        future = self._pool.submit(fn, *args)
+        self._pending.append((self._generation, kind, future, _time.perf_counter()))
+        if wait:
+            future.result()
+            self._poll()
+        return self
+
+    def _poll(self) -> None:
+        """Move finished work onto the page (stale results dropped), then the page's own looks (a zoom's)."""
+        for entry in list(self._pending):
+            generation, kind, future, started = entry
+            if not future.done():
+                continue
+            self._pending.remove(entry)
+            if generation != self._generation or future.cancelled():
+                continue                     # a newer click came since: stale
+            self.progress.visible = False
+            try:
+                result = future.result()
+            except Exception as exc:  # noqa: BLE001 - one line on the page, never a traceback
+                self.status = f"error: {' '.join(str(exc).split())[:300]}"
+                continue
+            getattr(self, f"_show_{kind}")(result, _time.perf_counter() - started)
+        self._poll_more()
+
+    def _poll_more(self) -> None:
+        """A page's own periodic look (none by default)."""
+
+    status = property(lambda self: self.status_pane.object, lambda self, text: _set(self.status_pane, text),
+                      doc="the status line: what runs, its progress, how long a result took")
+    history_text = property(lambda self: self.panels.history_pane.object,
+                            doc="the clicked value: its class, the periods of its time history and their impacts")
+    orbit_text = property(lambda self: self.panels.orbit_pane.object,
+                          doc="the clicked value's periodic orbit with its Floquet multipliers, or why none")
+    multiplier_source = property(lambda self: self.panels.multiplier_source, doc="the shown multipliers (re, im)")
+
+    def start(self):
+        """Start the periodic look at the background work (in a served session or a live notebook)."""
+        import panel as pn
+        if self._callback is None:
+            self._callback = pn.state.add_periodic_callback(self._poll, period=POLL_MS)
+            if self.status.startswith("Loading"):
+                self.status = self.HINT
+        return self
+
+    def servable(self):
+        """The page's layout, with its periodic callback started."""
+        self.start()
+        return self.layout
+
+    def _repr_mimebundle_(self, include=None, exclude=None):
+        self.start()
+        return self.layout._repr_mimebundle_(include, exclude)
+
+    def close(self) -> None:
+        """Stop the background work (the thread, and the page's own processes)."""
+        self._close_more()
+        if self._callback is not None:
+            self._callback.stop()
+        self._pool.shutdown(wait=False, cancel_futures=True)
+
+    def _close_more(self) -> None:
+        """A page's own processes to stop (none by default)."""
+
+
+class Explorer(Page):
     """A stored diagram explored in the browser: hover a value for its class, click it for its time history and
     orbit, press "Continue branch" for its branch, zoom for a finer grid.
 
@@ -44,22 +220,20 @@ class Explorer:
     clicks do; ``status``, ``history_text`` and ``orbit_text`` hold what the page shows.
     """
 
+    HINT = "hover a value for its class; click it for its time history and orbit"
+
     def __init__(self, ds, title: str | None = None, workers: int | None = None, zoom: bool = True):
         import panel as pn
-        pn.extension(notifications=False)
-        self.stored = ds
-        self.computer = self.stored_computer = Computer(ds)
+        self._start_page(pn, ds, Computer(ds), title, "diagram")
+        self.stored_computer = self.computer
         self.workers = workers
-        self.title = title or str(ds.attrs.get("title", "diagram"))
-        self._pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="bifurc-explore")
-        self._generation = 0
-        self._pending: list = []             # (generation, kind, future)
         self._zoom: Zoom | None = None
         self._zoom_auto = zoom
         self._range_seen = (None, 0.0)       # (range, when it last changed)
         self._selected = None
-        self._callback = None
         self._warm = self._pool.submit(self.computer.warm)
+        # warm zoom processes, started once the first click is shown (before, they would compete with it)
+        self._spares = Spares(self.computer, workers) if zoom else None
         self._build(pn)
         self._show_dataset(ds)
 
@@ -103,43 +277,7 @@ class Explorer:
         d.x_range.on_change("end", self._on_range)
         self.diagram_figure, self.strip_figure = d, strip
         # the clicked value's panels
-        self.history_source = ColumnDataSource(dict(t=[], y=[], i=[], relay=[], v=[]))
-        self.impact_source = ColumnDataSource(dict(t=[], y=[]))
-        self.node_source = ColumnDataSource(dict(y=[], v=[]))
-        self.multiplier_source = ColumnDataSource(dict(re=[], im=[]))
-        h = figure(height=220, sizing_mode="stretch_width", name="history", title="time history (click a value)",
-                   x_axis_label="time after the record's sample [s]", y_axis_label=f"{state} [{unit}]",
-                   tools="xpan,xwheel_zoom,reset")
-        h.line("t", "y", source=self.history_source, color="#0072B2")
-        h.scatter("t", "y", source=self.impact_source, marker="triangle", size=8, color="#D55E00",
-                  legend_label="impacts")
-        h.legend.location = "top_right"
-        panels = [h]
-        if "i" in self.computer.problem.system.state_names:
-            c = figure(height=150, sizing_mode="stretch_width", x_range=h.x_range, y_axis_label="current i [A]",
-                       tools="", toolbar_location=None)
-            c.line("t", "i", source=self.history_source, color="#009E73")
-            panels.append(c)
-        if self.computer.problem.options is not None and self.computer.problem.options.relay != "none":
-            r = figure(height=110, sizing_mode="stretch_width", x_range=h.x_range, y_axis_label="relay",
-                       x_axis_label="time [s]", tools="", toolbar_location=None)
-            r.step("t", "relay", source=self.history_source, color="#666666", mode="after")
-            panels.append(r)
-        vel = "v" if "v" in self.computer.problem.system.state_names else "v1"
-        phase = figure(height=300, width=320, name="phase", title="phase portrait; dots: the orbit's strobe nodes",
-                       x_axis_label=f"{state} [{unit}]", y_axis_label=f"{vel} [m/s]", tools="pan,wheel_zoom,reset")
-        phase.line("y", "v", source=self.history_source, color="#0072B2")
-        phase.scatter("y", "v", source=self.node_source, size=6, color="black")
-        circle = figure(frame_height=220, frame_width=220, name="multipliers", title="Floquet multipliers",
-                        x_range=(-1.3, 1.3), y_range=(-1.3, 1.3), tools="", toolbar_location=None)
-        t = np.linspace(0, 2 * np.pi, 200)
-        circle.line(np.cos(t), np.sin(t), color="#999999")
-        circle.scatter("re", "im", source=self.multiplier_source, size=9, color="#D55E00")
-        self._vel = vel
-        self.status_pane = pn.pane.Markdown("Loading the integrators...", name="status", css_classes=["status"])
-        self.history_pane = pn.pane.Markdown("", name="history_text", css_classes=["history-text"])
-        self.orbit_pane = pn.pane.Markdown("", name="orbit_text", css_classes=["orbit-text"])
-        self.progress = pn.indicators.Progress(value=0, max=100, visible=False, sizing_mode="stretch_width", height=12)
+        self.panels = OrbitPanels(pn, self.computer.problem)
         self.branch_button = pn.widgets.Button(label="Continue branch", color="primary", disabled=True,
                                                css_classes=["branch-button"])
         self.branch_button.on_click(lambda event: self.continue_branch())
@@ -149,13 +287,11 @@ class Explorer:
         self.layout = pn.Column(
             pn.pane.Bokeh(d, sizing_mode="stretch_width"), pn.pane.Bokeh(strip, sizing_mode="stretch_width"),
             pn.Row(self.branch_button, self.whole_button, self.zoom_check), self.progress, self.status_pane,
-            pn.Row(pn.Column(self.history_pane, *[pn.pane.Bokeh(f, sizing_mode="stretch_width") for f in panels],
-                             sizing_mode="stretch_width"),
-                   pn.Column(pn.pane.Bokeh(phase), pn.pane.Bokeh(circle), self.orbit_pane, width=340)),
-            sizing_mode="stretch_width", name="bifurc explore")
+            self.panels.row(pn), sizing_mode="stretch_width", name="bifurc explore")
 
-    def _show_dataset(self, ds) -> None:
-        """Paint ``ds`` (the stored diagram or a zoom's) on the diagram and the strip; clicks then refer to it."""
+    def _show_dataset(self, ds, span=None) -> None:
+        """Paint ``ds`` (the stored diagram or a zoom's) on the diagram and the strip; clicks then refer to it;
+        ``span``: the shown range (a zoom's whole range while its chunks land), else the values' own."""
         self.computer = self.stored_computer if ds is self.stored else self.stored_computer.on(ds)
         rows = value_rows(ds)
         vals = rows["value"]
@@ -176,8 +312,8 @@ class Explorer:
                                  top=np.full(vals.size, hi + pad))
         self.branch_source.data = dict(p=[], y=[])
         self._branch_legend.visible = False
-        self.diagram_figure.x_range.start, self.diagram_figure.x_range.end = vals.min() - width, vals.max() + width
-        self._span = (float(vals.min() - width), float(vals.max() + width))
+        self._span = span or (float(vals.min() - width), float(vals.max() + width))
+        self.diagram_figure.x_range.start, self.diagram_figure.x_range.end = self._span
         self._range_seen = (self._span, _time.monotonic())
 
     # ----- what a click does -----------------------------------------------------------------------------------
@@ -203,71 +339,19 @@ class Explorer:
         self.status = f"continuing the branch through {self.computer.param} = {self._selected:g}..."
         return self._submit("branch", self.computer.branch, self._selected, wait=wait)
 
-    def _submit(self, kind, fn, *args, wait=False):
-        self._generation += 1
-        for _, _, waiting, _ in self._pending:
-            waiting.cancel()                 # stale: not started yet, never started (a running one is dropped)
-        self.progress.visible, self.progress.value = True, -1          # indeterminate while it runs
-        future = self._pool.submit(fn, *args)
-        self._pending.append((self._generation, kind, future, _time.perf_counter()))
-        if wait:
-            future.result()
-            self._poll()
-        return self
-
-    def _poll(self) -> None:
-        """Move finished work onto the page (stale results dropped), show a zoom's progress, start a zoom once
-        the view rests."""
-        for entry in list(self._pending):
-            generation, kind, future, started = entry
-            if not future.done():
-                continue
-            self._pending.remove(entry)
-            if generation != self._generation or future.cancelled():
-                continue                     # a newer click came since: stale
-            self.progress.visible = False
-            try:
-                result = future.result()
-            except Exception as exc:  # noqa: BLE001 - one line on the page, never a traceback
-                self.status = f"error: {' '.join(str(exc).split())[:300]}"
-                continue
-            getattr(self, f"_show_{kind}")(result, _time.perf_counter() - started)
-        self._poll_zoom()
-
     # ----- results ----------------------------------------------------------------------------------------------
     def _show_history(self, r, wall) -> None:
-        h, par, units = r["history"], self.computer.param, self.computer.ds[self.computer.param].attrs.get("units", "")
-        y = h[self._state].values * self._y
-        t = h["time"].values
-        self.history_source.data = dict(t=t, y=y, i=h["i"].values if "i" in h else np.zeros(t.size),
-                                        relay=h["relay"].values if "relay" in h else np.zeros(t.size),
-                                        v=h[self._vel].values if self._vel in h else np.zeros(t.size))
-        ti = h["impact_time"].values if "impact_time" in h else np.array([])
-        ti = ti[np.isfinite(ti)]
-        self.impact_source.data = dict(t=ti, y=np.interp(ti, t, y))
+        par, units = self.computer.param, self.computer.ds[self.computer.param].attrs.get("units", "")
         row = self.columns.data
         j = int(np.argmin(np.abs(np.asarray(row["value"]) - r["value"])))
         per = "relay periods" if par == "relay_hz" or "relay_hz" in self.computer.problem.values else "periods"
-        self.history_text = (f"**{par} = {r['value']:g} {units}: {row['text'][j]}.** Time history over "
-                             f"{r['periods']} {per} after the record: **{r['impacts']} impacts**")
-        o = r["orbit"]
-        if o is not None:
-            mu = o.multiplier_abs.values * np.exp(1j * o.multiplier_arg.values)
-            self.multiplier_source.data = dict(re=mu.real, im=mu.imag)
-            nodes = o[self._state].values * self._y
-            self.node_source.data = dict(y=nodes, v=o[self._vel].values if self._vel in o else np.zeros(nodes.size))
-            listed = ", ".join(f"{a:.4g}" + (f" (arg {b:+.3f})" if abs(b) > 1e-9 else "")
-                               for a, b in zip(o.multiplier_abs.values, o.multiplier_arg.values))
-            self.orbit_text = (f"**Periodic orbit**: period {int(o.period)}, {int(o.impacts_per_period)} impacts per "
-                               f"period, {'stable' if int(o.stable) else 'unstable'}; Floquet multipliers "
-                               f"|mu| = {listed}; Newton residual {float(o.newton_residual):.1e}")
-            self.branch_button.disabled = False
-        else:
-            self.multiplier_source.data = dict(re=[], im=[])
-            self.node_source.data = dict(y=[], v=[])
-            self.orbit_text = f"No periodic orbit: {r['orbit_error']}"
-            self.branch_button.disabled = True
+        self.panels.show_history(r["history"], f"**{par} = {r['value']:g} {units}: {row['text'][j]}.** Time history "
+                                               f"over {r['periods']} {per} after the record: "
+                                               f"**{r['impacts']} impacts**")
+        self.branch_button.disabled = not self.panels.show_orbit(r["orbit"], r["orbit_error"])
         self.status = f"{par} = {r['value']:g}: shown in {wall:.2f} s"
+        if self._spares is not None and not self._spares.children and self._zoom is None:
+            self._spares.fill()              # the first click is shown: warm processes for a zoom
 
     def _show_branch(self, r, wall) -> None:
         ps, ys = [], []
@@ -292,7 +376,8 @@ class Explorer:
         anytime labels; each stage repaints the diagram when it ends."""
         if self._zoom is not None:
             self._zoom.close()
-        self._zoom = Zoom(self.stored_computer, float(lo), float(hi), n, self.workers)
+        self._zoom = Zoom(self.stored_computer, float(lo), float(hi), n, self.workers, spares=self._spares)
+        self._zoom_refilled = False
         self.progress.visible, self.progress.value = True, 0
         self.status = f"zoom {lo:g} to {hi:g}: sweeping {n} values..."
         return self._zoom
@@ -303,10 +388,12 @@ class Explorer:
             self._zoom.close()
             self._zoom = None
         self._show_dataset(self.stored)
+        if self._spares is not None:
+            self._spares.fill()
         self.whole_button.disabled = True
         self.status = "the stored diagram"
 
-    def _poll_zoom(self) -> None:
+    def _poll_more(self) -> None:
         (lo, hi), since = self._range_seen
         span = self._span[1] - self._span[0]
         if self.zoom_check.value and lo is not None and _time.monotonic() - since > ZOOM_REST and \
@@ -319,8 +406,12 @@ class Explorer:
             return
         s = z.poll()
         if s["dataset"] is not None:
-            self._show_dataset(s["dataset"])
+            step = (z.values[-1] - z.values[0]) / (z.values.size - 1)
+            self._show_dataset(s["dataset"], span=(float(z.values[0] - step), float(z.values[-1] + step)))
             self.whole_button.disabled = False
+        if s["stage"] >= 1 and not self._zoom_refilled and self._spares is not None:
+            self._spares.fill()              # the first picture is shown: warm processes for the next zoom
+            self._zoom_refilled = True
         if s["error"]:
             self.status = f"zoom failed: {s['error']}"
             z.close()
@@ -334,41 +425,264 @@ class Explorer:
             self.status = (f"zoom {z.values[0]:g} to {z.values[-1]:g}, {s['name']}: {s['done']} of {s['total']} "
                            f"values ({s['seconds']:.1f} s)")
 
-    # ----- texts the page shows (Markdown panes) --------------------------------------------------------------
-    status = property(lambda self: self.status_pane.object, lambda self, text: _set(self.status_pane, text),
-                      doc="the status line: what runs, its progress, how long a result took")
-    history_text = property(lambda self: self.history_pane.object, lambda self, text: _set(self.history_pane, text),
-                            doc="the clicked value: its class, the periods of its time history and their impacts")
-    orbit_text = property(lambda self: self.orbit_pane.object, lambda self, text: _set(self.orbit_pane, text),
-                          doc="the clicked value's periodic orbit with its Floquet multipliers, or why none")
-
-    # ----- showing it -------------------------------------------------------------------------------------------
-    def start(self) -> "Explorer":
-        """Start the periodic look at the background work (in a served session or a live notebook)."""
-        import panel as pn
-        if self._callback is None:
-            self._callback = pn.state.add_periodic_callback(self._poll, period=POLL_MS)
-            self._warm.add_done_callback(lambda f: None)
-            if self.status.startswith("Loading"):
-                self.status = "hover a value for its class; click it for its time history and orbit"
-        return self
-
-    def servable(self):
-        """The page's layout, with its periodic callback started."""
-        self.start()
-        return self.layout
-
-    def _repr_mimebundle_(self, include=None, exclude=None):
-        self.start()
-        return self.layout._repr_mimebundle_(include, exclude)
-
-    def close(self) -> None:
-        """Stop the background work (a zoom's processes, the thread)."""
+    def _close_more(self) -> None:
         if self._zoom is not None:
             self._zoom.close()
-        if self._callback is not None:
-            self._callback.stop()
-        self._pool.shutdown(wait=False, cancel_futures=True)
+        if self._spares is not None:
+            self._spares.close()
+            self._spares = None
+
+
+class MapExplorer(Page):
+    """A stored regime map in the browser: hover a cell for its class, click it for its time history and periodic
+    orbit (the cell swept anew as a one-value diagram with the map's settings, :class:`MapComputer`).
+
+    ``select(value, value2, wait=True)`` does from Python what a click does."""
+
+    HINT = "hover a cell for its class; click it for its time history and orbit"
+
+    def __init__(self, ds, title: str | None = None):
+        import panel as pn
+        from bokeh.models import ColumnDataSource, HoverTool, TapTool
+        from bokeh.plotting import figure
+        self._start_page(pn, ds, MapComputer(ds), title, "regime map")
+        p1, p2 = self.computer.param, self.computer.param2
+        rows = map_rows(ds)
+        half = [np.diff(np.sort(g)).min() / 2 if g.size > 1 else 0.5 for g in (self.computer.values,
+                                                                               self.computer.values2)]
+        self.cells = ColumnDataSource(dict(left=rows["value"] - half[0], right=rows["value"] + half[0],
+                                           bottom=rows["value2"] - half[1], top=rows["value2"] + half[1],
+                                           value=rows["value"], value2=rows["value2"], text=rows["text"],
+                                           colour=[CLASS_COLOURS.get(lab, "#000000") for lab in rows["label"]]))
+        u1, u2 = (ds[p].attrs.get("units", "") for p in (p1, p2))
+        f = figure(height=380, sizing_mode="stretch_width", name="map", tools="pan,wheel_zoom,reset",
+                   title=f"{self.title}: hover a cell, click it for its orbit",
+                   x_axis_label=f"{p1} [{u1}]", y_axis_label=f"{p2} [{u2}]")
+        quads = f.quad(left="left", right="right", bottom="bottom", top="top", source=self.cells, fill_color="colour",
+                       line_color="white", hover_line_color="black", hover_fill_alpha=0.7, selection_line_color="black",
+                       selection_line_width=2, nonselection_fill_alpha=0.9)
+        f.add_tools(HoverTool(renderers=[quads], tooltips=[(f"{p1} [{u1}]", "@value{0.[0000]}"),
+                                                          (f"{p2} [{u2}]", "@value2{0.[0000]}"), ("class", "@text")]),
+                    TapTool(renderers=[quads]))
+        self.cells.selected.on_change("indices", self._on_tap)
+        self.map_figure = f
+        self.panels = OrbitPanels(pn, problem_of(ds), title="time history (click a cell)")
+        self.layout = pn.Column(pn.pane.Bokeh(f, sizing_mode="stretch_width"), self.progress, self.status_pane,
+                                self.panels.row(pn), sizing_mode="stretch_width", name="bifurc explore")
+
+    def _on_tap(self, attr, old, new) -> None:
+        if new:
+            d = self.cells.data
+            self.select(float(d["value"][new[0]]), float(d["value2"][new[0]]))
+
+    def select(self, value, value2, wait: bool = False):
+        """Show the cell nearest (``value``, ``value2``): its time history and periodic orbit."""
+        i, j = self.computer.index(value, value2)
+        v, v2 = float(self.computer.values[i]), float(self.computer.values2[j])
+        self.status = (f"computing the cell {self.computer.param} = {v:g}, {self.computer.param2} = {v2:g}: "
+                       f"swept anew, then its time history and orbit...")
+        return self._submit("cell", self.computer.cell, v, v2, wait=wait)
+
+    def _show_cell(self, r, wall) -> None:
+        p1, p2 = self.computer.param, self.computer.param2
+        per = "relay periods" if "relay_hz" in (p1, p2) or "relay_hz" in self.computer.kwargs["params"] else "periods"
+        self.panels.show_history(r["history"], f"**{p1} = {r['value']:g}, {p2} = {r['value2']:g}: {r['stored']}.** "
+                                               f"Time history over {r['periods']} {per} after the cell's record: "
+                                               f"**{r['impacts']} impacts**")
+        self.panels.show_orbit(r["orbit"], r["orbit_error"])
+        self.status = f"{p1} = {r['value']:g}, {p2} = {r['value2']:g}: shown in {wall:.2f} s"
+
+
+class CensusExplorer(Page):
+    """A stored census (attractors dataset over one parameter) in the browser: its figure (each attractor's strobe
+    states against the parameter, the basin fractions beneath); hover a value for its attractors, click it for
+    each attractor's class, basin fraction with its 95 % interval, the fresh starts' basins on their slice, the
+    attractors' stored strobe states, and a representative's time history (the largest basin's; the menu picks
+    another).
+
+    ``select(value, wait=True)`` and ``show_attractor(label, wait=True)`` do from Python what the clicks do;
+    ``attractors_text`` holds the table the page shows."""
+
+    HINT = "hover a value for its attractors; click it for their basins and orbits"
+
+    def __init__(self, ds, title: str | None = None):
+        import panel as pn
+        from bokeh.models import ColumnDataSource, HoverTool, TapTool
+        from bokeh.plotting import figure
+        self._start_page(pn, ds, CensusComputer(ds), title, "census")
+        c, par = self.computer, self.computer.param
+        state = c.states[0]
+        scale, unit = _scale(ds, state)
+        self._y = scale
+        units = ds[par].attrs.get("units", "")
+        vals = c.values
+        width = np.diff(np.sort(vals)).min() if vals.size > 1 else 0.1 * max(1.0, abs(vals[0]))
+        labels = [str(x) for x in ds.attractor_label.values]
+        self._colours = {lab: PALETTE[j % len(PALETTE)] for j, lab in enumerate(labels)}
+        summary = []
+        pts = {"p": [], "y": [], "colour": [], "label": []}
+        bars = {"p": [], "bottom": [], "top": [], "colour": [], "label": []}
+        for v in vals:
+            rows = c.attractors(v)["rows"]
+            summary.append("; ".join(f"{x['label']} {x['text']} {x['fraction']:.2f}" for x in rows))
+            below = 0.0
+            for x in rows:
+                for y in x["nodes"].get(state, []):
+                    pts["p"].append(v)
+                    pts["y"].append(float(y) * scale)
+                    pts["colour"].append(self._colours[x["label"]])
+                    pts["label"].append(x["label"])
+                bars["p"].append(v)
+                bars["bottom"].append(below)
+                bars["top"].append(below + x["fraction"])
+                bars["colour"].append(self._colours[x["label"]])
+                bars["label"].append(f"{x['label']}: {x['text']}")
+                below += x["fraction"]
+        ys = np.asarray(pts["y"], float)
+        lo, hi = (float(ys.min()), float(ys.max())) if ys.size else (0.0, 1.0)
+        pad = 0.05 * (hi - lo or 1.0)
+        self.columns = ColumnDataSource(dict(left=vals - width / 2, right=vals + width / 2, value=vals, text=summary,
+                                             bottom=np.full(vals.size, lo - pad), top=np.full(vals.size, hi + pad)))
+        tips = [(f"{par} [{units}]", "@value{0.[0000]}"), ("attractors", "@text")]
+        f = figure(height=320, sizing_mode="stretch_width", name="census", tools="xpan,xwheel_zoom,reset",
+                   title=f"{self.title}: hover a value, click it for its attractors",
+                   y_axis_label=f"{state} [{unit}] at the strobe")
+        f.scatter("p", "y", source=ColumnDataSource(pts), size=6, color="colour")
+        cols = f.quad(left="left", right="right", bottom="bottom", top="top", source=self.columns, fill_alpha=0,
+                      line_alpha=0, hover_fill_color="black", hover_fill_alpha=0.08, selection_fill_alpha=0.12,
+                      selection_fill_color="black", nonselection_fill_alpha=0, nonselection_line_alpha=0)
+        f.add_tools(HoverTool(renderers=[cols], tooltips=tips), TapTool(renderers=[cols]))
+        fr = figure(height=140, sizing_mode="stretch_width", x_range=f.x_range, name="fractions", tools="",
+                    toolbar_location=None, y_axis_label="basin fraction", y_range=(0, 1),
+                    x_axis_label=f"{ds[par].attrs.get('long_name', par)} {par} [{units}]")
+        bars["left"] = [p - width * 0.4 for p in bars["p"]]
+        bars["right"] = [p + width * 0.4 for p in bars["p"]]
+        fq = fr.quad(left="left", right="right", bottom="bottom", top="top", source=ColumnDataSource(bars),
+                     fill_color="colour", line_color="white")
+        fr.add_tools(HoverTool(renderers=[fq], tooltips=[("attractor", "@label")]))
+        self.columns.selected.on_change("indices", self._on_tap)
+        self.census_figure = f
+        # the clicked value: basins on the slice, the attractors' strobe states, a representative's history
+        self.start_source = ColumnDataSource(dict(a=[], b=[], colour=[], label=[]))
+        self.node_sources = ColumnDataSource(dict(a=[], b=[], colour=[], label=[]))
+        sa, sb = (ds.attrs.get("slice_states", "") or " ".join(c.states[:2])).split()[:2] \
+            if len(c.states) > 1 else (state, state)
+        self._pair = (sa, sb)
+        ua, ub = (_scale(ds, s)[1] for s in (sa, sb))
+        basin = figure(height=300, width=340, name="basins", tools="pan,wheel_zoom,reset",
+                       title="basins: each fresh start by the attractor it reached",
+                       x_axis_label=f"{sa} [{ua}] at the start", y_axis_label=f"{sb} [{ub}]")
+        basin.scatter("a", "b", source=self.start_source, size=9, marker="square", color="colour", legend_field="label")
+        basin.scatter("a", "b", source=self.node_sources, size=10, marker="star", color="black")
+        basin.legend.location = "top_left"
+        basin.legend.label_text_font_size = "8pt"
+        self.attractor_pane = pn.pane.Markdown("", name="attractors_text", css_classes=["attractors-text"])
+        self.attractor_select = pn.widgets.Select(name="time history of", options=[], disabled=True)
+        self.attractor_select.param.watch(self._on_select, "value")
+        self.panels = OrbitPanels(pn, c.problem, title="time history of an attractor (click a value)")
+        self.layout = pn.Column(pn.pane.Bokeh(f, sizing_mode="stretch_width"),
+                                pn.pane.Bokeh(fr, sizing_mode="stretch_width"), self.progress, self.status_pane,
+                                pn.Row(self.attractor_pane, pn.pane.Bokeh(basin)), self.attractor_select,
+                                self.panels.row(pn), sizing_mode="stretch_width", name="bifurc explore")
+        self._shown = None
+
+    attractors_text = property(lambda self: self.attractor_pane.object,
+                               doc="the clicked value's attractors: class, basin fraction with its 95 % interval")
+
+    def _on_tap(self, attr, old, new) -> None:
+        if new:
+            self.select(float(self.columns.data["value"][new[0]]))
+
+    def select(self, value, wait: bool = False):
+        """Show ``value``'s attractors (the nearest stored value) and the time history of its largest basin's."""
+        r = self.computer.attractors(value)
+        self._shown = r
+        par = self.computer.param
+        lines = [f"**{par} = {r['value']:g}: {sum(x['label'].startswith('A') for x in r['rows'])} attractors**", "",
+                 "| attractor | class | basin fraction [95 %] |", "|---|---|---|"]
+        for x in r["rows"]:
+            lines.append(f"| {x['label']} | {x['text']} | {x['fraction']:.3f} [{x['low']:.3f}, {x['high']:.3f}] |")
+        _set(self.attractor_pane, "\n".join(lines))
+        sa, sb = self._pair
+        starts = r["starts"]
+        if sa in starts and sb in starts:
+            fa, fb = (_scale(self.stored, s)[0] for s in (sa, sb))
+            self.start_source.data = dict(a=starts[sa] * fa, b=starts[sb] * fb, label=r["went"],
+                                          colour=[self._colours.get(w, "#999999") for w in r["went"]])
+        nodes = [x for x in r["rows"] if x["nodes"]]
+        fa, fb = (_scale(self.stored, s)[0] for s in (sa, sb))
+        self.node_sources.data = dict(a=np.concatenate([x["nodes"][sa] * fa for x in nodes]) if nodes else [],
+                                      b=np.concatenate([x["nodes"][sb] * fb for x in nodes]) if nodes else [],
+                                      colour=["black"] * sum(x["nodes"][sa].size for x in nodes),
+                                      label=sum(([x["label"]] * x["nodes"][sa].size for x in nodes), []))
+        present = [x for x in r["rows"] if x["label"].startswith("A") and x["nodes"]]
+        options = {f"{x['label']}: {x['text']}": x["label"] for x in present}
+        top = max(present, key=lambda x: x["fraction"])["label"] if present else None
+        self._selecting = True
+        self.attractor_select.options = options
+        self.attractor_select.disabled = not options
+        self.attractor_select.value = top
+        self._selecting = False
+        if top is None:
+            self.status = f"{par} = {r['value']:g}: no attractor present"
+            return self
+        return self.show_attractor(top, wait=wait)
+
+    def _on_select(self, event) -> None:
+        if not getattr(self, "_selecting", False) and event.new:
+            self.show_attractor(event.new)
+
+    def show_attractor(self, label: str, wait: bool = False):
+        """The time history of attractor ``label`` at the shown value, from its stored strobe state."""
+        if self._shown is None:
+            raise ParameterError("no value selected: click a value first")
+        self.status = f"computing {label}'s time history at {self.computer.param} = {self._shown['value']:g}..."
+        return self._submit("attractor", self.computer.history, self._shown["value"], label, wait=wait)
+
+    def _show_attractor(self, r, wall) -> None:
+        x = next(x for x in self._shown["rows"] if x["label"] == r["label"])
+        self.panels.show_history(r["history"], f"**{r['label']} at {self.computer.param} = {r['value']:g}: "
+                                               f"{x['text']}.** Time history over {r['periods']} periods from its "
+                                               f"stored strobe state: **{r['impacts']} impacts**")
+        j = x["j"]
+        i = self._shown["index"]
+        ds = self.stored
+        if "multiplier_abs" in ds and np.isfinite(ds.multiplier_abs.values[i, j]).any():
+            ab, arg = ds.multiplier_abs.values[i, j], ds.multiplier_arg.values[i, j]
+            keep = np.isfinite(ab)
+            mu = ab[keep] * np.exp(1j * arg[keep])
+            self.panels.multiplier_source.data = dict(re=mu.real, im=mu.imag)
+            _set(self.panels.orbit_pane, f"**{r['label']}**: {x['text']}; stored Floquet multipliers |mu| = "
+                                         + ", ".join(f"{a:.4g}" for a in ab[keep]))
+        else:
+            self.panels.multiplier_source.data = dict(re=[], im=[])
+            _set(self.panels.orbit_pane, f"**{r['label']}**: {x['text']}; no multipliers stored")
+        n = x["nodes"]
+        st, vel = self.panels.state, self.panels.vel
+        self.panels.node_source.data = dict(y=n.get(st, np.array([])) * self.panels.y,
+                                            v=n.get(vel, np.zeros(len(n.get(st, [])))))
+        self.status = f"{r['label']} at {self.computer.param} = {r['value']:g}: shown in {wall:.2f} s"
+
+
+#: attractor colours of the census page (Okabe-Ito, then greys)
+PALETTE = ["#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#F0E442", "#000000", "#999999",
+           "#666666"]
+
+
+def explorer_of(ds, title: str | None = None, workers: int | None = None, zoom: bool = True):
+    """The page of a stored dataset by its kind: a diagram's :class:`Explorer`, a regime map's :class:`MapExplorer`,
+    a census' :class:`CensusExplorer`; another kind refused in one line."""
+    from ..storage.load import kind_of
+    kind = kind_of(ds)
+    if kind == "map":
+        return MapExplorer(ds, title=title)
+    if kind == "attractors":
+        return CensusExplorer(ds, title=title)
+    if kind != "diagram":
+        raise ParameterError(f"the explorer needs a diagram, map or attractors dataset (from `bifurc diagram`, "
+                             f"`bifurc map` or `bifurc attractors`); this is "
+                             f"{'a ' + kind if kind else 'another kind of'} dataset")
+    return Explorer(ds, title=title, workers=workers, zoom=zoom)
 
 
 def _set(pane, text: str) -> None:
@@ -381,7 +695,9 @@ def serve(ds, port: int, show: bool = True, title: str | None = None, workers: i
     import panel as pn
 
     def page():
-        return Explorer(ds, title=title, workers=workers).servable()
+        ex = explorer_of(ds, title=title, workers=workers)
+        pn.state.on_session_destroyed(lambda context: ex.close())     # a closed tab: its thread and processes end
+        return ex.servable()
     return pn.serve({"/": page}, address="127.0.0.1", port=port, show=show, title=title or "bifurc explore",
                     websocket_origin=[f"127.0.0.1:{port}", f"localhost:{port}"], threaded=False, verbose=False,
                     print_url=False)

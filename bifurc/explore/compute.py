@@ -1,7 +1,7 @@
 """What the explorer computes, through the public API only (no second implementation): the problem rebuilt from
 a stored dataset's attributes, a value's time history (:func:`maps.simulate`) and periodic orbit
 (:func:`bifurc.periodic_orbit`), its branch (:func:`bifurc.continue_orbit`) and a zoomed range swept anew
-(:func:`bifurc.sweep` on a :class:`bifurc.Run`, in a child process that a newer zoom stops).
+(:func:`bifurc.sweep` on a :class:`bifurc.Run`, in warm processes that a newer zoom stops).
 
 Nothing here draws: :mod:`bifurc.explore.app` shows what these functions return.
 """
@@ -11,6 +11,7 @@ import copy
 import json
 import math
 import os
+import pickle
 import signal
 import subprocess
 import sys
@@ -48,7 +49,8 @@ def problem_kwargs(ds) -> dict:
     if "scene" not in a:
         raise ParameterError("this dataset records no scene (attribute 'scene'): written by another tool")
     params = {k[6:]: float(v) for k, v in a.items() if k.startswith("param_") and not k.endswith(("_units", "_source"))}
-    params.pop(a.get("swept_parameter"), None)
+    for par in _swept(ds):
+        params.pop(par, None)
     x0 = {}
     for item in str(a.get("initial_state", "")).split(","):
         name, sep, value = item.partition("=")
@@ -61,6 +63,11 @@ def problem_kwargs(ds) -> dict:
     if a.get("soil_compaction", "none") != "none":
         out["compaction"] = True
     return out
+
+
+def _swept(ds) -> tuple:
+    """The dataset's swept parameters (one, or two for a regime map or a census over two)."""
+    return tuple(ds.attrs[k] for k in ("swept_parameter", "swept_parameter2") if k in ds.attrs)
 
 
 def problem_of(ds):
@@ -93,6 +100,15 @@ def value_rows(ds) -> dict:
     return rows
 
 
+def nearest(grid, value, name: str, whose: str) -> int:
+    """The index of ``grid``'s value nearest to ``value``; more than a grid step outside refused in one line."""
+    lo, hi = grid.min(), grid.max()
+    step = np.diff(np.sort(grid)).min() if grid.size > 1 else 0.0
+    if not lo - step <= float(value) <= hi + step:
+        raise ParameterError(f"{name} = {value:g}: outside {whose} {lo:g} to {hi:g}")
+    return int(np.argmin(np.abs(grid - float(value))))
+
+
 def start_sample(ds, index: int) -> int:
     """The last recorded sample of value ``index`` at which the forcing is in its phase at t = 0 (the sample's
     period count a multiple of the forcing period q), so that a simulation started there at t = 0 continues the
@@ -122,11 +138,7 @@ class Computer:
 
     def index(self, value) -> int:
         """The stored value nearest to ``value``; outside the grid refused in one line."""
-        lo, hi = self.values.min(), self.values.max()
-        step = np.diff(np.sort(self.values)).min() if self.values.size > 1 else 0.0
-        if not lo - step <= float(value) <= hi + step:
-            raise ParameterError(f"{self.param} = {value:g}: outside the diagram's {lo:g} to {hi:g}")
-        return int(np.argmin(np.abs(self.values - float(value))))
+        return nearest(self.values, value, self.param, "the diagram's")
 
     def on(self, ds) -> "Computer":
         """The same problem and integrators for another diagram of it (a zoom's)."""
@@ -200,6 +212,140 @@ class Computer:
         return {"value": v, "branches": out, "error": "; ".join(errors), "seconds": _time.perf_counter() - clock}
 
 
+class MapComputer:
+    """One stored regime map's clicks: a cell is swept anew as a one-value diagram with the map's own settings
+    (:func:`bifurc.sweep`; the map stores no states), whose :class:`Computer` then gives the cell's time history
+    and periodic orbit as for a diagram value."""
+
+    def __init__(self, ds):
+        require_kind(ds, "map", "the regime map's explorer")
+        self.ds = ds
+        self.param, self.param2 = ds.attrs["swept_parameter"], ds.attrs["swept_parameter2"]
+        self.kwargs = problem_kwargs(ds)
+        a = ds.attrs
+        transient, record = int(a.get("transient_periods", 300)), int(a.get("recorded_periods", 100))
+        self.method = dict(transient=transient, record=record, tol=float(a.get("tol", 1e-10)),
+                           budget=max(int(a.get("budget_periods", transient + record)), transient + record),
+                           max_period=int(a.get("max_period", 100)), error_sample=0, grazing=False)
+        self.values, self.values2 = ds[self.param].values.astype(float), ds[self.param2].values.astype(float)
+
+    def index(self, value, value2) -> tuple[int, int]:
+        """The cell nearest to (value, value2); outside the map refused in one line."""
+        return (nearest(self.values, value, self.param, "the map's"),
+                nearest(self.values2, value2, self.param2, "the map's"))
+
+    def cell(self, value, value2) -> dict:
+        """The cell's stored class and, from its one-value diagram, its time history and periodic orbit:
+        :meth:`Computer.history`'s dict with "cell" (i, j), "value2" and "stored" (the map's class text)."""
+        import maps
+
+        from ..sweeps.method import Diagram
+        from ..sweeps.sweep import sweep
+        from ..run.where import Run
+        clock = _time.perf_counter()
+        i, j = self.index(value, value2)
+        v, v2 = float(self.values[i]), float(self.values2[j])
+        kw = copy.deepcopy(self.kwargs)
+        kw["params"][self.param2] = v2
+        d = sweep(maps.problem(**kw), self.param, np.array([v]), Diagram(**self.method),
+                  run=Run(workers=1, progress=False))
+        out = Computer(d).history(v)
+        c = self.ds.isel({self.param: i, self.param2: j})
+        code = int(c.class_code)
+        out.update(cell=(i, j), value2=v2, seconds=_time.perf_counter() - clock,
+                   stored=describe(code, int(c.period), int(c.impacts_per_period)) if code >= 0 else "not computed",
+                   swept=describe(*(int(d.isel(branch=0)[k].values[0]) for k in ("class_code", "period",
+                                                                                  "impacts_per_period"))))
+        return out
+
+
+def map_rows(ds) -> dict:
+    """Per cell of a regime map (flat, row-major over (param, param2)): both values, class label and text."""
+    p1, p2 = ds.attrs["swept_parameter"], ds.attrs["swept_parameter2"]
+    d = ds.transpose(p1, p2)
+    codes = d.class_code.values.astype(int).ravel()
+    n, m = d.period.values.astype(int).ravel(), d.impacts_per_period.values.astype(int).ravel()
+    v1, v2 = np.meshgrid(d[p1].values, d[p2].values, indexing="ij")
+    return {"value": v1.ravel().astype(float), "value2": v2.ravel().astype(float),
+            "label": [CLASS_LABELS[c] if c >= 0 else "missing" for c in codes],
+            "text": [describe(c, a, b) if c >= 0 else "not computed" for c, a, b in zip(codes, n, m)]}
+
+
+class CensusComputer:
+    """One stored census' clicks (an attractors dataset over one parameter): a value's attractors with their
+    class, basin fraction and interval, stored strobe states and the fresh starts' basins, and an attractor's time
+    history from its stored state (:func:`maps.simulate`)."""
+
+    def __init__(self, ds):
+        require_kind(ds, "attractors", "the census' explorer")
+        if "swept_parameter2" in ds.attrs:
+            raise ParameterError("a census over two parameters: the explorer shows a census over one parameter; "
+                                 "ds.bifurc.plot() draws this one")
+        self.ds = ds
+        self.param = ds.attrs["swept_parameter"]
+        self.kwargs = problem_kwargs(ds)
+        self.problem = problem_of(ds)
+        self.values = ds[self.param].values.astype(float)
+        self.states = [k for k in self.problem.system.state_names if k in ds and "node" in ds[k].dims]
+
+    def index(self, value) -> int:
+        return nearest(self.values, value, self.param, "the census'")
+
+    def attractors(self, value) -> dict:
+        """{"index", "value", "rows": one per attractor or outcome a start reached or present (label, class text,
+        fraction, low, high, its stored strobe states {state: nodes} for an attractor), "starts": each fresh
+        start's state {state: values} and the label it reached}."""
+        from ..attractors.dataset import attractor_text
+        ds, i = self.ds, self.index(value)
+        rows = []
+        for j, label in enumerate(ds.attractor_label.values):
+            label = str(label)
+            frac = float(ds.basin_fraction.values[i, j])
+            if not (frac > 0 or ds.present.values[i, j]):
+                continue
+            nodes = {}
+            if label.startswith("A"):
+                n = int(ds.period.values[i, j]) if int(ds.period.values[i, j]) > 0 else ds.sizes["node"]
+                nodes = {st: ds[st].values[i, j, :n][np.isfinite(ds[st].values[i, j, :n])] for st in self.states}
+            rows.append({"j": j, "label": label, "text": attractor_text(ds, i, j) if label.startswith("A")
+                         else label.replace("_", " "), "fraction": frac,
+                         "low": float(ds.basin_fraction_low.values[i, j]),
+                         "high": float(ds.basin_fraction_high.values[i, j]), "nodes": nodes})
+        labels = [str(s) for s in ds.attractor_label.values]
+        went = ds.start_attractor.values[i] if "start_attractor" in ds else np.array([], int)
+        starts = {st: ds[f"start_{st}"].values for st in self.states if f"start_{st}" in ds}
+        return {"index": i, "value": float(self.values[i]), "rows": rows, "starts": starts,
+                "went": [labels[k] if 0 <= k < len(labels) else "none" for k in went]}
+
+    def history(self, value, label: str, periods: int = HISTORY_PERIODS) -> dict:
+        """Attractor ``label``'s time history at ``value`` from its stored strobe state (the node at which the
+        forcing is in its phase at t = 0): {"value", "label", "history", "periods", "impacts", "seconds"}."""
+        import maps
+        clock = _time.perf_counter()
+        ds, i = self.ds, self.index(value)
+        labels = [str(s) for s in ds.attractor_label.values]
+        if label not in labels or not label.startswith("A") or not ds.present.values[i, labels.index(label)]:
+            raise ParameterError(f"attractor {label!r}: not an attractor present at {self.param} = "
+                                 f"{self.values[i]:g}")
+        j = labels.index(label)
+        v = float(self.values[i])
+        pb = self.problem.with_values(**{self.param: v})
+        q = maps.StroboscopicMap(pb).forcing_period_for(dict(pb.values))
+        k0 = int(ds.attractor_k0.values[i, j])
+        n = max(1, int(ds.period.values[i, j]))
+        nodes = [r for r in range(min(n, ds.sizes["node"])) if q <= 1 or (k0 + r) % q == 0] or [0]
+        r = nodes[0]
+        start = {st: float(ds[st].values[i, j, r]) for st in pb.system.state_names if st in ds}
+        flags = {k[5:]: bool(ds[k].values[i, j, r]) for k in ds.data_vars if k.startswith("flag_")
+                 and "node" in ds[k].dims}
+        periods = n * max(1, math.ceil(MIN_HISTORY_PERIODS / n)) if int(ds.period.values[i, j]) > 0 else periods
+        T = pb.strobe_period()
+        h = maps.simulate(pb.with_start(start, flags or None), periods=periods,
+                          tol=float(ds.attrs.get("tol", 1e-10)), dt=T / SAMPLES_PER_PERIOD)
+        return {"value": v, "label": label, "history": h, "periods": periods,
+                "impacts": int(h.sizes.get("impact", 0)), "seconds": _time.perf_counter() - clock}
+
+
 def branch_points(br, state: str) -> tuple[np.ndarray, np.ndarray]:
     """(parameter, state) pairs of a branch dataset's points at every strobe node, for the diagram's overlay."""
     p = br[br.attrs["continuation_parameter"]].values
@@ -208,92 +354,236 @@ def branch_points(br, state: str) -> tuple[np.ndarray, np.ndarray]:
     return np.repeat(p, y.shape[1])[keep.ravel()], y[keep]
 
 
-class Zoom:
-    """A range of the diagram swept anew in a child process (:func:`bifurc.sweep` on a :class:`bifurc.Run` with
-    every core), in two stages: a first picture (the dataset's transient and record, no extension, no exponent
-    and no grazing search: the points and the periodic classes), then the
-    anytime labels (undecided values extended up to the dataset's budget).  :meth:`stop` ends the child and its
-    workers (a newer zoom replaces a stale one); :meth:`poll` tells the stage, values done and a finished
-    stage's dataset."""
+#: values per chunk of a zoom: each chunk is swept and stored on its own, so the page repaints as they land
+ZOOM_CHUNK = 5
 
-    def __init__(self, computer: Computer, lo: float, hi: float, n: int = ZOOM_VALUES, workers: int | None = None):
-        a = computer.ds.attrs
+
+def _stage_methods(ds) -> tuple[dict, list]:
+    """A zoom's method settings shared by its stages, and its two stages (name, settings): the first picture (the
+    dataset's transient and record, no extension, no exponent, no grazing search), then the anytime labels
+    (undecided values extended up to the dataset's budget)."""
+    a = ds.attrs
+    transient, record = int(a.get("transient_periods", 300)), int(a.get("recorded_periods", 100))
+    budget = int(a.get("budget_periods", transient + record))
+    method = {"transient": transient, "record": record, "tol": float(a.get("tol", 1e-10)),
+              "max_period": int(a.get("max_period", 100)), "error_sample": 0}
+    return method, [("first picture", dict(budget=transient + record, lyapunov=False, grazing=False)),
+                    ("anytime labels", dict(budget=max(budget, transient + record)))]
+
+
+def _start_child(warm: dict, ready_dir: Path) -> subprocess.Popen:
+    """One zoom process, in its own process group: it imports bifurc, rebuilds the problem and compiles its
+    integrators on a one-value first picture (then touches ``ready-<pid>`` in ``ready_dir``), and waits on its
+    standard input for a zoom's job (:func:`zoom_worker`)."""
+    err = Path(tempfile.mkstemp(prefix="stderr-", suffix=".txt", dir=ready_dir)[1])
+    with open(err, "wb") as sink:
+        child = subprocess.Popen([sys.executable, "-c", "from bifurc.explore.compute import zoom_worker; "
+                                  "zoom_worker()", str(ready_dir)], start_new_session=True, stdin=subprocess.PIPE,
+                                 stdout=subprocess.DEVNULL, stderr=sink)
+    child.err_path = err
+    child.stdin.write((json.dumps(warm) + "\n").encode())
+    child.stdin.flush()
+    return child
+
+
+def _end(child: subprocess.Popen) -> None:
+    """End a zoom process and whatever it started (its own process group)."""
+    if child.poll() is None:
+        try:
+            os.killpg(child.pid, signal.SIGTERM)
+        except ProcessLookupError:
+            pass
+    try:
+        child.wait(timeout=10)
+    except subprocess.TimeoutExpired:
+        os.killpg(child.pid, signal.SIGKILL)
+        child.wait(timeout=10)
+    if child.stdin is not None and not child.stdin.closed:
+        try:
+            child.stdin.close()
+        except OSError:
+            pass
+
+
+class Spares:
+    """Warm zoom processes kept ready for the next zoom (one per worker): started after the first click, each has
+    imported bifurc and compiled the problem's integrators before a zoom needs it, so that a zoom's first chunk
+    lands within a second.  :meth:`take` hands them to a :class:`Zoom`; :meth:`fill` starts new ones."""
+
+    def __init__(self, computer: Computer, workers: int | None = None):
+        from ..run.executor import available_cores
+        self.n = int(workers or available_cores())
+        method, stages = _stage_methods(computer.ds)
+        self.warm = {"problem": computer.kwargs, "param": computer.param, "value": float(computer.values[0]),
+                     "method": dict(method, **stages[0][1])}
+        self.dir = Path(tempfile.mkdtemp(prefix="bifurc-explore-spares-"))
+        self.children: list = []
+
+    def fill(self) -> "Spares":
+        """Start warm processes up to one per worker."""
+        self.children = [c for c in self.children if c.poll() is None]
+        while len(self.children) < self.n:
+            self.children.append(_start_child(self.warm, self.dir))
+        return self
+
+    def ready(self) -> int:
+        """How many of the waiting processes have compiled their integrators."""
+        return sum((self.dir / f"ready-{c.pid}").exists() for c in self.children if c.poll() is None)
+
+    def take(self, n: int) -> list:
+        """Up to ``n`` waiting processes (the ready ones first), no longer this object's."""
+        alive = sorted((c for c in self.children if c.poll() is None),
+                       key=lambda c: not (self.dir / f"ready-{c.pid}").exists())
+        out = alive[:n]
+        self.children = alive[n:]
+        return out
+
+    def close(self) -> None:
+        import shutil
+        for c in self.children:
+            _end(c)
+        self.children = []
+        shutil.rmtree(self.dir, ignore_errors=True)
+
+
+class Zoom:
+    """A range of the diagram swept anew (:func:`bifurc.sweep` with a :class:`bifurc.Run`) by one process per
+    worker (warm ones from :class:`Spares` when given, else new ones), each sweeping every ``workers``-th chunk of
+    :data:`ZOOM_CHUNK` values and storing each chunk as it ends: first the first picture of all its chunks (the
+    dataset's transient and record, no extension, no exponent and no grazing search: the points and the periodic
+    classes), then their anytime labels (undecided values extended up to the dataset's budget).  :meth:`poll`
+    gathers the chunks stored so far into one dataset (each value at its latest stage), so the page repaints
+    from the first chunk; :meth:`stop` ends the processes (a newer zoom replaces a stale one)."""
+
+    def __init__(self, computer: Computer, lo: float, hi: float, n: int = ZOOM_VALUES, workers: int | None = None,
+                 spares: Spares | None = None):
+        from ..run.executor import available_cores
         if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
             raise ParameterError(f"zoom range {lo:g} to {hi:g}: need two finite values, the first below the second")
+        if int(n) < 2:
+            raise ParameterError(f"zoom values {n}: need at least 2")
         self.values = np.linspace(lo, hi, int(n))
+        self.param = computer.param
         self.folder = Path(tempfile.mkdtemp(prefix="bifurc-explore-"))
-        transient, record = int(a.get("transient_periods", 300)), int(a.get("recorded_periods", 100))
-        budget = int(a.get("budget_periods", transient + record))
-        self.chunk = max(1, int(n) // 20)
-        self.stages = [("first picture", dict(budget=transient + record, lyapunov=False, grazing=False)),
-                       ("anytime labels", dict(budget=max(budget, transient + record)))]
-        spec = {"problem": computer.kwargs, "param": computer.param, "values": self.values.tolist(),
-                "method": {"transient": transient, "record": record, "tol": computer.tol,
-                           "max_period": int(a.get("max_period", 100)), "error_sample": 0},
-                "stages": [dict(name=s, out=str(self.folder / f"stage{j}.nc"), **kw)
-                           for j, (s, kw) in enumerate(self.stages)],
-                "workers": workers, "chunk": self.chunk}
-        (self.folder / "spec.json").write_text(json.dumps(spec))
+        method, self.stages = _stage_methods(computer.ds)
+        self.chunks = [(j, min(j + ZOOM_CHUNK, self.values.size)) for j in range(0, self.values.size, ZOOM_CHUNK)]
+        k = max(1, min(int(workers or available_cores()), len(self.chunks)))
         self.started = _time.perf_counter()
-        with open(self.folder / "stderr.txt", "wb") as err:
-            self.child = subprocess.Popen([sys.executable, "-c", "from bifurc.explore.compute import zoom_main; "
-                                           "zoom_main()", str(self.folder / "spec.json")], start_new_session=True,
-                                          stdout=subprocess.DEVNULL, stderr=err)
-        self.seen = -1
+        self.children = spares.take(k) if spares is not None else []
+        warm = None
+        while len(self.children) < k:
+            if warm is None:
+                warm = {"problem": computer.kwargs, "param": computer.param, "value": float(self.values[0]),
+                        "method": dict(method, **self.stages[0][1])}
+            self.children.append(_start_child(warm, self.folder))
+        for w, child in enumerate(self.children):
+            job = {"folder": str(self.folder), "values": self.values.tolist(), "chunks": self.chunks[w::k],
+                   "method": method, "stages": [kw for _, kw in self.stages]}
+            child.stdin.write((json.dumps(job) + "\n").encode())
+            child.stdin.close()
+        self._stage_of = np.full(len(self.chunks), -1)         # the latest stage stored, per chunk
+        self._parts: dict = {}                                 # chunk -> its latest dataset
+        self._seen: set = set()
+
+    def _gather(self) -> bool:
+        """Load the chunks stored since the last look; True if any."""
+        new = False
+        for f in sorted(self.folder.glob("s[0-9]-c*.pickle")):
+            if f.name in self._seen:
+                continue
+            self._seen.add(f.name)
+            stage, chunk = int(f.name[1]), int(f.stem.split("-c")[1])
+            if stage > self._stage_of[chunk]:
+                self._stage_of[chunk] = stage
+                with open(f, "rb") as fh:           # written by this zoom's own processes, in its private folder
+                    part = pickle.load(fh)
+                keep = {"branch", self.param, "sample"}
+                self._parts[chunk] = part.drop_vars([k for k, v in part.variables.items() if not set(v.dims) <= keep])
+                new = True
+        return new
+
+    def picture(self):
+        """The chunks stored so far as one diagram dataset (each value at its latest stage; the variables along
+        the parameter, its branch and samples), or None before the first.  Joined array by array (xarray's concat
+        of 40 chunks costs 0.5 s, paid again at each new chunk)."""
+        import xarray as xr
+        if not self._parts:
+            return None
+        parts = [self._parts[c] for c in sorted(self._parts)]
+        first, par = parts[0], self.param
+
+        def join(name, v):
+            if par not in v.dims:
+                return v.dims, v.values, v.attrs
+            return v.dims, np.concatenate([p[name].values for p in parts], axis=v.dims.index(par)), v.attrs
+        return xr.Dataset({k: join(k, v) for k, v in first.data_vars.items() if all(k in p for p in parts)},
+                          coords={k: join(k, v) for k, v in first.coords.items()}, attrs=first.attrs)
 
     def poll(self) -> dict:
-        """{"stage" (0, 1; 2 when done), "name", "done" (values of the running stage finished), "total",
-        "dataset" (a newly finished stage's dataset, else None), "error", "seconds"}."""
-        from ..storage.load import load
-        finished = [j for j in range(len(self.stages)) if (self.folder / f"stage{j}.nc").exists()]
-        stage = len(finished)
+        """{"stage" (0 while the first picture runs, 1 the anytime labels, 2 when done), "name", "done" (values of
+        the running stage stored), "total", "dataset" (every value stored so far, when a chunk landed since the
+        last look; else None), "error", "seconds"}."""
+        codes = [c.poll() for c in self.children]            # before the look: a process stores, then ends
+        new = self._gather()
+        sizes = np.array([b - a for a, b in self.chunks])
+        stage = int(self._stage_of.min()) + 1
         out = {"stage": stage, "name": self.stages[min(stage, len(self.stages) - 1)][0], "total": self.values.size,
-               "done": 0, "dataset": None, "error": "", "seconds": _time.perf_counter() - self.started}
-        if finished and finished[-1] > self.seen:
-            self.seen = finished[-1]
-            out["dataset"] = load(self.folder / f"stage{self.seen}.nc", "diagram")
+               "done": int(sizes[self._stage_of >= min(stage, len(self.stages) - 1)].sum()),
+               "dataset": self.picture() if new else None, "error": "",
+               "seconds": _time.perf_counter() - self.started}
         if stage < len(self.stages):
-            parts = self.folder / f"stage{stage}.nc.tmp.nc.parts"
-            n_parts = len(list(parts.glob("*.nc"))) if parts.is_dir() else 0
-            out["done"] = min(self.values.size, n_parts * self.chunk)
-            if self.child.poll() not in (None, 0):
-                out["error"] = " ".join((self.folder / "stderr.txt").read_text(errors="replace").split())[-300:] \
-                    or f"the zoom's process ended with code {self.child.returncode}"
+            failed = [c for c, code in zip(self.children, codes) if code not in (None, 0)]
+            if failed or all(code == 0 for code in codes):
+                errs = " ".join(" ".join(c.err_path.read_text(errors="replace").split()) for c in failed
+                                if c.err_path.exists())
+                out["error"] = errs[-300:] or (f"a zoom process ended with code {failed[0].returncode}" if failed
+                                               else "the zoom's processes ended before every chunk was stored")
         return out
 
     @property
     def running(self) -> bool:
-        return self.child.poll() is None
+        return any(c.poll() is None for c in self.children)
 
     def stop(self) -> None:
-        """End the child process and its workers (their own process group)."""
-        if self.child.poll() is None:
-            try:
-                os.killpg(self.child.pid, signal.SIGTERM)
-            except ProcessLookupError:
-                pass
-            self.child.wait(timeout=10)
+        """End the zoom's processes and their workers (their own process groups)."""
+        for c in self.children:
+            _end(c)
 
     def close(self) -> None:
-        """Stop it and remove its folder (spec, stage files, resume parts)."""
+        """Stop it and remove its folder (stored chunks, resume parts)."""
         import shutil
         self.stop()
         shutil.rmtree(self.folder, ignore_errors=True)
 
 
-def zoom_main() -> None:
-    """The zoom's child process: ``python -c ... spec.json`` (see :class:`Zoom`)."""
+def zoom_worker() -> None:
+    """A zoom process (``python -c ... <ready folder>``, see :func:`_start_child`): the first line on its standard
+    input warms it (problem, parameter, a value, the first picture's settings); the second, a zoom's job (folder,
+    values, its chunks, stages), sweeps each of its chunks at each stage with :func:`bifurc.sweep` and stores it
+    as ``s<stage>-c<chunk>.pickle`` in the folder (atomically: the page never reads half a file).  It ends after
+    the chunk it is on when the page's process has ended (in its own process group, nothing else would stop it)."""
     import maps
 
     from ..run.where import Run
     from ..sweeps.method import Diagram
     from ..sweeps.sweep import sweep
-    spec = json.loads(Path(sys.argv[1]).read_text())
-    pb = maps.problem(**spec["problem"])
-    values = np.asarray(spec["values"])
-    for stage in spec["stages"]:
-        tmp = stage["out"] + ".tmp.nc"
-        settings = {k: v for k, v in stage.items() if k not in ("name", "out")}
-        sweep(pb, spec["param"], values, Diagram(**settings, **spec["method"]),
-              run=Run(workers=spec["workers"], path=tmp, chunk_size=spec["chunk"], progress=False))
-        os.replace(tmp, stage["out"])
+    parent = os.getppid()
+    warm = json.loads(sys.stdin.readline())
+    pb = maps.problem(**warm["problem"])
+    sweep(pb, warm["param"], np.array([warm["value"]]), Diagram(**warm["method"]), run=Run(workers=1, progress=False))
+    (Path(sys.argv[1]) / f"ready-{os.getpid()}").touch()
+    line = sys.stdin.readline()
+    if not line.strip():
+        return
+    job = json.loads(line)
+    folder, values = Path(job["folder"]), np.asarray(job["values"])
+    for s, settings in enumerate(job["stages"]):
+        for a, b in job["chunks"]:
+            if os.getppid() != parent:
+                return                  # the page's process ended (Ctrl-C, a closed server): nobody to show it to
+            out = folder / f"s{s}-c{a // ZOOM_CHUNK:04d}.pickle"
+            ds = sweep(pb, warm["param"], values[a:b], Diagram(**settings, **job["method"]),
+                       run=Run(workers=1, progress=False))
+            with open(folder / f"tmp-{out.name}", "wb") as f:     # a pickle: a netCDF file costs 0.3 s to write
+                pickle.dump(ds, f, protocol=pickle.HIGHEST_PROTOCOL)
+            os.replace(folder / f"tmp-{out.name}", out)
