@@ -462,7 +462,8 @@ def test_a_zoom_repaints_the_page_from_its_first_chunk_and_its_values_are_clicke
             assert not ex.status.startswith("zoom failed"), ex.status
             time.sleep(0.1)
         assert "anytime labels shown" in ex.status, ex.status
-        assert painted[0] in (1, 5) and painted[-1] == 6, painted
+        # chunks of 5 and 1 values: the first repaint shows one of them, or both when they landed between two polls
+        assert painted[0] in (1, 5, 6) and painted[-1] == 6, painted
         ex.select(CLICKED, wait=True)
         _check_history(ds, ex.history_text)
     finally:
