@@ -54,14 +54,20 @@ def _timed(smap) -> dict:
 
     def wrap(fn, name=None):
         def inner(*args, **kw):
-            key = name or f"orbits from {sys._getframe(1).f_code.co_name}"
+            caller = sys._getframe(1).f_code.co_name
+            if caller == "main":
+                return fn(*args, **kw)       # the bare ensemble, not the census
+            key = name or f"orbits from {caller}"
             t = time.process_time()
             try:
                 return fn(*args, **kw)
             finally:
                 spent[key] = spent.get(key, 0.0) + time.process_time() - t
         return inner
-    smap.orbits = wrap(smap.orbits)
+    # on the class: ``smap.at(values)`` copies the map, and a wrapper bound to the instance would run every value at the
+    # instance's own parameters (before 2026-11-29 ``--split`` timed every value's census at the base problem's V)
+    cls = type(smap)
+    cls.orbits = wrap(cls.orbits)
     identify.find_periodic_orbit = wrap(identify.find_periodic_orbit, "Newton")
     return spent
 
