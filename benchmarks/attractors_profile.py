@@ -54,14 +54,20 @@ def _timed(smap) -> dict:
 
     def wrap(fn, name=None):
         def inner(*args, **kw):
-            key = name or f"orbits from {sys._getframe(1).f_code.co_name}"
+            caller = sys._getframe(1).f_code.co_name
+            if caller == "main":
+                return fn(*args, **kw)       # the bare ensemble, not the census
+            key = name or f"orbits from {caller}"
             t = time.process_time()
             try:
                 return fn(*args, **kw)
             finally:
                 spent[key] = spent.get(key, 0.0) + time.process_time() - t
         return inner
-    smap.orbits = wrap(smap.orbits)
+    # on the class: ``smap.at(values)`` copies the map, and a wrapper bound to the instance would run every value at the
+    # instance's own parameters (before 2026-11-29 ``--split`` timed every value's census at the base problem's V)
+    cls = type(smap)
+    cls.orbits = wrap(cls.orbits)
     identify.find_periodic_orbit = wrap(identify.find_periodic_orbit, "Newton")
     return spent
 
@@ -74,11 +80,14 @@ def main(argv=None):
     ap.add_argument("--split", action="store_true", help="time the census' batch calls by caller and Newton")
     ap.add_argument("--lanes", action="store_true", help="only the cost of 1, 2 and 4 batch lanes on chaotic "
                                                          "trajectories (171 and 213 V): what a persistence copy costs")
+    ap.add_argument("--apportion", action="store_true", help="also the census with apportion=True after each value's "
+                    "followed one (issue 47 section 2): its CPU against the bare ensemble of the followed periods")
     ap.add_argument("--save", metavar="FILE", help="write each start's outcome (attractor label or outcome name) "
                                                    "per value here (JSON), to compare two commits start by start")
     a = ap.parse_args(argv)
     import maps
     from bifurc.attractors.census import Settings
+    from bifurc.labels.codes import OUTCOMES
     from bifurc.attractors.identify import Grid
     from bifurc.attractors.job import CensusJob
     from bifurc.attractors.starts import make_starts
@@ -96,7 +105,7 @@ def main(argv=None):
     smap.orbits([{}], [starts[0]], 1, batch_size=4, events=False)
     prof = cProfile.Profile() if a.profile else None
     split = _timed(job._map()) if a.split else None
-    total, saved = np.zeros(2), {}
+    total, saved, apportioned = np.zeros(2), {}, [0.0]
     for v in a.values:
         t = time.process_time()
         if prof:
@@ -110,6 +119,20 @@ def main(argv=None):
         tb = time.process_time() - t
         total += (tc, tb)
         saved[f"{v:g}"] = _labels(r)
+        if a.apportion:
+            import dataclasses
+            job_a = dataclasses.replace(job, settings=dataclasses.replace(job.settings, apportion=True))
+            job_a._smap = job._smap
+            t = time.process_time()
+            ra = job_a.census({"V": float(v)})
+            ta = time.process_time() - t
+            apportioned[0] += ta
+            print(f"{v:g} V apportioned: census {ta:.1f} s CPU, against the bare ensemble of the followed periods "
+                  f"{ta / tb:.2f}, against the followed census {ta / tc:.2f}; {np.mean(ra.spent):.1f} periods per "
+                  f"start; {sum(o == OUTCOMES['transient'] for o in ra.outcomes)} starts stopped on saddles whose copies gave "
+                  f"{[len(e) for e in ra.exits]} exits", flush=True)
+            if split:
+                split.clear()
         outs = {o: r.outcomes.count(o) for o in sorted(set(r.outcomes))}
         print(f"{v:g} V: census {tc:.1f} s CPU, bare {tb:.1f} s CPU, ratio {tc / tb:.2f}; {np.mean(r.spent):.1f} "
               f"periods per start; outcomes {outs}; attractors "
@@ -120,6 +143,9 @@ def main(argv=None):
             split.clear()
     print(f"total: census {total[0]:.1f} s CPU, bare {total[1]:.1f} s CPU, ratio {total[0] / total[1]:.2f}; "
           f"load average {os.getloadavg()[0]:.1f}")
+    if a.apportion:
+        print(f"apportioned: census {apportioned[0]:.1f} s CPU, {apportioned[0] / total[1]:.2f} of the bare ensemble of "
+              f"the followed periods, {apportioned[0] / total[0]:.2f} of the followed census")
     if a.save:
         import json
         with open(a.save, "w") as f:

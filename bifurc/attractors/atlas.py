@@ -153,8 +153,9 @@ def _census(pb, names, points, m: Census, sampler, matcher: ByDistance, r: Run, 
     stages = [_time.perf_counter()]
     smap = StroboscopicMap(first, tol=m.tol)
     order = follow_order(names, points)
+    exits = [[] for _ in points] if m.apportion else None
     per_value, outcomes, links, n_ids, periods = _follow(smap, points, order, fresh, grid, s, matcher.threshold,
-                                                         m.link)
+                                                         m.link, exits)
     stages.append(_time.perf_counter())
     events = _link_all(pb, links, m.tol, workers)
     stages.append(_time.perf_counter())
@@ -176,7 +177,7 @@ def _census(pb, names, points, m: Census, sampler, matcher: ByDistance, r: Run, 
     if added is not None:
         attrs["values_added_at_events"] = ", ".join(f"{v:.10g}" for v in added) or "none"
     transients = [(f.via, f.saddles) for f in fresh]
-    fractions = census_fractions(outcomes, n_ids, transients)
+    fractions = census_fractions(outcomes, n_ids, transients, exits)
     ds = to_dataset(pb, names, points, per_value, outcomes, n_ids, events, st, n_node=m.n_node, attrs=attrs,
                     fractions=fractions, transients=transients)
     if r.path is not None:
@@ -229,10 +230,11 @@ def _seeded(smap, points, order, fresh, grid, s) -> list:
 SEED_PERIODS = 400
 
 
-def _follow(smap, points, order, fresh, grid, s, match_threshold, link):
+def _follow(smap, points, order, fresh, grid, s, match_threshold, link, exits=None):
     """Point by point along ``order``: the attractors of each (:func:`_seeded`) matched to the previous point's and
     (``link``) the appearances and disappearances noted: (per_value, outcomes, links, n_ids, periods spent per start),
-    the first two in the points' own order."""
+    the first two in the points' own order; ``exits`` (a list per point, filled) gets each point's saddles' copy exits
+    (:attr:`.job.ValueCensus.exits`) in the same ids as the outcomes."""
     n = len(points)
     per_value, outcomes, links, prev, n_ids, periods = [None] * n, [None] * n, [], {}, 0, []
     seeded = _seeded(smap, points, order, fresh, grid, s)
@@ -245,6 +247,8 @@ def _follow(smap, points, order, fresh, grid, s, match_threshold, link):
             links += _changes(points[order[step - 1]], points[i], prev, here, i)
         per_value[i] = here
         outcomes[i] = [ids[k] if k >= 0 else k for k in fresh[i].outcomes]
+        if exits is not None:
+            exits[i] = [[ids[k] if k >= 0 else k for k in e] for e in fresh[i].exits]
         prev = here
     return per_value, outcomes, links, n_ids, periods
 

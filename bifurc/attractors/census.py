@@ -48,7 +48,8 @@ class Settings:
     identify, the budget per start [strobe periods], the period search, Newton's tolerance, SIMD lanes,
     the records (``locate`` periods, doubled at each undecided one) after which a start still undecided is
     "not_converged", and the mean lifetime [strobe periods] that a new non-periodic set's interval must lie above
-    for the set to be an attractor (:func:`_persists`; also the periods its copies run at most)."""
+    for the set to be an attractor (:func:`_persists`; also the periods its copies run at most), and whether a start
+    that enters a chaotic saddle whose exits the copies measured stops there (``apportion``: :func:`copy_exits`)."""
 
     chunk: int = 40
     land: int = 6
@@ -60,6 +61,7 @@ class Settings:
     batch_size: int = 4
     max_tries: int = 6
     persist: int = 4000
+    apportion: bool = False
 
 
 @dataclass
@@ -87,12 +89,16 @@ class Memory:
     """What one value's census learnt besides its attractors: {(period, cell): (mismatch, failures)} where Newton
     failed (:func:`.identify.polish_once`), the chaotic saddles and long-lived transients (non-periodic sets whose
     lifetime is not surely above the horizon), the cells of starts recorded ``max_tries`` times without a
-    decision, and for each start the index in ``saddles`` of the saddle it was last seen on (-1: none)."""
+    decision, and for each start the index in ``saddles`` of the saddle it was last seen on (-1: none); with
+    ``apportion``, each saddle's fallen lifetime copies (``ends``, by the saddle's id) and where they went (``exits``:
+    per saddle, an attractor's index or an :data:`OUTCOMES` id per fallen copy, :func:`copy_exits`)."""
 
     tried: dict = field(default_factory=dict)
     saddles: list = field(default_factory=list)
     undecided: list = field(default_factory=list)
     via: list = field(default_factory=list)
+    ends: dict = field(default_factory=dict)
+    exits: list = field(default_factory=list)
 
 
 def _step_cells(t: Track, keys: list, owner: dict, s: Settings) -> str:
@@ -159,6 +165,8 @@ def census_at(smap, starts: list, grid: Grid, settings: Settings, *, k0=0,
         _identify_candidates(smap, tracks, candidates, grid, s, found, owner, mem)
         for i in active:
             t = tracks[i]
+            if s.apportion and t.outcome is None and t.saddle is not None and mem.ends.get(id(t.saddle)):
+                t.outcome = OUTCOMES["transient"]       # on a saddle whose exits are measured: apportioned by them
             if t.outcome is None and t.periods >= s.max_periods:
                 t.outcome = OUTCOMES["transient" if _still_on_saddle(t, mem.saddles, near) else "not_converged"]
         done = [i for i in active if tracks[i].outcome is not None]
@@ -166,6 +174,8 @@ def census_at(smap, starts: list, grid: Grid, settings: Settings, *, k0=0,
             progress(len(done))
         active = [i for i in active if tracks[i].outcome is None]
     mem.via = [next((j for j, sd in enumerate(mem.saddles) if sd is t.saddle), -1) for t in tracks]
+    if s.apportion:
+        mem.exits = [copy_exits(smap, mem.ends.get(id(sd), ()), grid, s, found, owner, mem) for sd in mem.saddles]
     return [t.outcome for t in tracks], found, [t.periods for t in tracks]
 
 
@@ -205,6 +215,24 @@ def _chunk_keys(grid: Grid, orbits) -> list:
     for r in rows:
         out.append(flat[a:a + len(r)])
         a += len(r)
+    return out
+
+
+def copy_exits(smap, ends, grid: Grid, s: Settings, found: list, owner: dict, mem: Memory) -> list:
+    """Where each fallen lifetime copy of a saddle went (``ends``: :attr:`.lifetime.Lifetime.ends`, each copy's last
+    leg and the sample it started at): its outcome's id if it escaped or failed, else the periodic attractor its leg
+    settled on (:func:`.identify.from_chunk`: a known one within two cells, else Newton, the orbit registered among
+    ``found``), else "not_converged".  The saddle's exit distribution: a trajectory that has stayed on a saddle
+    leaves it by its conditionally invariant measure's escaping part, whatever its start (:mod:`.eventual`), so the
+    copies' exits stand for every start stopped on it (``Settings.apportion``)."""
+    q, out = smap.forcing_period_steps, []
+    for o, k in ends:
+        if o.status != "ok":
+            out.append(OUTCOMES["escaped" if o.status == "escaped" else "failed"])
+            continue
+        got = from_chunk(smap, o, k, grid, found, max_period=s.max_period, tol=s.newton_tol, tried=mem.tried)
+        out.append(OUTCOMES["not_converged"] if got is None else
+                   got if isinstance(got, int) else _register(got, found, owner, grid, q))
     return out
 
 
@@ -367,14 +395,14 @@ def _record_and_classify(smap, tracks, rest, grid, s: Settings, found: list, own
         if a is None:
             t.tries += 1
             if t.tries >= s.max_tries:       # recorded max_tries times and never decided
-                sd = _undecided_transient(smap, o, t.k, grid, s, mem.saddles)
+                sd = _undecided_transient(smap, o, t.k, grid, s, mem)
                 if sd is not None:           # a transient all the same: it runs on, as on a chaotic saddle
                     t.saddle, t.quiet_until, t.tries = sd, t.periods + SADDLE_QUIET * s.chunk, 0
                     continue
                 t.outcome = OUTCOMES["not_converged"]
                 mem.undecided.append({c for c in grid.keys(o.points) if c is not None})
             continue
-        if not a.periodic and (sd := _saddle_of(smap, a, o, t.k, grid, s, found, q, mem.saddles)) is not None:
+        if not a.periodic and (sd := _saddle_of(smap, a, o, t.k, grid, s, found, q, mem)) is not None:
             t.quiet_until = t.periods + SADDLE_QUIET * s.chunk     # on a saddle: it runs on without records
             t.saddle = sd
             continue
@@ -453,12 +481,13 @@ NEUTRAL_WIDTH = 0.2
 
 
 def _saddle_of(smap, a: Attractor, record, k0: int, grid, s: Settings, found: list, q: int,
-               saddles: list) -> Attractor | None:
+               mem: Memory) -> Attractor | None:
     """The saddle the non-periodic set ``a`` is, or None where it is an attractor: one of the known ``saddles``
     (sharing a cell) or a new set, matching no attractor in ``found``, whose mean lifetime is not surely above
     ``s.persist`` periods (:func:`_persists`): a saddle, or a long-lived chaotic transient (appended to ``saddles``,
     its lifetime on it; either way its starts run on to where they settle, so that the two verdicts give the same
-    fractions)."""
+    fractions; its fallen copies noted in ``mem.ends``)."""
+    saddles = mem.saddles
     if (sd := _known_saddle(a.cells, saddles)) is not None:
         return sd
     if any(same_attractor(a, b, grid, q) for b in found):
@@ -472,16 +501,18 @@ def _saddle_of(smap, a: Attractor, record, k0: int, grid, s: Settings, found: li
     if verdict == "attractor":
         return None
     saddles.append(a)
+    mem.ends[id(a)] = life.ends
     return a
 
 
-def _undecided_transient(smap, record, k0: int, grid, s: Settings, saddles: list) -> Attractor | None:
+def _undecided_transient(smap, record, k0: int, grid, s: Settings, mem: Memory) -> Attractor | None:
     """The set of a start whose ``max_tries`` records decided nothing, where it is a transient: a known saddle sharing
     a cell with ``record``, else a new set whose mean lifetime (:func:`_persists`) is not surely above ``s.persist``
     periods (appended to ``saddles``); None where it may persist (the start is then "not_converged").  Thesis-1dof
     (`matlab-listing`, `measured`, 10 Hz) at 190 V: 2 starts' records stayed undecided within 9 cells of the 1:2
     orbit and 92 more starts on their cells were "not_converged" at 360-400 periods; run on, 39 of them settled
-    within the 2000 periods' budget and 86 within 6000."""
+    within the 2000 periods' budget and 86 within 6000.  Its fallen copies are noted in ``mem.ends``."""
+    saddles = mem.saddles
     cells = {c for c in grid.keys(record.points) if c is not None}
     if (sd := _known_saddle(cells, saddles)) is not None:
         return sd
@@ -492,6 +523,7 @@ def _undecided_transient(smap, record, k0: int, grid, s: Settings, saddles: list
                   cells=cells, lifetime=life.tau, lifetime_interval=(life.low, life.high), lifetime_verdict=verdict,
                   how=f"{s.max_tries} records undecided; {life.text()}: a transient")
     saddles.append(a)
+    mem.ends[id(a)] = life.ends
     return a
 
 
@@ -508,7 +540,7 @@ def _persists(smap, record, k0: int, s: Settings) -> Lifetime:
     record's first ``locate`` periods: a longer record (:func:`record_length`) may have left the set (on the open map
     of tests/test_eventual.py, copies spread over 1536 periods put the mean lifetime below 82 steps, for 1000)."""
     return estimate_lifetime(smap, record, k0, s.persist, max_period=s.max_period, batch_size=s.batch_size,
-                             window=s.locate)
+                             window=s.locate, ends=s.apportion)
 
 
 def outcome_labels(outcomes, found: list) -> list:

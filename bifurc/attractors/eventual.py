@@ -88,3 +88,53 @@ def eventual_fractions(outcomes, via, saddles: list, keys) -> tuple[np.ndarray, 
     else:
         bounds = np.array([(wilson(lo, n, Z_HALF)[0], wilson(hi, n, Z_HALF)[1]) for lo, hi in zip(low, high)])
     return count / n, bounds[:, 0], bounds[:, 1]
+
+
+def apportioned_fractions(outcomes, via, exits, keys) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(fraction, low, high) for each of ``keys`` where the starts stopped on a known chaotic saddle (outcome
+    "transient", ``via`` the saddle's index) are apportioned by that saddle's measured exit distribution: ``exits[j]``
+    lists where each of saddle j's fallen lifetime copies went (an id of ``keys``; empty: not measured, its starts
+    stay "transient").  With N starts, d_k of them settled directly on k, n_j stopped on saddle j whose m_j copies
+    sent e_jk to k (p_jk = e_jk / m_j), the fraction is f_k = (d_k + sum_j n_j p_jk) / N.  Its variance carries both
+    sampling errors (delta method, starts and copies independent):
+
+        var f_k = [d_k / N + sum_j (n_j / N) p_jk^2 - f_k^2] / N  +  sum_j (n_j / N)^2 q_jk (1 - q_jk) / m_j
+
+    the first term the starts' multinomial error (each start's contribution is 1 on k, p_jk on saddle j, 0
+    elsewhere), the second the exit shares' own, with the share q_jk = (e_jk + 1/2) / (m_j + 1) (Jeffreys' prior's
+    posterior mean) so that a share of 0 copies still carries its error (in the Monte-Carlo of the test, of six
+    cases with 6-48 copies and shares 0.03-0.5 the plug-in share e_jk / m_j covered 71-95 %, the Agresti-Coull share
+    92-99 %, this one 94.5-98.4 %).  The 95 % interval is Wilson's at the effective number of
+    starts f (1 - f) / var (Kish's design effect); at f = 0 or 1 that number is 1 / (1 / N + sum_j (n_j / N)^2 / m_j).
+    Checked for coverage against a Monte-Carlo of a fake saddle with known exit probabilities
+    (tests/test_apportion.py)."""
+    out = np.asarray(outcomes)
+    n = len(out)
+    keys = list(keys)
+    T = OUTCOMES["transient"]
+    via = np.asarray(via, dtype=int) if len(via) else np.full(n, -1)
+    stopped = np.zeros(n, bool)
+    weights = []                                   # (n_j / N, m_j, counts e_jk per key)
+    for j, e in enumerate(exits):
+        sel = (out == T) & (via == j)
+        if not len(e) or not sel.any():
+            continue
+        stopped |= sel
+        e = np.asarray(e)
+        weights.append((sel.sum() / n, len(e), np.array([np.sum(e == k) for k in keys], dtype=float)))
+    direct = np.array([np.sum((out == k) & ~stopped) for k in keys], dtype=float) / n
+    if not weights:
+        bounds = np.array([wilson(round(d * n), n) for d in direct])
+        return direct, bounds[:, 0], bounds[:, 1]
+    frac, second, var_copy = direct.copy(), direct.copy(), np.zeros(len(keys))
+    for w, m, e in weights:
+        p, q = e / m, (e + 0.5) / (m + 1)
+        frac += w * p
+        second += w * p * p
+        var_copy += w * w * q * (1 - q) / m
+    var = np.maximum(second - frac ** 2, 0.0) / n + var_copy
+    flat = 1.0 / (1.0 / n + sum(w * w / m for w, m, _ in weights))
+    inner = (frac > 0) & (frac < 1) & (var > 0)
+    n_eff = np.where(inner, frac * (1 - frac) / np.where(var > 0, var, 1.0), flat)
+    bounds = np.array([wilson(f * ne, ne) for f, ne in zip(frac, n_eff)])
+    return frac, bounds[:, 0], bounds[:, 1]

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..labels.codes import OUTCOMES
-from .eventual import eventual_fractions, wilson
+from .eventual import apportioned_fractions, eventual_fractions, wilson
 
 
 @dataclass(frozen=True)
@@ -29,10 +29,13 @@ class Fractions:
     eventual_high: np.ndarray
 
 
-def census_fractions(outcomes, n_ids: int, transients=None) -> Fractions:
+def census_fractions(outcomes, n_ids: int, transients=None, exits=None) -> Fractions:
     """The :class:`Fractions` of a census whose fresh starts reached ``outcomes[i]`` (ids) at point ``i``, with
     ``n_ids`` attractors; ``transients[i]`` (each start's saddle index, the saddles) apportions its transient
-    starts (None: no apportioning information, the eventual fractions are the basin fractions)."""
+    starts (None: no apportioning information, the eventual fractions are the basin fractions).  ``exits[i]`` (the
+    census' ``apportion``: per saddle, where its fallen lifetime copies went) apportions the starts stopped on a saddle
+    in the basin fractions themselves, with intervals carrying both sampling errors
+    (:func:`.eventual.apportioned_fractions`), and the eventual fractions are those."""
     keys = tuple(range(n_ids)) + tuple(OUTCOMES.values())
     shape = (len(outcomes), len(keys))
     count = np.zeros(shape, np.int64)
@@ -44,5 +47,9 @@ def census_fractions(outcomes, n_ids: int, transients=None) -> Fractions:
         fraction[i] = count[i] / n if n else np.nan
         low[i], high[i] = np.array([wilson(int(k), n) for k in count[i]]).T
         via, saddles = transients[i] if transients else ([], [])
-        ev[i], ev_lo[i], ev_hi[i] = eventual_fractions(out, via, saddles, keys)
+        if exits is not None and any(len(e) for e in exits[i]):
+            fraction[i], low[i], high[i] = apportioned_fractions(out, via, exits[i], keys)
+            ev[i], ev_lo[i], ev_hi[i] = fraction[i], low[i], high[i]      # the stopped starts have no exits of their own
+        else:
+            ev[i], ev_lo[i], ev_hi[i] = eventual_fractions(out, via, saddles, keys)
     return Fractions(keys, count, fraction, low, high, ev, ev_lo, ev_hi)

@@ -30,7 +30,9 @@ COPIES, PERTURB, LEG, LEVEL = 48, 1e-7, 500, 0.95
 @dataclass(frozen=True)
 class Lifetime:
     """A set's mean lifetime [strobe periods]: estimate ``tau`` (inf: no copy fell), its interval [low, high],
-    the copies that fell, the total periods the copies spent on the set, the copies run, the periods each ran."""
+    the copies that fell, the total periods the copies spent on the set, the copies run, the periods each ran, and
+    (where asked for: ``estimate_lifetime(..., ends=True)``) each fallen copy's last leg as (its MapOrbit, the sample it
+    started at): where the copies went, the saddle's exit distribution (:func:`.census.copy_exits`)."""
 
     tau: float
     low: float
@@ -39,6 +41,8 @@ class Lifetime:
     exposure: float
     copies: int
     ran: int
+    ends: tuple = ()
+
 
     def verdict(self, horizon: float) -> str:
         """'attractor' (lifetime surely above ``horizon`` periods), 'saddle' (surely below) or 'long-lived'."""
@@ -106,19 +110,19 @@ def _copies(record, k0: int, copies: int, perturb: float, rng, window: int | Non
 
 def estimate_lifetime(smap, record, k0: int, horizon: int, *, max_period: int = 16, batch_size: int = 4,
                       copies: int = COPIES, perturb: float = PERTURB, leg: int = LEG, seed: int = 0,
-                      window: int | None = None) -> Lifetime:
+                      window: int | None = None, ends: bool = False) -> Lifetime:
     """The mean lifetime of the non-periodic set recorded in ``record`` (a MapOrbit from sample ``k0``) under
     ``smap``: copies started on the record's first ``window`` periods (None: all of it) run in legs of ``leg``
     periods up to ``horizon`` periods each, stopped once the verdict against ``horizon`` is decided, once
     "attractor" is ruled out, or when every copy has fallen (module docstring).  Reproducible: the perturbations
-    come from ``seed``."""
+    come from ``seed``.  ``ends``: keep each fallen copy's last leg (:attr:`Lifetime.ends`)."""
     periods = candidate_periods(smap.forcing_period_steps, max_period)
     tail = 4 * max_period
     looks = max(1, math.ceil(horizon / leg))
     level = 1.0 - (1.0 - LEVEL) / looks
     starts = _copies(record, k0, copies, perturb, np.random.default_rng(seed), window)
     live = [(x, k, np.empty((0, 0))) for x, k in starts]
-    done, fallen, got = 0, [], None
+    done, fallen, got, last = 0, [], None, []
     while live and done < horizon:
         n = min(leg, horizon - done)
         runs = smap.orbits([{}] * len(live), [x for x, _, _ in live], n, k0=[k for _, k, _ in live],
@@ -130,9 +134,12 @@ def estimate_lifetime(smap, record, k0: int, horizon: int, *, max_period: int = 
                 kept.append((o.final, k + n, np.asarray(o.points, dtype=float)[-tail:]))
             else:
                 fallen.append(at)
+                if ends:
+                    last.append((o, k))
         done, live = done + n, kept
         exposure = sum(fallen) + done * len(live)
-        got = Lifetime(*lifetime_interval(exposure, len(fallen), level), len(fallen), exposure, copies, done)
+        got = Lifetime(*lifetime_interval(exposure, len(fallen), level), len(fallen), exposure, copies, done,
+                       tuple(last))
         if got.verdict(horizon) != "long-lived" or not _may_persist(got, len(live), horizon, level):
             break
     return got

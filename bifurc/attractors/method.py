@@ -45,12 +45,15 @@ class Census(Settings):
     n_node: int = setting(16, "polished strobe states stored per attractor", low=1, high=1e5, whole=True, cli="")
     batch_size: int = setting(4, "starts integrated together in heyoka's batch mode (SIMD lanes)", low=1, high=64,
                               whole=True)
+    apportion: bool = setting(False, "stop a start that enters a chaotic saddle whose exits its lifetime copies "
+                              "measured, and apportion it by them (basin intervals carry both sampling errors)")
 
     def settings(self):
         """The census engine's own settings (:class:`bifurc.attractors.census.Settings`)."""
         from .census import Settings as EngineSettings
         return EngineSettings(chunk=self.chunk, land=self.land, recur=self.recur, locate=self.locate,
-                              max_periods=self.budget, max_period=self.max_period, batch_size=self.batch_size)
+                              max_periods=self.budget, max_period=self.max_period, batch_size=self.batch_size,
+                              apportion=self.apportion)
 
 
 @dataclass(frozen=True)
