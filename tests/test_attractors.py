@@ -360,7 +360,7 @@ def test_an_attracting_torus_is_quasi_periodic_only_from_a_long_record():
     48-period record only bounds it by 0.16: thesis-1dof at 179.5 V, a set read quasi-periodic from one is chaotic
     over 384 periods, exponent 0.055), and its area rate the divergence 2 - 4 r^2 = -2 on the circle times the
     0.5 s period: -1."""
-    from bifurc.attractors.identify import QP_RECORD
+    from bifurc.labels.judge import QP_RECORD
     from bifurc.labels.classify import lyapunov_threshold
     f = 2.0
     w0 = 2 * math.pi * f * (1 + (3 - math.sqrt(5)) / 2)

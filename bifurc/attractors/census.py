@@ -356,7 +356,8 @@ def _record_and_classify(smap, tracks, rest, grid, s: Settings, found: list, own
         if o.status != "ok":
             t.outcome = OUTCOMES["escaped" if o.status == "escaped" else "failed"]
             continue
-        a = identify(smap, o, t.k, grid, max_period=s.max_period, tol=s.newton_tol, tried=mem.tried)
+        a = identify(smap, o, t.k, grid, max_period=s.max_period, tol=s.newton_tol, tried=mem.tried,
+                     last=t.tries + 1 >= s.max_tries)
         if a is not None and _on_an_equilibrium(smap, a, grid):
             a = None                 # undecided: it runs on until it leaves the equilibrium
         if _neutral(smap, o, t.k, a):

@@ -15,3 +15,7 @@ METHODS = {
     "companion": "companion: a second trajectory 1e-8 away, renormalised toward the recorded states every relay "
                  "period (Benettin's two-trajectory method)",
 }
+
+#: default longest period searched [strobe periods], the diagram's, the regime map's and the census' (the candidates
+#: are the multiples of the forcing period q up to it: at 8.5 Hz on the thesis model q = 17, so 16 found none)
+MAX_PERIOD = 100
