@@ -191,8 +191,8 @@ def identify(smap, orbit, k0: int, grid: Grid, *, max_period: int = MAX_PERIOD, 
              rtol: float = 1e-6, atol: float = 1e-9, tried: dict | None = None, last: bool = False) -> Attractor | None:
     """The attractor a recorded orbit (a :class:`maps.poincare.MapOrbit` starting at sample ``k0``, with a
     tangent vector) lies on, or None when the record decides nothing yet (a transient).  Its label is the one
-    judge's (:func:`bifurc.labels.judge.decide`, as a diagram's value; ``last``: no longer record will follow, so
-    a window shorter than the judge's minimum decides); the census adds Newton: every record the judge does not
+    judge's (:func:`bifurc.labels.judge.decide`, as a diagram's value; ``last``: no longer record will follow; a new
+    chaotic set's lifetime is the census' own test, :func:`bifurc.attractors.census._persists`); the census adds Newton: every record the judge does not
     call chaotic is tried for a periodic orbit first (a torus' exponent about 0 is also a slow approach's)."""
     pts, imp = orbit.points, orbit.impacts_per_step
     q = smap.forcing_period_steps
@@ -201,7 +201,7 @@ def identify(smap, orbit, k0: int, grid: Grid, *, max_period: int = MAX_PERIOD, 
     lam, lo, hi = exponent_interval(finite) if finite.size else (math.nan, math.nan, math.nan)
     cls = classify_orbit(pts, imp, max_period=max_period, rtol=rtol, atol=atol, periods=candidate_periods(q, max_period))
     verdict = decide(cls, imp, [finite] if finite.size else [], lambda: grid.gridded(pts), can_extend=not last,
-                     max_period=max_period)
+                     max_period=max_period, lifetime_tested=True)
     label, how = verdict.label, f"recurrence on the grid; judged {verdict.label} over {len(imp)} periods"
     if label != "chaotic":
         for n in itertools.chain(newton_periods(pts, grid, candidate_periods(q, max_period)),
