@@ -360,7 +360,6 @@ def test_an_attracting_torus_is_quasi_periodic_only_from_a_long_record():
     48-period record only bounds it by 0.16: thesis-1dof at 179.5 V, a set read quasi-periodic from one is chaotic
     over 384 periods, exponent 0.055), and its area rate the divergence 2 - 4 r^2 = -2 on the circle times the
     0.5 s period: -1."""
-    from bifurc.labels.judge import QP_RECORD
     from bifurc.labels.classify import lyapunov_threshold
     f = 2.0
     w0 = 2 * math.pi * f * (1 + (3 - math.sqrt(5)) / 2)
@@ -368,7 +367,7 @@ def test_an_attracting_torus_is_quasi_periodic_only_from_a_long_record():
                            box={"x": (-1.5, 1.5), "v": (-1.5, 1.5)}, progress=False, workers=1)
     j = _sole_outcome(ds)
     assert int(ds.class_code.values[0, j]) == int(ClassCode.QUASI_PERIODIC)
-    bound = lyapunov_threshold(QP_RECORD)
+    bound = lyapunov_threshold(768)     # the census' first record of at least 400 periods: 48 x 2^4
     assert bound == pytest.approx(0.0173, abs=1e-4)
     assert -bound <= float(ds.lyapunov_low.values[0, j]) <= 0.0 <= float(ds.lyapunov_high.values[0, j]) <= bound
     assert float(ds.area_rate.values[0, j]) == pytest.approx(-1.0, abs=1e-6)

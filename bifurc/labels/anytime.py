@@ -13,8 +13,8 @@ stationary part of its record; undecided values are extended together, on the ma
    state, decorrelated over :attr:`Value.decorrelate` periods; :func:`~bifurc.labels.evidence.exponent_estimate`):
    an interval above the threshold: **chaotic**; within +-threshold with positive evidence of a
    torus (the 0-1 test's K below ``TORUS_K`` and a rotation number whose halves agree):
-   **quasi-periodic** (on a window of at least ``QP_RECORD`` periods); below -threshold (contracting
-   without a period up to ``max_period``) or containing a threshold: extend.
+   **quasi-periodic**; below -threshold (contracting without a period up to ``max_period``) or
+   containing a threshold: extend.
 
 Steps 2-4 are the one judge's (:func:`bifurc.labels.judge.decide`), the census' too; this module keeps
 the window (a periodic second half, a dropped first half), the copies and the budget.
@@ -33,7 +33,7 @@ import numpy as np
 
 from .vocabulary import BUDGET, MAX_PERIOD, TRAJECTORIES
 from .evidence import TORUS_K
-from .judge import QP_RECORD, decide
+from .judge import decide
 
 #: fewest periods a copy runs from its perturbed start before it is recorded (decorrelation)
 DECORRELATE = 100
@@ -52,8 +52,7 @@ ANYTIME_METHOD = ("anytime: judged on a stationary window (halves compared, a no
                   "periodic by recurrence; otherwise extended, doubling, up to the budget with the method's "
                   "tangent trajectories (lyapunov_trajectories): chaotic when every trajectory's exponent interval "
                   "is above the threshold, quasi-periodic when within it with a torus (0-1 test K below "
-                  f"{TORUS_K}, a window of {QP_RECORD} periods, a converged rotation number not near a fraction with a "
-                  "recurring period)")
+                  f"{TORUS_K}, a converged rotation number not near a fraction with a recurring period)")
 
 
 @dataclass
