@@ -34,6 +34,7 @@ import numpy as np
 from maps.hybrid import HybridState, IntegrationFailure
 
 from ..labels.codes import OUTCOMES, ClassCode
+from ..labels.vocabulary import BUDGET, MAX_PERIOD
 from ..labels.classify import candidate_periods
 from ..labels.lyapunov import exponent_interval
 from .lifetime import Lifetime, estimate_lifetime, periodic_tail
@@ -54,8 +55,8 @@ class Settings:
     land: int = 6
     recur: int = 20
     locate: int = 48
-    max_periods: int = 2000
-    max_period: int = 16
+    max_periods: int = BUDGET
+    max_period: int = MAX_PERIOD
     newton_tol: float = 1e-10
     batch_size: int = 4
     max_tries: int = 6
