@@ -168,3 +168,25 @@ def test_thesis_records_get_one_label_in_both(hz, want):
     else:
         assert v.cls["period"] == a.period == smap.forcing_period_steps == 17 <= MAX_PERIOD
         assert v.cls["impacts_per_period"] == a.impacts
+
+
+def test_diagram_map_and_attractors_show_one_budget_and_one_period_search(capsys):
+    """`--budget` and `--max-period` have one default in the three verbs' --help (issue 45 section 1), and the
+    period search reaches the thesis map's forcing period at 8.5 Hz (q = 17 strobe periods, from the map itself),
+    which the census' former 16 did not."""
+    import re
+
+    from bifurc.cli import main
+    shown = {}
+    for verb in ("diagram", "map", "attractors"):
+        try:
+            main([verb, "--help"])
+        except SystemExit:
+            pass
+        text = " ".join(capsys.readouterr().out.split())
+        shown[verb] = tuple(int(re.search(rf"--{name} [A-Z_]+ [^\[]*?\(default (\d+)\)", text).group(1))
+                            for name in ("budget", "max-period"))
+    assert len(set(shown.values())) == 1, shown
+    pb = maps.problem("thesis-1dof", preset="matlab-listing", params={"V": 90.0, "relay_hz": 8.5})
+    q = maps.StroboscopicMap(pb, tol=1e-10).forcing_period_steps
+    assert q == 17 and shown["attractors"][1] >= q
