@@ -386,8 +386,9 @@ def _thesis_map(law: str, volts: float):
 def test_the_neutral_sets_met_at_switch_on_are_quasi_periodic_as_a_longer_record_agrees(volts):
     """thesis-1dof (`matlab-listing`, `listing` law, 10 Hz): every switch-on start lands on one set turning about
     1/6 per period whose census record was "not_converged" at the budget: at 80 V its 768-period exponent (0.0066)
-    lay within the threshold 0.0173 while its interval reached above it; at 95 V the samples recur at lag 6 to 0.7 %
-    of their extent, an island chain taken for a period-6 orbit still converging.  A record 8 times longer, from
+    lay within the threshold 0.0173 while its interval reached above it (the one judge leaves 2 of 8 such starts
+    not_converged: an interval reaching above the threshold does not exclude weak chaos); at 95 V the samples
+    recur at lag 6 to 0.7 % of their extent, an island chain taken for a period-6 orbit still converging.  A record 8 times longer, from
     the census' own point of the set, agrees with a torus: its exponent's interval holds 0 within
     2 ln(6144) / 6144 = 0.0028; at 80 V its lag-6 distance neither decays nor grows (the last quarter's largest
     within 5 % of the first's); at 95 V the period-6 orbit Newton finds from it, the chain's centre, is unstable
@@ -398,7 +399,19 @@ def test_the_neutral_sets_met_at_switch_on_are_quasi_periodic_as_a_longer_record
     pb, smap = _thesis_map("listing", volts)
     ds = bifurc.attractors(pb, "V", [volts], starts="switch-on", n_starts=8, seed=1, progress=False, workers=1,
                            link=False)
-    j = _sole_outcome(ds)
+    if volts == 80.0:
+        # the one judge (bifurc.labels.judge) calls a torus only where every exponent interval lies within the
+        # threshold: 6 of the 8 starts' records do, 2 reach above it and stay not_converged (before it, all 8 were
+        # quasi-periodic on the census' looser rule, an exponent within the threshold with torus evidence)
+        held = {str(ds.attractor_label.values[k]): float(ds.basin_fraction.values[0, k])
+                for k in range(ds.sizes["attractor"]) if float(ds.basin_fraction.values[0, k]) > 0}
+        j = [k for k in range(ds.sizes["attractor"]) if int(ds.class_code.values[0, k]) == int(ClassCode.QUASI_PERIODIC)
+             and float(ds.basin_fraction.values[0, k]) > 0]
+        assert len(j) == 1 and held[str(ds.attractor_label.values[j[0]])] >= 0.5
+        assert set(held) <= {str(ds.attractor_label.values[j[0]]), "not_converged"}
+        j = j[0]
+    else:
+        j = _sole_outcome(ds)
     assert int(ds.class_code.values[0, j]) == int(ClassCode.QUASI_PERIODIC)
     names = list(pb.system.state_names)
     start = [float(ds[name].values[0, j, 0]) for name in names]      # its first node, at attractor_k0

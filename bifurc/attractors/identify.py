@@ -192,14 +192,16 @@ def identify(smap, orbit, k0: int, grid: Grid, *, max_period: int = MAX_PERIOD, 
     """The attractor a recorded orbit (a :class:`maps.poincare.MapOrbit` starting at sample ``k0``, with a
     tangent vector) lies on, or None when the record decides nothing yet (a transient).  Its label is the one
     judge's (:func:`bifurc.labels.judge.decide`, as a diagram's value; ``last``: no longer record will follow; a new
-    chaotic set's lifetime is the census' own test, :func:`bifurc.attractors.census._persists`); the census adds Newton: every record the judge does not
-    call chaotic is tried for a periodic orbit first (a torus' exponent about 0 is also a slow approach's)."""
+    chaotic set's lifetime is the census' own test, :func:`bifurc.attractors.census._persists`); the census adds
+    Newton: every record the judge does not call chaotic is tried for a periodic orbit first (a torus' exponent
+    about 0 is also a slow approach's)."""
     pts, imp = orbit.points, orbit.impacts_per_step
     q = smap.forcing_period_steps
     stretch = orbit.tangent_stretch(np.maximum(np.nanmax(np.abs(pts), axis=0), atol))
     finite = stretch[np.isfinite(stretch)] if stretch is not None else np.zeros(0)
     lam, lo, hi = exponent_interval(finite) if finite.size else (math.nan, math.nan, math.nan)
-    cls = classify_orbit(pts, imp, max_period=max_period, rtol=rtol, atol=atol, periods=candidate_periods(q, max_period))
+    cls = classify_orbit(pts, imp, max_period=max_period, rtol=rtol, atol=atol,
+                         periods=candidate_periods(q, max_period))
     verdict = decide(cls, imp, [finite] if finite.size else [], lambda: grid.gridded(pts), can_extend=not last,
                      max_period=max_period, lifetime_tested=True)
     label, how = verdict.label, f"recurrence on the grid; judged {verdict.label} over {len(imp)} periods"

@@ -79,7 +79,8 @@ class Verdict:
     the recurrence numbers).  ``wants``: "" (decided, or nothing more can decide it), "longer" (a longer record),
     "stationary" (its first half dropped, then a longer record) or "trajectories" (more tangent trajectories).
     ``rule``: which rule of :func:`decide` gave it ("class", "decay", "stationary", "no-exponent",
-    "trajectories", "exponent").  ``need``: the window [periods] the evidence asks for (0: not stated).  ``lyap`` (mean, low, high) with its
+    "trajectories", "exponent").  ``need``: the window [periods] the evidence asks for (0: not stated).
+    ``lyap`` (mean, low, high) with its
     ``window`` and, once the trajectories are compared, ``spread`` and ``trajectories``; ``zero_one`` and
     ``rotation`` once a torus was tested (None: not reached)."""
 
@@ -148,13 +149,15 @@ def _exponent(cls, rows, samples, can_extend: bool, max_period: int, lifetime_te
     common = mean_interval(each)                       # the 95 % interval of their common mean
     lo_all, hi_all = min(e[1] for e in each), max(e[2] for e in each)
     short = m < MIN_WINDOW and can_extend              # too short to call: extend first
-    if (not short or lifetime_tested) and (all(e[1] > thr for e in each) or (all(e[0] > thr for e in each) and common[0] > thr)):
+    above = all(e[1] > thr for e in each) or (all(e[0] > thr for e in each) and common[0] > thr)
+    if (not short or lifetime_tested) and above:
         # every trajectory separates (whatever their spread), or every one's exponent is above the threshold
         # and so is the 95 % interval of their common mean: chaos
         out.cls = labelled(cls, "chaotic")
         if lo <= thr:   # the stored interval (another trajectory's) reaches the threshold: say what decided
             out.cls["reason"] = (f"chaotic on the evidence of {len(rows)} trajectories over {m} periods: "
-                                 + ("each one's exponent interval lies above the threshold" if all(e[1] > thr for e in each)
+                                 + ("each one's exponent interval lies above the threshold"
+                                    if all(e[1] > thr for e in each)
                                     else f"each exponent and their common mean's 95 % interval [{common[0]:.3g}, "
                                          f"{common[1]:.3g}] lie above the threshold")
                                  + f" {thr:.3g}; another trajectory's exponent may lie in [{lo:.3g}, {hi:.3g}]")
