@@ -19,6 +19,7 @@ from bifurc.labels.classify import candidate_periods, classify_orbit
 from bifurc.labels.codes import ClassCode
 from bifurc.labels.judge import MIN_WINDOW
 from maps.hybrid import HybridState
+from test_attractors import _limit_cycle
 
 ATOL = 1e-9
 
@@ -112,20 +113,6 @@ def test_a_damped_oscillator_below_its_stop_is_periodic_without_impact_in_both()
         assert d == c == "periodic-no-impact"
         assert v.cls["period"] == a.period == 1 and a.impacts == 0
         assert np.allclose(a.points[0], truth, rtol=0, atol=1e-8)
-
-
-def _limit_cycle():
-    """x' = -w0 v + x g, v' = w0 x + v g, g = 1 - x^2 - v^2, sampled every 1/f_sw: the unit circle attracts, and
-    the map turns it by w0 / (2 pi f_sw) turns (tests/test_attractors.py)."""
-    from maps import HybridSystem, Parameter, PeriodicSwitch, State
-
-    def rhs(s):
-        g = 1.0 - s.x * s.x - s.v * s.v
-        return [-s.w0 * s.v + s.x * g, s.w0 * s.x + s.v * g]
-    return HybridSystem("limit-cycle", states=[State("x", "1", "first coordinate"), State("v", "1", "second")],
-                        parameters=[Parameter("w0", "rad s-1", "angular frequency", 0, 100, low_open=True),
-                                    Parameter("f_sw", "Hz", "sampling switch", 0, 100, low_open=True)],
-                        flags={"P": 1.0}, rhs=rhs, switches=[PeriodicSwitch("P", "f_sw")])
 
 
 def test_an_attracting_circle_turned_by_the_golden_mean_is_quasi_periodic_in_both():
