@@ -34,7 +34,7 @@ import numpy as np
 from maps.hybrid import HybridState, IntegrationFailure
 
 from ..labels.codes import OUTCOMES, ClassCode
-from ..labels.vocabulary import BUDGET, MAX_PERIOD
+from ..labels.vocabulary import BUDGET
 from ..labels.classify import candidate_periods
 from ..labels.lyapunov import exponent_interval
 from .lifetime import Lifetime, estimate_lifetime, periodic_tail
@@ -56,7 +56,7 @@ class Settings:
     recur: int = 20
     locate: int = 48
     max_periods: int = BUDGET
-    max_period: int = MAX_PERIOD
+    max_period: int = 16
     newton_tol: float = 1e-10
     batch_size: int = 4
     max_tries: int = 6
