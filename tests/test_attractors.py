@@ -360,7 +360,6 @@ def test_an_attracting_torus_is_quasi_periodic_only_from_a_long_record():
     48-period record only bounds it by 0.16: thesis-1dof at 179.5 V, a set read quasi-periodic from one is chaotic
     over 384 periods, exponent 0.055), and its area rate the divergence 2 - 4 r^2 = -2 on the circle times the
     0.5 s period: -1."""
-    from bifurc.attractors.identify import QP_RECORD
     from bifurc.labels.classify import lyapunov_threshold
     f = 2.0
     w0 = 2 * math.pi * f * (1 + (3 - math.sqrt(5)) / 2)
@@ -368,7 +367,7 @@ def test_an_attracting_torus_is_quasi_periodic_only_from_a_long_record():
                            box={"x": (-1.5, 1.5), "v": (-1.5, 1.5)}, progress=False, workers=1)
     j = _sole_outcome(ds)
     assert int(ds.class_code.values[0, j]) == int(ClassCode.QUASI_PERIODIC)
-    bound = lyapunov_threshold(QP_RECORD)
+    bound = lyapunov_threshold(768)     # the census' first record of at least 400 periods: 48 x 2^4
     assert bound == pytest.approx(0.0173, abs=1e-4)
     assert -bound <= float(ds.lyapunov_low.values[0, j]) <= 0.0 <= float(ds.lyapunov_high.values[0, j]) <= bound
     assert float(ds.area_rate.values[0, j]) == pytest.approx(-1.0, abs=1e-6)
@@ -387,8 +386,9 @@ def _thesis_map(law: str, volts: float):
 def test_the_neutral_sets_met_at_switch_on_are_quasi_periodic_as_a_longer_record_agrees(volts):
     """thesis-1dof (`matlab-listing`, `listing` law, 10 Hz): every switch-on start lands on one set turning about
     1/6 per period whose census record was "not_converged" at the budget: at 80 V its 768-period exponent (0.0066)
-    lay within the threshold 0.0173 while its interval reached above it; at 95 V the samples recur at lag 6 to 0.7 %
-    of their extent, an island chain taken for a period-6 orbit still converging.  A record 8 times longer, from
+    lay within the threshold 0.0173 while its interval reached above it (the one judge leaves such starts
+    not_converged: an interval reaching above the threshold does not exclude weak chaos); at 95 V the samples
+    recur at lag 6 to 0.7 % of their extent, an island chain taken for a period-6 orbit still converging.  A record 8 times longer, from
     the census' own point of the set, agrees with a torus: its exponent's interval holds 0 within
     2 ln(6144) / 6144 = 0.0028; at 80 V its lag-6 distance neither decays nor grows (the last quarter's largest
     within 5 % of the first's); at 95 V the period-6 orbit Newton finds from it, the chain's centre, is unstable
@@ -399,7 +399,20 @@ def test_the_neutral_sets_met_at_switch_on_are_quasi_periodic_as_a_longer_record
     pb, smap = _thesis_map("listing", volts)
     ds = bifurc.attractors(pb, "V", [volts], starts="switch-on", n_starts=8, seed=1, progress=False, workers=1,
                            link=False)
-    j = _sole_outcome(ds)
+    if volts == 80.0:
+        # the one judge (bifurc.labels.judge) calls a torus only where every exponent interval lies within the
+        # threshold: with the census' defaults (budget 6000, max_period 100) 6 of the 8 starts are quasi-periodic and
+        # 2 not_converged; at the former 2000 and 16 all 8 are not_converged; before the one judge all 8 were
+        # quasi-periodic on the census' looser rule (an exponent within the threshold with torus evidence)
+        held = {str(ds.attractor_label.values[k]): float(ds.basin_fraction.values[0, k])
+                for k in range(ds.sizes["attractor"]) if float(ds.basin_fraction.values[0, k]) > 0}
+        j = [k for k in range(ds.sizes["attractor"]) if int(ds.class_code.values[0, k]) == int(ClassCode.QUASI_PERIODIC)
+             and float(ds.basin_fraction.values[0, k]) > 0]
+        assert len(j) == 1 and held[str(ds.attractor_label.values[j[0]])] >= 0.5
+        assert set(held) <= {str(ds.attractor_label.values[j[0]]), "not_converged"}
+        j = j[0]
+    else:
+        j = _sole_outcome(ds)
     assert int(ds.class_code.values[0, j]) == int(ClassCode.QUASI_PERIODIC)
     names = list(pb.system.state_names)
     start = [float(ds[name].values[0, j, 0]) for name in names]      # its first node, at attractor_k0

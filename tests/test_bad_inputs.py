@@ -233,3 +233,26 @@ def test_yes_runs_what_the_budget_refuses(monkeypatch, tmp_path, capsys):
     assert main(argv) == 2 and "pass --yes" in capsys.readouterr().err
     assert main([*argv, "--yes"]) == 0 and (tmp_path / "y.nc").exists()
 
+
+
+def test_the_worst_case_counts_the_method_s_tangent_trajectories(monkeypatch):
+    """Every value extended to its budget runs budget periods on each of its K tangent trajectories (its own and
+    K - 1 copies): 1000 values x 6000 periods x K at the guard's 1e-4 s per period on one worker is 600 K s, so a
+    Diagram with 8 trajectories is refused quoting 4800 s (1.33 h), twice the 2400 s of one with 4 (the guard used to
+    count the default 4 whatever the method said)."""
+    import re
+
+    import bifurc.run.guard as guards
+    from maps.parameters import ParameterError
+    monkeypatch.setattr(guards, "MAX_HOURS", 1e-6)        # every job over the limit: the refusal quotes the estimate
+    quoted = {}
+    for k in (4, 8):
+        with pytest.raises(ParameterError) as err:
+            bifurc.sweep("thesis-1dof", "relay_hz", np.linspace(2, 10, 1000),
+                         bifurc.Diagram(budget=6000, trajectories=k), run=bifurc.Run(workers=1, progress=False))
+        found = re.search(r"up to ([0-9.e+]+) (s|h|days)", str(err.value))
+        assert found, str(err.value)
+        number, unit = found.groups()
+        quoted[k] = float(number) * {"s": 1.0, "h": 3600.0, "days": 86400.0}[unit]
+    assert quoted[4] == pytest.approx(1000 * 6000 * 4 * 1e-4, rel=1e-2)
+    assert quoted[8] == pytest.approx(1000 * 6000 * 8 * 1e-4, rel=1e-2)

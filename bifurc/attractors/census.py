@@ -34,6 +34,7 @@ import numpy as np
 from maps.hybrid import HybridState, IntegrationFailure
 
 from ..labels.codes import OUTCOMES, ClassCode
+from ..labels.vocabulary import BUDGET
 from ..labels.classify import candidate_periods
 from ..labels.lyapunov import exponent_interval
 from .lifetime import Lifetime, estimate_lifetime, periodic_tail
@@ -55,7 +56,7 @@ class Settings:
     land: int = 6
     recur: int = 20
     locate: int = 48
-    max_periods: int = 2000
+    max_periods: int = BUDGET
     max_period: int = 16
     newton_tol: float = 1e-10
     batch_size: int = 4
@@ -384,7 +385,8 @@ def _record_and_classify(smap, tracks, rest, grid, s: Settings, found: list, own
         if o.status != "ok":
             t.outcome = OUTCOMES["escaped" if o.status == "escaped" else "failed"]
             continue
-        a = identify(smap, o, t.k, grid, max_period=s.max_period, tol=s.newton_tol, tried=mem.tried)
+        a = identify(smap, o, t.k, grid, max_period=s.max_period, tol=s.newton_tol, tried=mem.tried,
+                     last=t.tries + 1 >= s.max_tries)
         if a is not None and _on_an_equilibrium(smap, a, grid):
             a = None                 # undecided: it runs on until it leaves the equilibrium
         if _neutral(smap, o, t.k, a):

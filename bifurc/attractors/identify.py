@@ -17,9 +17,11 @@ from maps.hybrid import HybridState, IntegrationFailure
 
 from ..labels.codes import ClassCode
 from ..orbits.periodic import OrbitNotFound, find_periodic_orbit
-from ..labels.classify import candidate_periods, classify_orbit, lyapunov_threshold, mechanical_period, state_scale
-from ..labels.evidence import locked_lag, torus_evidence
+from ..labels.classify import candidate_periods, classify_orbit, mechanical_period, state_scale
+from ..labels.evidence import locked_lag
+from ..labels.judge import decide
 from ..labels.lyapunov import exponent_interval
+from ..labels.vocabulary import MAX_PERIOD
 
 @dataclass(frozen=True)
 class Grid:
@@ -185,37 +187,32 @@ def _node_distances(points, a: Attractor, grid: Grid, periods: int = 3):
     return np.max(np.abs(P[:, None, :] - N[None, :, :]), axis=2).min(axis=1)
 
 
-def identify(smap, orbit, k0: int, grid: Grid, *, max_period: int = 16, tol: float = 1e-10,
-             rtol: float = 1e-6, atol: float = 1e-9, tried: dict | None = None) -> Attractor | None:
+def identify(smap, orbit, k0: int, grid: Grid, *, max_period: int = MAX_PERIOD, tol: float = 1e-10,
+             rtol: float = 1e-6, atol: float = 1e-9, tried: dict | None = None, last: bool = False) -> Attractor | None:
     """The attractor a recorded orbit (a :class:`maps.poincare.MapOrbit` starting at sample ``k0``, with a
-    tangent vector) lies on, or None when the record decides nothing yet (a transient)."""
+    tangent vector) lies on, or None when the record decides nothing yet (a transient).  Its label is the one
+    judge's (:func:`bifurc.labels.judge.decide`, as a diagram's value; ``last``: no longer record will follow; a new
+    chaotic set's lifetime is the census' own test, :func:`bifurc.attractors.census._persists`); the census adds
+    Newton: every record the judge does not call chaotic is tried for a periodic orbit first (a torus' exponent
+    about 0 is also a slow approach's)."""
     pts, imp = orbit.points, orbit.impacts_per_step
     q = smap.forcing_period_steps
     stretch = orbit.tangent_stretch(np.maximum(np.nanmax(np.abs(pts), axis=0), atol))
-    lam, lo, hi = exponent_interval(stretch[np.isfinite(stretch)]) if stretch is not None \
-        else (math.nan, math.nan, math.nan)
+    finite = stretch[np.isfinite(stretch)] if stretch is not None else np.zeros(0)
+    lam, lo, hi = exponent_interval(finite) if finite.size else (math.nan, math.nan, math.nan)
     cls = classify_orbit(pts, imp, max_period=max_period, rtol=rtol, atol=atol,
-                         periods=candidate_periods(q, max_period), lyapunov=lam,
-                         lyap_tol=lyapunov_threshold(len(imp)), lyapunov_interval=(lo, hi))
-    label, how = cls["label"], f"recurrence on the grid; classified {cls['label']} over {len(imp)} periods"
-    # an exponent about 0 (or below it) is no evidence of a torus: an orbit approached slowly is tried by Newton
-    # first, and without the torus evidence a longer record decides.  The evidence also decides an exponent
-    # within the threshold whose interval reaches above it (see torus_of)
-    maybe_torus = label == "quasi-periodic" or abs(lam) <= cls.get("threshold_in_interval", -1.0)
-    if maybe_torus:
-        label = "not-converged"
-    if label in ("periodic", "periodic-no-impact", "not-converged"):
+                         periods=candidate_periods(q, max_period))
+    verdict = decide(cls, imp, [finite] if finite.size else [], lambda: grid.gridded(pts), can_extend=not last,
+                     max_period=max_period, lifetime_tested=True)
+    label, how = verdict.label, f"recurrence on the grid; judged {verdict.label} over {len(imp)} periods"
+    if label != "chaotic":
         for n in itertools.chain(newton_periods(pts, grid, candidate_periods(q, max_period)),
                                  _lag_beyond(pts, grid, q, max_period, label, lam)):
             found = polish_once(smap, orbit, k0, n, grid, tol, rtol, atol, tried)
             if found is not None:
                 return found
-    torus = torus_of(pts, grid, max_period) if maybe_torus and len(imp) >= QP_RECORD and not hi < 0.0 else None
-    if torus is not None:
-        label = "quasi-periodic"
-        how += f"; {torus}" if cls["label"] == label else \
-            f" as the exponent {lam:.3g} lies within +-{cls['threshold_in_interval']:.3g} (its interval {lo:.3g} to " \
-            f"{hi:.3g}); {torus}"
+    if label == "quasi-periodic":
+        how += f"; torus evidence: 0-1 test K = {verdict.zero_one:.2f}, rotation number {verdict.rotation:.4f}"
     if label in ("periodic", "periodic-no-impact") and stretch is not None:
         whole = _whole_periods(stretch, int(cls["period"]))
         if whole[2] < 0.0:
@@ -239,36 +236,6 @@ def _lag_beyond(pts, grid: Grid, q: int, max_period: int, label: str, lam: float
         lag = locked_lag(grid.gridded(pts))[0]
         if lag > max_period and lag % q == 0:
             yield lag
-
-
-def torus_of(pts, grid: Grid, max_period: int) -> str | None:
-    """The positive evidence that a record ``pts`` whose exponent lies about 0 is on a torus, in words, or None:
-    :func:`bifurc.labels.evidence.torus_evidence` on its points in grid cells (the gridded states; 0-1 test K below
-    its bound, a steady rotation number, halves of one extent, no recurrence at any lag up to a quarter of the
-    record), as a diagram's anytime label requires.  An exponent interval about 0 alone also holds for a slow
-    approach to an orbit (thesis-1dof, `matlab-listing`, `measured`, 10 Hz, 136 V: one start whose 1536-period
-    record has exponent -0.0026, -0.0086-0.0034; benchmarks/reports/attractors-recovery/undecided-*).
-
-    The evidence also decides a record whose exponent lies within the threshold
-    (:func:`bifurc.labels.classify.lyapunov_threshold`) while its interval reaches above it.  Thesis-1dof
-    (`matlab-listing`, 10 Hz; 768-period windows of 6144-period records from 24 box starts;
-    benchmarks/reports/attractors-recovery/torus-windows-*): under `listing` at 80 V, where every switch-on start's
-    record at the census' budget was such (exponent 0.0066, -0.0095 to 0.0227, threshold 0.0173), 33 of the 192
-    windows of its one torus are, 26 with the evidence; at 220 V 33 windows, 26 with it, 3 of those on trajectories
-    that turn chaotic after 768-1536 periods (sticky transients, which the lifetime test refuses as attractors, as
-    it does windows read quasi-periodic the older way).  The evidence alone need not exclude chaos: under `measured`
-    at 179.5 V a small chaotic set (exponent 0.03-0.05, above the threshold in each window; rotation number 6e-4)
-    showed it in all 32 windows (torus-windows-1ef1b6e) until the evidence asked the samples to turn once about
-    their centre (none at 8dc852c): the exponent within the threshold is what the evidence must come with."""
-    torus, _, k01, rho = torus_evidence(grid.gridded(pts), max_period)
-    return f"torus evidence: 0-1 test K = {k01:.2f}, rotation number {rho:.4f}" if torus else None
-
-
-#: the shortest record [strobe periods] from which a set is quasi-periodic (its exponent's |value| below
-#: :func:`bifurc.labels.classify.lyapunov_threshold`, 2 ln(768) / 768 = 0.017 per period; over 48 periods 0.16):
-#: thesis-1dof (`matlab-listing`, `measured`, 10 Hz) at 179.5 V a set read quasi-periodic over 48 periods (exponent
-#: 0.047, -0.066-0.160) is chaotic over 384 (0.055, 0.032-0.078; benchmarks/reports/attractors-recovery/undecided-*)
-QP_RECORD = 768
 
 
 def _whole_periods(stretch, n: int) -> tuple[float, float, float]:
@@ -342,7 +309,7 @@ def area_rate(smap, orbit, k0: int, skip: int = AREA_SKIP) -> tuple[float, float
     return exponent_interval(np.asarray(s[skip:]))
 
 
-def from_chunk(smap, orbit, k0: int, grid: Grid, found: list, *, max_period: int = 16, tol: float = 1e-10,
+def from_chunk(smap, orbit, k0: int, grid: Grid, found: list, *, max_period: int = MAX_PERIOD, tol: float = 1e-10,
                rtol: float = 1e-6, atol: float = 1e-9, tried: dict | None = None, newton: str = "near"):
     """A recurring start's attractor from its last chunk (a bare :class:`maps.poincare.MapOrbit` from sample
     ``k0``): the index in ``found`` of a periodic attractor within two cells of its last n points at some

@@ -15,7 +15,8 @@ def check_budget(args, n_values: int, what: str = "values") -> dict:
     exceeds MAX_HOURS, unless ``args.yes``; returns the estimate (:func:`bifurc.run.guard.check_size`)."""
     return check_size(n_values, args.transient, args.record, args.workers, getattr(args, "budget", None),
                       getattr(args, "allow_large", False), what,
-                      f"reduce --n{'/--n2' if what == 'cells' else ''}, --transient or --record, or pass --yes to run it")
+                      f"reduce --n{'/--n2' if what == 'cells' else ''}, --transient or --record, or pass --yes to run it",
+                      getattr(args, "trajectories", None))
 
 
 def _sets(args) -> dict:

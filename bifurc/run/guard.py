@@ -63,17 +63,19 @@ def available_memory() -> float:
         return float("inf")
 
 
-def estimate(n_values: int, transient: int, record: int, workers, budget: int | None = None) -> dict:
+def estimate(n_values: int, transient: int, record: int, workers, budget: int | None = None,
+             trajectories: int | None = None) -> dict:
     """{"values", "memory" [bytes], "file" [bytes], "seconds", "seconds_max"} of a grid of ``n_values``
     (seconds: the planned work; seconds_max: every value extended to ``budget`` relay periods with its
-    tangent copies)."""
-    from ..labels.anytime import BUDGET, TRAJECTORIES
+    ``trajectories`` - 1 tangent copies; None: the defaults)."""
+    from ..labels.vocabulary import BUDGET, TRAJECTORIES
     per_value = bytes_per_value(max(int(record), 1))
     workers = max(1, int(workers or os.cpu_count() or 1))
     return {"values": n_values, "memory": n_values * (MEMORY_COPIES * per_value + 32),
             "file": n_values * per_value + FILE_OVERHEAD,
             "seconds": n_values * (max(transient, 0) + max(record, 0)) * SECONDS_PER_PERIOD / workers,
-            "seconds_max": n_values * (budget or BUDGET) * TRAJECTORIES * SECONDS_PER_PERIOD / workers}
+            "seconds_max": n_values * (budget or BUDGET) * (trajectories or TRAJECTORIES) * SECONDS_PER_PERIOD
+            / workers}
 
 
 def _duration(s: float) -> str:
@@ -81,11 +83,13 @@ def _duration(s: float) -> str:
 
 
 def check_size(n_values: int, transient: int, record: int, workers, budget, allow: bool, what: str = "values",
-               remedy: str = "reduce the values, transient or record, or pass allow_large=True to run it") -> dict:
+               remedy: str = "reduce the values, transient or record, or pass allow_large=True to run it",
+               trajectories: int | None = None) -> dict:
     """Refuse (one line) a job whose estimated memory exceeds the available memory or whose run time
-    exceeds MAX_HOURS, unless ``allow``; returns the estimate."""
+    exceeds MAX_HOURS, unless ``allow``; returns the estimate (``trajectories``: the method's tangent
+    trajectories per value, which the worst case multiplies)."""
     from ..storage.files import size_text
-    est = estimate(n_values, transient, record, workers, budget)
+    est = estimate(n_values, transient, record, workers, budget, trajectories)
     free = available_memory()
     over = []
     if est["memory"] > free:

@@ -401,8 +401,8 @@ class ValueJob:
 
 def _cut(v) -> None:
     """A value the sweep's time budget stops before its evidence decides: not-converged, with why."""
-    from ..labels.anytime import _undecided
+    from ..labels.judge import undecided
     why = (v.cls or {}).get("reason") or "undecided"
-    v.cls = _undecided(v.cls or {}, f"cut by the sweep's time budget (--time-budget) at {v.end} relay periods: {why}")
+    v.cls = undecided(v.cls or {}, f"cut by the sweep's time budget (--time-budget) at {v.end} relay periods: {why}")
     v.budget_needed = max(v.budget_needed, v.end + v.action[1])
     v.action = None

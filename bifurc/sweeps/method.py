@@ -5,7 +5,7 @@ from dataclasses import dataclass
 
 from maps.parameters import ParameterError
 
-from ..labels.vocabulary import BUDGET, METHODS, TRAJECTORIES
+from ..labels.vocabulary import BUDGET, MAX_PERIOD, METHODS, TRAJECTORIES
 from ..run.settings import MODES, Settings, setting
 
 
@@ -27,7 +27,7 @@ class Diagram(Settings):
                                  f"extended to (default {BUDGET}); a value still undecided then is not-converged with "
                                  f"its reason", unit="strobe periods", low=3, high=1e9, whole=True, optional=True,
                                  kind=int)
-    max_period: int = setting(100, "cap of the period search: candidates are the multiples of the forcing period q "
+    max_period: int = setting(MAX_PERIOD, "cap of the period search: candidates are the multiples of the forcing period q "
                               "that fit twice in the record", unit="strobe periods", low=1, high=1e6, whole=True)
     max_record: int | None = setting(None, "extend a record whose forcing period q exceeds record/3 to 3 q periods, "
                                      "at most this many (default 3 x record)", unit="strobe periods", low=3, high=1e7,

@@ -81,7 +81,8 @@ def regime_map(problem="thesis-1dof", param: str = "relay_hz", values=None, para
     values2 = _grid(values2 if values2 is not None else [], "values2")
     if m.mode != "independent":
         raise ParameterError(f"mode = {m.mode!r}: a regime map's cells are independent (mode='independent')")
-    check_size(values.size * values2.size, m.transient, m.record, r.workers, m.budget, r.allow_large, "cells")
+    check_size(values.size * values2.size, m.transient, m.record, r.workers, m.budget, r.allow_large, "cells",
+               trajectories=m.trajectories)
     with output_guard(r.path, r.overwrite):
         return _regime_map(pb, param, values, param2, values2, m, r)
 

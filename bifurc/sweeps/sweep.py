@@ -77,7 +77,8 @@ def sweep(problem="thesis-1dof", param: str = "relay_hz", values=None, method: D
     """
     pb, m, r = analysis_inputs(problem, Diagram, method, run, options)
     values = _grid(values, "values")
-    check_size(values.size * len(MODES[m.mode]), m.transient, m.record, r.workers, m.budget, r.allow_large)
+    check_size(values.size * len(MODES[m.mode]), m.transient, m.record, r.workers, m.budget, r.allow_large,
+               trajectories=m.trajectories)
     with output_guard(r.path, r.overwrite):
         return _sweep(pb, param, values, m, r)
 
