@@ -25,6 +25,9 @@ LAWS = ("listing", "fit", "measured")
 BOX = {"x": (0.0, 0.03), "v": (-1.5, 1.5)}
 FULL = dict(values=(80.0, 220.0, 29), starts=200, switch_on=100, link=True)
 QUICK = dict(values=(120.0, 220.0, 3), starts=24, switch_on=12, link=False)   # `--quick` and the tests: < 2 min
+#: relay periods per start before it counts as transient: the budget the committed reports were made with (the
+#: census' default until issue 45 gave every verb one default, 6000)
+BUDGET = 2000
 
 
 def run(out, quick=False, progress=True, overwrite=False) -> dict:
@@ -40,7 +43,7 @@ def run(out, quick=False, progress=True, overwrite=False) -> dict:
     results = {}
     for law in LAWS:
         kw = dict(preset=PRESET, params={"relay_hz": 10.0}, dc_law=law, seed=1, progress=progress,
-                  link=size["link"], overwrite=True)
+                  link=size["link"], overwrite=True, budget=BUDGET)
         box = bifurc.attractors(SCENE, "V", values, starts="box", box=BOX, n_starts=size["starts"],
                                 path=out / f"{law}-box.nc", **kw)
         sw = bifurc.attractors(SCENE, "V", values, starts="switch-on", n_starts=size["switch_on"],
