@@ -153,6 +153,12 @@ class WorkerPool:
             proc.terminate()
         for proc in procs:
             proc.join(1)
+        # the executor's manager thread closes its wake-up pipe as it ends; until it has, the interpreter's exit hook
+        # (concurrent.futures.process._python_exit) may write into the pipe while it closes and print "Exception
+        # ignored ... Bad file descriptor" under the one-line interrupt message (CPython 3.11: a check-then-send race)
+        manager = getattr(self._pool, "_executor_manager_thread", None)
+        if manager is not None:
+            manager.join(1)
 
     def _processes(self) -> dict:
         """The pool's worker processes now, {pid: Process} (the executor's private table; empty if it has none)."""
