@@ -35,9 +35,8 @@ from .relocate import RESOLUTION, measure_codim2, relocate
 from .special_points import LOCATED_KINDS
 
 def _check_param(smap, system, param, values):
-    if param not in system.param_names:
-        raise ParameterError(f"param {param!r} is not a parameter of {system.name!r}; its parameters: "
-                             f"{', '.join(system.param_names)}")
+    """A continuable parameter (its name was checked by ``Problem.parameter``): not the strobe clock under another
+    forcing."""
     if param == system.strobe_parameter and system.forcing_frequencies(values):
         raise ParameterError(f"{param} cannot be continued: the system's other forcing repeats in strobe periods "
                              f"only at isolated values of {param} (the thesis model: q = 17 at 8.5 Hz, over 1000 "
