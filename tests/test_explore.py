@@ -546,3 +546,37 @@ def test_map_and_census_refusals_are_one_line(regime, census, tmp_path):
     h = __import__("maps").simulate("impact-oscillator", periods=1)
     with pytest.raises(ParameterError, match=r"needs a diagram, map or attractors dataset.*this is a history dataset$"):
         explorer_of(h)
+
+
+def test_a_census_zooms_chunks_join_with_each_start_at_its_attractor(census):
+    """Two censuses of consecutive values (a census zoom's chunks) joined as one: the values in order, each part's
+    attractors kept apart, and at every value each attractor's basin fraction is the share of the fresh starts
+    that the joined dataset says reached it (the starts renumbered with the attractors), its class the part's."""
+    from bifurc.explore.compute import CensusComputer, join_censuses, zoom_starts
+    ds = bifurc.load(census)
+    kw = dict(params=OSC, box={"x": (-1.0, 2.0), "v": (-2.0, 2.0)}, starts="slice", shape=(3, 3), progress=False,
+              workers=1, link=False)
+    parts = [bifurc.attractors("impact-oscillator", "Omega", v, **kw) for v in ([1.25, 1.27], [1.29, 1.3])]
+    joined = join_censuses(parts)
+    assert np.allclose(joined.Omega.values, [1.25, 1.27, 1.29, 1.3])
+    labels = [str(x) for x in joined.attractor_label.values]
+    ids = [sum(str(x).startswith("A") for x in p.attractor_label.values) for p in parts]
+    assert labels[:sum(ids)] == [f"A{k}" for k in range(sum(ids))]
+    for i in range(4):
+        went = joined.start_attractor.values[i]
+        assert went.size == 9
+        for j in range(len(labels)):
+            assert abs(joined.basin_fraction.values[i, j] - (went == j).mean()) < 1e-12 or \
+                (np.isnan(joined.basin_fraction.values[i, j]) and not (went == j).any())
+        p, k = parts[i // 2], i % 2
+        offset = 0 if i < 2 else ids[0]
+        for j in range(ids[i // 2]):
+            assert joined.class_code.values[i, offset + j] == p.class_code.values[k, j]
+    rows = CensusComputer(ds).on(joined).attractors(1.29)["rows"]
+    assert abs(sum(r["fraction"] for r in rows) - 1) < 1e-12
+    # the zoom's starts: the stored slice's kind and box with at most 25 of them, the sides scaled alike
+    spec, n, stored = zoom_starts(ds, ["x", "v"])
+    assert spec == {"kind": "slice", "shape": [5, 5], "box": {"x": [-1.0, 2.0], "v": [-2.0, 2.0]}} and \
+        (n, stored) == (25, 36)
+    boxed = ds.assign_attrs(starts_sampler="Box(n=200, box=None, seed=7)", fresh_starts=200)
+    assert zoom_starts(boxed, ["x", "v"])[0] == {"kind": "box", "n": 25, "box": None, "seed": 7}
