@@ -622,26 +622,34 @@ class CensusExplorer(Page):
         state, scale, vals = self._census_state, self._y, c.values
         width = np.diff(np.sort(vals)).min() if vals.size > 1 else 0.1 * max(1.0, abs(vals[0]))
         labels = [str(x) for x in ds.attractor_label.values]
+        # the stored census' attractors are matched from value to value: one colour each; a zoom's chunks are
+        # censuses of their own, so its attractors are coloured by their class (the same colour across chunks)
+        by_class: dict = {}
+        colour = (lambda x: self._colours[x["label"]]) if ds is self.stored else \
+            (lambda x: by_class.setdefault(x["text"], PALETTE[len(by_class) % len(PALETTE)]))
         self._colours = {lab: PALETTE[j % len(PALETTE)] for j, lab in enumerate(labels)}
         summary = []
         pts = {"p": [], "y": [], "colour": [], "label": []}
         bars = {"p": [], "bottom": [], "top": [], "colour": [], "label": []}
+        firsts = {}
         for v in vals:
             rows = c.attractors(v)["rows"]
             summary.append("; ".join(f"{x['label']} {x['text']} {x['fraction']:.2f}" for x in rows))
             below = 0.0
             for x in rows:
+                firsts.setdefault(x["label"], colour(x))
                 for y in x["nodes"].get(state, []):
                     pts["p"].append(v)
                     pts["y"].append(float(y) * scale)
-                    pts["colour"].append(self._colours[x["label"]])
+                    pts["colour"].append(colour(x))
                     pts["label"].append(x["label"])
                 bars["p"].append(v)
                 bars["bottom"].append(below)
                 bars["top"].append(below + x["fraction"])
-                bars["colour"].append(self._colours[x["label"]])
+                bars["colour"].append(colour(x))
                 bars["label"].append(f"{x['label']}: {x['text']}")
                 below += x["fraction"]
+        self._colours.update(firsts)        # the basins' colours: each attractor's where it first appears
         ys = np.asarray(pts["y"], float)
         lo, hi = (float(ys.min()), float(ys.max())) if ys.size else (0.0, 1.0)
         pad = 0.05 * (hi - lo or 1.0)

@@ -490,7 +490,7 @@ def census_plan(computer, limit: int = ZOOM_STARTS) -> dict:
     starts, n, stored = zoom_starts(ds, computer.problem.system.state_names, limit)
     first = [[float(ds[f"start_{s}"].values[0]) for s in computer.problem.system.state_names]]
     note = (f"{n} starts per value (the stored census had {stored})" if n < stored else f"{n} starts per value") + \
-        f"; chunks of {ZOOM_CENSUS_CHUNK} values, each a census of its own"
+        f"; chunks of {ZOOM_CENSUS_CHUNK} values, each a census of its own: colours by class"
     return _plan("census", computer, settings, [["census", {}]],
                  {"values": [float(computer.values[0])], "settings": {"budget": min(settings.get("budget", 200), 200)},
                   "starts": {"kind": "given", "points": first}},
