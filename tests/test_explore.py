@@ -546,6 +546,19 @@ def test_map_and_census_refusals_are_one_line(regime, census, tmp_path):
     h = __import__("maps").simulate("impact-oscillator", periods=1)
     with pytest.raises(ParameterError, match=r"needs a diagram, map or attractors dataset.*this is a history dataset$"):
         explorer_of(h)
+    # a zoom beyond a parameter's allowed range (the restitution r <= 1): refused in one line before any process
+    # starts, from Python and on the page's status line when a resting view asks for it
+    from bifurc.explore.compute import Zoom
+    with pytest.raises(ParameterError, match=r"^parameter 'r' \(coefficient of restitution\) = 1.2 is outside its "
+                                             r"allowed range \[0, 1\]$"):
+        Zoom(MapComputer(bifurc.load(regime)), 1.26, 1.29, 3, second=(0.9, 1.2, 3))
+    ex = explorer_of(bifurc.load(regime))
+    try:
+        ex._range_seen = (((1.26, 1.29), (0.9, 1.2)), time.monotonic() - 10)
+        ex._poll()
+        assert ex._zoom is None and ex.status.startswith("zoom refused: parameter 'r'") and "\n" not in ex.status
+    finally:
+        ex.close()
 
 
 def test_a_census_zooms_chunks_join_with_each_start_at_its_attractor(census):

@@ -243,7 +243,11 @@ class Page:
                 any(hi - lo < ZOOM_FRACTION * (b - a) for (lo, hi), (a, b) in zip(view, self._span)) and \
                 (self._zoom is None or self._zoom.view != view):
             self._range_seen = (view, math.inf)   # once per resting view
-            self.zoom(*(x for pair in view for x in pair))
+            try:
+                self.zoom(*(x for pair in view for x in pair))
+            except ParameterError as exc:          # a range outside a parameter's allowed one: said in one line
+                self.status = f"zoom refused: {exc}"
+                self.progress.visible = False
         z = self._zoom
         if z is None:
             return

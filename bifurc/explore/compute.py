@@ -588,6 +588,16 @@ class Spares:
         shutil.rmtree(self.dir, ignore_errors=True)
 
 
+def _check_corners(plan: dict, values, values2) -> None:
+    """A zoom's range refused in one line before any process starts when one of its ends (a map: corners) is
+    outside a parameter's allowed range."""
+    import maps
+    pb = maps.problem(**plan["problem"])
+    for v in (values[0], values[-1]):
+        for w in ((None,) if values2 is None else (values2[0], values2[-1])):
+            pb.with_values(**{plan["param"]: float(v)}, **({} if w is None else {plan["param2"]: float(w)}))
+
+
 def _grid(lo, hi, n, what: str) -> np.ndarray:
     if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
         raise ParameterError(f"zoom range {lo:g} to {hi:g}: need two finite values, the first below the second")
@@ -621,6 +631,7 @@ class Zoom:
                 raise ParameterError(f"a regime map's zoom needs the range of {self.param2} too (lo2, hi2)")
             lo2, hi2, *n2 = second
             self.values2 = _grid(float(lo2), float(hi2), n2[0] if n2 else ZOOM_MAP_SIDE, "values2")
+        _check_corners(plan, self.values, self.values2)
         self.view = ((float(self.values[0]), float(self.values[-1])),) + \
             (((float(self.values2[0]), float(self.values2[-1])),) if self.values2 is not None else ())
         self.span = tuple((a - (b - a) / (g.size - 1), b + (b - a) / (g.size - 1))
@@ -802,6 +813,15 @@ def zoom_worker() -> None:
     if not line.strip():
         return
     job = json.loads(line)
+    try:
+        _run_job(plan, pb, job, parent)
+    except ParameterError as exc:        # one line for the page's status, not a traceback
+        sys.stderr.write(" ".join(str(exc).split()) + "\n")
+        sys.exit(2)
+
+
+def _run_job(plan: dict, pb, job: dict, parent: int) -> None:
+    """A zoom process' job: each of its chunks at each stage, stored as it ends (:func:`zoom_worker`)."""
     folder, values = Path(job["folder"]), np.asarray(job["values"])
     for s, (_, settings) in enumerate(plan["stages"]):
         for a, b in job["chunks"]:
