@@ -1,6 +1,7 @@
 """The explorer's pages, on HoloViz Panel (Bokeh figures): a stored diagram (its hover, a click's time history,
 phase portrait and periodic orbit, a branch overlaid on a button's press, a zoomed range swept anew), a regime map
-(a cell's time history and orbit) and a census (a value's attractors, basins and orbits).
+(a cell's time history and orbit, a zoomed rectangle computed anew) and a census (a value's attractors, basins and
+orbits, a zoomed range computed anew); the zoom is the pages' shared :class:`Page` machinery.
 
 The same :class:`Explorer` is a Jupyter output (``ds.bifurc.explore()``) and a served page (``bifurc explore``,
 :func:`serve`).  Work runs off the page: a click's computation on a thread (a newer click makes an older one's

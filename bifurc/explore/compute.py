@@ -1,7 +1,9 @@
 """What the explorer computes, through the public API only (no second implementation): the problem rebuilt from
 a stored dataset's attributes, a value's time history (:func:`maps.simulate`) and periodic orbit
-(:func:`bifurc.periodic_orbit`), its branch (:func:`bifurc.continue_orbit`) and a zoomed range swept anew
-(:func:`bifurc.sweep` on a :class:`bifurc.Run`, in warm processes that a newer zoom stops).
+(:func:`bifurc.periodic_orbit`), its branch (:func:`bifurc.continue_orbit`) and a zoomed range computed anew in
+warm processes that a newer zoom stops: one per-point task over a finer grid of parameter points, a zoom plan
+(:func:`bifurc.sweep` for a diagram, :func:`bifurc.regime_map` for a map's rectangle, :func:`bifurc.attractors`
+for a census, each with the stored dataset's settings; :class:`Spares`, :class:`Zoom`).
 
 Nothing here draws: :mod:`bifurc.explore.app` shows what these functions return.
 """
