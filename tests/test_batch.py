@@ -130,3 +130,9 @@ def test_values_still_converging_integrate_on_from_the_batch_orbit(base):
     assert a.period == b.period == 2
     assert a.transient_used == b.transient_used > 300
     assert abs(a.min_clearance - b.min_clearance) < 1e-6 and b.min_clearance > 5e-4
+
+
+def test_an_empty_ensemble_is_an_empty_list():
+    """No job: no orbit (the batch engine used to fail on its parked lane, built from the first job)."""
+    smap = maps.StroboscopicMap(maps.problem("impact-oscillator"))
+    assert smap.orbits([], [], 10) == [] and smap.orbits([], [], 10, tangent=True) == []

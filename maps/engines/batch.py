@@ -234,17 +234,18 @@ class BatchEngine(Engine):
     # ----- the loop ---------------------------------------------------------------
     def run(self, jobs: list[OrbitJob]) -> list[OrbitResult]:
         """Integrate every job; one :class:`OrbitResult` per job, in order."""
+        if not jobs:
+            return []
         hy, ta, B = self.hy, self.ta, self.B
         results = [OrbitResult() for _ in jobs]
         waiting = deque(range(len(jobs)))
         lanes = self.lanes = [None] * B
         target = np.array(self.time, dtype=float)
         success = int(hy.taylor_outcome.success)
-        if jobs:   # what a lane without a job holds: a valid state and parameters, and no motion
-            j0 = jobs[0]
-            parked = np.concatenate([np.asarray(j0.y0, dtype=float), np.zeros(self.state.shape[0] - self.n)])
-            flags0 = tr.start_flags(self.system, 0.0, parked, j0.params, j0.flags)
-            parked_pars = self.system.par_vector(j0.params, flags0) + [_FAR, 1.0 / j0.period]
+        j0 = jobs[0]     # what a lane without a job holds: a valid state and parameters, and no motion
+        parked = np.concatenate([np.asarray(j0.y0, dtype=float), np.zeros(self.state.shape[0] - self.n)])
+        flags0 = tr.start_flags(self.system, 0.0, parked, j0.params, j0.flags)
+        parked_pars = self.system.par_vector(j0.params, flags0) + [_FAR, 1.0 / j0.period]
 
         def refill():
             """Load waiting jobs into free lanes; park the rest (finite state, no motion)."""
