@@ -164,12 +164,11 @@ def _columns(values, per_value, outcomes, n_ids, events, fractions, transients=N
     n_att = n_ids + len(OUTCOMES)
     sizes = {"v": len(values), "attractor": n_att}
     cols = {v.name: v.empty(sizes, "v") for v in ATTRACTOR}
-    fr = fractions
-    keys = list(fr.keys)
-    cols["basin_fraction"][:], cols["basin_count"][:] = fr.fraction, fr.count
-    cols["basin_fraction_low"][:], cols["basin_fraction_high"][:] = fr.low, fr.high
+    keys = list(fractions.keys)
+    cols["basin_fraction"][:], cols["basin_count"][:] = fractions.fraction, fractions.count
+    cols["basin_fraction_low"][:], cols["basin_fraction_high"][:] = fractions.low, fractions.high
     cols["eventual_fraction"][:], cols["eventual_fraction_low"][:], cols["eventual_fraction_high"][:] = \
-        fr.eventual, fr.eventual_low, fr.eventual_high
+        fractions.eventual, fractions.eventual_low, fractions.eventual_high
     for i, (found, out) in enumerate(zip(per_value, outcomes)):
         out = np.asarray(out)
         via, saddles = transients[i] if transients else ([], [])
@@ -178,7 +177,7 @@ def _columns(values, per_value, outcomes, n_ids, events, fractions, transients=N
             key = keys[col]
             if col >= n_ids:
                 cols["class_code"][i, col] = int(Outcome(key).class_code)
-                cols["present"][i, col] = int(fr.count[i, col] > 0)
+                cols["present"][i, col] = int(fractions.count[i, col] > 0)
                 continue
             a = found.get(col)
             if a is not None:

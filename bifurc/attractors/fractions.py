@@ -44,12 +44,12 @@ def census_fractions(outcomes, n_ids: int, transients=None, exits=None) -> Fract
         out = np.asarray(out)
         n = len(out)
         count[i] = [int(np.sum(out == k)) for k in keys]
-        fraction[i] = count[i] / n if n else np.nan
-        low[i], high[i] = np.array([wilson(int(k), n) for k in count[i]]).T
         via, saddles = transients[i] if transients else ([], [])
         if exits is not None and any(len(e) for e in exits[i]):
             fraction[i], low[i], high[i] = apportioned_fractions(out, via, exits[i], keys)
             ev[i], ev_lo[i], ev_hi[i] = fraction[i], low[i], high[i]      # the stopped starts have no exits of their own
         else:
+            fraction[i] = count[i] / n if n else np.nan
+            low[i], high[i] = np.array([wilson(int(k), n) for k in count[i]]).T
             ev[i], ev_lo[i], ev_hi[i] = eventual_fractions(out, via, saddles, keys)
     return Fractions(keys, count, fraction, low, high, ev, ev_lo, ev_hi)
