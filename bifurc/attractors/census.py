@@ -34,7 +34,7 @@ import numpy as np
 from maps.hybrid import HybridState, IntegrationFailure
 
 from ..labels.codes import OUTCOMES, ClassCode
-from ..labels.vocabulary import BUDGET
+from ..labels.vocabulary import BUDGET, MAX_PERIOD
 from ..labels.classify import candidate_periods
 from ..labels.lyapunov import exponent_interval
 from .lifetime import Lifetime, estimate_lifetime, periodic_tail
@@ -57,7 +57,7 @@ class Settings:
     recur: int = 20
     locate: int = 48
     max_periods: int = BUDGET
-    max_period: int = 16
+    max_period: int = MAX_PERIOD
     newton_tol: float = 1e-10
     batch_size: int = 4
     max_tries: int = 6
@@ -409,12 +409,14 @@ def _record_and_classify(smap, tracks, rest, grid, s: Settings, found: list, own
             t.saddle = sd
             continue
         aid = _register(a, found, owner, grid, q)
-        if a.periodic and a.period <= s.max_period:
+        if a.periodic and a.period <= min(s.max_period, s.chunk // 2):
             continue                 # its path, not the record beside it, must land there (it runs on)
         # a non-periodic attractor, or an orbit of a period beyond the search (:func:`.identify.identify` polishes it
         # where the record repeats at that lag; the record approaches it, :func:`.identify.polish_once`), which no
         # chunk is matched to (:func:`.identify.from_chunk`) and whose cells may be shared with an orbit beside it:
-        # thesis-1dof (`matlab-listing`, `listing`, 10 Hz, 160 V), a 12-impact and a 10-impact period-18 orbit
+        # thesis-1dof (`matlab-listing`, `listing`, 10 Hz, 160 V), a 12-impact and a 10-impact period-18 orbit; or one
+        # too long for a chunk to show a path approaching it (two of its periods: :func:`.identify.approaching`):
+        # (`fit`, 10 Hz, 170 V, periods up to 100) a 45:24 orbit, whose starts ended not_converged
         t.outcome, t.periods = aid, t.periods + length
         if found[aid] is a and not a.periodic and math.isnan(a.area_rate):
             _with_area_rate(smap, a, o, t.k)          # once per new non-periodic attractor

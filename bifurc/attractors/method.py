@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 from maps.parameters import ParameterError
 
-from ..labels.vocabulary import BUDGET
+from ..labels.vocabulary import BUDGET, MAX_PERIOD
 from ..run.settings import Settings, setting
 
 #: the largest number of starts per point
@@ -29,9 +29,7 @@ class Census(Settings):
     cells: int = setting(100, "recurrence grid cells per box side", low=2, high=1e6, whole=True)
     budget: int = setting(BUDGET, "periods per start after which it is transient (on a chaotic saddle) or "
                           "not_converged", unit="strobe periods", low=1, high=1e9, whole=True)
-    # not yet vocabulary.MAX_PERIOD (100): at 100 the 8 switch-on starts of thesis-1dof (`fit`, 10 Hz, 170 V) that
-    # settle on a 45:24 orbit end not_converged (all 8 found at 16: tests/test_attractors.py, period_45)
-    max_period: int = setting(16, "longest period Newton tries from a start's record (a contracting record that "
+    max_period: int = setting(MAX_PERIOD, "longest period Newton tries from a start's record (a contracting record that "
                               "repeats at a longer lag, up to a quarter of its length, is polished at that lag)",
                               unit="strobe periods", low=1, high=1e4, whole=True)
     tol: float = setting(1e-10, "heyoka tolerance", low=0.0, high=1e-2, low_open=True)

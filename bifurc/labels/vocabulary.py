@@ -24,7 +24,7 @@ METHODS = {
 
 #: default longest period searched [strobe periods], the diagram's, the regime map's and the census' (the candidates
 #: are the multiples of the forcing period q up to it: at 8.5 Hz on the thesis model q = 17, so the census' former
-#: 16 found none).  On the census above 100 for 16 moved no start and cost 1.18x its CPU seconds (79.8 against 67.7),
-#: but on thesis-1dof (`fit`, 10 Hz, 170 V) 8 of 8 switch-on starts settling on a 45:24 orbit ended not_converged
-#: (all found at 16): the census keeps 16 until that is fixed (bifurc/attractors/method.py)
+#: 16 found none).  A census orbit too long for a chunk to show a path landing on it is assigned from the record
+#: that found it (bifurc/attractors/census.py, _record_and_classify): at 100 without that rule, 8 of 8 switch-on
+#: starts of thesis-1dof (`fit`, 10 Hz, 170 V) on a 45:24 orbit ended not_converged
 MAX_PERIOD = 100

@@ -28,6 +28,9 @@ QUICK = dict(values=(120.0, 220.0, 3), starts=24, switch_on=12, link=False)   # 
 #: relay periods per start before it counts as transient: the budget the committed reports were made with (the
 #: census' default until issue 45 gave every verb one default, 6000)
 BUDGET = 2000
+#: the longest period the census searches [strobe periods]: the committed reports' (the census' default until
+#: issue 45 gave every verb one default, 100)
+MAX_PERIOD = 16
 
 
 def run(out, quick=False, progress=True, overwrite=False) -> dict:
@@ -43,7 +46,8 @@ def run(out, quick=False, progress=True, overwrite=False) -> dict:
     results = {}
     for law in LAWS:
         kw = dict(preset=PRESET, params={"relay_hz": 10.0}, dc_law=law, seed=1, progress=progress,
-                  link=size["link"], overwrite=True, budget=BUDGET)
+                  link=size["link"], overwrite=True, budget=BUDGET,
+                  max_period=MAX_PERIOD)
         box = bifurc.attractors(SCENE, "V", values, starts="box", box=BOX, n_starts=size["starts"],
                                 path=out / f"{law}-box.nc", **kw)
         sw = bifurc.attractors(SCENE, "V", values, starts="switch-on", n_starts=size["switch_on"],
