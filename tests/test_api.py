@@ -347,7 +347,7 @@ STUDY_INTERNALS = {
     "bifurc.attractors.dataset.attractor_count",
     "bifurc.attractors.identify.no_contraction", "bifurc.attractors.plots.plot_attractors", "bifurc.findings.Finding",
     "bifurc.labels.classify.classify_orbit", "bifurc.labels.classify.describe", "bifurc.labels.classify.lyapunov_threshold",
-    "bifurc.labels.codes.OUTCOMES", "bifurc.labels.evidence.torus_evidence", "bifurc.labels.lyapunov.lyapunov_along",
+    "bifurc.labels.evidence.torus_evidence", "bifurc.labels.lyapunov.lyapunov_along",
     "bifurc.orbits.special_points.BIRTH_NOTE", "bifurc.orbits.special_points.LOCATED_KINDS",
     "bifurc.plots.map.regime_categories", "bifurc.run.executor.available_cores", "bifurc.run.executor.map_values",
     "bifurc.storage.files.check_figure_output", "bifurc.storage.files.refuse_existing", "bifurc.storage.files.save_figure",
