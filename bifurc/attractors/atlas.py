@@ -70,7 +70,10 @@ def attractors(problem="thesis-1dof", param: str | None = "V", values=None, meth
         not_converged, failed, neutral, transient: still on a chaotic saddle at the budget) are attractor entries,
         so the fractions sum to 1; ``eventual_fraction`` apportions the transient starts by where those that left
         their saddle went.  The fractions are computed from the starts' outcomes before the dataset is written
-        (``bifurc.attractors.fractions.census_fractions``).
+        (``bifurc.attractors.fractions.census_fractions``).  Its cost: ``start_periods`` (the strobe periods each
+        fresh start ran), the attributes ``census_seconds``, ``fresh_seconds``, ``seeding_seconds``,
+        ``linking_seconds`` [s, wall] and ``fresh_cpu_seconds_chunks``, ``_identify``, ``_exits`` [s, CPU of the
+        fresh starts' census by stage, summed over the points] (docs: "Where a census' time goes").
     """
     opts = dict(options)
     for old, new in RENAMED.items():
