@@ -13,7 +13,6 @@ wrapped to note when each start met a saddle.
 """
 from __future__ import annotations
 
-import os
 import sys
 import time
 
@@ -55,19 +54,10 @@ def _instrument(C):
 
 
 def main(argv=None):
-    import maps
     import bifurc.attractors.census as C
-    from bifurc.attractors.identify import Grid
-    from bifurc.attractors.starts import make_starts
-    from maps.poincare import StroboscopicMap
     values = [float(v) for v in (argv if argv is not None else sys.argv[1:])] or list(np.linspace(80, 220, 21))
-    sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # benchmarks/
-    from attractors import BOX, MODEL       # the census of benchmarks/attractors.py
-    pb = maps.problem("thesis-1dof", **MODEL)
-    st = make_starts(pb, "box", n=200, box=BOX, seed=1)
-    starts = list(np.asarray(st.points, dtype=float))
-    grid = Grid.over(st.box, pb.system, 100, pb.state_vector())
-    smap = StroboscopicMap(pb, tol=1e-10)
+    from _census import box_census      # the census of benchmarks/attractors.py
+    _, starts, grid, smap = box_census()
     tracks = _instrument(C)
     s = C.Settings()
     total = np.zeros(3)
