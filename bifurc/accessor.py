@@ -95,9 +95,10 @@ class BifurcAccessor:
         diagram: hover a value for its class, click it for its time history, phase portrait and periodic orbit,
         continue its branch, zoom to sweep a range anew (:class:`bifurc.explore.app.Explorer`; its ``select``,
         ``continue_branch`` and ``zoom`` do from Python what the clicks do; ``workers``: a zoom's processes,
-        default every core; ``zoom``: sweep a zoomed range anew).  A regime map: click a cell for its time
-        history and orbit (:class:`bifurc.explore.app.MapExplorer`).  A census: click a value for its attractors,
-        basins and orbits (:class:`bifurc.explore.app.CensusExplorer`).  Returns the page (shown as the output)."""
+        default every core; ``zoom``: compute a zoomed range anew).  A regime map: click a cell for its time
+        history and orbit, zoom into a rectangle for a finer grid of cells (:class:`bifurc.explore.app.MapExplorer`).
+        A census: click a value for its attractors, basins and orbits, zoom for a finer grid of values
+        (:class:`bifurc.explore.app.CensusExplorer`).  Returns the page (shown as the output)."""
         if self.kind not in ("diagram", "map", "attractors"):
             raise ParameterError(f"explore needs a diagram, map or attractors dataset; this is "
                                  f"{'a ' + self.kind if self.kind else 'another kind of'} dataset")

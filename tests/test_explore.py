@@ -99,6 +99,24 @@ function walk(root) { for (const el of root.querySelectorAll('*')) {
 return walk(document);"""
 
 
+#: a named figure's hover columns (the census': one per value) or cells (the map's): their values and texts
+COLUMNS_JS = """
+const f = Bokeh.documents[0].get_model_by_name(arguments[0]);
+for (const r of f.renderers) { const d = r.data_source.data;
+  if (d.value && d.text) return {value: Array.from(d.value), value2: d.value2 ? Array.from(d.value2) : null,
+                                 text: Array.from(d.text)}; }
+return null;"""
+#: the census page's basin fraction bars: value, bottom, top
+BARS_JS = """
+const d = Bokeh.documents[0].get_model_by_name('fractions').renderers[0].data_source.data;
+return {p: Array.from(d.p), bottom: Array.from(d.bottom), top: Array.from(d.top)};"""
+#: set a named figure's x range (and its y range when given), as the toolbar's box zoom does
+RANGE_JS = """
+const f = Bokeh.documents[0].get_model_by_name(arguments[0]);
+f.x_range.start = arguments[1]; f.x_range.end = arguments[2];
+if (arguments.length > 3) { f.y_range.start = arguments[3]; f.y_range.end = arguments[4]; }"""
+
+
 def _browser():
     """A headless Chromium driven by selenium, or a skip with the one-line reason."""
     if not (CHROMIUM.exists() and DRIVER.exists()):
@@ -224,10 +242,11 @@ def census(tmp_path_factory):
     return path
 
 
-def test_served_census_click_shows_each_attractor_its_fraction_and_a_history(census, chromium, tmp_path):
+def test_served_census_click_shows_each_attractor_its_fraction_and_a_history_and_a_zoom_repaints_it(census, chromium, tmp_path):
     """Click Omega = 1.3 of a census in the browser: each attractor's class and basin fraction (its starts' count
     over 36, counted here from where each start went) with its interval, and the largest basin's time history,
-    whose impacts are j m / n over j periods of a period-n orbit with m impacts."""
+    whose impacts are j m / n over j periods of a period-n orbit with m impacts; then a zoom on 1.25 to 1.28
+    repaints the figure with 20 values, each value's basin fractions whole numbers of its 25 starts summing to one."""
     ds = bifurc.load(census)
     i = 1
     went = ds.start_attractor.values[i]
@@ -252,6 +271,30 @@ def test_served_census_click_shows_each_attractor_its_fraction_and_a_history(cen
         periods, impacts = int(got.group(1)), int(got.group(2))
         assert periods % n == 0 and impacts == m * periods // n
         _screenshot(driver, tmp_path, "explore-census.png")
+        # a zoom, as the toolbar's box zoom sets the range: once the view rests, the census is computed anew on 20
+        # values of 1.25 to 1.28 with 25 of the slice's starts (5 x 5; the stored census had 36), the status line
+        # counting the values, and the figure repainted with them
+        from bifurc.explore.compute import ZOOM_CENSUS_VALUES, ZOOM_STARTS
+        assert (ZOOM_CENSUS_VALUES, ZOOM_STARTS) == (20, 25)
+        driver.execute_script(RANGE_JS, "census", 1.25, 1.28)
+        _wait(lambda: re.search(r"zoom 1.25 to 1.28, census: \d+ of 20 values \([\d.]+ s\); 25 starts per value "
+                                r"\(the stored census had 36\)", _text(driver)), 60, "the census zoom's progress")
+        _wait(lambda: "zoom 1.25 to 1.28: census shown" in _text(driver), 120, "the census zoom's end")
+        cols = _wait(lambda: (c := driver.execute_script(COLUMNS_JS, "census")) and len(c["value"]) == 20 and c, 30,
+                     "the census repainted with the zoom's 20 values")
+        assert np.allclose(cols["value"], np.linspace(1.25, 1.28, 20), rtol=0, atol=1e-12)
+        # each value's basin fractions: whole numbers of starts out of 25, summing to one
+        bars = driver.execute_script(BARS_JS)
+        p, height = np.asarray(bars["p"]), np.asarray(bars["top"]) - np.asarray(bars["bottom"])
+        assert np.allclose(np.sort(np.unique(p)), cols["value"])
+        assert np.allclose(height * 25, np.round(height * 25), atol=1e-9)
+        for v in cols["value"]:
+            assert abs(height[np.isclose(p, v)].sum() - 1) < 1e-9
+        r = driver.execute_script("const r = Bokeh.documents[0].get_model_by_name('census').x_range; "
+                                  "return [r.start, r.end];")
+        step = 0.03 / 19
+        assert np.allclose(r, [1.25 - step, 1.28 + step])            # the view on the zoomed values
+        _screenshot(driver, tmp_path, "explore-census-zoom.png")
 
 
 @pytest.fixture(scope="module")
@@ -263,9 +306,10 @@ def regime(tmp_path_factory):
     return path
 
 
-def test_served_map_click_shows_the_cells_class_history_and_orbit(regime, chromium, tmp_path):
+def test_served_map_click_shows_the_cells_class_history_and_orbit_and_a_zoom_repaints_it(regime, chromium, tmp_path):
     """Click the cell (1.25, 0.8) in the browser: its stored class (the map's, computed before), a time history
-    with j m / n impacts over j periods, and its periodic orbit with the same period and impacts."""
+    with j m / n impacts over j periods, and its periodic orbit with the same period and impacts; then a zoom on a
+    rectangle repaints the map with 12 x 12 cells, the one at the stored cell's values with the stored class."""
     ds = bifurc.load(regime)
     c = ds.sel(Omega=1.25, r=0.8)
     code, n, m = int(c.class_code), int(c.period), int(c.impacts_per_period)
@@ -283,6 +327,25 @@ def test_served_map_click_shows_the_cells_class_history_and_orbit(regime, chromi
         assert periods % n == 0 and impacts == m * periods // n
         assert re.search(rf"Periodic orbit: period {n}, {m} impacts? per period", text)
         _screenshot(driver, tmp_path, "explore-map.png")
+        # a zoom on the rectangle Omega 1.25 to 1.28 by r 0.74 to 0.8: computed anew on 12 x 12 cells with the map's
+        # settings, the status line counting the cells; its corner (1.25, 0.8) is the stored cell's very value and
+        # settings (every cell starts from the same state), so it gets the stored class
+        from bifurc.explore.compute import ZOOM_MAP_SIDE
+        assert ZOOM_MAP_SIDE == 12
+        driver.execute_script(RANGE_JS, "map", 1.25, 1.28, 0.74, 0.8)
+        _wait(lambda: re.search(r"zoom Omega 1.25 to 1.28, r 0.74 to 0.8, first picture: \d+ of 144 cells",
+                                _text(driver)), 60, "the map zoom's progress")
+        _wait(lambda: re.search(r"zoom Omega 1.25 to 1.28, r 0.74 to 0.8, anytime labels: \d+ of 144 cells|"
+                                r"zoom Omega 1.25 to 1.28, r 0.74 to 0.8: anytime labels shown", _text(driver)), 120,
+              "the map zoom's first picture")
+        cells = _wait(lambda: (c := driver.execute_script(COLUMNS_JS, "map")) and len(c["value"]) == 144 and c, 30,
+                      "the map repainted with the zoom's 144 cells")
+        v1, v2 = np.asarray(cells["value"]), np.asarray(cells["value2"])
+        assert np.allclose(np.unique(v1), np.linspace(1.25, 1.28, 12)) and np.allclose(np.unique(v2),
+                                                                                       np.linspace(0.74, 0.8, 12))
+        corner = int(np.argmin(np.abs(v1 - 1.25) + np.abs(v2 - 0.8)))
+        assert cells["text"][corner] == describe(code, n, m)
+        _screenshot(driver, tmp_path, "explore-map-zoom.png")
 
 
 # ----- the notebook form --------------------------------------------------------------------------------------
@@ -483,3 +546,50 @@ def test_map_and_census_refusals_are_one_line(regime, census, tmp_path):
     h = __import__("maps").simulate("impact-oscillator", periods=1)
     with pytest.raises(ParameterError, match=r"needs a diagram, map or attractors dataset.*this is a history dataset$"):
         explorer_of(h)
+    # a zoom beyond a parameter's allowed range (the restitution r <= 1): refused in one line before any process
+    # starts, from Python and on the page's status line when a resting view asks for it
+    from bifurc.explore.compute import Zoom
+    with pytest.raises(ParameterError, match=r"^parameter 'r' \(coefficient of restitution\) = 1.2 is outside its "
+                                             r"allowed range \[0, 1\]$"):
+        Zoom(MapComputer(bifurc.load(regime)), 1.26, 1.29, 3, second=(0.9, 1.2, 3))
+    ex = explorer_of(bifurc.load(regime))
+    try:
+        ex._range_seen = (((1.26, 1.29), (0.9, 1.2)), time.monotonic() - 10)
+        ex._poll()
+        assert ex._zoom is None and ex.status.startswith("zoom refused: parameter 'r'") and "\n" not in ex.status
+    finally:
+        ex.close()
+
+
+def test_a_census_zooms_chunks_join_with_each_start_at_its_attractor(census):
+    """Two censuses of consecutive values (a census zoom's chunks) joined as one: the values in order, each part's
+    attractors kept apart, and at every value each attractor's basin fraction is the share of the fresh starts
+    that the joined dataset says reached it (the starts renumbered with the attractors), its class the part's."""
+    from bifurc.explore.compute import CensusComputer, join_censuses, zoom_starts
+    ds = bifurc.load(census)
+    kw = dict(params=OSC, box={"x": (-1.0, 2.0), "v": (-2.0, 2.0)}, starts="slice", shape=(3, 3), progress=False,
+              workers=1, link=False)
+    parts = [bifurc.attractors("impact-oscillator", "Omega", v, **kw) for v in ([1.25, 1.27], [1.29, 1.3])]
+    joined = join_censuses(parts)
+    assert np.allclose(joined.Omega.values, [1.25, 1.27, 1.29, 1.3])
+    labels = [str(x) for x in joined.attractor_label.values]
+    ids = [sum(str(x).startswith("A") for x in p.attractor_label.values) for p in parts]
+    assert labels[:sum(ids)] == [f"A{k}" for k in range(sum(ids))]
+    for i in range(4):
+        went = joined.start_attractor.values[i]
+        assert went.size == 9
+        for j in range(len(labels)):
+            assert abs(joined.basin_fraction.values[i, j] - (went == j).mean()) < 1e-12 or \
+                (np.isnan(joined.basin_fraction.values[i, j]) and not (went == j).any())
+        p, k = parts[i // 2], i % 2
+        offset = 0 if i < 2 else ids[0]
+        for j in range(ids[i // 2]):
+            assert joined.class_code.values[i, offset + j] == p.class_code.values[k, j]
+    rows = CensusComputer(ds).on(joined).attractors(1.29)["rows"]
+    assert abs(sum(r["fraction"] for r in rows) - 1) < 1e-12
+    # the zoom's starts: the stored slice's kind and box with at most 25 of them, the sides scaled alike
+    spec, n, stored = zoom_starts(ds, ["x", "v"])
+    assert spec == {"kind": "slice", "shape": [5, 5], "box": {"x": [-1.0, 2.0], "v": [-2.0, 2.0]}} and \
+        (n, stored) == (25, 36)
+    boxed = ds.assign_attrs(starts_sampler="Box(n=200, box=None, seed=7)", fresh_starts=200)
+    assert zoom_starts(boxed, ["x", "v"])[0] == {"kind": "box", "n": 25, "box": None, "seed": 7}

@@ -1,6 +1,7 @@
 """The explorer's pages, on HoloViz Panel (Bokeh figures): a stored diagram (its hover, a click's time history,
 phase portrait and periodic orbit, a branch overlaid on a button's press, a zoomed range swept anew), a regime map
-(a cell's time history and orbit) and a census (a value's attractors, basins and orbits).
+(a cell's time history and orbit, a zoomed rectangle computed anew) and a census (a value's attractors, basins and
+orbits, a zoomed range computed anew); the zoom is the pages' shared :class:`Page` machinery.
 
 The same :class:`Explorer` is a Jupyter output (``ds.bifurc.explore()``) and a served page (``bifurc explore``,
 :func:`serve`).  Work runs off the page: a click's computation on a thread (a newer click makes an older one's
@@ -20,8 +21,8 @@ from maps.parameters import ParameterError
 
 from ..labels.classify import CLASS_LABELS
 from ..plots.diagram import CLASS_COLOURS
-from .compute import (ZOOM_VALUES, CensusComputer, Computer, MapComputer, Spares, Zoom, branch_points, map_rows,
-                      problem_of, value_rows)
+from .compute import (ZOOM_CENSUS_VALUES, ZOOM_MAP_SIDE, ZOOM_VALUES, CensusComputer, Computer, MapComputer, Spares,
+                      Zoom, branch_points, map_rows, problem_of, value_rows)
 
 #: milliseconds between two looks at the background work
 POLL_MS = 150
@@ -129,11 +130,18 @@ class OrbitPanels:
 class Page:
     """What every explorer page shares: one background thread for the clicks' work (a newer click makes an older
     result stale: it is dropped), a periodic callback that moves finished work onto the page, the status line and
-    progress bar."""
+    progress bar, and the zoom: a view that rests on a narrower range (a rectangle of a map) is computed anew on a
+    finer grid by warm processes (:class:`bifurc.explore.compute.Spares`, started once the first click is shown,
+    and :class:`bifurc.explore.compute.Zoom`), repainted as its chunks land; a newer zoom ends the stale one.
+
+    A page defines ``KIND`` (what it shows), ``_show_dataset(ds, span)`` (paint the stored dataset or a zoom's)
+    and ``zoom(...)``; it calls :meth:`_start_zoom` and :meth:`_watch_ranges` with its figure's ranges."""
+
+    KIND = "dataset"
 
     def _start_page(self, pn, ds, computer, title, default: str) -> None:
         pn.extension(notifications=False)
-        self.stored, self.computer = ds, computer
+        self.stored, self.computer, self.stored_computer = ds, computer, computer
         self.title = title or str(ds.attrs.get("title", default))
         self._pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="bifurc-explore")
         self._generation = 0
@@ -141,6 +149,36 @@ class Page:
         self._callback = None
         self.status_pane = pn.pane.Markdown("Loading the integrators...", name="status", css_classes=["status"])
         self.progress = pn.indicators.Progress(value=0, max=100, visible=False, sizing_mode="stretch_width", height=12)
+        self._zoom, self._spares, self._ranges = None, None, ()
+
+    def _start_zoom(self, pn, zoom: bool, workers: int | None) -> None:
+        """The zoom's state, its warm processes (started after the first click) and its two widgets."""
+        self.workers = workers
+        self._zoom_refilled = False
+        self._range_seen = (None, 0.0)       # (view, when it last changed)
+        self._spares = Spares(self.stored_computer, workers) if zoom else None
+        self.whole_button = pn.widgets.Button(label=f"Whole stored {self.KIND}", disabled=True)
+        self.whole_button.on_click(lambda event: self.whole())
+        self.zoom_check = pn.widgets.Checkbox(label="recompute a zoomed range", value=zoom)
+
+    def _watch_ranges(self, *ranges) -> None:
+        """The figure's ranges whose rested view starts a zoom (a map: both axes)."""
+        self._ranges = ranges
+        for r in ranges:
+            r.on_change("start", self._on_range)
+            r.on_change("end", self._on_range)
+
+    def _on_range(self, attr, old, new) -> None:
+        view = [(r.start, r.end) for r in self._ranges]
+        if all(a is not None and b is not None for a, b in view):
+            self._range_seen = (tuple((float(a), float(b)) for a, b in view), _time.monotonic())
+
+    def _set_view(self, span) -> None:
+        """Show ``span`` ((lo, hi) per watched range): the grid shown, against which a zoom is measured."""
+        self._span = tuple(span)
+        for r, (a, b) in zip(self._ranges, self._span):
+            r.start, r.end = a, b
+        self._range_seen = (self._span, _time.monotonic())
 
     def _submit(self, kind, fn, *args, wait=False):
         self._generation += 1
@@ -155,7 +193,7 @@ class Page:
         return self
 
     def _poll(self) -> None:
-        """Move finished work onto the page (stale results dropped), then the page's own looks (a zoom's)."""
+        """Move finished work onto the page (stale results dropped), then look at the zoom."""
         for entry in list(self._pending):
             generation, kind, future, started = entry
             if not future.done():
@@ -170,10 +208,70 @@ class Page:
                 self.status = f"error: {' '.join(str(exc).split())[:300]}"
                 continue
             getattr(self, f"_show_{kind}")(result, _time.perf_counter() - started)
-        self._poll_more()
+            if self._spares is not None and not self._spares.children and self._zoom is None:
+                self._spares.fill()          # the first click is shown: warm processes for a zoom
+        self._poll_zoom()
 
-    def _poll_more(self) -> None:
-        """A page's own periodic look (none by default)."""
+    def _begin_zoom(self, *args, **kw) -> Zoom:
+        """Start a :class:`Zoom` of the stored dataset (a running one is ended first)."""
+        if self._zoom is not None:
+            self._zoom.close()
+            self._zoom = None
+        self._zoom = z = Zoom(self.stored_computer, *args, workers=self.workers, spares=self._spares, **kw)
+        self._zoom_refilled = False
+        self.progress.visible, self.progress.value = True, 0
+        self.status = f"zoom {z.text}: computing {z.total} {z.unit}..." + (f" ({z.note})" if z.note else "")
+        return z
+
+    def whole(self) -> None:
+        """Back to the stored dataset (a running zoom is stopped)."""
+        if self._zoom is not None:
+            self._zoom.close()
+            self._zoom = None
+        self._show_dataset(self.stored)
+        if self._spares is not None:
+            self._spares.fill()
+        self.whole_button.disabled = True
+        self.progress.visible = False
+        self.status = f"the stored {self.KIND}"
+
+    def _poll_zoom(self) -> None:
+        """Start a zoom when the view rests on a narrower range, and move a running zoom's chunks onto the page."""
+        if not self._ranges:
+            return
+        view, since = self._range_seen
+        if self.zoom_check.value and view is not None and _time.monotonic() - since > ZOOM_REST and \
+                any(hi - lo < ZOOM_FRACTION * (b - a) for (lo, hi), (a, b) in zip(view, self._span)) and \
+                (self._zoom is None or self._zoom.view != view):
+            self._range_seen = (view, math.inf)   # once per resting view
+            try:
+                self.zoom(*(x for pair in view for x in pair))
+            except ParameterError as exc:          # a range outside a parameter's allowed one: said in one line
+                self.status = f"zoom refused: {exc}"
+                self.progress.visible = False
+        z = self._zoom
+        if z is None:
+            return
+        s = z.poll()
+        if s["dataset"] is not None:
+            self._show_dataset(s["dataset"], span=z.span)
+            self.whole_button.disabled = False
+        if s["stage"] >= 1 and not self._zoom_refilled and self._spares is not None:
+            self._spares.fill()              # the first picture is shown: warm processes for the next zoom
+            self._zoom_refilled = True
+        note = f"; {z.note}" if z.note else ""
+        if s["error"]:
+            self.status = f"zoom failed: {s['error']}"
+            z.close()
+            self._zoom, self.progress.visible = None, False
+        elif s["stage"] >= len(z.stages):
+            self.status = f"zoom {z.text}: {z.stages[-1][0]} shown ({s['seconds']:.1f} s){note}"
+            z.close()
+            self._zoom, self.progress.visible = None, False
+        else:
+            self.progress.value = int(100 * s["done"] / s["total"])
+            self.status = (f"zoom {z.text}, {s['name']}: {s['done']} of {s['total']} {z.unit} "
+                           f"({s['seconds']:.1f} s){note}")
 
     status = property(lambda self: self.status_pane.object, lambda self, text: _set(self.status_pane, text),
                       doc="the status line: what runs, its progress, how long a result took")
@@ -202,14 +300,15 @@ class Page:
         return self.layout._repr_mimebundle_(include, exclude)
 
     def close(self) -> None:
-        """Stop the background work (the thread, and the page's own processes)."""
-        self._close_more()
+        """Stop the background work (the thread, a zoom's processes and the warm ones)."""
+        if self._zoom is not None:
+            self._zoom.close()
+        if self._spares is not None:
+            self._spares.close()
+            self._spares = None
         if self._callback is not None:
             self._callback.stop()
         self._pool.shutdown(wait=False, cancel_futures=True)
-
-    def _close_more(self) -> None:
-        """A page's own processes to stop (none by default)."""
 
 
 class Explorer(Page):
@@ -221,19 +320,14 @@ class Explorer(Page):
     """
 
     HINT = "hover a value for its class; click it for its time history and orbit"
+    KIND = "diagram"
 
     def __init__(self, ds, title: str | None = None, workers: int | None = None, zoom: bool = True):
         import panel as pn
         self._start_page(pn, ds, Computer(ds), title, "diagram")
-        self.stored_computer = self.computer
-        self.workers = workers
-        self._zoom: Zoom | None = None
-        self._zoom_auto = zoom
-        self._range_seen = (None, 0.0)       # (range, when it last changed)
         self._selected = None
         self._warm = self._pool.submit(self.computer.warm)
-        # warm zoom processes, started once the first click is shown (before, they would compete with it)
-        self._spares = Spares(self.computer, workers) if zoom else None
+        self._start_zoom(pn, zoom, workers)
         self._build(pn)
         self._show_dataset(ds)
 
@@ -273,17 +367,13 @@ class Explorer(Page):
         strip.ygrid.visible = False
         strip.add_tools(HoverTool(renderers=[rects], tooltips=tips), TapTool(renderers=[rects]))
         self.columns.selected.on_change("indices", self._on_tap)
-        d.x_range.on_change("start", self._on_range)
-        d.x_range.on_change("end", self._on_range)
+        self._watch_ranges(d.x_range)
         self.diagram_figure, self.strip_figure = d, strip
         # the clicked value's panels
         self.panels = OrbitPanels(pn, self.computer.problem)
         self.branch_button = pn.widgets.Button(label="Continue branch", color="primary", disabled=True,
                                                css_classes=["branch-button"])
         self.branch_button.on_click(lambda event: self.continue_branch())
-        self.whole_button = pn.widgets.Button(label="Whole stored diagram", disabled=True)
-        self.whole_button.on_click(lambda event: self.whole())
-        self.zoom_check = pn.widgets.Checkbox(label="recompute a zoomed range", value=self._zoom_auto)
         self.layout = pn.Column(
             pn.pane.Bokeh(d, sizing_mode="stretch_width"), pn.pane.Bokeh(strip, sizing_mode="stretch_width"),
             pn.Row(self.branch_button, self.whole_button, self.zoom_check), self.progress, self.status_pane,
@@ -312,9 +402,7 @@ class Explorer(Page):
                                  top=np.full(vals.size, hi + pad))
         self.branch_source.data = dict(p=[], y=[])
         self._branch_legend.visible = False
-        self._span = span or (float(vals.min() - width), float(vals.max() + width))
-        self.diagram_figure.x_range.start, self.diagram_figure.x_range.end = self._span
-        self._range_seen = (self._span, _time.monotonic())
+        self._set_view(span or ((float(vals.min() - width), float(vals.max() + width)),))
 
     # ----- what a click does -----------------------------------------------------------------------------------
     def _on_tap(self, attr, old, new) -> None:
@@ -350,8 +438,6 @@ class Explorer(Page):
                                                f"**{r['impacts']} impacts**")
         self.branch_button.disabled = not self.panels.show_orbit(r["orbit"], r["orbit_error"])
         self.status = f"{par} = {r['value']:g}: shown in {wall:.2f} s"
-        if self._spares is not None and not self._spares.children and self._zoom is None:
-            self._spares.fill()              # the first click is shown: warm processes for a zoom
 
     def _show_branch(self, r, wall) -> None:
         ps, ys = [], []
@@ -366,97 +452,35 @@ class Explorer(Page):
                        + (f"; {r['error']}" if r["error"] else "") if points else f"no branch: {r['error']}")
 
     # ----- zoom -------------------------------------------------------------------------------------------------
-    def _on_range(self, attr, old, new) -> None:
-        r = self.diagram_figure.x_range
-        if r.start is not None and r.end is not None:
-            self._range_seen = ((float(r.start), float(r.end)), _time.monotonic())
-
     def zoom(self, lo: float, hi: float, n: int = ZOOM_VALUES):
-        """Sweep ``lo`` to ``hi`` anew on ``n`` values in a child process (every core): a first picture, then the
-        anytime labels; each stage repaints the diagram when it ends."""
-        if self._zoom is not None:
-            self._zoom.close()
-        self._zoom = Zoom(self.stored_computer, float(lo), float(hi), n, self.workers, spares=self._spares)
-        self._zoom_refilled = False
-        self.progress.visible, self.progress.value = True, 0
-        self.status = f"zoom {lo:g} to {hi:g}: sweeping {n} values..."
-        return self._zoom
-
-    def whole(self) -> None:
-        """Back to the stored diagram (a running zoom is stopped)."""
-        if self._zoom is not None:
-            self._zoom.close()
-            self._zoom = None
-        self._show_dataset(self.stored)
-        if self._spares is not None:
-            self._spares.fill()
-        self.whole_button.disabled = True
-        self.status = "the stored diagram"
-
-    def _poll_more(self) -> None:
-        (lo, hi), since = self._range_seen
-        span = self._span[1] - self._span[0]
-        if self.zoom_check.value and lo is not None and _time.monotonic() - since > ZOOM_REST and \
-                hi - lo < ZOOM_FRACTION * span and (self._zoom is None or self._zoom.values[[0, -1]].tolist() !=
-                                                     [lo, hi]):
-            self._range_seen = ((lo, hi), math.inf)   # once per resting view
-            self.zoom(lo, hi)
-        z = self._zoom
-        if z is None:
-            return
-        s = z.poll()
-        if s["dataset"] is not None:
-            step = (z.values[-1] - z.values[0]) / (z.values.size - 1)
-            self._show_dataset(s["dataset"], span=(float(z.values[0] - step), float(z.values[-1] + step)))
-            self.whole_button.disabled = False
-        if s["stage"] >= 1 and not self._zoom_refilled and self._spares is not None:
-            self._spares.fill()              # the first picture is shown: warm processes for the next zoom
-            self._zoom_refilled = True
-        if s["error"]:
-            self.status = f"zoom failed: {s['error']}"
-            z.close()
-            self._zoom, self.progress.visible = None, False
-        elif s["stage"] >= len(z.stages):
-            self.status = f"zoom {z.values[0]:g} to {z.values[-1]:g}: anytime labels shown ({s['seconds']:.1f} s)"
-            z.close()
-            self._zoom, self.progress.visible = None, False
-        else:
-            self.progress.value = int(100 * s["done"] / s["total"])
-            self.status = (f"zoom {z.values[0]:g} to {z.values[-1]:g}, {s['name']}: {s['done']} of {s['total']} "
-                           f"values ({s['seconds']:.1f} s)")
-
-    def _close_more(self) -> None:
-        if self._zoom is not None:
-            self._zoom.close()
-        if self._spares is not None:
-            self._spares.close()
-            self._spares = None
+        """Sweep ``lo`` to ``hi`` anew on ``n`` values in warm processes (every core): a first picture, then the
+        anytime labels; the diagram repaints as their chunks land."""
+        return self._begin_zoom(float(lo), float(hi), n)
 
 
 class MapExplorer(Page):
     """A stored regime map in the browser: hover a cell for its class, click it for its time history and periodic
-    orbit (the cell swept anew as a one-value diagram with the map's settings, :class:`MapComputer`).
+    orbit (the cell swept anew as a one-value diagram with the map's settings, :class:`MapComputer`); zoom into a
+    rectangle (box zoom) and it is computed anew on a finer grid of cells with the map's settings
+    (:func:`bifurc.regime_map`, in warm processes).
 
-    ``select(value, value2, wait=True)`` does from Python what a click does."""
+    ``select(value, value2, wait=True)`` and ``zoom(lo, hi, lo2, hi2)`` do from Python what the clicks do."""
 
-    HINT = "hover a cell for its class; click it for its time history and orbit"
+    HINT = "hover a cell for its class; click it for its time history and orbit; box zoom for a finer grid"
+    KIND = "map"
 
-    def __init__(self, ds, title: str | None = None):
+    def __init__(self, ds, title: str | None = None, workers: int | None = None, zoom: bool = True):
         import panel as pn
         from bokeh.models import ColumnDataSource, HoverTool, TapTool
         from bokeh.plotting import figure
         self._start_page(pn, ds, MapComputer(ds), title, "regime map")
+        self._start_zoom(pn, zoom, workers)
         p1, p2 = self.computer.param, self.computer.param2
-        rows = map_rows(ds)
-        half = [np.diff(np.sort(g)).min() / 2 if g.size > 1 else 0.5 for g in (self.computer.values,
-                                                                               self.computer.values2)]
-        self.cells = ColumnDataSource(dict(left=rows["value"] - half[0], right=rows["value"] + half[0],
-                                           bottom=rows["value2"] - half[1], top=rows["value2"] + half[1],
-                                           value=rows["value"], value2=rows["value2"], text=rows["text"],
-                                           colour=[CLASS_COLOURS.get(lab, "#000000") for lab in rows["label"]]))
+        self.cells = ColumnDataSource(dict(left=[], right=[], bottom=[], top=[], value=[], value2=[], text=[],
+                                           colour=[]))
         u1, u2 = (ds[p].attrs.get("units", "") for p in (p1, p2))
-        f = figure(height=380, sizing_mode="stretch_width", name="map", tools="pan,wheel_zoom,reset",
-                   title=f"{self.title}: hover a cell, click it for its orbit",
+        f = figure(height=380, sizing_mode="stretch_width", name="map", tools="pan,wheel_zoom,box_zoom,reset",
+                   title=f"{self.title}: hover a cell, click it for its orbit", x_range=(0, 1), y_range=(0, 1),
                    x_axis_label=f"{p1} [{u1}]", y_axis_label=f"{p2} [{u2}]")
         quads = f.quad(left="left", right="right", bottom="bottom", top="top", source=self.cells, fill_color="colour",
                        line_color="white", hover_line_color="black", hover_fill_alpha=0.7, selection_line_color="black",
@@ -466,9 +490,38 @@ class MapExplorer(Page):
                     TapTool(renderers=[quads]))
         self.cells.selected.on_change("indices", self._on_tap)
         self.map_figure = f
+        self._watch_ranges(f.x_range, f.y_range)
         self.panels = OrbitPanels(pn, problem_of(ds), title="time history (click a cell)")
-        self.layout = pn.Column(pn.pane.Bokeh(f, sizing_mode="stretch_width"), self.progress, self.status_pane,
-                                self.panels.row(pn), sizing_mode="stretch_width", name="bifurc explore")
+        self.layout = pn.Column(pn.pane.Bokeh(f, sizing_mode="stretch_width"), pn.Row(self.whole_button,
+                                                                                        self.zoom_check),
+                                self.progress, self.status_pane, self.panels.row(pn), sizing_mode="stretch_width",
+                                name="bifurc explore")
+        self._show_dataset(ds)
+
+    def _show_dataset(self, ds, span=None) -> None:
+        """Paint ``ds`` (the stored map or a zoom's) as cells; clicks then refer to it; ``span``: the shown
+        rectangle (a zoom's whole one while its rows land), else the cells' own."""
+        self.computer = self.stored_computer if ds is self.stored else self.stored_computer.on(ds)
+        rows = map_rows(ds)
+        grids = (self.computer.values, self.computer.values2)
+        half = [np.diff(np.sort(g)).min() / 2 if g.size > 1 else 0.5 for g in grids]
+        self.cells.selected.indices = []
+        self.cells.data = dict(left=rows["value"] - half[0], right=rows["value"] + half[0],
+                               bottom=rows["value2"] - half[1], top=rows["value2"] + half[1], value=rows["value"],
+                               value2=rows["value2"], text=rows["text"],
+                               colour=[CLASS_COLOURS.get(lab, "#000000") for lab in rows["label"]])
+        self._set_view(span or tuple((float(g.min() - h), float(g.max() + h)) for g, h in zip(grids, half)))
+
+    @property
+    def cell_count(self) -> int:
+        """The cells the map shows (the stored map's, or a zoom's stored so far)."""
+        return len(self.cells.data["value"])
+
+    def zoom(self, lo: float, hi: float, lo2: float, hi2: float, n: int = ZOOM_MAP_SIDE, n2: int = ZOOM_MAP_SIDE):
+        """Compute the rectangle ``lo`` to ``hi`` (of the first parameter) by ``lo2`` to ``hi2`` (of the second)
+        anew on ``n`` x ``n2`` cells with the map's settings, row by row in warm processes: a first picture, then
+        the anytime labels; the map repaints as the rows land."""
+        return self._begin_zoom(float(lo), float(hi), n, second=(float(lo2), float(hi2), n2))
 
     def _on_tap(self, attr, old, new) -> None:
         if new:
@@ -498,56 +551,35 @@ class CensusExplorer(Page):
     states against the parameter, the basin fractions beneath); hover a value for its attractors, click it for
     each attractor's class, basin fraction with its 95 % interval, the fresh starts' basins on their slice, the
     attractors' stored strobe states, and a representative's time history (the largest basin's; the menu picks
-    another).
+    another); zoom into a range and it is computed anew on a finer grid of values (:func:`bifurc.attractors`
+    with the census' settings, starts kind and seed, at most
+    :data:`bifurc.explore.compute.ZOOM_STARTS` starts per value, in warm processes).
 
-    ``select(value, wait=True)`` and ``show_attractor(label, wait=True)`` do from Python what the clicks do;
-    ``attractors_text`` holds the table the page shows."""
+    ``select(value, wait=True)``, ``show_attractor(label, wait=True)`` and ``zoom(lo, hi)`` do from Python what
+    the clicks do; ``attractors_text`` holds the table the page shows."""
 
-    HINT = "hover a value for its attractors; click it for their basins and orbits"
+    HINT = "hover a value for its attractors; click it for their basins and orbits; zoom for a finer grid"
+    KIND = "census"
 
-    def __init__(self, ds, title: str | None = None):
+    def __init__(self, ds, title: str | None = None, workers: int | None = None, zoom: bool = True):
         import panel as pn
         from bokeh.models import ColumnDataSource, HoverTool, TapTool
         from bokeh.plotting import figure
         self._start_page(pn, ds, CensusComputer(ds), title, "census")
+        self._start_zoom(pn, zoom, workers)
         c, par = self.computer, self.computer.param
         state = c.states[0]
         scale, unit = _scale(ds, state)
-        self._y = scale
+        self._y, self._census_state = scale, state
         units = ds[par].attrs.get("units", "")
-        vals = c.values
-        width = np.diff(np.sort(vals)).min() if vals.size > 1 else 0.1 * max(1.0, abs(vals[0]))
-        labels = [str(x) for x in ds.attractor_label.values]
-        self._colours = {lab: PALETTE[j % len(PALETTE)] for j, lab in enumerate(labels)}
-        summary = []
-        pts = {"p": [], "y": [], "colour": [], "label": []}
-        bars = {"p": [], "bottom": [], "top": [], "colour": [], "label": []}
-        for v in vals:
-            rows = c.attractors(v)["rows"]
-            summary.append("; ".join(f"{x['label']} {x['text']} {x['fraction']:.2f}" for x in rows))
-            below = 0.0
-            for x in rows:
-                for y in x["nodes"].get(state, []):
-                    pts["p"].append(v)
-                    pts["y"].append(float(y) * scale)
-                    pts["colour"].append(self._colours[x["label"]])
-                    pts["label"].append(x["label"])
-                bars["p"].append(v)
-                bars["bottom"].append(below)
-                bars["top"].append(below + x["fraction"])
-                bars["colour"].append(self._colours[x["label"]])
-                bars["label"].append(f"{x['label']}: {x['text']}")
-                below += x["fraction"]
-        ys = np.asarray(pts["y"], float)
-        lo, hi = (float(ys.min()), float(ys.max())) if ys.size else (0.0, 1.0)
-        pad = 0.05 * (hi - lo or 1.0)
-        self.columns = ColumnDataSource(dict(left=vals - width / 2, right=vals + width / 2, value=vals, text=summary,
-                                             bottom=np.full(vals.size, lo - pad), top=np.full(vals.size, hi + pad)))
+        self.census_points = ColumnDataSource(dict(p=[], y=[], colour=[], label=[]))
+        self.census_bars = ColumnDataSource(dict(p=[], bottom=[], top=[], colour=[], label=[], left=[], right=[]))
+        self.columns = ColumnDataSource(dict(left=[], right=[], value=[], text=[], bottom=[], top=[]))
         tips = [(f"{par} [{units}]", "@value{0.[0000]}"), ("attractors", "@text")]
-        f = figure(height=320, sizing_mode="stretch_width", name="census", tools="xpan,xwheel_zoom,reset",
-                   title=f"{self.title}: hover a value, click it for its attractors",
+        f = figure(height=320, sizing_mode="stretch_width", name="census", tools="xpan,xwheel_zoom,xbox_zoom,reset",
+                   title=f"{self.title}: hover a value, click it for its attractors", x_range=(0, 1),
                    y_axis_label=f"{state} [{unit}] at the strobe")
-        f.scatter("p", "y", source=ColumnDataSource(pts), size=6, color="colour")
+        f.scatter("p", "y", source=self.census_points, size=6, color="colour")
         cols = f.quad(left="left", right="right", bottom="bottom", top="top", source=self.columns, fill_alpha=0,
                       line_alpha=0, hover_fill_color="black", hover_fill_alpha=0.08, selection_fill_alpha=0.12,
                       selection_fill_color="black", nonselection_fill_alpha=0, nonselection_line_alpha=0)
@@ -555,13 +587,12 @@ class CensusExplorer(Page):
         fr = figure(height=140, sizing_mode="stretch_width", x_range=f.x_range, name="fractions", tools="",
                     toolbar_location=None, y_axis_label="basin fraction", y_range=(0, 1),
                     x_axis_label=f"{ds[par].attrs.get('long_name', par)} {par} [{units}]")
-        bars["left"] = [p - width * 0.4 for p in bars["p"]]
-        bars["right"] = [p + width * 0.4 for p in bars["p"]]
-        fq = fr.quad(left="left", right="right", bottom="bottom", top="top", source=ColumnDataSource(bars),
+        fq = fr.quad(left="left", right="right", bottom="bottom", top="top", source=self.census_bars,
                      fill_color="colour", line_color="white")
         fr.add_tools(HoverTool(renderers=[fq], tooltips=[("attractor", "@label")]))
         self.columns.selected.on_change("indices", self._on_tap)
         self.census_figure = f
+        self._watch_ranges(f.x_range)
         # the clicked value: basins on the slice, the attractors' strobe states, a representative's history
         self.start_source = ColumnDataSource(dict(a=[], b=[], colour=[], label=[]))
         self.node_sources = ColumnDataSource(dict(a=[], b=[], colour=[], label=[]))
@@ -581,10 +612,71 @@ class CensusExplorer(Page):
         self.attractor_select.param.watch(self._on_select, "value")
         self.panels = OrbitPanels(pn, c.problem, title="time history of an attractor (click a value)")
         self.layout = pn.Column(pn.pane.Bokeh(f, sizing_mode="stretch_width"),
-                                pn.pane.Bokeh(fr, sizing_mode="stretch_width"), self.progress, self.status_pane,
+                                pn.pane.Bokeh(fr, sizing_mode="stretch_width"),
+                                pn.Row(self.whole_button, self.zoom_check), self.progress, self.status_pane,
                                 pn.Row(self.attractor_pane, pn.pane.Bokeh(basin)), self.attractor_select,
                                 self.panels.row(pn), sizing_mode="stretch_width", name="bifurc explore")
         self._shown = None
+        self._show_dataset(ds)
+
+    def _show_dataset(self, ds, span=None) -> None:
+        """Paint ``ds`` (the stored census or a zoom's): each attractor's strobe states in its colour, the basin
+        fractions stacked beneath, a hover column per value; clicks then refer to it; ``span``: the shown range (a
+        zoom's whole range while its chunks land), else the values' own."""
+        c = self.computer = self.stored_computer if ds is self.stored else self.stored_computer.on(ds)
+        state, scale, vals = self._census_state, self._y, c.values
+        width = np.diff(np.sort(vals)).min() if vals.size > 1 else 0.1 * max(1.0, abs(vals[0]))
+        labels = [str(x) for x in ds.attractor_label.values]
+        # the stored census' attractors are matched from value to value: one colour each; a zoom's chunks are
+        # censuses of their own, so its attractors are coloured by their class (the same colour across chunks)
+        by_class: dict = {}
+        colour = (lambda x: self._colours[x["label"]]) if ds is self.stored else \
+            (lambda x: by_class.setdefault(x["text"], PALETTE[len(by_class) % len(PALETTE)]))
+        self._colours = {lab: PALETTE[j % len(PALETTE)] for j, lab in enumerate(labels)}
+        summary = []
+        pts = {"p": [], "y": [], "colour": [], "label": []}
+        bars = {"p": [], "bottom": [], "top": [], "colour": [], "label": []}
+        firsts = {}
+        for v in vals:
+            rows = c.attractors(v)["rows"]
+            summary.append("; ".join(f"{x['label']} {x['text']} {x['fraction']:.2f}" for x in rows))
+            below = 0.0
+            for x in rows:
+                firsts.setdefault(x["label"], colour(x))
+                for y in x["nodes"].get(state, []):
+                    pts["p"].append(v)
+                    pts["y"].append(float(y) * scale)
+                    pts["colour"].append(colour(x))
+                    pts["label"].append(x["label"])
+                bars["p"].append(v)
+                bars["bottom"].append(below)
+                bars["top"].append(below + x["fraction"])
+                bars["colour"].append(colour(x))
+                bars["label"].append(f"{x['label']}: {x['text']}")
+                below += x["fraction"]
+        self._colours.update(firsts)        # the basins' colours: each attractor's where it first appears
+        ys = np.asarray(pts["y"], float)
+        lo, hi = (float(ys.min()), float(ys.max())) if ys.size else (0.0, 1.0)
+        pad = 0.05 * (hi - lo or 1.0)
+        bars["left"] = [p - width * 0.4 for p in bars["p"]]
+        bars["right"] = [p + width * 0.4 for p in bars["p"]]
+        self.columns.selected.indices = []
+        self.census_points.data = pts
+        self.census_bars.data = bars
+        self.columns.data = dict(left=vals - width / 2, right=vals + width / 2, value=vals, text=summary,
+                                 bottom=np.full(vals.size, lo - pad), top=np.full(vals.size, hi + pad))
+        self._set_view(span or ((float(vals.min() - width), float(vals.max() + width)),))
+
+    @property
+    def value_count(self) -> int:
+        """The values the census figure shows (the stored census', or a zoom's stored so far)."""
+        return len(self.columns.data["value"])
+
+    def zoom(self, lo: float, hi: float, n: int = ZOOM_CENSUS_VALUES):
+        """Compute the census anew on ``n`` values from ``lo`` to ``hi`` (the stored settings, starts kind and seed,
+        fewer starts per value when it had many), chunk by chunk in warm processes; the figure repaints as they
+        land."""
+        return self._begin_zoom(float(lo), float(hi), n)
 
     attractors_text = property(lambda self: self.attractor_pane.object,
                                doc="the clicked value's attractors: class, basin fraction with its 95 % interval")
@@ -596,7 +688,7 @@ class CensusExplorer(Page):
     def select(self, value, wait: bool = False):
         """Show ``value``'s attractors (the nearest stored value) and the time history of its largest basin's."""
         r = self.computer.attractors(value)
-        self._shown = r
+        self._shown, self._shown_computer = r, self.computer      # a zoom's repaint may replace self.computer
         par = self.computer.param
         lines = [f"**{par} = {r['value']:g}: {sum(x['label'].startswith('A') for x in r['rows'])} attractors**", "",
                  "| attractor | class | basin fraction [95 %] |", "|---|---|---|"]
@@ -637,7 +729,7 @@ class CensusExplorer(Page):
         if self._shown is None:
             raise ParameterError("no value selected: click a value first")
         self.status = f"computing {label}'s time history at {self.computer.param} = {self._shown['value']:g}..."
-        return self._submit("attractor", self.computer.history, self._shown["value"], label, wait=wait)
+        return self._submit("attractor", self._shown_computer.history, self._shown["value"], label, wait=wait)
 
     def _show_attractor(self, r, wall) -> None:
         x = next(x for x in self._shown["rows"] if x["label"] == r["label"])
@@ -646,7 +738,7 @@ class CensusExplorer(Page):
                                                f"stored strobe state: **{r['impacts']} impacts**")
         j = x["j"]
         i = self._shown["index"]
-        ds = self.stored
+        ds = self._shown_computer.ds
         if "multiplier_abs" in ds and np.isfinite(ds.multiplier_abs.values[i, j]).any():
             ab, arg = ds.multiplier_abs.values[i, j], ds.multiplier_arg.values[i, j]
             keep = np.isfinite(ab)
@@ -675,9 +767,9 @@ def explorer_of(ds, title: str | None = None, workers: int | None = None, zoom: 
     from ..storage.load import kind_of
     kind = kind_of(ds)
     if kind == "map":
-        return MapExplorer(ds, title=title)
+        return MapExplorer(ds, title=title, workers=workers, zoom=zoom)
     if kind == "attractors":
-        return CensusExplorer(ds, title=title)
+        return CensusExplorer(ds, title=title, workers=workers, zoom=zoom)
     if kind != "diagram":
         raise ParameterError(f"the explorer needs a diagram, map or attractors dataset (from `bifurc diagram`, "
                              f"`bifurc map` or `bifurc attractors`); this is "

@@ -1,7 +1,9 @@
 """What the explorer computes, through the public API only (no second implementation): the problem rebuilt from
 a stored dataset's attributes, a value's time history (:func:`maps.simulate`) and periodic orbit
-(:func:`bifurc.periodic_orbit`), its branch (:func:`bifurc.continue_orbit`) and a zoomed range swept anew
-(:func:`bifurc.sweep` on a :class:`bifurc.Run`, in warm processes that a newer zoom stops).
+(:func:`bifurc.periodic_orbit`), its branch (:func:`bifurc.continue_orbit`) and a zoomed range computed anew in
+warm processes that a newer zoom stops: one per-point task over a finer grid of parameter points, a zoom plan
+(:func:`bifurc.sweep` for a diagram, :func:`bifurc.regime_map` for a map's rectangle, :func:`bifurc.attractors`
+for a census, each with the stored dataset's settings; :class:`Spares`, :class:`Zoom`).
 
 Nothing here draws: :mod:`bifurc.explore.app` shows what these functions return.
 """
@@ -147,6 +149,10 @@ class Computer:
         new.ds, new.values = ds, ds[self.param].values.astype(float)
         return new
 
+    def zoom_plan(self) -> dict:
+        """What a zoom's processes run: :func:`bifurc.sweep` with the diagram's settings (:func:`diagram_plan`)."""
+        return diagram_plan(self)
+
     def warm(self) -> None:
         """Compile the integrators once (a one-period simulation), before the first click."""
         import maps
@@ -229,6 +235,18 @@ class MapComputer:
                            max_period=int(a.get("max_period", 100)), error_sample=0, grazing=False)
         self.values, self.values2 = ds[self.param].values.astype(float), ds[self.param2].values.astype(float)
 
+    def zoom_plan(self) -> dict:
+        """What a zoom's processes run: :func:`bifurc.regime_map` with the map's settings (:func:`map_plan`)."""
+        return map_plan(self)
+
+    def on(self, ds) -> "MapComputer":
+        """The same for another regime map of the problem (a zoom's)."""
+        require_kind(ds, "map", "the regime map's explorer")
+        new = copy.copy(self)
+        new.ds = ds
+        new.values, new.values2 = ds[self.param].values.astype(float), ds[self.param2].values.astype(float)
+        return new
+
     def index(self, value, value2) -> tuple[int, int]:
         """The cell nearest to (value, value2); outside the map refused in one line."""
         return (nearest(self.values, value, self.param, "the map's"),
@@ -290,6 +308,18 @@ class CensusComputer:
 
     def index(self, value) -> int:
         return nearest(self.values, value, self.param, "the census'")
+
+    def zoom_plan(self) -> dict:
+        """What a zoom's processes run: :func:`bifurc.attractors` with the census' settings, starts kind and seed,
+        at most :data:`ZOOM_STARTS` starts per value (:func:`census_plan`)."""
+        return census_plan(self)
+
+    def on(self, ds) -> "CensusComputer":
+        """The same problem for another census of it (a zoom's)."""
+        require_kind(ds, "attractors", "the census' explorer")
+        new = copy.copy(self)
+        new.ds, new.values = ds, ds[self.param].values.astype(float)
+        return new
 
     def attractors(self, value) -> dict:
         """{"index", "value", "rows": one per attractor or outcome a start reached or present (label, class text,
@@ -356,19 +386,134 @@ def branch_points(br, state: str) -> tuple[np.ndarray, np.ndarray]:
 
 #: values per chunk of a zoom: each chunk is swept and stored on its own, so the page repaints as they land
 ZOOM_CHUNK = 5
+#: values of a zoomed census and values per chunk (each chunk is a census of its own)
+ZOOM_CENSUS_VALUES, ZOOM_CENSUS_CHUNK = 20, 4
+#: at most this many fresh starts per value in a zoomed census (fewer than a stored census with many)
+ZOOM_STARTS = 25
+#: cells per side of a zoomed regime map (a chunk: one value of the first parameter, every value of the second)
+ZOOM_MAP_SIDE = 12
 
 
 def _stage_methods(ds) -> tuple[dict, list]:
     """A zoom's method settings shared by its stages, and its two stages (name, settings): the first picture (the
     dataset's transient and record, no extension, no exponent, no grazing search), then the anytime labels
-    (undecided values extended up to the dataset's budget)."""
+    (undecided values extended up to the dataset's budget).  A diagram's and a regime map's alike."""
     a = ds.attrs
     transient, record = int(a.get("transient_periods", 300)), int(a.get("recorded_periods", 100))
     budget = int(a.get("budget_periods", transient + record))
     method = {"transient": transient, "record": record, "tol": float(a.get("tol", 1e-10)),
               "max_period": int(a.get("max_period", 100)), "error_sample": 0}
-    return method, [("first picture", dict(budget=transient + record, lyapunov=False, grazing=False)),
-                    ("anytime labels", dict(budget=max(budget, transient + record)))]
+    return method, [["first picture", dict(budget=transient + record, lyapunov=False, grazing=False)],
+                    ["anytime labels", dict(budget=max(budget, transient + record))]]
+
+
+def _call_of(text) -> tuple:
+    """(name, keywords) of a stored settings object's repr such as ``Census(cells=100, link=False)``, its keywords
+    literals; (None, {}) when it is not one (an older dataset, or ``Given(36 starts)``)."""
+    import ast
+    try:
+        node = ast.parse(str(text), mode="eval").body
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and not node.args:
+            return node.func.id, {k.arg: ast.literal_eval(k.value) for k in node.keywords}
+    except (SyntaxError, ValueError):
+        pass
+    return None, {}
+
+
+def census_settings(ds) -> dict:
+    """The stored census' :class:`bifurc.Census` settings (attribute ``census_method``; an older dataset: its tol
+    and grid cells), without the linking (a zoom draws the attractors, not their events)."""
+    name, kw = _call_of(ds.attrs.get("census_method", ""))
+    if name != "Census":
+        kw = {"tol": float(ds.attrs.get("tol", 1e-10)), "cells": int(ds.attrs.get("cells_per_side", 100))}
+    return dict(kw, link=False)
+
+
+def zoom_starts(ds, states, limit: int = ZOOM_STARTS) -> tuple[dict, int, int]:
+    """A zoomed census' fresh starts: the stored sampler's kind, box and seed (attribute ``starts_sampler``) with
+    at most ``limit`` starts (a slice's sides scaled alike); starts given as an array: ``limit`` of the stored
+    ones, evenly picked.  Returns (the starts as JSON, their count, the stored census' count)."""
+    name, kw = _call_of(ds.attrs.get("starts_sampler", ""))
+    stored = int(ds.attrs.get("fresh_starts", ds.sizes.get("start", 0)))
+    box = {k: list(v) for k, v in kw["box"].items()} if kw.get("box") else None
+    if name == "Slice":
+        a, b = kw.get("shape", (14, 14))
+        if a * b > limit:
+            f = math.sqrt(limit / (a * b))
+            a, b = max(1, int(a * f)), max(1, int(b * f))
+        return {"kind": "slice", "shape": [a, b], "box": box}, a * b, stored
+    if name in ("Box", "SwitchOn"):
+        n = min(int(kw.get("n", stored)), limit)
+        seed = int(kw.get("seed", ds.attrs.get("seed", 0)))
+        return {"kind": "box" if name == "Box" else "switch-on", "n": n, "box": box, "seed": seed}, n, stored
+    pts = np.stack([ds[f"start_{s}"].values for s in states], axis=1)
+    keep = np.unique(np.linspace(0, len(pts) - 1, min(len(pts), limit)).round().astype(int))
+    return {"kind": "given", "points": pts[keep].tolist()}, keep.size, stored
+
+
+def _sampler(spec: dict):
+    """The sampler of :func:`zoom_starts`' JSON (an (N, d) array for starts given)."""
+    from ..attractors.method import Box, Slice, SwitchOn
+    box = {k: tuple(v) for k, v in spec["box"].items()} if spec.get("box") else None
+    if spec["kind"] == "slice":
+        return Slice(shape=tuple(spec["shape"]), box=box)
+    if spec["kind"] == "box":
+        return Box(n=spec["n"], box=box, seed=spec["seed"])
+    if spec["kind"] == "switch-on":
+        return SwitchOn(n=spec["n"], seed=spec["seed"])
+    return np.asarray(spec["points"], float)
+
+
+def _plan(kind, computer, method, stages, warm, **more) -> dict:
+    """What a zoom process runs (JSON): the task ``kind`` ("diagram": :func:`bifurc.sweep`, "map":
+    :func:`bifurc.regime_map` over rows of the first parameter, "census": :func:`bifurc.attractors`), the problem,
+    the parameter(s), the settings shared by the stages and each stage's, and ``warm``: the one-point task that
+    compiles the integrators before any zoom."""
+    return dict({"kind": kind, "problem": computer.kwargs, "param": computer.param, "param2": None, "method": method,
+                 "stages": stages, "chunk": ZOOM_CHUNK, "unit": "values", "warm": warm, "starts": None, "note": ""},
+                **more)
+
+
+def diagram_plan(computer) -> dict:
+    method, stages = _stage_methods(computer.ds)
+    return _plan("diagram", computer, method, stages, {"values": [float(computer.values[0])], "settings": {}})
+
+
+def map_plan(computer) -> dict:
+    method, stages = _stage_methods(computer.ds)
+    return _plan("map", computer, dict(method, mode="independent"), stages,
+                 {"values": [float(computer.values[0])], "values2": [float(computer.values2[0])], "settings": {}},
+                 param2=computer.param2, unit="cells")
+
+
+def census_plan(computer, limit: int = ZOOM_STARTS) -> dict:
+    ds = computer.ds
+    settings = census_settings(ds)
+    starts, n, stored = zoom_starts(ds, computer.problem.system.state_names, limit)
+    first = [[float(ds[f"start_{s}"].values[0]) for s in computer.problem.system.state_names]]
+    note = (f"{n} starts per value (the stored census had {stored})" if n < stored else f"{n} starts per value") + \
+        f"; chunks of {ZOOM_CENSUS_CHUNK} values, each a census of its own: colours by class"
+    return _plan("census", computer, settings, [["census", {}]],
+                 {"values": [float(computer.values[0])], "settings": {"budget": min(settings.get("budget", 200), 200)},
+                  "starts": {"kind": "given", "points": first}},
+                 chunk=ZOOM_CENSUS_CHUNK, starts=starts, note=note, n_starts=n)
+
+
+def _zoom_task(plan: dict, pb, values, settings: dict, values2=None, starts=None):
+    """One chunk of a zoom through the public API, in this process: ``plan``'s kind at ``values``."""
+    from ..run.where import Run
+    run = Run(workers=1, progress=False)
+    if plan["kind"] == "census":
+        from ..attractors.atlas import attractors
+        from ..attractors.method import Census
+        return attractors(pb, plan["param"], values, Census(**settings), starts=_sampler(starts), run=run)
+    from ..sweeps.method import Diagram
+    if plan["kind"] == "map":
+        from ..sweeps.regime import regime_map
+        return regime_map(pb, plan["param"], values, plan["param2"], np.asarray(values2, float), Diagram(**settings),
+                          run=run)
+    from ..sweeps.sweep import sweep
+    return sweep(pb, plan["param"], values, Diagram(**settings), run=run)
 
 
 def _start_child(warm: dict, ready_dir: Path) -> subprocess.Popen:
@@ -407,15 +552,14 @@ def _end(child: subprocess.Popen) -> None:
 
 class Spares:
     """Warm zoom processes kept ready for the next zoom (one per worker): started after the first click, each has
-    imported bifurc and compiled the problem's integrators before a zoom needs it, so that a zoom's first chunk
-    lands within a second.  :meth:`take` hands them to a :class:`Zoom`; :meth:`fill` starts new ones."""
+    imported bifurc and compiled the problem's integrators (on its page's zoom plan's one-point task) before a zoom
+    needs it, so that a zoom's first chunk lands within a second.  :meth:`take` hands them to a :class:`Zoom`;
+    :meth:`fill` starts new ones.  ``computer``: a diagram's, regime map's or census' computer."""
 
-    def __init__(self, computer: Computer, workers: int | None = None):
+    def __init__(self, computer, workers: int | None = None):
         from ..run.executor import available_cores
         self.n = int(workers or available_cores())
-        method, stages = _stage_methods(computer.ds)
-        self.warm = {"problem": computer.kwargs, "param": computer.param, "value": float(computer.values[0]),
-                     "method": dict(method, **stages[0][1])}
+        self.warm = computer.zoom_plan()
         self.dir = Path(tempfile.mkdtemp(prefix="bifurc-explore-spares-"))
         self.children: list = []
 
@@ -446,44 +590,84 @@ class Spares:
         shutil.rmtree(self.dir, ignore_errors=True)
 
 
-class Zoom:
-    """A range of the diagram swept anew (:func:`bifurc.sweep` with a :class:`bifurc.Run`) by one process per
-    worker (warm ones from :class:`Spares` when given, else new ones), each sweeping every ``workers``-th chunk of
-    :data:`ZOOM_CHUNK` values and storing each chunk as it ends: first the first picture of all its chunks (the
-    dataset's transient and record, no extension, no exponent and no grazing search: the points and the periodic
-    classes), then their anytime labels (undecided values extended up to the dataset's budget).  :meth:`poll`
-    gathers the chunks stored so far into one dataset (each value at its latest stage), so the page repaints
-    from the first chunk; :meth:`stop` ends the processes (a newer zoom replaces a stale one)."""
+def _check_corners(plan: dict, values, values2) -> None:
+    """A zoom's range refused in one line before any process starts when one of its ends (a map: corners) is
+    outside a parameter's allowed range."""
+    import maps
+    pb = maps.problem(**plan["problem"])
+    for v in (values[0], values[-1]):
+        for w in ((None,) if values2 is None else (values2[0], values2[-1])):
+            pb.with_values(**{plan["param"]: float(v)}, **({} if w is None else {plan["param2"]: float(w)}))
 
-    def __init__(self, computer: Computer, lo: float, hi: float, n: int = ZOOM_VALUES, workers: int | None = None,
-                 spares: Spares | None = None):
+
+def _grid(lo, hi, n, what: str) -> np.ndarray:
+    if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
+        raise ParameterError(f"zoom range {lo:g} to {hi:g}: need two finite values, the first below the second")
+    if int(n) < 2:
+        raise ParameterError(f"zoom {what} {n}: need at least 2")
+    return np.linspace(lo, hi, int(n))
+
+
+class Zoom:
+    """A range of a stored diagram, census or regime map computed anew through the public API (the computer's
+    :meth:`zoom_plan`: :func:`bifurc.sweep`, :func:`bifurc.attractors`, or :func:`bifurc.regime_map` over the
+    rectangle ``second`` = (lo2, hi2, n2) of the second parameter) by one process per worker (warm ones from
+    :class:`Spares` when given, else new ones), each running every ``workers``-th chunk of the plan's values and
+    storing each chunk as it ends, stage by stage: for a diagram and a map, first the first picture of all its
+    chunks (the dataset's transient and record, no extension, no exponent and no grazing search), then their
+    anytime labels (undecided values extended up to the dataset's budget); for a census, one stage.
+    :meth:`poll` gathers the chunks stored so far into one dataset (each value at its latest stage), so the page
+    repaints from the first chunk; :meth:`stop` ends the processes (a newer zoom replaces a stale one)."""
+
+    def __init__(self, computer, lo: float, hi: float, n: int | None = None, workers: int | None = None,
+                 spares: Spares | None = None, second: tuple | None = None):
         from ..run.executor import available_cores
-        if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
-            raise ParameterError(f"zoom range {lo:g} to {hi:g}: need two finite values, the first below the second")
-        if int(n) < 2:
-            raise ParameterError(f"zoom values {n}: need at least 2")
-        self.values = np.linspace(lo, hi, int(n))
-        self.param = computer.param
+        plan = spares.warm if spares is not None else computer.zoom_plan()
+        self.kind, self.unit, self.note = plan["kind"], plan["unit"], plan["note"]
+        self.values = _grid(lo, hi, n or {"diagram": ZOOM_VALUES, "census": ZOOM_CENSUS_VALUES}.get(
+            self.kind, ZOOM_MAP_SIDE), "values")
+        self.param, self.param2 = plan["param"], plan["param2"]
+        self.values2 = None
+        if self.kind == "map":
+            if second is None:
+                raise ParameterError(f"a regime map's zoom needs the range of {self.param2} too (lo2, hi2)")
+            lo2, hi2, *n2 = second
+            self.values2 = _grid(float(lo2), float(hi2), n2[0] if n2 else ZOOM_MAP_SIDE, "values2")
+        _check_corners(plan, self.values, self.values2)
+        self.view = ((float(self.values[0]), float(self.values[-1])),) + \
+            (((float(self.values2[0]), float(self.values2[-1])),) if self.values2 is not None else ())
+        self.span = tuple((a - (b - a) / (g.size - 1), b + (b - a) / (g.size - 1))
+                          for (a, b), g in zip(self.view, (self.values, self.values2)))
         self.folder = Path(tempfile.mkdtemp(prefix="bifurc-explore-"))
-        method, self.stages = _stage_methods(computer.ds)
-        self.chunks = [(j, min(j + ZOOM_CHUNK, self.values.size)) for j in range(0, self.values.size, ZOOM_CHUNK)]
+        self.stages = plan["stages"]
+        step = 1 if self.kind == "map" else plan["chunk"]     # a map's chunk: one row of cells
+        self.chunk = step
+        self.chunks = [(j, min(j + step, self.values.size)) for j in range(0, self.values.size, step)]
         k = max(1, min(int(workers or available_cores()), len(self.chunks)))
         self.started = _time.perf_counter()
         self.children = spares.take(k) if spares is not None else []
-        warm = None
         while len(self.children) < k:
-            if warm is None:
-                warm = {"problem": computer.kwargs, "param": computer.param, "value": float(self.values[0]),
-                        "method": dict(method, **self.stages[0][1])}
-            self.children.append(_start_child(warm, self.folder))
+            self.children.append(_start_child(plan, self.folder))
         for w, child in enumerate(self.children):
             job = {"folder": str(self.folder), "values": self.values.tolist(), "chunks": self.chunks[w::k],
-                   "method": method, "stages": [kw for _, kw in self.stages]}
+                   "chunk": step, "values2": None if self.values2 is None else self.values2.tolist()}
             child.stdin.write((json.dumps(job) + "\n").encode())
             child.stdin.close()
         self._stage_of = np.full(len(self.chunks), -1)         # the latest stage stored, per chunk
         self._parts: dict = {}                                 # chunk -> its latest dataset
         self._seen: set = set()
+
+    @property
+    def total(self) -> int:
+        """The zoom's values (a map: its cells)."""
+        return self.values.size * (1 if self.values2 is None else self.values2.size)
+
+    @property
+    def text(self) -> str:
+        """The zoomed range, as the page says it: "8.45 to 8.55" (a map: "Omega 1.26 to 1.29, r 0.72 to 0.78")."""
+        if self.values2 is None:
+            return f"{self.values[0]:g} to {self.values[-1]:g}"
+        return ", ".join(f"{p} {a:g} to {b:g}" for p, (a, b) in zip((self.param, self.param2), self.view))
 
     def _gather(self) -> bool:
         """Load the chunks stored since the last look; True if any."""
@@ -497,19 +681,24 @@ class Zoom:
                 self._stage_of[chunk] = stage
                 with open(f, "rb") as fh:           # written by this zoom's own processes, in its private folder
                     part = pickle.load(fh)
-                keep = {"branch", self.param, "sample"}
-                self._parts[chunk] = part.drop_vars([k for k, v in part.variables.items() if not set(v.dims) <= keep])
+                if self.kind != "census":
+                    keep = {"branch", self.param, "sample", self.param2}
+                    part = part.drop_vars([k for k, v in part.variables.items() if not set(v.dims) <= keep])
+                self._parts[chunk] = part
                 new = True
         return new
 
     def picture(self):
-        """The chunks stored so far as one diagram dataset (each value at its latest stage; the variables along
-        the parameter, its branch and samples), or None before the first.  Joined array by array (xarray's concat
-        of 40 chunks costs 0.5 s, paid again at each new chunk)."""
+        """The chunks stored so far as one dataset of the stored kind (each value at its latest stage), or None
+        before the first.  A diagram's or map's variables along the parameter are joined array by array
+        (xarray's concat of 40 chunks costs 0.5 s, paid again at each new chunk); a census' with
+        :func:`join_censuses`."""
         import xarray as xr
         if not self._parts:
             return None
         parts = [self._parts[c] for c in sorted(self._parts)]
+        if self.kind == "census":
+            return join_censuses(parts)
         first, par = parts[0], self.param
 
         def join(name, v):
@@ -520,14 +709,15 @@ class Zoom:
                           coords={k: join(k, v) for k, v in first.coords.items()}, attrs=first.attrs)
 
     def poll(self) -> dict:
-        """{"stage" (0 while the first picture runs, 1 the anytime labels, 2 when done), "name", "done" (values of
-        the running stage stored), "total", "dataset" (every value stored so far, when a chunk landed since the
-        last look; else None), "error", "seconds"}."""
+        """{"stage" (0 while the first stage runs, 1 the next, ... len(stages) when done), "name", "done" (values of
+        the running stage stored; a map: cells), "total", "dataset" (every value stored so far, when a chunk landed
+        since the last look; else None), "error", "seconds"}."""
         codes = [c.poll() for c in self.children]            # before the look: a process stores, then ends
         new = self._gather()
-        sizes = np.array([b - a for a, b in self.chunks])
+        per = 1 if self.values2 is None else self.values2.size
+        sizes = np.array([(b - a) * per for a, b in self.chunks])
         stage = int(self._stage_of.min()) + 1
-        out = {"stage": stage, "name": self.stages[min(stage, len(self.stages) - 1)][0], "total": self.values.size,
+        out = {"stage": stage, "name": self.stages[min(stage, len(self.stages) - 1)][0], "total": self.total,
                "done": int(sizes[self._stage_of >= min(stage, len(self.stages) - 1)].sum()),
                "dataset": self.picture() if new else None, "error": "",
                "seconds": _time.perf_counter() - self.started}
@@ -556,34 +746,92 @@ class Zoom:
         shutil.rmtree(self.folder, ignore_errors=True)
 
 
+def join_censuses(parts):
+    """Censuses of consecutive ranges of one parameter (a zoom's chunks) as one attractors dataset: each part's
+    attractors keep their own entries (renamed A0, A1, ... in order: a part's attractors are not matched with
+    another's), the outcomes (escaped, ...) are shared, every variable along the attractors padded with its
+    schema's fill where a part has no such entry, and each fresh start's attractor renumbered."""
+    import xarray as xr
+
+    from ..storage.schema import ATTRACTOR, ATTRACTOR_MULTIPLIERS
+    first = parts[0]
+    par = first.attrs["swept_parameter"]
+    labels = [[str(s) for s in p.attractor_label.values] for p in parts]
+    ids = [sum(s.startswith("A") for s in lab) for lab in labels]
+    outcomes = list(dict.fromkeys(s for lab, n in zip(labels, ids) for s in lab[n:]))
+    total = sum(ids)
+    offsets = np.cumsum([0] + ids[:-1])
+    maps_ = [np.array([off + j if j < n else total + outcomes.index(lab[j]) for j in range(len(lab))])
+             for lab, n, off in zip(labels, ids, offsets)]
+    size = total + len(outcomes)
+    fills = {v.name: v.fill for v in ATTRACTOR + ATTRACTOR_MULTIPLIERS}
+    out = {}
+    for name, v in first.data_vars.items():
+        if name == "attractor_label" or not all(name in p for p in parts):
+            continue
+        if par not in v.dims:
+            out[name] = (v.dims, v.values, v.attrs)
+        elif "attractor" not in v.dims:
+            vals = [p[name].values for p in parts]
+            if name == "start_attractor":
+                vals = [m[x] for m, x in zip(maps_, vals)]
+            out[name] = (v.dims, np.concatenate(vals, axis=v.dims.index(par)), v.attrs)
+        else:
+            order = (par, "attractor", *[d for d in v.dims if d not in (par, "attractor")])
+            rest = [first.sizes[d] for d in order[2:]]
+            fill = fills.get(name, np.nan if v.dtype.kind == "f" else 0)
+            arr = np.full([sum(p.sizes[par] for p in parts), size, *rest], fill, dtype=v.dtype)
+            at = 0
+            for p, m in zip(parts, maps_):
+                x = p[name].transpose(*order).values
+                arr[at:at + x.shape[0], m] = x
+                at += x.shape[0]
+            out[name] = (order, arr, v.attrs)
+    coords = {par: (par, np.concatenate([p[par].values for p in parts]), first[par].attrs),
+              "attractor": ("attractor", np.arange(size, dtype=first.attractor.dtype), first.attractor.attrs)}
+    coords.update({k: (c.dims, c.values, c.attrs) for k, c in first.coords.items() if k not in coords})
+    ds = xr.Dataset(out, coords=coords, attrs=first.attrs)
+    ds["attractor_label"] = ("attractor", [f"A{k}" for k in range(total)] + outcomes,
+                             first.attractor_label.attrs)
+    return ds
+
+
 def zoom_worker() -> None:
     """A zoom process (``python -c ... <ready folder>``, see :func:`_start_child`): the first line on its standard
-    input warms it (problem, parameter, a value, the first picture's settings); the second, a zoom's job (folder,
-    values, its chunks, stages), sweeps each of its chunks at each stage with :func:`bifurc.sweep` and stores it
-    as ``s<stage>-c<chunk>.pickle`` in the folder (atomically: the page never reads half a file).  It ends after
-    the chunk it is on when the page's process has ended (in its own process group, nothing else would stop it)."""
+    input is its page's zoom plan (:func:`_plan`), whose one-point task it runs to compile the integrators; the
+    second, a zoom's job (folder, values, its chunks), runs the plan's task on each of its chunks at each stage
+    and stores it as ``s<stage>-c<chunk>.pickle`` in the folder (atomically: the page never reads half a file).
+    It ends after the chunk it is on when the page's process has ended (in its own process group, nothing else
+    would stop it)."""
     import maps
-
-    from ..run.where import Run
-    from ..sweeps.method import Diagram
-    from ..sweeps.sweep import sweep
     parent = os.getppid()
-    warm = json.loads(sys.stdin.readline())
-    pb = maps.problem(**warm["problem"])
-    sweep(pb, warm["param"], np.array([warm["value"]]), Diagram(**warm["method"]), run=Run(workers=1, progress=False))
+    plan = json.loads(sys.stdin.readline())
+    pb = maps.problem(**plan["problem"])
+    warm, first = plan["warm"], plan["stages"][0][1]
+    _zoom_task(plan, pb, np.asarray(warm["values"]), dict(plan["method"], **first, **warm["settings"]),
+               values2=warm.get("values2"), starts=warm.get("starts"))
     (Path(sys.argv[1]) / f"ready-{os.getpid()}").touch()
     line = sys.stdin.readline()
     if not line.strip():
         return
     job = json.loads(line)
+    try:
+        _run_job(plan, pb, job, parent)
+    except ParameterError as exc:        # one line for the page's status, not a traceback
+        sys.stderr.write(" ".join(str(exc).split()) + "\n")
+        sys.exit(2)
+
+
+def _run_job(plan: dict, pb, job: dict, parent: int) -> None:
+    """A zoom process' job: each of its chunks at each stage, stored as it ends (:func:`zoom_worker`)."""
     folder, values = Path(job["folder"]), np.asarray(job["values"])
-    for s, settings in enumerate(job["stages"]):
+    for s, (_, settings) in enumerate(plan["stages"]):
         for a, b in job["chunks"]:
             if os.getppid() != parent:
                 return                  # the page's process ended (Ctrl-C, a closed server): nobody to show it to
-            out = folder / f"s{s}-c{a // ZOOM_CHUNK:04d}.pickle"
-            ds = sweep(pb, warm["param"], values[a:b], Diagram(**settings, **job["method"]),
-                       run=Run(workers=1, progress=False))
+            out = folder / f"s{s}-c{a // job['chunk']:04d}.pickle"
+            ds = _zoom_task(plan, pb, values[a:b], dict(plan["method"], **settings), values2=job["values2"],
+                            starts=plan["starts"])
             with open(folder / f"tmp-{out.name}", "wb") as f:     # a pickle: a netCDF file costs 0.3 s to write
                 pickle.dump(ds, f, protocol=pickle.HIGHEST_PROTOCOL)
             os.replace(folder / f"tmp-{out.name}", out)
