@@ -1,11 +1,14 @@
-"""Where the attractor atlas' time goes (issue 31): its stages timed one by one, and each link alone (not CI).
+"""Where the attractor atlas' time goes (issue 31): its stages as the census states them (not CI).
 
     python benchmarks/atlas_stages.py [--n 29] [--starts 200] [--law measured] [--from 80] [--preset matlab-listing]
 
-The atlas study's census (thesis-1dof at 10 Hz in V, box x=0:0.03, v=-1.5:1.5, seed 1) taken apart as
-:func:`bifurc.attractors` runs it: every value's fresh starts on 2 workers (``_fresh``), the seeding with the previous
-value's attractors and the matching (``_follow``, in this process), then each periodic appearance or disappearance
-continued across its step (``link_event``) one after another, each timed alone.
+The atlas study's census (thesis-1dof at 10 Hz in V, box x=0:0.03, v=-1.5:1.5, seed 1) run by :func:`bifurc.attractors`
+on 2 workers; printed from the dataset's attributes: every value's fresh starts (``fresh_seconds``, and the CPU of
+their stages summed over the workers: ``fresh_cpu_seconds_<stage>``), the seeding with the neighbouring values'
+attractors and the matching (``seeding_seconds``), the linking of each periodic appearance or disappearance by
+continuation across its step (``linking_seconds``, on the workers), then each change with its link and evidence
+(``event_link``, ``event_evidence``).  Public API only; before 2026-11-29 it ran the census' private stages one by one
+and timed each link alone (``link_event``), which the census does not report.
 """
 from __future__ import annotations
 
@@ -13,22 +16,6 @@ import argparse
 import time
 
 import numpy as np
-
-
-def census_job(law: str, preset, values, n_starts: int):
-    """(problem, grid, settings, job) of the atlas study's box census."""
-    from bifurc.attractors.census import Settings
-    from bifurc.attractors.identify import Grid
-    from bifurc.attractors.job import CensusJob
-    from bifurc.attractors.starts import make_starts
-    from maps import problem
-    pb = problem("thesis-1dof", preset, {"relay_hz": 10.0}, dc_law=law)
-    st = make_starts(pb, "box", n=n_starts, box={"x": (0.0, 0.03), "v": (-1.5, 1.5)}, seed=1)
-    grid = Grid.over(st.box, pb.system, 100, pb.state_vector())
-    s = Settings()
-    job = CensusJob(pb.with_values(V=float(values[0])), tuple({"V": float(v)} for v in values),
-                    np.asarray(st.points, float), grid, s, 1e-10)
-    return pb, grid, s, job
 
 
 def main(argv=None):
@@ -39,34 +26,26 @@ def main(argv=None):
     ap.add_argument("--from", dest="lo", type=float, default=80.0)
     ap.add_argument("--preset", default="matlab-listing")
     a = ap.parse_args(argv)
-    from bifurc.attractors import atlas
-    from bifurc.attractors.follow import link_event
-    from maps import StroboscopicMap
-    values = np.linspace(a.lo, 220.0, a.n)
-    pb, grid, s, job = census_job(a.law, a.preset, values, a.starts)
-    clock = time.perf_counter()
     import bifurc
-    fresh, workers, _, _ = atlas._fresh(job, bifurc.Run(workers=2, progress=False), ("V",))
-    t_fresh = time.perf_counter() - clock
-    smap = StroboscopicMap(pb.with_values(V=float(values[0])), tol=1e-10)
+    import maps
+    values = np.linspace(a.lo, 220.0, a.n)
+    pb = maps.problem("thesis-1dof", a.preset, {"relay_hz": 10.0}, dc_law=a.law)
     clock = time.perf_counter()
-    points = [{"V": float(v)} for v in values]
-    per_value, _, links, n_ids, _ = atlas._follow(smap, points, list(range(len(points))), fresh, grid, s, 20.0, True)
-    t_follow = time.perf_counter() - clock
-    print(f"{a.law}, {a.n} values in {a.lo:g}-220 V x {a.starts} starts: fresh starts {t_fresh:.1f} s on {workers} "
-          f"workers; seeding and matching {t_follow:.1f} s; {n_ids} attractor ids; {len(links)} changes, "
-          f"{sum(x[2].periodic for x in links)} periodic (linked by continuation):")
-    total = 0.0
-    for (key, what, att, step) in links:
-        if not att.periodic or step is None:
-            continue
-        _, here, there, _ = step
-        clock = time.perf_counter()
-        kind, why = link_event(pb, "V", att, here, there, 1e-10)
-        dt = time.perf_counter() - clock
-        total += dt
-        print(f"  {what} {att.label()} at {here:g} V (absent at {there:g} V): {dt:.1f} s, {kind}")
-    print(f"linking, one after another: {total:.1f} s")
+    ds = bifurc.attractors(pb, "V", values, starts=bifurc.Box(n=a.starts, box={"x": (0.0, 0.03), "v": (-1.5, 1.5)},
+                                                             seed=1), run=bifurc.Run(workers=2, progress=False))
+    total = time.perf_counter() - clock
+    at = ds.attrs
+    cpu = ", ".join(f"{k.removeprefix('fresh_cpu_seconds_')} {float(x):.1f}" for k, x in at.items()
+                    if k.startswith("fresh_cpu_seconds_"))
+    ids = [j for j, lab in enumerate(ds.attractor_label.values) if str(lab).startswith("A")]
+    print(f"{a.law}, {a.n} values in {a.lo:g}-220 V x {a.starts} starts, {total:.1f} s end to end: fresh starts "
+          f"{float(at['fresh_seconds']):.1f} s on {at['workers']} workers (CPU by stage [s]: {cpu}); seeding and "
+          f"matching {float(at['seeding_seconds']):.1f} s; linking {float(at['linking_seconds']):.1f} s; {len(ids)} "
+          f"attractor ids; {at['links']} changes:")
+    for i, j in zip(*np.nonzero(ds.event.values[:, ids])):
+        j = ids[j]
+        print(f"  {float(values[i]):g} V, {ds.attractor_label.values[j]}: {ds.event_link.values[i, j] or '-'} "
+              f"({ds.event_evidence.values[i, j]})")
 
 
 if __name__ == "__main__":

@@ -57,33 +57,32 @@ def census(n_values, n_starts, cells=100, workers=None, link=True, starts="box")
 
 def interleaved(n_values, n_starts, cells=100):
     """Census and bare ensemble side by side, value after value in this process: the census of a value's fresh
-    starts (:class:`bifurc.attractors.job.CensusJob`), then a bare batch ensemble of the same starts, each run for
-    the strobe periods it spent in the census (strobe points only, ``events=False``).  Returns wall and CPU seconds
-    of both and the mean periods per start."""
+    starts (``bifurc.attractors`` at the one value on one worker, the CPU of its stages: the dataset's
+    ``fresh_cpu_seconds_<stage>``), then a bare batch ensemble of the same starts, each run for the strobe periods it
+    spent in the census (``start_periods``; strobe points only, ``events=False``).  Returns wall and CPU seconds of
+    both (the census' wall: of the whole call) and the mean periods per start."""
+    import bifurc
     import maps
-    from bifurc.attractors.census import Settings
-    from bifurc.attractors.identify import Grid
-    from bifurc.attractors.job import CensusJob
-    from bifurc.attractors.starts import make_starts
-    from maps.poincare import StroboscopicMap
     pb = maps.problem("thesis-1dof", **MODEL)
-    st = make_starts(pb, "box", n=n_starts, box=BOX, seed=1)
-    starts = list(np.asarray(st.points, dtype=float))
+    sampler = bifurc.Box(n=n_starts, box=BOX, seed=1)
+    starts = list(np.asarray(sampler.draw(pb).points, dtype=float))
     values = np.linspace(80, 220, n_values)
-    job = CensusJob(pb, tuple({"V": float(v)} for v in values), np.asarray(starts),
-                    Grid.over(st.box, pb.system, cells, pb.state_vector()), Settings())
-    job.warm()
-    smap = StroboscopicMap(pb, tol=1e-10)
-    smap.orbits([{}], [starts[0]], 1, batch_size=4, events=False)          # compiled before the clock
+    one = dict(method=bifurc.Census(cells=cells, link=False), run=bifurc.Run(workers=1, progress=False))
+    bifurc.attractors(pb, "V", values[:1], starts=bifurc.Box(n=1, box=BOX, seed=1), **one)   # compiled before the clock
+    smap = maps.StroboscopicMap(pb, tol=1e-10)
+    smap.orbits([{}], [starts[0]], 1, batch_size=4, events=False)
     wall, cpu, spent = np.zeros(2), np.zeros(2), []
-    for i, v in enumerate(values):
+    for v in values:
+        t = time.perf_counter()
+        ds = bifurc.attractors(pb, "V", [float(v)], starts=sampler, **one)
+        wall[0] += time.perf_counter() - t
+        cpu[0] += sum(float(x) for k, x in ds.attrs.items() if k.startswith("fresh_cpu_seconds_"))
+        periods = ds.start_periods.values[0]
         t, c = time.perf_counter(), time.process_time()
-        r = job(i)
-        wall[0], cpu[0] = wall[0] + time.perf_counter() - t, cpu[0] + time.process_time() - c
-        t, c = time.perf_counter(), time.process_time()
-        smap.at({"V": float(v)}).orbits([{}] * len(starts), starts, [max(1, int(p)) for p in r.spent], batch_size=4, events=False)
+        smap.at({"V": float(v)}).orbits([{}] * len(starts), starts, [max(1, int(p)) for p in periods], batch_size=4,
+                                        events=False)
         wall[1], cpu[1] = wall[1] + time.perf_counter() - t, cpu[1] + time.process_time() - c
-        spent.extend(r.spent)
+        spent.extend(periods)
     return wall, cpu, float(np.mean(spent))
 
 
@@ -99,29 +98,38 @@ def duffing(side: int) -> None:
           f"{dd.attrs['workers']} workers; {load()}")
 
 
+def words(ds) -> dict:
+    """{(value index, attractor index): its class in words} of a one-parameter census, for every row of
+    ``ds.bifurc.table()`` (the attractors present or reached, the outcomes reached)."""
+    table = ds.bifurc.table()
+    param = ds.basin_fraction.dims[0]
+    value = {float(x): i for i, x in enumerate(ds[param].values)}
+    entry = {str(lab): j for j, lab in enumerate(ds.attractor_label.values)}
+    return {(value[float(x)], entry[str(lab)]): text
+            for x, lab, text in zip(table[param], table["attractor"], table["description"])}
+
+
 def by_label(ds) -> dict:
     """{(value index, label): starts} of one census: attractors with the same class, period and impacts at a value
     are summed (their ids differ between two censuses), outcomes by name."""
-    from bifurc.labels.classify import describe
-    n = ds.sizes["start"]
-    from bifurc.labels.codes import OUTCOMES
     out = {}
-    for i in range(ds.sizes[ds.basin_fraction.dims[0]]):
-        for j in range(ds.sizes["attractor"]):
-            k = int(round(float(ds.basin_fraction.values[i, j]) * n))
-            if not k:
-                continue
-            code = int(ds.class_code.values[i, j])
-            label = describe(code, int(ds.period.values[i, j]), int(ds.impacts_per_period.values[i, j])) \
-                if j < ds.sizes["attractor"] - len(OUTCOMES) else str(ds.attractor_label.values[j])
+    for (i, j), label in words(ds).items():
+        k = int(ds.basin_count.values[i, j])
+        if k:
             out[(i, label)] = out.get((i, label), 0) + k
     return out
+
+
+def wilson(k: int, n: int) -> tuple[float, float]:
+    """The 95 % Wilson score interval of a fraction ``k`` of ``n`` (scipy)."""
+    from scipy.stats import binomtest
+    ci = binomtest(k, n).proportion_ci(0.95, method="wilson")
+    return ci.low, ci.high
 
 
 def grid_change(ds, half) -> str:
     """Every fraction (attractors by label, and the outcomes) of the census at half the cell size against the
     first census' 95 % Wilson interval of the same fraction."""
-    from bifurc.attractors.eventual import wilson
     n = ds.sizes["start"]
     a, b = by_label(ds), by_label(half)
     worst, outside, width = 0.0, [], 0.0
@@ -137,6 +145,13 @@ def grid_change(ds, half) -> str:
             f"{len(set(a) | set(b))} fractions outside the first census' interval{tail}")
 
 
+def attractor_count(ds) -> int:
+    """The distinct attractors of a census: attractor ids (A0, A1, ...; not the outcomes' entries) present at some
+    value."""
+    ids = np.char.startswith(ds.attractor_label.values.astype(str), "A")
+    return int((ds.present.values[:, ids] > 0).any(axis=0).sum())
+
+
 def load() -> str:
     import os
     return f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores"
@@ -147,7 +162,6 @@ def main(argv=None):
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--duffing", type=int, metavar="SIDE", help="only the Duffing basins on a SIDE x SIDE grid")
     a = ap.parse_args(argv)
-    from bifurc.attractors.dataset import attractor_count
     print(load())
     if a.duffing:
         return duffing(a.duffing)

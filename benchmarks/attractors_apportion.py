@@ -37,20 +37,17 @@ def census(n, starts, apportion, seed=1):
 
 def by_label(ds, which="basin_fraction") -> dict:
     """{(value index, label): (fraction, variance)} with attractors of one label at a value summed."""
-    from bifurc.labels.classify import describe
-    from bifurc.labels.codes import OUTCOMES
-    out = {}
-    n_att = ds.sizes["attractor"] - len(OUTCOMES)
+    from attractors import words
+    out, text = {}, words(ds)
     f, lo, hi = (ds[which + s].values for s in ("", "_low", "_high"))
     for i in range(f.shape[0]):
         for j in range(ds.sizes["attractor"]):
             if not np.isfinite(f[i, j]):
                 continue
-            if j < n_att:
+            if str(ds.attractor_label.values[j]).startswith("A"):
                 if not ds.present.values[i, j]:
                     continue
-                label = describe(int(ds.class_code.values[i, j]), int(ds.period.values[i, j]),
-                                 int(ds.impacts_per_period.values[i, j]))
+                label = text[i, j]
             else:
                 label = str(ds.attractor_label.values[j])
                 if label == "transient":
@@ -78,15 +75,10 @@ def two_sample(a: dict, b: dict) -> tuple[int, int, list]:
 
 def stable_orbits(ds) -> set:
     """{(value index, label)} of the periodic attractors present."""
-    from bifurc.labels.classify import describe
-    from bifurc.labels.codes import OUTCOMES, ClassCode
-    out = set()
-    for i in range(ds.sizes[ds.basin_fraction.dims[0]]):
-        for j in range(ds.sizes["attractor"] - len(OUTCOMES)):
-            if ds.present.values[i, j] and int(ds.class_code.values[i, j]) == int(ClassCode.PERIODIC):
-                out.add((i, describe(int(ds.class_code.values[i, j]), int(ds.period.values[i, j]),
-                                     int(ds.impacts_per_period.values[i, j]))))
-    return out
+    import bifurc
+    from attractors import words
+    return {(i, text) for (i, j), text in words(ds).items()
+            if ds.present.values[i, j] and int(ds.class_code.values[i, j]) == int(bifurc.ClassCode.PERIODIC)}
 
 
 def main(argv=None):

@@ -21,16 +21,13 @@ import numpy as np
 def by_label(ds, i) -> dict:
     """{label: (eventual, low, high)} at value index ``i``, the attractors of one label summed (bounds summed: a
     conservative interval of the sum)."""
-    from bifurc.labels.codes import OUTCOMES
-    from bifurc.labels.classify import describe
-    out = {}
-    n_ids = ds.sizes["attractor"] - len(OUTCOMES)
+    from attractors import words
+    out, text = {}, words(ds)
     for j, name in enumerate(ds.attractor_label.values):
-        if j < n_ids:
+        if str(name).startswith("A"):
             if not ds.present.values[i, j]:
                 continue
-            name = describe(int(ds.class_code.values[i, j]), int(ds.period.values[i, j]),
-                            int(ds.impacts_per_period.values[i, j]))
+            name = text[i, j]
         got = np.array([ds[k].values[i, j] for k in ("eventual_fraction", "eventual_fraction_low",
                                                      "eventual_fraction_high")])
         out[str(name)] = out.get(str(name), np.zeros(3)) + got

@@ -53,12 +53,13 @@ def scene_module():
 
 def kinds(ds, i) -> dict:
     """{fixed point | limit cycle | chaotic attractor | ...: [(label, fraction)]} at value ``i``, and the outcomes."""
-    from bifurc.attractors.dataset import attractor_text
+    from attractors import words        # benchmarks/attractors.py: ds.bifurc.table()'s description
     out: dict = {}
+    text = words(ds)
     for j, label in enumerate(ds.attractor_label.values):
         f = float(ds.basin_fraction.values[i, j])
         if f > 0 or (str(label).startswith("A") and ds.present.values[i, j]):
-            what = attractor_text(ds, i, j) if str(label).startswith("A") else f"outcome {label}"
+            what = text[i, j] if str(label).startswith("A") else f"outcome {label}"
             out.setdefault(what, []).append((str(label), f))
     return out
 

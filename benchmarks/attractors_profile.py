@@ -6,7 +6,11 @@ One process: for each value (default 122 136 192 206 V; thesis-1dof as benchmark
 `matlab-listing` preset since 2026-11-26 15:00, the scene's default `thesis-text` before; `measured` law, 10 Hz, box
 x=0:0.03, v=-1.5:1.5, seed 1, 100 cells per side) the census of the fresh starts, then a bare batch ensemble of the same
 starts each run for the periods it spent in the census (strobe points only), side by side.  With ``--profile``
-the census calls run under cProfile and the functions are ranked by cumulative time.
+the census calls run under cProfile and the functions are ranked by cumulative time.  Public API only: each value's
+census is ``bifurc.attractors`` at that one value on one worker; its CPU seconds by stage are the dataset's
+``fresh_cpu_seconds_<stage>`` attributes and each start's periods its ``start_periods`` (before 2026-11-29 this
+script wrapped the census' functions in place to time them by caller: "orbits from census_at", from
+"_record_and_classify", "Newton"; since then ``--split`` prints the census' own stages: chunks, identify, exits).
 """
 from __future__ import annotations
 
@@ -22,13 +26,12 @@ import numpy as np
 def lanes() -> None:
     """CPU seconds of 1000 periods on 1, 2 and 4 lanes of one batch call (events=False), from the first 4 of 40
     box starts still aperiodic after 300 periods at 171 and 213 V (chaotic attractors)."""
+    import bifurc
     import maps
-    from bifurc.attractors.starts import make_starts
-    from maps.poincare import StroboscopicMap
     pb = maps.problem("thesis-1dof", params={"relay_hz": 10.0}, dc_law="measured")
-    starts = list(np.asarray(make_starts(pb, "box", n=40, box={"x": (0.0, 0.03), "v": (-1.5, 1.5)}, seed=1).points,
+    starts = list(np.asarray(bifurc.Box(n=40, box={"x": (0.0, 0.03), "v": (-1.5, 1.5)}, seed=1).draw(pb).points,
                              dtype=float))
-    smap = StroboscopicMap(pb, tol=1e-10)
+    smap = maps.StroboscopicMap(pb, tol=1e-10)
     for v in (171.0, 213.0):
         smap = smap.at(dict(V=v))
         pre = smap.orbits([{}] * len(starts), starts, 300, batch_size=4, events=False)
@@ -39,37 +42,23 @@ def lanes() -> None:
             print(f"{v:g} V: {m} of 4 lanes x 1000 periods: {time.process_time() - c:.3f} s CPU")
 
 
-def _labels(r) -> list:
-    """Each start's outcome in words: its attractor's label, or the outcome's name."""
-    from bifurc.attractors.census import outcome_labels
-    return outcome_labels(r.outcomes, r.found)
+def _labels(ds) -> list:
+    """Each start's outcome in words at the dataset's one value: its attractor's class in words, or the outcome's
+    name (``ds.bifurc.table()``'s description)."""
+    words = dict(zip(ds.bifurc.table()["attractor"], ds.bifurc.table()["description"]))
+    return [words.get(str(lab), str(lab)) for lab in ds.attractor_label.values[ds.start_attractor.values[0]]]
 
 
-def _timed(smap) -> dict:
-    """Accumulate CPU seconds of ``smap.orbits`` by calling function and of Newton (find_periodic_orbit)."""
-    import sys
-
-    from bifurc.attractors import identify
-    spent: dict = {}
-
-    def wrap(fn, name=None):
-        def inner(*args, **kw):
-            caller = sys._getframe(1).f_code.co_name
-            if caller == "main":
-                return fn(*args, **kw)       # the bare ensemble, not the census
-            key = name or f"orbits from {caller}"
-            t = time.process_time()
-            try:
-                return fn(*args, **kw)
-            finally:
-                spent[key] = spent.get(key, 0.0) + time.process_time() - t
-        return inner
-    # on the class: ``smap.at(values)`` copies the map, and a wrapper bound to the instance would run every value at the
-    # instance's own parameters (before 2026-11-29 ``--split`` timed every value's census at the base problem's V)
-    cls = type(smap)
-    cls.orbits = wrap(cls.orbits)
-    identify.find_periodic_orbit = wrap(identify.find_periodic_orbit, "Newton")
-    return spent
+def _census(pb, v, starts, apportion=False):
+    """The census of the ``starts`` sampler's starts at V = ``v`` on one worker (the calling process): its dataset
+    and CPU seconds, those of the fresh starts' census by stage summed (the dataset's ``fresh_cpu_seconds_<stage>``;
+    a dict of them the third)."""
+    import bifurc
+    ds = bifurc.attractors(pb, "V", [float(v)], bifurc.Census(link=False, apportion=apportion), starts=starts,
+                           run=bifurc.Run(workers=1, progress=False))
+    split = {k.removeprefix("fresh_cpu_seconds_"): float(x) for k, x in ds.attrs.items()
+             if k.startswith("fresh_cpu_seconds_")}
+    return ds, sum(split.values()), split
 
 
 def main(argv=None):
@@ -77,7 +66,7 @@ def main(argv=None):
     ap.add_argument("values", nargs="*", type=float, default=[122.0, 136.0, 192.0, 206.0])
     ap.add_argument("--starts", type=int, default=200)
     ap.add_argument("--profile", metavar="FILE", help="write the census' cProfile stats here and print a ranking")
-    ap.add_argument("--split", action="store_true", help="time the census' batch calls by caller and Newton")
+    ap.add_argument("--split", action="store_true", help="print the census' CPU seconds by stage (chunks, identify, exits)")
     ap.add_argument("--lanes", action="store_true", help="only the cost of 1, 2 and 4 batch lanes on chaotic "
                                                          "trajectories (171 and 213 V): what a persistence copy costs")
     ap.add_argument("--apportion", action="store_true", help="also the census with apportion=True after each value's "
@@ -85,62 +74,46 @@ def main(argv=None):
     ap.add_argument("--save", metavar="FILE", help="write each start's outcome (attractor label or outcome name) "
                                                    "per value here (JSON), to compare two commits start by start")
     a = ap.parse_args(argv)
+    import bifurc
     import maps
-    from bifurc.attractors.census import Settings
-    from bifurc.labels.codes import OUTCOMES
-    from bifurc.attractors.identify import Grid
-    from bifurc.attractors.job import CensusJob
-    from bifurc.attractors.starts import make_starts
-    from maps.poincare import StroboscopicMap
     print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
     if a.lanes:
         return lanes()
     from attractors import BOX, MODEL       # the census of benchmarks/attractors.py
     pb = maps.problem("thesis-1dof", **MODEL)
-    st = make_starts(pb, "box", n=a.starts, box=BOX, seed=1)
-    starts = list(np.asarray(st.points, dtype=float))
-    job = CensusJob(pb, (), np.asarray(starts), Grid.over(st.box, pb.system, 100, pb.state_vector()), Settings())
-    job.warm()
-    smap = StroboscopicMap(pb, tol=1e-10)
+    sampler = bifurc.Box(n=a.starts, box=BOX, seed=1)
+    starts = np.asarray(sampler.draw(pb).points, dtype=float)
+    _census(pb, a.values[0], bifurc.Box(n=1, box=BOX, seed=1))       # compiled before the clock
+    smap = maps.StroboscopicMap(pb, tol=1e-10)
     smap.orbits([{}], [starts[0]], 1, batch_size=4, events=False)
     prof = cProfile.Profile() if a.profile else None
-    split = _timed(job._map()) if a.split else None
     total, saved, apportioned = np.zeros(2), {}, [0.0]
     for v in a.values:
-        t = time.process_time()
         if prof:
             prof.enable()
-        r = job.census({"V": float(v)})
+        ds, tc, split = _census(pb, v, sampler)
         if prof:
             prof.disable()
-        tc = time.process_time() - t
+        spent = ds.start_periods.values[0]
         t = time.process_time()
-        smap.at({"V": float(v)}).orbits([{}] * len(starts), starts, [max(1, int(p)) for p in r.spent], batch_size=4, events=False)
+        smap.at({"V": float(v)}).orbits([{}] * len(starts), list(starts), [max(1, int(p)) for p in spent],
+                                        batch_size=4, events=False)
         tb = time.process_time() - t
         total += (tc, tb)
-        saved[f"{v:g}"] = _labels(r)
+        saved[f"{v:g}"] = _labels(ds)
         if a.apportion:
-            import dataclasses
-            job_a = dataclasses.replace(job, settings=dataclasses.replace(job.settings, apportion=True))
-            job_a._smap = job._smap
-            t = time.process_time()
-            ra = job_a.census({"V": float(v)})
-            ta = time.process_time() - t
+            da, ta, _ = _census(pb, v, sampler, apportion=True)
             apportioned[0] += ta
+            stopped = int(np.sum(da.attractor_label.values[da.start_attractor.values[0]] == "transient"))
             print(f"{v:g} V apportioned: census {ta:.1f} s CPU, against the bare ensemble of the followed periods "
-                  f"{ta / tb:.2f}, against the followed census {ta / tc:.2f}; {np.mean(ra.spent):.1f} periods per "
-                  f"start; {sum(o == OUTCOMES['transient'] for o in ra.outcomes)} starts stopped on saddles whose copies gave "
-                  f"{[len(e) for e in ra.exits]} exits", flush=True)
-            if split:
-                split.clear()
-        outs = {o: r.outcomes.count(o) for o in sorted(set(r.outcomes))}
-        print(f"{v:g} V: census {tc:.1f} s CPU, bare {tb:.1f} s CPU, ratio {tc / tb:.2f}; {np.mean(r.spent):.1f} "
-              f"periods per start; outcomes {outs}; attractors "
-              f"{[x.label() for x in r.found]}", flush=True)
-        if split:
-            print("   census CPU by part [s]: " + ", ".join(f"{k} {v:.1f}" for k, v in split.items())
-                  + f", the rest {tc - sum(split.values()):.1f}", flush=True)
-            split.clear()
+                  f"{ta / tb:.2f}, against the followed census {ta / tc:.2f}; {np.mean(da.start_periods.values):.1f} "
+                  f"periods per start; {stopped} starts stopped on saddles", flush=True)
+        labels = _labels(ds)
+        outs = {o: labels.count(o) for o in sorted(set(labels))}
+        print(f"{v:g} V: census {tc:.1f} s CPU, bare {tb:.1f} s CPU, ratio {tc / tb:.2f}; {np.mean(spent):.1f} "
+              f"periods per start; starts by outcome {outs}", flush=True)
+        if a.split:
+            print("   census CPU by stage [s]: " + ", ".join(f"{k} {x:.1f}" for k, x in split.items()), flush=True)
     print(f"total: census {total[0]:.1f} s CPU, bare {total[1]:.1f} s CPU, ratio {total[0] / total[1]:.2f}; "
           f"load average {os.getloadavg()[0]:.1f}")
     if a.apportion:

@@ -93,9 +93,8 @@ def stable_orbits(bs, values, names, pb) -> dict:
     ``bs`` at each census value, each polished by Newton at that value from the branch point beside it on the
     branch's section (its sampling phase) and brought to the census' section, phase 0 (distinct by state; the
     branches and points it was polished from)."""
-    from bifurc.orbits.periodic import OrbitNotFound, find_periodic_orbit
-    from maps.hybrid import HybridState
-    from maps.poincare import StroboscopicMap
+    from bifurc import OrbitNotFound, find_periodic_orbit
+    from maps import HybridState, StroboscopicMap
     maps_at = {}
     out: dict = {i: [] for i in range(len(values))}
     for b, ds in enumerate(bs):
@@ -139,22 +138,25 @@ def stable_orbits(bs, values, names, pb) -> dict:
 
 def _events_between_points(ds) -> dict:
     """{branch point p: [values of the folds and period doublings located between points p and p + 1]}."""
-    from bifurc.storage.schema import SPECIAL_KINDS
     out: dict = {}
     for k in range(ds.sizes.get("special", 0)):
-        if SPECIAL_KINDS[int(ds.special_kind.values[k])] in ("fold", "period_doubling"):
+        if _kind(ds, k) in ("fold", "period_doubling"):
             out.setdefault(int(ds.special_point.values[k]), []).append(float(ds.special_value.values[k]))
     return out
+
+
+def _kind(ds, k) -> str:
+    """A branch's special point ``k`` by its kind's name (the stored flag_meanings of special_kind)."""
+    return ds.special_kind.attrs["flag_meanings"].split()[int(ds.special_kind.values[k])]
 
 
 def located(bs, low, high) -> list:
     """[(kind, value, branch index, special point index)]: the folds and period doublings the branches locate in
     [low, high] (to their stated tolerance), each once (the first branch locating it)."""
-    from bifurc.storage.schema import SPECIAL_KINDS
     out = []
     for b, ds in enumerate(bs):
         for k in range(ds.sizes.get("special", 0)):
-            kind, value = SPECIAL_KINDS[int(ds.special_kind.values[k])], float(ds.special_value.values[k])
+            kind, value = _kind(ds, k), float(ds.special_value.values[k])
             if kind in ("fold", "period_doubling") and low <= value <= high and np.isfinite(
                     float(ds.special_tolerance.values[k])) and not any(
                     o[0] == kind and abs(o[1] - value) <= 1e-6 * value for o in out):
@@ -243,7 +245,6 @@ def main(argv=None):
 
     import bifurc
     import maps
-    from bifurc.labels.codes import OUTCOMES
     sys.path.insert(0, str(ROOT))
     from studies.thesis_orbits import PRESET
     bs = branches(a.branches) if a.refine else None
@@ -257,7 +258,7 @@ def main(argv=None):
     values = ds["V"].values
     sec = time.perf_counter() - clock
     assert ds.attrs.get("preset") == PRESET, ds.attrs.get("preset")
-    n_att = ds.sizes["attractor"] - len(OUTCOMES)
+    n_att = ds.sizes["attractor"] - len(bifurc.Outcome)
     have = {(i, int(ds.period.values[i, j]), int(ds.impacts_per_period.values[i, j]))
             for i in range(len(values)) for j in range(n_att) if ds.present.values[i, j]}
     want = expected(values)

@@ -99,7 +99,8 @@ class BareTrajectory:
         ta.reset_cooldowns()
         ta.pars[:] = np.asarray(system.par_vector(params, flags)[:len(ta.pars)])
         n_half = 2 * (self.task.transient + self.task.record)
-        time_limit = maps.hybrid.hy.taylor_outcome.time_limit
+        import heyoka as hy
+        time_limit = hy.taylor_outcome.time_limit
         for n in range(1, n_half + 1):
             t_sw = (n // 2 + (0.5 if n % 2 else 0.0)) / W
             while True:

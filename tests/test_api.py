@@ -347,7 +347,7 @@ STUDY_INTERNALS = {
     "bifurc.attractors.dataset.attractor_count",
     "bifurc.attractors.identify.no_contraction", "bifurc.attractors.plots.plot_attractors", "bifurc.findings.Finding",
     "bifurc.labels.classify.classify_orbit", "bifurc.labels.classify.describe", "bifurc.labels.classify.lyapunov_threshold",
-    "bifurc.labels.codes.OUTCOMES", "bifurc.labels.evidence.torus_evidence", "bifurc.labels.lyapunov.lyapunov_along",
+    "bifurc.labels.evidence.torus_evidence", "bifurc.labels.lyapunov.lyapunov_along",
     "bifurc.orbits.special_points.BIRTH_NOTE", "bifurc.orbits.special_points.LOCATED_KINDS",
     "bifurc.plots.map.regime_categories", "bifurc.run.executor.available_cores", "bifurc.run.executor.map_values",
     "bifurc.storage.files.check_figure_output", "bifurc.storage.files.refuse_existing", "bifurc.storage.files.save_figure",
@@ -357,19 +357,163 @@ STUDY_INTERNALS = {
     "maps.thesis_data.load_table", "maps.transitions.start_flags"}
 
 
-def test_studies_import_public_names_and_no_new_internal_one():
-    """A study imports ``bifurc`` and ``maps`` names from the packages' public surface (``__all__``); the internal
-    names some still use are listed above, and no other may be added (a scan of every study's imports)."""
+def _is_module(dotted: str) -> bool:
+    path = ROOT.joinpath(*dotted.split("."))
+    return path.with_suffix(".py").is_file() or (path / "__init__.py").is_file()
+
+
+#: diagnoses of internals, exempt from the two scans below: ``benchmarks/internal/`` holds the one-off diagnoses that
+#: follow single starts through the census' private steps, re-estimate its lifetimes or continue single pieces of a
+#: branch, which no public entry point can do (its README lists them with their reports); ``benchmarks/reports/``
+#: holds the scripts kept beside a committed report as its recipe, run at the commit the report names
+EXEMPT = ("benchmarks/internal", "benchmarks/reports")
+
+
+def _scripts(directory: str):
+    """The Python files under ``directory`` (relative to the checkout, or absolute), those in :data:`EXEMPT` left out."""
+    for f in sorted((ROOT / directory).rglob("*.py")):
+        if not any(os.path.relpath(f, ROOT).startswith(e + os.sep) for e in EXEMPT):
+            yield f
+
+
+def _internal_uses(directory: str) -> dict:
+    """{internal name: ["file:line", ...]} of every ``bifurc`` or ``maps`` name the scripts under ``directory`` reach
+    outside the public surface (``__all__``): by ``from`` imports, module imports (``import bifurc.x.y``) and attribute
+    chains through a package or module (``bifurc.attractors.census.census_at``, ``maps.poincare.X``, ``C.census_at``
+    after ``import bifurc.attractors.census as C``); a name is its deepest module and one name in it."""
     import bifurc
     import maps
     public = {"bifurc": set(bifurc.__all__), "maps": set(maps.__all__)}
-    used = set()
-    for f in sorted((ROOT / "studies").rglob("*.py")):
-        for node in ast.walk(ast.parse(f.read_text())):
-            if isinstance(node, ast.ImportFrom) and node.level == 0 and node.module \
-                    and node.module.split(".")[0] in public:
-                top = node.module.split(".")[0]
-                used |= {f"{node.module}.{a.name}" for a in node.names
-                         if not (node.module == top and a.name in public[top])}
-    assert used <= STUDY_INTERNALS, sorted(used - STUDY_INTERNALS)
-    assert STUDY_INTERNALS <= used, f"no longer used, remove from the list: {sorted(STUDY_INTERNALS - used)}"
+
+    def internal(chain):
+        parts = chain.split(".")
+        i = 1
+        while i < len(parts) and _is_module(".".join(parts[:i + 1])):
+            i += 1
+        if i == 1 and (len(parts) == 1 or parts[1] in public[parts[0]] or parts[1].startswith("__")):
+            return None                         # the package, a public name or a method of it, __file__
+        if i == 2 and len(parts) == 2 and parts[1] in public[parts[0]]:
+            return None                         # a public subpackage as itself (bifurc.attractors)
+        return ".".join(parts[:i + 1])
+
+    uses = {}
+    for f in _scripts(directory):
+        tree = ast.parse(f.read_text())
+        alias, found = {}, []                   # local name -> its dotted path in bifurc or maps
+        for node in ast.walk(tree):
+            if isinstance(node, ast.Import):
+                for a in node.names:
+                    if a.name.split(".")[0] in public:
+                        alias[a.asname or a.name.split(".")[0]] = a.name if a.asname else a.name.split(".")[0]
+                        found.append((None if a.asname else internal(a.name), node))
+            elif isinstance(node, ast.ImportFrom) and node.level == 0 and (node.module or "").split(".")[0] in public:
+                for a in node.names:
+                    full = f"{node.module}.{a.name}"
+                    alias[a.asname or a.name] = full
+                    found.append((None if _is_module(full) else internal(full), node))   # modules: by their uses
+        inner = {id(n.value) for n in ast.walk(tree) if isinstance(n, ast.Attribute)}
+        for node in ast.walk(tree):
+            if isinstance(node, (ast.Attribute, ast.Name)) and id(node) not in inner:
+                chain = ast.unparse(node)
+                root = chain.split(".")[0]
+                if root in alias and all(isinstance(n, (ast.Attribute, ast.Name, ast.expr_context))
+                                         for n in ast.walk(node)):
+                    found.append((internal(alias[root] + chain[len(root):]), node))
+        for name, node in found:
+            if name:
+                uses.setdefault(name, []).append(f"{os.path.relpath(f, ROOT)}:{node.lineno}")
+    return uses
+
+
+def test_studies_import_public_names_and_no_new_internal_one():
+    """A study reaches ``bifurc`` and ``maps`` names through the packages' public surface (``__all__``); the internal
+    names some still use are listed above, and no other may be added (a scan of every study's imports and attribute
+    chains)."""
+    used = _internal_uses("studies")
+    assert set(used) <= STUDY_INTERNALS, {k: used[k] for k in sorted(set(used) - STUDY_INTERNALS)}
+    assert STUDY_INTERNALS <= set(used), f"no longer used, remove from the list: {sorted(STUDY_INTERNALS - set(used))}"
+
+
+#: what the benchmarks still reach inside the packages (issue 45 §5: benchmarks on public names only), by name; the
+#: list may only shrink.
+BENCHMARK_INTERNALS = {
+    "bifurc.attractors.follow.half_gaps", "bifurc.explore.app.Explorer", "bifurc.explore.compute.CensusComputer",
+    "bifurc.explore.compute.Computer", "bifurc.explore.compute.MapComputer", "bifurc.explore.compute.Spares",
+    "bifurc.explore.compute.Zoom", "bifurc.orbits.special_points.BIRTH_MISMATCH", "bifurc.run.executor.map_values",
+    "bifurc.run.guard.estimate", "bifurc.sweeps.job.ValueJob", "bifurc.verification.accuracy.work_precision",
+    "maps.hybrid.settle_may_act", "maps.poincare.forcing_period_steps", "maps.tangent.TANGENT_SIZE",
+    "maps.tangent.start_direction", "maps.transitions.GuardChoice", "maps.transitions.event_surfaces",
+    "maps.transitions.start_flags", "maps.variational.tangent_equations"}
+
+#: the benchmarks that still rebind a package's function or class (or a private attribute), "file target"; the list
+#: may only shrink.
+BENCHMARK_REBINDS = {
+    "benchmarks/single_trajectory.py run._on_event"}
+
+
+def test_benchmarks_reach_public_names_and_no_new_internal_one():
+    """As the studies: a benchmark's imports and attribute chains into ``bifurc`` and ``maps`` name public names,
+    bar the listed ones, and no other may be added."""
+    used = _internal_uses("benchmarks")
+    assert set(used) <= BENCHMARK_INTERNALS, {k: used[k] for k in sorted(set(used) - BENCHMARK_INTERNALS)}
+    assert BENCHMARK_INTERNALS <= set(used), f"no longer used, remove from the list: {sorted(BENCHMARK_INTERNALS - set(used))}"
+
+
+def _rebindings(directory: str) -> list:
+    """["file:line target"] of every assignment in ``directory``'s scripts to an attribute of a ``bifurc`` or ``maps``
+    module, class or function (a name bound by an import from them, or by ``type(...)``: ``C.census_at = ...``,
+    ``cls = type(smap); cls.orbits = ...``), or to a private attribute of any object but ``self``
+    (``run._on_event = ...``); ``setattr``, ``delattr`` and ``del`` alike."""
+    out = []
+    for f in _scripts(directory):
+        tree = ast.parse(f.read_text())
+        bound = set()
+        for node in ast.walk(tree):
+            if isinstance(node, ast.Import):
+                bound |= {a.asname or a.name.split(".")[0] for a in node.names if a.name.split(".")[0] in PACKAGES[:2]}
+            elif isinstance(node, ast.ImportFrom) and node.level == 0 and (node.module or "").split(".")[0] in PACKAGES[:2]:
+                bound |= {a.asname or a.name for a in node.names}
+            elif isinstance(node, ast.Assign) and isinstance(node.value, ast.Call) and ast.unparse(node.value.func) == "type":
+                bound |= {t.id for t in node.targets if isinstance(t, ast.Name)}
+        for node in ast.walk(tree):
+            if isinstance(node, (ast.Assign, ast.AugAssign, ast.AnnAssign, ast.Delete)):
+                targets = [(el.value, el.attr) for t in getattr(node, "targets", None) or [node.target]
+                           for el in (t.elts if isinstance(t, ast.Tuple) else [t]) if isinstance(el, ast.Attribute)]
+            elif isinstance(node, ast.Call) and ast.unparse(node.func) in ("setattr", "delattr", "object.__setattr__") \
+                    and len(node.args) > 1:
+                targets = [(node.args[0], node.args[1].value if isinstance(node.args[1], ast.Constant) else "?")]
+            else:
+                continue
+            for obj, attr in targets:
+                root = ast.unparse(obj).split(".")[0].split("(")[0].split("[")[0]
+                if root in bound or (root != "self" and attr.startswith("_") and not attr.startswith("__")):
+                    out.append(f"{os.path.relpath(f, ROOT)}:{node.lineno} {ast.unparse(obj)}.{attr}")
+    return out
+
+
+def test_no_benchmark_rebinds_a_function_of_the_packages():
+    """A benchmark measures the code as it runs: it reads what the code reports (e.g. the census' CPU seconds per
+    stage) rather than wrapping a package's function in place."""
+    got = _rebindings("benchmarks")
+    where = {f"{r.split(':')[0]} {r.split(' ')[1]}" for r in got}
+    assert where <= BENCHMARK_REBINDS, sorted(r for r in got if f"{r.split(':')[0]} {r.split(' ')[1]}" not in BENCHMARK_REBINDS)
+    assert BENCHMARK_REBINDS <= where, f"no longer done, remove from the list: {sorted(BENCHMARK_REBINDS - where)}"
+
+
+def test_the_scans_catch_each_form(tmp_path):
+    """The two scans above on a script written here: every form of reaching inside, and every form of rebinding."""
+    (tmp_path / "b.py").write_text(
+        "import bifurc, maps\nimport bifurc.attractors.census as C\nimport maps.transitions\n"
+        "from bifurc.attractors import identify\nfrom bifurc import Census, sweep\n"
+        "from maps.poincare import StroboscopicMap as S\n"
+        "bifurc.attractors.census.census_at(); maps.poincare.forcing_period_steps; C.Settings(); identify.Grid\n"
+        "bifurc.Run(); maps.StroboscopicMap.at; bifurc.attractors(); Census().settings(); bifurc.__file__\n"
+        "C.census_at = None\nidentify.find_periodic_orbit = len\ncls = type(S(1)); cls.orbits = len\n"
+        "setattr(maps.poincare, 'x', 1)\nrun = object(); run._on_event = 1; del run._on_event\nself._mine = 1\n")
+    assert set(_internal_uses(str(tmp_path))) == {
+        "maps.transitions", "maps.poincare", "maps.poincare.StroboscopicMap", "bifurc.attractors.census.census_at",
+        "maps.poincare.forcing_period_steps", "bifurc.attractors.census.Settings", "bifurc.attractors.identify.Grid",
+        "bifurc.attractors.identify.find_periodic_orbit"}
+    assert sorted(r.split(" ")[1] for r in _rebindings(str(tmp_path))) == [
+        "C.census_at", "cls.orbits", "identify.find_periodic_orbit", "maps.poincare.x", "run._on_event",
+        "run._on_event"]

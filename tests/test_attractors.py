@@ -678,6 +678,26 @@ def test_an_orbit_lost_beside_another_of_its_period_is_not_matched_to_it():
     assert match([other], [other], grid, smap=smap) == {0: (0, 0.0)}                # an orbit is itself
 
 
+def test_the_census_states_each_starts_periods_and_its_cpu_by_stage():
+    """What a profiler reads instead of wrapping the census' functions (issue 45 §5): ``start_periods``, each start's
+    strobe periods, whole chunks of ``Census.chunk`` whose mean and largest are the attributes the driver computes
+    from its own list; ``fresh_cpu_seconds_<stage>`` (chunks, identify, exits), none negative, exits none without
+    apportion, and together no more than the CPU this process spent on the whole call (one worker: in this process)."""
+    import time
+    clock = time.process_time()
+    ds = bifurc.attractors("impact-oscillator", "Omega", [OSC["Omega"]], bifurc.Census(link=False, chunk=20),
+                           params=OSC, box=BOX, n_starts=8, seed=3, run=bifurc.Run(workers=1, progress=False))
+    spent = time.process_time() - clock
+    periods = ds.start_periods.values
+    assert periods.shape == (1, 8) and ds.start_periods.attrs["units"] == "1"
+    assert np.all(periods % 20 == 0) and np.all(periods >= 20)
+    assert periods.mean() == pytest.approx(ds.attrs["periods_per_start_mean"], rel=1e-15)
+    assert int(periods.max()) == ds.attrs["periods_per_start_max"]
+    cpu = {k: ds.attrs[f"fresh_cpu_seconds_{k}"] for k in ("chunks", "identify", "exits")}
+    assert cpu["chunks"] > 0 and cpu["identify"] >= 0 and cpu["exits"] == 0
+    assert sum(cpu.values()) <= spent
+
+
 def test_netcdf_round_trip_is_lossless(oscillator_census, tmp_path):
     import xarray as xr
     from bifurc.storage.files import write_netcdf

@@ -22,7 +22,7 @@ from ..run.inputs import analysis_inputs
 from ..run.where import Run
 from ..run.settings import settle
 from ..storage.files import output_guard
-from .census import Memory, census_at
+from .census import STAGES, Memory, census_at
 from .follow import link_event, match
 from .identify import Grid, representative, same_orbit
 from .job import CensusJob
@@ -70,7 +70,10 @@ def attractors(problem="thesis-1dof", param: str | None = "V", values=None, meth
         not_converged, failed, neutral, transient: still on a chaotic saddle at the budget) are attractor entries,
         so the fractions sum to 1; ``eventual_fraction`` apportions the transient starts by where those that left
         their saddle went.  The fractions are computed from the starts' outcomes before the dataset is written
-        (``bifurc.attractors.fractions.census_fractions``).
+        (``bifurc.attractors.fractions.census_fractions``).  Its cost: ``start_periods`` (the strobe periods each
+        fresh start ran), the attributes ``census_seconds``, ``fresh_seconds``, ``seeding_seconds``,
+        ``linking_seconds`` [s, wall] and ``fresh_cpu_seconds_chunks``, ``_identify``, ``_exits`` [s, CPU of the
+        fresh starts' census by stage, summed over the points] (docs: "Where a census' time goes").
     """
     opts = dict(options)
     for old, new in RENAMED.items():
@@ -167,6 +170,7 @@ def _census(pb, names, points, m: Census, sampler, matcher: ByDistance, r: Run, 
              "matcher": repr(matcher), "match_threshold_cells": float(matcher.threshold), "tol": m.tol,
              "census_seconds": _time.perf_counter() - clock, "fresh_seconds": stages[0] - clock,
              "seeding_seconds": stages[1] - stages[0], "linking_seconds": stages[2] - stages[1],
+             **{f"fresh_cpu_seconds_{k}": float(sum(f.cpu.get(k, 0.0) for f in fresh)) for k in STAGES},
              "links": len(links),
              "periods_per_start_mean": float(np.mean(periods)), "periods_per_start_max": int(np.max(periods)),
              "method": "recurrence on a state-space grid (after Attractors.jl's AttractorsViaRecurrences) on the "
@@ -179,7 +183,7 @@ def _census(pb, names, points, m: Census, sampler, matcher: ByDistance, r: Run, 
     transients = [(f.via, f.saddles) for f in fresh]
     fractions = census_fractions(outcomes, n_ids, transients, exits)
     ds = to_dataset(pb, names, points, per_value, outcomes, n_ids, events, st, n_node=m.n_node, attrs=attrs,
-                    fractions=fractions, transients=transients)
+                    fractions=fractions, transients=transients, spent=[f.spent for f in fresh])
     if r.path is not None:
         from ..run.grid import write_result
         write_result(ds, r.path, parts)

@@ -27,6 +27,7 @@ on the cells of a start that was) is "not_converged".
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -92,7 +93,8 @@ class Memory:
     lifetime is not surely above the horizon), the cells of starts recorded ``max_tries`` times without a
     decision, and for each start the index in ``saddles`` of the saddle it was last seen on (-1: none); with
     ``apportion``, each saddle's fallen lifetime copies (``ends``, by the saddle's id) and where they went (``exits``:
-    per saddle, an attractor's index or an :data:`OUTCOMES` id per fallen copy, :func:`copy_exits`)."""
+    per saddle, an attractor's index or an :data:`OUTCOMES` id per fallen copy, :func:`copy_exits`); and where its
+    CPU time went (``cpu``, :data:`STAGES`)."""
 
     tried: dict = field(default_factory=dict)
     saddles: list = field(default_factory=list)
@@ -100,6 +102,14 @@ class Memory:
     via: list = field(default_factory=list)
     ends: dict = field(default_factory=dict)
     exits: list = field(default_factory=list)
+    cpu: dict = field(default_factory=lambda: dict.fromkeys(STAGES, 0.0))
+
+
+#: the stages of a census whose CPU seconds [s] :attr:`Memory.cpu` sums (:func:`time.process_time` of the process
+#: running it): "chunks", the bare ensemble of the starts' chunks (strobe points only); "identify", everything else
+#: per chunk: the cells walked, landings checked, Newton, the records with a tangent vector and the lifetime copies
+#: of new non-periodic sets; "exits", where a measured saddle's fallen copies go (``apportion`` only)
+STAGES = ("chunks", "identify", "exits")
 
 
 def _step_cells(t: Track, keys: list, owner: dict, s: Settings) -> str:
@@ -141,8 +151,11 @@ def census_at(smap, starts: list, grid: Grid, settings: Settings, *, k0=0,
     active = list(range(len(tracks)))
     near = candidate_periods(smap.forcing_period_steps, s.max_period)
     while active:
+        clock = time.process_time()                                             # stage CPU (Memory.cpu)
         orbits = smap.orbits([{}] * len(active), [tracks[i].state for i in active], s.chunk,
                              k0=[tracks[i].k for i in active], batch_size=s.batch_size, events=False)
+        mid = time.process_time()                                               # stage CPU (Memory.cpu)
+        mem.cpu["chunks"] += mid - clock                                        # stage CPU (Memory.cpu)
         keys = _chunk_keys(grid, orbits)
         candidates = []
         for i, o, kk in zip(active, orbits, keys):
@@ -174,9 +187,12 @@ def census_at(smap, starts: list, grid: Grid, settings: Settings, *, k0=0,
         if progress is not None and done:
             progress(len(done))
         active = [i for i in active if tracks[i].outcome is None]
+        mem.cpu["identify"] += time.process_time() - mid                        # stage CPU (Memory.cpu)
     mem.via = [next((j for j, sd in enumerate(mem.saddles) if sd is t.saddle), -1) for t in tracks]
     if s.apportion:
+        clock = time.process_time()                                             # stage CPU (Memory.cpu)
         mem.exits = [copy_exits(smap, mem.ends.get(id(sd), ()), grid, s, found, owner, mem) for sd in mem.saddles]
+        mem.cpu["exits"] += time.process_time() - clock                         # stage CPU (Memory.cpu)
     return [t.outcome for t in tracks], found, [t.periods for t in tracks]
 
 

@@ -232,7 +232,7 @@ def _put_attractor(cols, i, col, a) -> None:
 
 
 def _flat_dataset(pb, param, values, per_value, outcomes, n_ids, events, starts, *, n_node, attrs, fractions,
-                  transients=None, skip=()):
+                  transients=None, skip=(), spent=None):
     """The Dataset of a census: ``per_value[i]`` {id: Attractor}, ``outcomes[i]`` the fresh starts' ids,
     ``transients[i]`` (each start's saddle index, the saddles) for the eventual fractions (:mod:`.eventual`)."""
     system = pb.system
@@ -255,6 +255,10 @@ def _flat_dataset(pb, param, values, per_value, outcomes, n_ids, events, starts,
     to_col = {k: n_ids + m for m, k in enumerate(OUTCOMES.values())}
     ds["start_attractor"] = ((param, "start"), np.vectorize(lambda k: to_col.get(k, k))(out).astype(np.int32),
                              {"units": "1", "long_name": "attractor id each fresh start reached"})
+    if spent is not None:
+        ds["start_periods"] = ((param, "start"), np.asarray(spent, dtype=np.int32),
+                               {"units": "1", "long_name": "strobe periods each fresh start ran in its census, records "
+                                                           "run beside it not counted"})
     ds.attrs.update({"title": f"{pb.name}: attractors and basins over {param}", "swept_parameter": param,
                      "start_kind": starts.kind, "start_box": ",".join(f"{k}={lo:g}:{hi:g}" for k, (lo, hi)
                                                                      in starts.box.items()),
@@ -271,16 +275,17 @@ def _flat_dataset(pb, param, values, per_value, outcomes, n_ids, events, starts,
 
 
 def to_dataset(pb, names, points, per_value, outcomes, n_ids, events, starts, *, n_node, attrs, fractions,
-               transients=None):
+               transients=None, spent=None):
     """The Dataset of a census at ``points`` ({name: value} of the parameters ``names``): dims (name, ``attractor``)
     for one parameter; (name, name2, ``attractor``) for a full two-parameter grid; else (``point``, ``attractor``)
     with one coordinate per parameter along ``point``.  ``per_value[i]`` {id: Attractor}, ``outcomes[i]`` the fresh
     starts' ids, ``fractions`` their basin and eventual fractions (:func:`.fractions.census_fractions`),
-    ``transients[i]`` (each start's saddle index, the saddles) for the transient entry's lifetime."""
+    ``transients[i]`` (each start's saddle index, the saddles) for the transient entry's lifetime, ``spent[i]`` the
+    strobe periods each fresh start ran."""
     first = names[0]
     flat = _flat_dataset(pb, first, [p[first] for p in points], per_value, outcomes, n_ids, events, starts,
                          n_node=n_node, attrs=attrs, fractions=fractions, transients=transients,
-                         skip=names[1:])
+                         skip=names[1:], spent=spent)
     if len(names) == 1:
         return flat
     flat = flat.rename({first: "point"}).drop_vars("point")

@@ -30,7 +30,8 @@ class ValueCensus:
     """One value's census: the outcome of each fresh start, the attractors found, the periods each start ran, the
     chaotic saddles and long-lived transients it met (so that the seeding does not estimate their lifetimes
     again), and each start's index among them of the one it was last seen on (-1: none; :mod:`.eventual`); with
-    ``apportion``, where each saddle's fallen lifetime copies went (:func:`.census.copy_exits`: ids as ``outcomes``)."""
+    ``apportion``, where each saddle's fallen lifetime copies went (:func:`.census.copy_exits`: ids as ``outcomes``);
+    and the CPU seconds [s] of its stages in the process that ran it (:data:`.census.STAGES`)."""
 
     outcomes: list
     found: list
@@ -38,6 +39,7 @@ class ValueCensus:
     saddles: list = field(default_factory=list)
     via: list = field(default_factory=list)
     exits: list = field(default_factory=list)
+    cpu: dict = field(default_factory=dict)
 
     @property
     def periods_integrated(self) -> int:
@@ -86,7 +88,7 @@ class CensusJob:
         smap = self._map().at(values)
         memory = Memory()
         out, found, spent = census_at(smap, list(self.starts), self.grid, self.settings, memory=memory)
-        return ValueCensus(out, found, spent, memory.saddles, memory.via, memory.exits)
+        return ValueCensus(out, found, spent, memory.saddles, memory.via, memory.exits, memory.cpu)
 
     def run_many(self, indices) -> list:
         return [self(i) for i in indices]
@@ -139,14 +141,15 @@ def encode(r: ValueCensus) -> str:
     """A value's census as JSON text (floats by repr: lossless)."""
     return json.dumps({"outcomes": [int(o) for o in r.outcomes], "spent": [int(s) for s in r.spent],
                        "found": [_attractor_to(a) for a in r.found], "saddles": [_attractor_to(a) for a in r.saddles],
-                       "via": [int(j) for j in r.via], "exits": [[int(k) for k in e] for e in r.exits]},
+                       "via": [int(j) for j in r.via], "exits": [[int(k) for k in e] for e in r.exits],
+                       "cpu": {k: float(v) for k, v in r.cpu.items()}},
                       default=lambda o: o.item())
 
 
 def decode(text: str) -> ValueCensus:
     d = json.loads(text)
     return ValueCensus(d["outcomes"], [_attractor_from(a) for a in d["found"]], d["spent"],
-                       [_attractor_from(a) for a in d["saddles"]], d["via"], d.get("exits", []))
+                       [_attractor_from(a) for a in d["saddles"]], d["via"], d.get("exits", []), d.get("cpu", {}))
 
 
 class CensusCodec(Codec):

@@ -98,10 +98,11 @@ def neutral(ds):
 
 
 def _neutral_note(ds) -> str:
-    from bifurc.labels.codes import OUTCOMES
+    import bifurc
     still = neutral(ds).values
     n = int(still.sum())
-    sets = int(((ds.present.values[:, :-len(OUTCOMES)] > 0) & (ds.period.values[:, :-len(OUTCOMES)] == 0)).sum())
+    k = len(bifurc.Outcome)        # the outcomes' entries, after the attractors
+    sets = int(((ds.present.values[:, :-k] > 0) & (ds.period.values[:, :-k] == 0)).sum())
     share = float(np.where(still, ds.basin_fraction.values, 0.0).sum() / ds.sizes["V"])
     if not n:
         return (f"Non-periodic sets: {sets} (value, set) entries, none without area contraction (for each the sum of "

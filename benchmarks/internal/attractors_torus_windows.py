@@ -1,6 +1,6 @@
 """Which records the torus evidence decides, on thesis-1dof's own sets (issue 31; not run in CI).
 
-    python benchmarks/attractors_torus_windows.py
+    python benchmarks/internal/attractors_torus_windows.py
 
 thesis-1dof, `matlab-listing`, 10 Hz relay.  (1) For each (law, V): 24 box starts (x = 0-30 mm, v = -1.5-1.5 m/s,
 seed 2) run 300 periods, then 6144 periods with a tangent vector, cut into 768-period windows.  Each window's

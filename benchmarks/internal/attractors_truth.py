@@ -2,7 +2,7 @@
 `measured` law, 10 Hz, box x=0:0.03, v=-1.5:1.5, seed 1) run for a long time, against the census' fractions at
 100 and 200 cells per side (issue 31's grid independence; not run in CI).
 
-    python benchmarks/attractors_truth.py 122 143 [--periods 3000]
+    python benchmarks/internal/attractors_truth.py 122 143 [--periods 3000]
 
 Each start runs ``--periods`` relay periods on the batch engine (strobe points only), then 64 more with events;
 it has settled on a period n (the least n <= 16) where its last 64 points repeat after n periods to 1e-5 of each

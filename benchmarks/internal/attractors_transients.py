@@ -1,7 +1,7 @@
 """Are the census' "transient" starts in a chaotic transient, and does ``eventual_fraction`` say where they go?
 (issue 31).  Not run in CI.
 
-    python benchmarks/attractors_transients.py [V ...] [--more 6000]   # default 115 136 185 190 192 V
+    python benchmarks/internal/attractors_transients.py [V ...] [--more 6000]   # default 115 136 185 190 192 V
 
 thesis-1dof as benchmarks/attractors.py runs it (`matlab-listing`, `measured` law, 10 Hz, 200 box starts x=0:0.03,
 v=-1.5:1.5, seed 1, 100 cells per side), one process, no seeding from neighbouring values.  At each value the census
@@ -37,20 +37,12 @@ def main(argv=None):
     ap.add_argument("values", nargs="*", type=float, default=[115.0, 136.0, 185.0, 190.0, 192.0])
     ap.add_argument("--more", type=int, default=6000, help="relay periods each transient start runs on")
     a = ap.parse_args(argv)
-    import maps
     from bifurc.attractors import census as C
     from bifurc.attractors.eventual import eventual_fractions
-    from bifurc.attractors.identify import Grid
     from bifurc.attractors.lifetime import fall_index
-    from bifurc.attractors.starts import make_starts
     from bifurc.labels.classify import candidate_periods
-    from maps.poincare import StroboscopicMap
-    from attractors import BOX, MODEL       # the census of benchmarks/attractors.py
-    pb = maps.problem("thesis-1dof", **MODEL)
-    st = make_starts(pb, "box", n=200, box=BOX, seed=1)
-    starts = list(np.asarray(st.points, dtype=float))
-    grid = Grid.over(st.box, pb.system, 100, pb.state_vector())
-    smap = StroboscopicMap(pb, tol=1e-10)
+    from _census import box_census      # the census of benchmarks/attractors.py
+    _, starts, grid, smap = box_census()
     tracks, plain = [], C.Track.__init__
 
     def noted(self, *args, **kw):

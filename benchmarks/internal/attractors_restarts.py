@@ -5,8 +5,8 @@ of 40 periods from each chunk's final HybridState (as the census runs them); and
 record (as the census identifies a start) every 400 or every 120 periods.  Printed: the period from which each
 repeats with a period n <= 16 to 1e-5 of the states (None: still not, after 2000 periods).
 
-    python benchmarks/attractors_restarts.py
-    python benchmarks/attractors_restarts.py --all    # all 200 starts, one call against chunks of 40: how many
+    python benchmarks/internal/attractors_restarts.py
+    python benchmarks/internal/attractors_restarts.py --all    # all 200 starts, one call against chunks of 40: how many
                                                       # repeat with a period by 500, 1000 and 2000 periods
 
 The ten starts were chosen as differing between the grids, and they came to rest early in one long call: on

@@ -3,7 +3,7 @@ law, 10 Hz, the 200 box starts of `benchmarks/attractors.py`) at one value; each
 estimated again from the same record with other perturbation seeds (:func:`bifurc.attractors.lifetime.
 estimate_lifetime`), and each estimate's verdict printed.  Not run in CI.
 
-    python benchmarks/attractors_lifetime.py 185 [--seeds 10] [--cells 100] [--copies 48]
+    python benchmarks/internal/attractors_lifetime.py 185 [--seeds 10] [--cells 100] [--copies 48]
 """
 from __future__ import annotations
 

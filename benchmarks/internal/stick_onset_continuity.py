@@ -12,7 +12,7 @@ own slope dY/dV times it), and multipliers near the n-impact orbit's.  Another f
 reach V_s with a state apart by the order of the orbit's magnitude.
 Printed side by side: the stop's distance from V_s, the state gap (each component over the orbit's magnitude,
 the largest), the gap expected from the slope, the largest multiplier modulus of both.
-Run: python benchmarks/stick_onset_continuity.py   (~10 s)
+Run: python benchmarks/internal/stick_onset_continuity.py   (~10 s)
 """
 from __future__ import annotations
 

@@ -7,11 +7,13 @@ it became the path), then run ``--periods`` relay periods in one batch call (str
 tolerance of the states (period n <= 16 to 1e-5 over its last 64 points, and the first period from which it
 repeats).  Not run in CI.  Until 2026-11-26 20:20 it ran one value under the scene's default preset (`thesis-text`).
 
-    python benchmarks/attractors_grid_diff.py [V ...] [--periods 4000]   # default 115 122 136 164 171 199 213 V
+    python benchmarks/internal/attractors_grid_diff.py [V ...] [--periods 4000]   # default 115 122 136 164 171 199 213 V
 """
 from __future__ import annotations
 
 import argparse
+import os
+import sys
 import time
 
 import numpy as np
@@ -44,6 +46,7 @@ def census(smap, pb, starts, box, cells) -> tuple[list, list, list]:
 
 def main(argv=None):
     import maps
+    sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # benchmarks/
     from attractors import BOX, MODEL
     from bifurc.attractors.lifetime import fall_index, periodic_tail
     from bifurc.attractors.starts import make_starts

@@ -2,7 +2,7 @@
 each start's periods split into those before it first met a chaotic saddle or long-lived transient and those
 after.  Not run in CI.
 
-    python benchmarks/attractors_saddle_cost.py [V ...]     # default: the benchmark's 21 values, 80-220 V
+    python benchmarks/internal/attractors_saddle_cost.py [V ...]     # default: the benchmark's 21 values, 80-220 V
 
 thesis-1dof as in benchmarks/attractors.py (`matlab-listing` preset since 2026-11-26 15:00; before, the
 scene's default `thesis-text`), `measured` law, 10 Hz, 200 box starts x=0:0.03, v=-1.5:1.5 (seed 1), 100 cells per side, one process.
@@ -54,18 +54,10 @@ def _instrument(C):
 
 
 def main(argv=None):
-    import maps
     import bifurc.attractors.census as C
-    from bifurc.attractors.identify import Grid
-    from bifurc.attractors.starts import make_starts
-    from maps.poincare import StroboscopicMap
     values = [float(v) for v in (argv if argv is not None else sys.argv[1:])] or list(np.linspace(80, 220, 21))
-    from attractors import BOX, MODEL       # the census of benchmarks/attractors.py
-    pb = maps.problem("thesis-1dof", **MODEL)
-    st = make_starts(pb, "box", n=200, box=BOX, seed=1)
-    starts = list(np.asarray(st.points, dtype=float))
-    grid = Grid.over(st.box, pb.system, 100, pb.state_vector())
-    smap = StroboscopicMap(pb, tol=1e-10)
+    from _census import box_census      # the census of benchmarks/attractors.py
+    _, starts, grid, smap = box_census()
     tracks = _instrument(C)
     s = C.Settings()
     total = np.zeros(3)
