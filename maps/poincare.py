@@ -560,15 +560,13 @@ class StroboscopicMap:
         A shift-invariant system (``system.translation``) is measured in its reduced coordinates
         (:mod:`maps.translation`): the neutral shift is removed at every renormalisation.
         """
-        from .tangent import companion_start, renormalise
+        from .tangent import companion_start
         method = self._method(method, batch_size)
         shift = translation_basis(self.system)      # shift-invariant: the reduced coordinates' distance
         jobs = []
         for ref, o, k, s in zip(references, overrides, k0, scales):
             p = self.system.validate(dict(self.params, **o))
-            z0 = companion_start(ref[0], d0, s)
-            if shift is not None:
-                z0 = renormalise(ref[0], z0, d0, s, shift)[0]
+            z0 = companion_start(ref[0], d0, s, shift)
             jobs.append(self._job(p, z0, None, int(k), 0, len(ref) - 1, reference=list(ref), d0=d0, scale=s,
                                   shift=shift))
         if method == "scalar":

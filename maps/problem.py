@@ -184,6 +184,12 @@ def model_attrs(options) -> dict:
     return out
 
 
+#: the keywords of :func:`problem` that an entry point takes beside a scene (``bifurc``'s analyses through
+#: ``**options``, :func:`maps.simulate.simulate` with ``energy`` too); :func:`problem` itself takes any field of
+#: ``ModelOptions``
+KEYWORDS = ("preset", "params", "x0", "flags0", "circuit", "ac_sign", "dc_law", "soil", "compaction")
+
+
 def problem(scene, preset: str | None = None, params: Mapping | None = None, x0: Mapping | None = None,
             flags0: Mapping | None = None, **options) -> Problem:
     """The one resolver: a :class:`Problem` from a scene (name, ``package.module:NAME``,

@@ -12,7 +12,7 @@ from .hybrid import Escaped, IntegrationFailure
 from .impacts import impact_table
 from .parameters import ParameterError, validate_value
 from .provenance import cf_attrs, recorded
-from .problem import model_attrs, problem as make_problem
+from .problem import KEYWORDS, model_attrs, problem as make_problem
 
 if TYPE_CHECKING:  # xarray is imported where used: worker processes start faster
     import xarray as xr
@@ -28,15 +28,6 @@ def soil_law_attrs(options) -> dict:
     and its compaction (the resistance's growth with depth, or "none")."""
     a = model_attrs(options)
     return {k: a[k] for k in ("soil", "soil_source", "soil_compaction")}
-
-
-def resolve(scene, params=None, preset=None, circuit=None, ac_sign=None, energy=None, dc_law=None, soil=None,
-            compaction=None):
-    """``(scene, {name: (value, provenance)})`` of :func:`maps.problem` (kept for callers of the
-    keyword form; the problem object holds both)."""
-    p = make_problem(scene, preset, params, circuit=circuit, ac_sign=ac_sign, energy=energy, dc_law=dc_law, soil=soil,
-                     compaction=compaction)
-    return p.scene, p.table
 
 
 def run_scene(problem, t_end, *, tol=1e-12, on_segment=None, max_events=100_000, max_events_per_period=None,
@@ -112,7 +103,7 @@ def simulate(problem="thesis-1dof", periods=None, *, t_end=None, dt=None, t_eval
     xarray.Dataset with ``time`` and ``impact`` dimensions.
     """
     max_events_per_period = options.pop("max_events_per_period", None)
-    known = ("params", "preset", "x0", "flags0", "circuit", "ac_sign", "energy", "dc_law", "soil", "compaction")
+    known = KEYWORDS + ("energy",)      # a time history can carry the energy audit's quadrature states
     unknown = [k for k in options if k not in known]
     if unknown:
         raise ParameterError(f"unknown option {unknown[0]!r}; valid: t_end, dt, t_eval, tol, transient, "

@@ -41,11 +41,15 @@ def reduce(u, shift=None) -> np.ndarray:
     return shift_off(u, shift)
 
 
-def companion_start(y0, d0: float = 1e-8, scale=None) -> np.ndarray:
-    """The companion's start: ``d0`` from ``y0`` along :func:`start_direction` (norm scaled by ``scale``)."""
+def companion_start(y0, d0: float = 1e-8, scale=None, shift=None) -> np.ndarray:
+    """The companion's start: ``d0`` from ``y0`` along :func:`start_direction` (norm scaled by ``scale``); with a
+    translation ``shift = (e, a)``, moved back to ``d0`` from ``y0`` in the reduced coordinates (:func:`renormalise`),
+    as every later step is.  The one start of a Benettin companion: :func:`bifurc.labels.lyapunov.largest_lyapunov`'s
+    and the engines' companion lanes (:meth:`maps.poincare.StroboscopicMap.stretch`)."""
     y = np.asarray(y0, dtype=float)
     s = np.ones_like(y) if scale is None else np.asarray(scale, dtype=float)
-    return y + d0 * start_direction(y.size) * s
+    z = y + d0 * start_direction(y.size) * s
+    return z if shift is None else renormalise(y, z, d0, scale, shift)[0]
 
 
 def tangent_sample(u, log: list, start=None, shift=None) -> bool:

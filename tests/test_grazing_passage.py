@@ -125,7 +125,7 @@ def test_impact_speed_near_grazing_follows_nordmarks_prediction(branch):
     rows = []
     for pt in br.points:
         dF = pt.p - sp.p
-        if 0 < dF < 0.02 and pt.impacts == 1:
+        if 0 < dF < 0.02 and pt.impacts_per_period == 1:
             v = [abs(ev.y_minus[1]) for evs in pt.events for ev in evs if ev.name == "contact"][0]
             rows.append((dF, v, impact_speed(pred, dF)))
     rows = np.array(rows)

@@ -70,6 +70,15 @@ def test_a_cell_job_carries_both_values_row_major():
     assert job.at(4) == dict(job.params, relay_hz=5.0, V=90.0)
 
 
+def test_a_map_cell_and_a_census_point_of_one_index_are_the_same_point():
+    """The row-major grid (``param2`` fastest) is one convention: the regime map's flat cell k and the census'
+    point k of :func:`bifurc.grid_points` over the same two lists (review N7)."""
+    from bifurc import grid_points
+    a, b = (3.0, 5.0, 7.5), (60.0, 90.0)
+    job = CellJob(maps.problem("thesis-1dof"), "relay_hz", param2="V", values=a, values2=b)
+    assert [{k: job.at(i)[k] for k in ("relay_hz", "V")} for i in range(6)] == grid_points("relay_hz", a, "V", b)
+
+
 def test_netcdf_round_trip_keeps_values_and_cf_attributes(local, tmp_path):
     import netCDF4
     path = tmp_path / "m.nc"

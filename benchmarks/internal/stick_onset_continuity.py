@@ -52,7 +52,7 @@ def main():
         if sp.kind != "stick_onset":
             continue
         before, after = branch.points[sp.index], branch.points[sp.index + 1]
-        if before.impacts == after.impacts or sp.index < 1:
+        if before.impacts_per_period == after.impacts_per_period or sp.index < 1:
             continue
         earlier = branch.points[sp.index - 1]
         back = ContinuationProblem(smap.at(phase=after.phase), "V", period, after.k0, scale=cont.scale, p_scale=V1 - V0, p_ref=V0,
@@ -62,7 +62,8 @@ def main():
         slope = np.max(np.abs(state(before) - state(earlier))) / abs(before.p - earlier.p)
         gap = np.max(np.abs(state(end) - state(before)))
         mus = (np.max(np.abs(before.multipliers)), np.max(np.abs(end.multipliers)))
-        print(f"{sp.p:13.8f} {before.impacts:>3} -> {after.impacts:<2} {end.p - sp.p:15.3g} {gap:10.3g} "
+        n0, n1 = before.impacts_per_period, after.impacts_per_period
+        print(f"{sp.p:13.8f} {n0:>3} -> {n1:<2} {end.p - sp.p:15.3g} {gap:10.3g} "
               f"{slope * abs(end.p - before.p):10.3g} {mus[0]:8.4f}, {mus[1]:.4f}  {piece.stop_reason[:70]}")
 
 

@@ -53,9 +53,9 @@ def saddle_groups(saddles: list) -> list:
 
 
 def eventual_fractions(outcomes, via, saddles: list, keys) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(fraction, low, high) for each of ``keys`` (attractor ids and :data:`.census.OUTCOMES` ids) of the starts
-    whose ``outcomes`` are given, with those still "transient" apportioned by the exits of their saddle: ``via``
-    is each start's index in ``saddles`` of the saddle it was last seen on (-1: none)."""
+    """(fraction, low, high) for each of ``keys`` (attractor ids and :data:`bifurc.labels.codes.OUTCOMES` ids) of
+    the starts whose ``outcomes`` are given, with those still "transient" apportioned by the exits of their saddle:
+    ``via`` is each start's index in ``saddles`` of the saddle it was last seen on (-1: none)."""
     out = np.asarray(outcomes)
     n = len(out)
     group = saddle_groups(saddles)

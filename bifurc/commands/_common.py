@@ -152,13 +152,16 @@ def check_scheduler(address) -> None:
                              f"{SCHEDULER_TIMEOUT:g} s ({reason})") from None
 
 
-def add_range_options(parser, default_param: str, default_n: int, suffix: str = "") -> None:
-    """``--param``, ``--from``, ``--to``, ``--n`` (``suffix`` "2": the second parameter's, ``--param2`` ...)."""
+def add_range_options(parser, default_param: str | None, default_n: int, suffix: str = "",
+                      required: bool = True) -> None:
+    """``--param``, ``--from``, ``--to``, ``--n`` (``suffix`` "2": the second parameter's, ``--param2`` ...);
+    ``required=False``: a range that may be left out (the census' second parameter: ``--param2`` None)."""
     which = "second parameter" if suffix else "parameter"
-    parser.add_argument(f"--param{suffix}", default=default_param, help=f"{which} to vary (default {default_param})")
-    parser.add_argument(f"--from{suffix}", dest=f"start{suffix}", type=float, required=True,
+    default = f" (default {default_param})" if default_param is not None else ""
+    parser.add_argument(f"--param{suffix}", default=default_param, help=f"{which} to vary{default}")
+    parser.add_argument(f"--from{suffix}", dest=f"start{suffix}", type=float, required=required,
                         help=f"first value of --param{suffix}")
-    parser.add_argument(f"--to{suffix}", dest=f"stop{suffix}", type=float, required=True,
+    parser.add_argument(f"--to{suffix}", dest=f"stop{suffix}", type=float, required=required,
                         help=f"last value of --param{suffix}")
     parser.add_argument(f"--n{suffix}", type=int, default=default_n,
                         help=f"number of values of --param{suffix} (default {default_n})")

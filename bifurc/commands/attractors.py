@@ -16,10 +16,7 @@ def register(subparsers):
                                           "--param2 ... adds a second parameter (a grid of points, as bifurc map).")
     add_scene_options(p, default_tol=None)
     add_range_options(p, "V", 1)
-    p.add_argument("--param2", default=None, help="a second parameter: the census runs on the grid --param x --param2")
-    p.add_argument("--from2", dest="start2", type=float, default=None, help="first value of --param2")
-    p.add_argument("--to2", dest="stop2", type=float, default=None, help="last value of --param2")
-    p.add_argument("--n2", type=int, default=1, help="number of values of --param2 (default 1)")
+    add_range_options(p, None, 1, "2", required=False)      # the census runs on the grid --param x --param2
     add_settings_options(p, Census, "how each point is censused (bifurc.Census)")
     g = p.add_argument_group("the fresh starts (bifurc.Box, bifurc.SwitchOn) and the matcher (bifurc.ByDistance)")
     g.add_argument("--starts", type=int, default=Box().n, help=f"fresh starts per point (default {Box().n})")

@@ -25,9 +25,9 @@ def register(subparsers):
 
 def rows(scene, preset=None, params=None, soil=None, compaction=None, dc_law=None) -> list[tuple]:
     """(name, value, unit, allowed range, long name, provenance) for each parameter of ``scene``."""
-    from maps.simulate import resolve
-    sc, table = resolve(scene, params, preset, soil=soil, compaction=compaction, dc_law=dc_law)
-    system = sc.system
+    from maps.problem import problem
+    pb = problem(scene, preset, params, soil=soil, compaction=compaction, dc_law=dc_law)
+    system, table = pb.scene.system, pb.table
     out = []
     for name, (value, source) in table.items():
         p = system.parameter(name)

@@ -91,9 +91,7 @@ def _benettin(step, reference, y0, n: int, d0: float, scale, k0: int, shift) -> 
     """The one Benettin loop: the companion of ``y0`` stepped ``n`` times and renormalised to ``d0``
     from ``reference(k)`` (the reference's state after step ``k``) each time; the mean log stretch."""
     s = np.ones_like(y0) if scale is None else np.asarray(scale, dtype=float)
-    z = companion_start(y0, d0, s)
-    if shift is not None:
-        z = renormalise(y0, z, d0, s, shift)[0]
+    z = companion_start(y0, d0, s, shift)
     total = 0.0
     for k in range(k0, k0 + n):
         try:

@@ -61,7 +61,8 @@ def _join(branch, piece, param: str, p: float, direction: float, turned_at: floa
     for sp in piece.special:
         sp.index += offset
     first = piece.points[0] if piece.points else None
-    what = (f"{first.impacts} impact{'' if first.impacts == 1 else 's'} per period" if first is not None else "")
+    n = first.impacts_per_period if first is not None else 0
+    what = f"{n} impact{'' if n == 1 else 's'} per period" if first is not None else ""
     way = "increasing" if direction > 0 else "decreasing"
     turn = ("" if turned_at is None else f"; no orbit persists past {param} = {turned_at:.10g}: the branch turns "
             f"back there (a non-smooth fold)")

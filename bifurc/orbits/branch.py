@@ -180,9 +180,9 @@ def _span(name, span, what):
 
 
 def _describe(pt, label, param) -> str:
-    mu = float(np.max(np.abs(pt.multipliers)))
+    mu, n = float(np.max(np.abs(pt.multipliers))), pt.impacts_per_period
     return (f"{label} point: {param} = {pt.p:.8g}, {'stable' if pt.stable else 'unstable'} "
-            f"(max |mu| {mu:.4g}), {pt.impacts} impact{'' if pt.impacts == 1 else 's'} per period, "
+            f"(max |mu| {mu:.4g}), {n} impact{'' if n == 1 else 's'} per period, "
             f"{pt.iterations} Newton iterations")
 
 
@@ -254,4 +254,4 @@ def _clearances(system, params, pt):
     flight = list(impact_log(system, params, _crossings(pt))["flight_gap"])
     at_nodes = [system.gap(s.y, params)[0] for s in pt.nodes]
     low = min(flight) if flight else math.inf
-    return min(at_nodes + flight + ([0.0] if pt.impacts else [])), low
+    return min(at_nodes + flight + ([0.0] if pt.impacts_per_period else [])), low

@@ -26,7 +26,7 @@ from maps.parameters import ParameterError
 
 from .floquet import product_eigenvalues
 from .newton import accept
-from .periodic import _Coordinates, _shooting_matrix
+from .periodic import Coordinates, Cycle, shooting_matrix
 
 #: the corrector's options on a branch's shooting system and the driver's default (:func:`bordered_newton`)
 NEWTON_OPTIONS = {"max_iter": 10, "stall_after": 3, "tiny_update": True}
@@ -42,7 +42,7 @@ def transition_signature(signatures) -> tuple:
 
 
 @dataclass
-class BranchPoint:
+class BranchPoint(Cycle):
     """One corrected point of a branch (scaled unknowns ``u``, unit tangent ``tangent``)."""
 
     p: float
@@ -59,14 +59,6 @@ class BranchPoint:
     phase: float = 0.0          # the strobe section: node j at t = (k0 + j + phase) T
     k0: int = 0
     corrected: bool = True      # False: the map at a predicted point, where the corrector failed
-
-    @property
-    def stable(self) -> bool:
-        return bool(np.max(np.abs(self.multipliers)) < 1.0)
-
-    @property
-    def impacts(self) -> int:
-        return sum(sig.count("impact") for sig in self.signatures)
 
     @property
     def transitions(self) -> tuple:
@@ -111,7 +103,7 @@ class ContinuationProblem:
     def __init__(self, smap, param: str, period: int, k0: int, *, scale, p_scale: float, p_ref: float,
                  tol: float = 1e-10):
         self.smap, self.param, self.n, self.k0 = smap, param, int(period), int(k0)
-        self.co = _Coordinates(smap.system)
+        self.co = Coordinates(smap.system)
         self.d = self.co.E.shape[1]
         self.scale, self.p_scale, self.p_ref, self.tol = np.asarray(scale, float), float(p_scale), float(p_ref), tol
 
@@ -157,7 +149,7 @@ class ContinuationProblem:
         lins = [self.smap.linearize(s, self.k0 + j, params=tuple(names)) for j, s in enumerate(nodes)]
         co, s, n = self.co, self.scale, self.n
         F = np.concatenate([(co.reduce(lins[j].state.y) - co.reduce(nodes[(j + 1) % n].y)) / s for j in range(n)])
-        M = _shooting_matrix([co.R @ L.J @ co.E for L in lins], s)
+        M = shooting_matrix([co.R @ L.J @ co.E for L in lins], s)
         C = np.vstack([(co.R @ L.J_p) / s[:, None] * np.asarray(p_scales)[None, :] for L in lins])
         return F, M, C, lins
 

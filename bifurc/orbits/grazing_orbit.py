@@ -104,7 +104,7 @@ def locate_grazing(problem, prev, *, max_iter: int = 30, radius: float = 0.1):
     j, t_g, _ = near
     gscale = float(np.max(problem.scale))
     u, flags = prev.u.copy(), flags_of(prev)
-    impacts, last_step, norm, last_update = prev.impacts, math.inf, math.inf, math.inf
+    impacts, last_step, norm, last_update = prev.impacts_per_period, math.inf, math.inf, math.inf
 
     def failed(exc):
         return problem.parameter(u), math.nan, math.nan, None, f"the augmented Newton failed: {exc}", {}

@@ -74,7 +74,7 @@ def restart(problem, sp, last, lo: float, hi: float):
                 tried.append(f"{p:.10g} ({exc})")
                 continue
             if transition_signature(orbit.signatures) != old:
-                if sp.kind == "stick_onset" and orbit.impacts_per_period == 0 < last.impacts:
+                if sp.kind == "stick_onset" and orbit.impacts_per_period == 0 < last.impacts_per_period:
                     rest = rest or (orbit, p)           # the restart only if no orbit in flight is found this way
                     tried.append(f"{p:.10g} (the bar at rest on the stop all period)")
                     continue

@@ -47,15 +47,30 @@ class OrbitNotFound(RuntimeError):
         self.reason, self.iterations, self.residual = reason, iterations, residual
 
 
+class Cycle:
+    """What a periodic orbit's record says from its Floquet ``multipliers`` and its nodes' event ``signatures``,
+    one rule for :class:`PeriodicOrbit` and :class:`bifurc.orbits.continuation.BranchPoint` (review D8)."""
+
+    @property
+    def stable(self) -> bool:
+        """Every Floquet multiplier inside the unit circle."""
+        return bool(np.max(np.abs(self.multipliers)) < 1.0)
+
+    @property
+    def impacts_per_period(self) -> int:
+        """Impacts in one period of the orbit (every node's step)."""
+        return sum(sig.count("impact") for sig in self.signatures)
+
+
 @dataclass
-class PeriodicOrbit:
+class PeriodicOrbit(Cycle):
     """A converged periodic orbit of a stroboscopic map.
 
     ``nodes[j]`` is the hybrid state at sample k0 + j (j < n); ``jacobians[j]`` the exact
     one-period Jacobian there; ``signatures[j]`` the roles of the events of that period, in
     order.  ``multipliers`` are the Floquet multipliers (eigenvalues of the monodromy matrix, from
     the cyclic matrix of the Jacobians: :func:`~bifurc.orbits.floquet.product_eigenvalues`),
-    ``stable`` is max |multiplier| < 1.  ``residual`` is the largest scaled residual
+    ``stable`` is max |multiplier| < 1 (:class:`Cycle`).  ``residual`` is the largest scaled residual
     |P(y_j) - y_{j+1}| / scale at the solution; ``conditioning`` compares the multiple-shooting
     matrix with single shooting's (monodromy - I)."""
 
@@ -74,16 +89,8 @@ class PeriodicOrbit:
     reduced: tuple = ()               # names of the reduced coordinates when a translation was removed
 
     @property
-    def stable(self) -> bool:
-        return bool(np.max(np.abs(self.multipliers)) < 1.0)
-
-    @property
     def monodromy(self) -> np.ndarray:
         return monodromy(self.jacobians)
-
-    @property
-    def impacts_per_period(self) -> int:
-        return sum(sig.count("impact") for sig in self.signatures)
 
 
 def monodromy(jacobians) -> np.ndarray:
@@ -114,7 +121,7 @@ def _amplitude(smap, node, k: int, co) -> np.ndarray:
     return np.max(np.abs(np.array(ys)), axis=0)
 
 
-class _Coordinates:
+class Coordinates:
     """The solver's unknowns: the full state, or with a translation removed the state less its
     anchor component (the anchor fixed at 0; reduce(y) shifts y back along the translation)."""
 
@@ -153,7 +160,7 @@ def find_periodic_orbit(smap, start, period: int, *, k0: int = 0, tol: float = 1
         raise ParameterError(f"period = {n} strobe periods is not a multiple of the forcing period q = {q}: "
                              f"periodic orbits here have periods {q}, {2 * q}, {3 * q}, ...")
     clock = _time.perf_counter()
-    co = _Coordinates(smap.system)
+    co = Coordinates(smap.system)
     nodes = _first_nodes(smap, start, n, k0, co)
     d = co.E.shape[1]
     amplitude = _amplitude(smap, nodes[0], k0, co)
@@ -177,7 +184,7 @@ def find_periodic_orbit(smap, start, period: int, *, k0: int = 0, tol: float = 1
             return _solution(smap, nodes, lins, k0, n, norm, it, scale, clock, co)
         if it == max_iter:
             break
-        M = _shooting_matrix([co.R @ L.J @ co.E for L in lins], scale)
+        M = shooting_matrix([co.R @ L.J @ co.E for L in lins], scale)
         cond = np.linalg.cond(M)
         if not np.isfinite(cond) or cond > 1e14:
             raise OrbitNotFound(f"singular Jacobian at iteration {it} (condition number {cond:.3g}): a fold, "
@@ -236,7 +243,7 @@ def _line_search(smap, nodes, step, k0: int, co, scale, norm: float):
     return None
 
 
-def _shooting_matrix(Js, scale) -> np.ndarray:
+def shooting_matrix(Js, scale) -> np.ndarray:
     """The multiple-shooting Newton matrix in scaled coordinates: the one-period Jacobians J_j on the
     block diagonal, -I on the cyclic block beside each (residual r_j = P(y_j) - y_{j+1 mod n})."""
     n, d = len(Js), Js[0].shape[0]
@@ -282,7 +289,7 @@ def _solution(smap, nodes, lins, k0, n, norm, it, scale, clock, co) -> PeriodicO
     for J in Js:              # how far single shooting's intermediate products stretch a perturbation
         partial = (J / scale[:, None] * scale[None, :]) @ partial
         growth = max(growth, float(np.linalg.norm(partial, 2)))
-    orbit.conditioning = {"multiple_shooting": float(np.linalg.cond(_shooting_matrix(Js, scale))),
+    orbit.conditioning = {"multiple_shooting": float(np.linalg.cond(shooting_matrix(Js, scale))),
                           "single_shooting": float(np.linalg.cond(M / scale[:, None] * scale[None, :] - np.eye(d))),
                           "single_shooting_growth": growth}
     return orbit

@@ -95,8 +95,8 @@ def _change(problem, prev, pt) -> str:
         return "section"
     if any("stick" in s for s in pt.transitions) and not any("stick" in s for s in prev.transitions):
         return "stick_onset"
-    if pt.impacts != prev.impacts:
-        return "impact_born" if pt.impacts > prev.impacts else "impact_lost"
+    if pt.impacts_per_period != prev.impacts_per_period:
+        return "impact_born" if pt.impacts_per_period > prev.impacts_per_period else "impact_lost"
     return "signature_change"
 
 
@@ -241,7 +241,7 @@ def discontinuity(problem, prev: BranchPoint, pt: BranchPoint | None, earlier: B
         return SpecialPoint("impact_lost", prev.p, math.nan, "slowest impact speed squared", speed * speed, prev,
                             note=f"the slowest impact slows to {speed:.3g} (gap rate) where the corrector stalls: "
                                  f"a grazing from the impacting side", data={"from_impacting_side": True})
-    born = pt is not None and pt.impacts > prev.impacts
+    born = pt is not None and pt.impacts_per_period > prev.impacts_per_period
     if closest_flight_minimum(problem, prev) is not None and (born or pt is None):
         with in_section(problem, prev):
             p, tol, gap, at, note, data = locate_grazing(problem, prev)

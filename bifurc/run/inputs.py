@@ -1,20 +1,16 @@
 """The three inputs of every analysis: what is integrated (a Problem), how (a method), where (a :class:`Run`).
 
 An entry point takes ``problem, ..., method=None, *, run=None, **options``; :func:`analysis_inputs` resolves them:
-``options`` (the keyword convenience) are shared out among the problem's keywords (:data:`PROBLEM_KEYWORDS`, as
-:func:`maps.problem`), the method's settings and the run's, and an unknown or misspelt name is one line naming the
-valid ones.
+``options`` (the keyword convenience) are shared out among the problem's keywords (:data:`maps.problem.KEYWORDS`),
+the method's settings and the run's, and an unknown or misspelt name is one line naming the valid ones.
 """
 from __future__ import annotations
 
 from maps.parameters import ParameterError
-from maps.problem import Problem, problem as make_problem
+from maps.problem import KEYWORDS, Problem, problem as make_problem
 
 from .where import Run
 from .settings import settle, split_options
-
-#: the keywords of :func:`maps.problem` an analysis accepts beside a scene
-PROBLEM_KEYWORDS = ("preset", "params", "x0", "flags0", "circuit", "ac_sign", "dc_law", "soil", "compaction")
 
 
 def analysis_inputs(problem, method_cls, method, run, options: dict, runs: bool = True):
@@ -28,9 +24,9 @@ def analysis_inputs(problem, method_cls, method, run, options: dict, runs: bool 
     if run is not None and not isinstance(run, Run):
         raise ParameterError(f"run: expected a bifurc.Run object, got {type(run).__name__} ({run!r:.60})")
     if runs:
-        pk, mk, rk = split_options(options, PROBLEM_KEYWORDS, method_cls, Run)
+        pk, mk, rk = split_options(options, KEYWORDS, method_cls, Run)
     else:
-        (pk, mk), rk = split_options(options, PROBLEM_KEYWORDS, method_cls), None
+        (pk, mk), rk = split_options(options, KEYWORDS, method_cls), None
     m = settle(method_cls, method, mk)              # cheap checks first
     r = settle(Run, run, rk) if runs else None
     return resolve_problem(problem, pk), m, r

@@ -31,7 +31,7 @@ from ..run.parts import Parts
 from .parts import ValueCodec, manifest
 from .method import Diagram
 from ..run.grid import run_points, write_result
-from .sweep import _grid, _job, run_stats, with_time_budget
+from .sweep import values_array, value_job, run_stats, with_time_budget
 
 @dataclass(frozen=True)
 class CellJob(ValueJob):
@@ -77,8 +77,8 @@ def regime_map(problem="thesis-1dof", param: str = "relay_hz", values=None, para
         Problem keywords, :class:`bifurc.Diagram` or :class:`bifurc.Run` fields by name.
     """
     pb, m, r = analysis_inputs(problem, Diagram, method, run, options)
-    values = _grid(values if values is not None else [], "values")
-    values2 = _grid(values2 if values2 is not None else [], "values2")
+    values = values_array(values if values is not None else [], "values")
+    values2 = values_array(values2 if values2 is not None else [], "values2")
     if m.mode != "independent":
         raise ParameterError(f"mode = {m.mode!r}: a regime map's cells are independent (mode='independent')")
     check_size(values.size * values2.size, m.transient, m.record, r.workers, m.budget, r.allow_large, "cells",
@@ -93,7 +93,7 @@ def _regime_map(pb, param, values, param2, values2, m: Diagram, r: Run):
     if values2.size == 0 or not np.all(np.isfinite(values2)):
         raise ParameterError("values2 must be a non-empty array of finite numbers")
     pb.parameter(param2)  # raises for an unknown name or a well input
-    job = _job(pb.with_values(**{param2: float(values2[0])}), param, values, m)
+    job = value_job(pb.with_values(**{param2: float(values2[0])}), param, values, m)
     pb = job.problem
     for v in values2:            # every value of param2 valid before anything runs
         pb.with_values(**{param: float(values[0]), param2: float(v)})

@@ -76,7 +76,7 @@ def sweep(problem="thesis-1dof", param: str = "relay_hz", values=None, method: D
     >>> d = bifurc.sweep(pb, "relay_hz", np.linspace(2, 10, 41), bifurc.Diagram(record=100))  # doctest: +SKIP
     """
     pb, m, r = analysis_inputs(problem, Diagram, method, run, options)
-    values = _grid(values, "values")
+    values = values_array(values, "values")
     check_size(values.size * len(MODES[m.mode]), m.transient, m.record, r.workers, m.budget, r.allow_large,
                trajectories=m.trajectories)
     with output_guard(r.path, r.overwrite):
@@ -85,7 +85,7 @@ def sweep(problem="thesis-1dof", param: str = "relay_hz", values=None, method: D
 
 def _sweep(pb, param: str, values: np.ndarray, m: Diagram, r: Run):
     """The diagram of ``pb`` over ``values`` of ``param`` with the method ``m``, run as ``r`` says."""
-    job = _job(pb, param, values, m)
+    job = value_job(pb, param, values, m)
     job = with_time_budget(job, r.time_budget)
     parts = Parts(r.path, manifest(job, values, m.mode), ValueCodec()) if r.path else None
     workers, chunk_size = execution(job, values.size, r.workers, r.scheduler, r.chunk_size)
@@ -148,7 +148,7 @@ def run_stats(ds, job, seconds, resumed, workers) -> None:
     ds.attrs["compile_seconds"] = job.warm().compile_seconds  # this process's scalar compile (workers compile their own)
 
 
-def _grid(values, name: str) -> np.ndarray:
+def values_array(values, name: str) -> np.ndarray:
     """A 1-D array of numbers, or one line naming ``name`` (no silent flattening of a 2-D grid)."""
     try:
         if isinstance(values, str) or any(isinstance(v, (str, bytes)) for v in np.ravel(np.asarray(values, object))):
@@ -161,7 +161,7 @@ def _grid(values, name: str) -> np.ndarray:
     return out.ravel()
 
 
-def _job(pb, param: str, values: np.ndarray, m: Diagram) -> ValueJob:
+def value_job(pb, param: str, values: np.ndarray, m: Diagram) -> ValueJob:
     """The ValueJob of a diagram (or a map's first parameter), every value checked before anything runs."""
     if values.size == 0 or not np.all(np.isfinite(values)):
         raise ParameterError("values must be a non-empty array of finite numbers")
