@@ -80,3 +80,17 @@ def test_quick_sensitivity_writes_its_tables_and_resumes(tmp_path):
     assert np.array_equal(again["outputs_per_sample"]["gap"], res["outputs_per_sample"]["gap"])
     stated = {f.name: f for f in findings(res, True)}
     assert stated["mean gap over samples"].value == pytest.approx(float(np.mean(gap)), abs=1e-4)
+
+
+def test_the_leading_inputs_are_those_the_samples_cannot_order_below_the_first():
+    """An input leads alone only where its interval's lower bound lies above every other input's upper bound."""
+    from studies.sensitivity import leaders
+
+    def result(values):
+        idx = {k: {"value": v, "conf": c} for k, (v, c) in values.items()}
+        return {"sobol": {"gap": {"converged": False, "indices": idx}},
+                "delta": {"gap": {"converged": True, "indices": idx}}}
+    alone = result({"a": (0.279, 0.014), "b": (0.187, 0.008), "c": (0.183, 0.007)})
+    assert leaders(alone, "gap") == ["a"]
+    tied = result({"a": (0.116, 0.011), "b": (0.110, 0.011), "c": (0.109, 0.012), "d": (0.097, 0.007)})
+    assert leaders(tied, "gap") == ["a", "b", "c"]          # d: 0.104 < 0.105, the leader's lower bound

@@ -366,6 +366,18 @@ def ranking(result, o) -> tuple:
     return name, sorted(idx, key=lambda k: -idx[k]["value"]), use["converged"]
 
 
+def leaders(result, o) -> list:
+    """The inputs of output ``o`` the samples cannot order below the most influential one: those whose index
+    interval (value + its 95 % half-width) reaches the leader's lower bound, the leader first, by value."""
+    name, order, _ = ranking(result, o)
+    if not order:
+        return []
+    idx = (result["sobol"][o] if name == "Sobol ST" else result["delta"][o])["indices"]
+    half = lambda k: float(np.nan_to_num(idx[k]["conf"]))  # noqa: E731 - no interval: the value alone
+    floor = idx[order[0]]["value"] - half(order[0])
+    return [k for k in order if idx[k]["value"] + half(k) >= floor]
+
+
 def finding(result) -> str:
     parts = []
     for o in OUTPUTS:
@@ -373,8 +385,15 @@ def finding(result) -> str:
         if not order:
             parts.append(f"{o}: no indices.")
             continue
-        parts.append(f"{o}: by {name} ({'converged' if ok else 'not converged'}) the inputs rank "
-                     f"{', '.join(order[:3])} first.")
+        idx = (result["sobol"][o] if name == "Sobol ST" else result["delta"][o])["indices"]
+        say = lambda k: f"{k} {idx[k]['value']:.3f} ± {float(np.nan_to_num(idx[k]['conf'])):.3f}"  # noqa: E731
+        lead, how = leaders(result, o), f"by {name} ({'converged' if ok else 'not converged'})"
+        if len(lead) == 1:
+            nxt = f"; the next, {say(order[1])}" if len(order) > 1 else ""
+            parts.append(f"{o}: {how} {say(lead[0])} leads, above every other input's interval{nxt}.")
+        else:
+            parts.append(f"{o}: {how} the samples cannot order the leading {len(lead)}, their intervals reaching "
+                         f"the leader's: {', '.join(say(k) for k in lead)}.")
     best = min(result["per_law"].items(), key=lambda kv: kv[1]["gap"])
     parts.append(f"The law nearest the regime on average: {best[0]} (mean gap {best[1]['gap']:.3f}).")
     return "  ".join(parts)
@@ -382,7 +401,8 @@ def finding(result) -> str:
 
 def findings(results, quick) -> list:
     """What the report states: the mean gap and the share in the regime (+-0.02 and +-1 sample), per law the mean
-    gap (+-0.03), the top input of each output by the measure used (exact) and whether it converged."""
+    gap (+-0.03), the leading inputs of each output by the measure used (:func:`leaders`: those the samples cannot
+    order below the most influential one; exact)."""
     from bifurc.findings import Finding
     Y = results["outputs_per_sample"]
     n = len(Y["gap"])
@@ -392,5 +412,5 @@ def findings(results, quick) -> list:
         out.append(Finding(f"mean gap, {law}", round(r["gap"], 4), 0.03, "1"))
     for o in OUTPUTS:
         name, order, ok = ranking(results, o)
-        out.append(Finding(f"top input of {o} ({name})", order[0] if order else "none"))
+        out.append(Finding(f"leading inputs of {o} ({name})", ", ".join(leaders(results, o)) or "none"))
     return out
