@@ -29,9 +29,9 @@ DURATIONS = {
                               "quick idle at 7ba01d4, 2026-11-29; full at 34b2ffa, 2026-11-29"),
     "regime-maps": ("154 s idle", "not measured: 41 x 41 cells a map, 34 times the quick form's",
                     "quick idle at 7ba01d4, 2026-11-29"),
-    "sensitivity": ("14 s idle", "not run at N = 256 (about 0.6 h on 2 idle cores by its 1.8 s of CPU per sample); "
-                    "the committed report's reduced N = 32: 2534 s on 1 worker at load 6-9",
-                    "quick idle at 7ba01d4, 2026-11-29; reduced full at dfb2286, 2026-11-29"),
+    "sensitivity": ("14 s idle", "N = 256, 2560 samples: about 0.6 h on 2 idle cores by its 1.6 s of CPU per "
+                    "sample; its last 1538 took 2641 s on 2 workers at load 3-8 (resumable per sample)",
+                    "quick idle at 7ba01d4, 2026-11-29; full at 396289d-d03017e, 2026-11-29"),
     "thesis-1dof-relay": ("63 s idle", "833 s at load 7-9 (3 diagrams like the main job's 61 s idle)",
                           "quick idle at 7ba01d4, 2026-11-29; full at b962ece, 2026-11-27, newcomer review 4"),
     "thesis-2dof-rig": ("5 s idle", "72 s", "quick idle at 7ba01d4, 2026-11-29; full: report of adc9ad6, 2026-11-26"),
