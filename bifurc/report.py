@@ -266,7 +266,7 @@ def history_report(ds) -> str:
     lines = [f"# Time history report (history): {a.get('scene', '')}", "",
              f"- status: {a.get('status', 'not recorded')}, reached t = {float(a.get('t_end_reached', np.nan)):.6g} s"
              + (f" ({a['failure']})" if "failure" in a else ""),
-             f"- {ds.sizes.get('time', 0)} samples; {a.get('n_steps', '?')} Taylor steps, {a.get('n_events', '?')} events",
+             f"- {ds.sizes.get('t', 0)} samples; {a.get('n_steps', '?')} Taylor steps, {a.get('n_events', '?')} events",
              f"- impacts: {n}" + (f", first at t = {float(ds.impact_time.values[0]):.6g} s, speeds "
                                   f"{np.nanmin(np.abs(ds.impact_velocity.values)):.3g} to "
                                   f"{np.nanmax(np.abs(ds.impact_velocity.values)):.3g} m/s" if n else ""),

@@ -14,11 +14,11 @@ def spectrum(ds, var: str = "x", t_from: float | None = None, n_peaks: int = 5):
     ``peak_amplitudes`` (the ``n_peaks`` largest local maxima, largest first).
     """
     import xarray as xr
-    if var not in ds or "time" not in ds[var].dims:
+    if var not in ds or "t" not in ds[var].dims:
         raise ParameterError(f"spectrum: variable {var!r} over time not in this dataset; it has "
-                             f"{', '.join(k for k in ds.data_vars if 'time' in ds[k].dims) or 'none'}")
-    da = ds[var] if t_from is None else ds[var].sel(time=slice(float(t_from), None))
-    t, y = da.time.values, np.asarray(da.values, dtype=float)
+                             f"{', '.join(k for k in ds.data_vars if 't' in ds[k].dims) or 'none'}")
+    da = ds[var] if t_from is None else ds[var].sel(t=slice(float(t_from), None))
+    t, y = da.t.values, np.asarray(da.values, dtype=float)
     if t.size < 4:
         raise ParameterError(f"spectrum: need at least 4 samples of {var!r} after t_from, got {t.size}")
     dt = np.diff(t)

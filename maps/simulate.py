@@ -138,7 +138,7 @@ def _add_progression(ds, run, imp, transient):
     """The progression measures (:mod:`maps.progression`) as scalar variables, over the window
     from ``transient`` [s] (default: half the run reached) to the run's end."""
     from .progression import MEASURES, held_mode, held_time, progression_measures
-    t, x2 = ds["time"].values, ds["x2"].values
+    t, x2 = ds["t"].values, ds["x2"].values
     if t.size < 2:
         return
     t_b = float(t[-1])
@@ -173,27 +173,27 @@ def to_dataset(run, t_eval, samples, transient=None) -> xr.Dataset:
     t_valid = run.t if run.status != "ok" else np.inf
     keep = t_eval <= t_valid
     t_eval, samples = t_eval[keep], samples[keep]
-    ds = xr.Dataset(coords={"time": ("time", t_eval, {"units": "s", "long_name": "time",   # seconds, no epoch
-                                                      "comment": "elapsed time from the start of the integration"})})
+    ds = xr.Dataset(coords={"t": ("t", t_eval, {"units": "s", "long_name": "time",   # seconds, no epoch
+                                                "comment": "elapsed time from the start of the integration"})})
     for j, st in enumerate(system.states):
-        ds[st.name] = ("time", samples[:, j], {"units": st.unit, "long_name": st.long_name})
+        ds[st.name] = ("t", samples[:, j], {"units": st.unit, "long_name": st.long_name})
     times = np.array([t for t, _ in run.flag_log])
     idx = np.clip(np.searchsorted(times, t_eval, side="right") - 1, 0, None)
     for flag, long_name in (("P", "relay state (1: AC solenoid powered)"),
                             ("contact", "bar in contact with the stop")):
         if flag in system.flag_names:
             vals = np.array([fl[flag] for _, fl in run.flag_log], dtype=np.int8)[idx]
-            ds[flag if flag != "P" else "relay"] = ("time", vals, {
+            ds[flag if flag != "P" else "relay"] = ("t", vals, {
                 "units": "1", "long_name": long_name, "flag_values": np.array([0, 1], np.int8),
                 "flag_meanings": "off on"})
     if "stuck" in system.flag_names:
         vals = np.array([fl["stuck"] for _, fl in run.flag_log], dtype=np.int8)[idx]
-        ds["rig_stuck"] = ("time", vals, {"units": "1", "long_name": "rig stuck in the soil",
+        ds["rig_stuck"] = ("t", vals, {"units": "1", "long_name": "rig stuck in the soil",
                                           "flag_values": np.array([0, 1], np.int8),
                                           "flag_meanings": "slipping stuck"})
     if "soil_pl" in system.flag_names:
         mode = np.array([fl["soil_el"] + 2 * fl["soil_pl"] for _, fl in run.flag_log], dtype=np.int8)[idx]
-        ds["soil_mode"] = ("time", mode, {"units": "1", "long_name": "drift soil mode",
+        ds["soil_mode"] = ("t", mode, {"units": "1", "long_name": "drift soil mode",
                                           "flag_values": np.array([0, 1, 2], np.int8),
                                           "flag_meanings": "clear elastic progression"})
     imp = impact_table(run)
@@ -207,7 +207,7 @@ def to_dataset(run, t_eval, samples, transient=None) -> xr.Dataset:
     ds["impact_duration"] = ("impact", imp["duration"],
                              {"units": "s", "long_name": "contact duration (NaN: still in contact at the end)"})
     if "x2" in system.state_names:
-        ds["progression"] = ds["x2"].isel(time=0) - ds["x2"]
+        ds["progression"] = ds["x2"].isel(t=0) - ds["x2"]
         ds["progression"].attrs = {"units": "m", "long_name": "forward progression into the soil x2(0) - x2(t)"}
         _add_progression(ds, run, imp, transient)
     attrs = {

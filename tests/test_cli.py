@@ -45,7 +45,7 @@ def test_simulate_writes_the_same_numbers_as_the_api(tmp_path, reference, capsys
     for name in ("impact_time", "impact_velocity", "impact_penetration", "impact_duration"):
         np.testing.assert_allclose(ds[name].values, reference[name].values, rtol=0, atol=1e-12,
                                    equal_nan=True, err_msg=name)
-    np.testing.assert_array_equal(ds.time.values, reference.time.values)
+    np.testing.assert_array_equal(ds.t.values, reference.t.values)
     for name in maps.get_scene("thesis-1dof").system.state_names:
         scale = np.abs(reference[name].values).max()
         np.testing.assert_allclose(ds[name].values, reference[name].values, rtol=0, atol=1e-12 * scale,

@@ -222,7 +222,7 @@ def test_rest_5mm_c_air_0_5_at_90V_hammers_mechanical_period_1_at_5Hz():
     h = maps.simulate("thesis-1dof", preset="matlab-listing", dc_law="listing", periods=200, dt=1e-3,
                       params={"dc_rest": 0.005, "c_air": 0.5, "V": 90.0, "relay_hz": 5.0},
                       x0={"x": 0.0, "v": 0.0, "i": 0.1, "z": 0.0})
-    late = h.x.values[h.time.values > 36.0]                  # the last 20 relay periods
+    late = h.x.values[h.t.values > 36.0]                  # the last 20 relay periods
     assert -0.001 < late.min() < 0.0 and 0.002 < late.max() < 0.006   # a 0-4 mm stroke (review 4: -0.18..3.6 mm)
 
 
@@ -235,7 +235,7 @@ def test_c14s_law_needs_the_listings_reversed_ac_sign():
     still = maps.simulate("thesis-1dof", ac_sign="physical", **kw)
     assert np.abs(still.x.values).max() < 1e-6
     moving = maps.simulate("thesis-1dof", ac_sign="listing", **kw)
-    late = moving.x.values[moving.time.values > 15.0]
+    late = moving.x.values[moving.t.values > 15.0]
     assert 0.003 < late.max() < 0.005
     hits = moving.impact_time.values
     hits = hits[np.isfinite(hits) & (hits > 15.0)]

@@ -99,14 +99,14 @@ def test_plot_functions_refuse_another_kind_in_one_line_and_return_their_main_ax
 
 def test_a_time_slice_marks_only_its_own_impacts_on_its_own_time_axis(history):
     """F6: the notebook's last 10 periods were squeezed into a 0-3.3 s axis by impacts before the slice."""
-    t = history.time.values
-    tail = history.sel(time=slice(t[-1] - 10 / 9, None))
-    inside = [ti for ti in history.impact_time.values if tail.time.values[0] <= ti <= tail.time.values[-1]]
+    t = history.t.values
+    tail = history.sel(t=slice(t[-1] - 10 / 9, None))
+    inside = [ti for ti in history.impact_time.values if tail.t.values[0] <= ti <= tail.t.values[-1]]
     assert 0 < len(inside) < history.sizes["impact"]
     ax = tail.bifurc.plot()
     marks = [line for line in ax.lines if line.get_marker() == "v"]
     assert len(marks) == 1 and sorted(marks[0].get_xdata()) == sorted(inside)
-    assert ax.get_xlim() == pytest.approx((tail.time.values[0], tail.time.values[-1]))
+    assert ax.get_xlim() == pytest.approx((tail.t.values[0], tail.t.values[-1]))
     assert f"impacts ({len(inside)})" in [text.get_text() for text in ax.get_legend().get_texts()]
     plt.close(ax.figure)
 

@@ -67,7 +67,7 @@ def test_phase_portrait_of_a_free_oscillator_is_its_ellipse():
                        x0={"x": 0.5, "v": 0.0})
     ax = ds.bifurc.phase(t_from=1.0)
     pos, vel = ax.lines[0].get_data()
-    sel = ds.sel(time=slice(1.0, None))
+    sel = ds.sel(t=slice(1.0, None))
     assert np.array_equal(pos, 1e3 * sel.x.values) and np.array_equal(vel, sel.v.values)
     assert (pos / 1e3) ** 2 + vel ** 2 == pytest.approx(0.25, abs=1e-9)    # the closed-form ellipse
     with pytest.raises(maps.ParameterError, match="positions: x"):

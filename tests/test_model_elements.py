@@ -65,7 +65,7 @@ def test_air_damping_free_fall_matches_the_closed_form():
     c = 0.8
     ds = maps.simulate("ac-only", t_end=0.15, dt=1e-3, params={"V": 0.0, "c_air": c})
     m, g = ds.attrs["param_m"], ds.attrs["param_g"]
-    t = ds.time.values
+    t = ds.t.values
     want = -(m * g / c) * t + (m * m * g / (c * c)) * (1 - np.exp(-c * t / m))
     assert np.max(np.abs(ds.x.values - want)) < 1e-10
     assert ds.attrs["param_c_air"] == c
@@ -82,7 +82,7 @@ def test_air_damping_decay_envelope_is_exp_minus_c_t_over_2m():
                        x0={"x": x_eq + 3e-4, "v": 0.0})
     y = ds.x.values - x_eq
     k = np.where((y[1:-1] > y[:-2]) & (y[1:-1] >= y[2:]))[0] + 1
-    t, a = ds.time.values[k], y[k]
+    t, a = ds.t.values[k], y[k]
     assert len(a) >= 10
     want = a[0] * np.exp(-c * (t - t[0]) / (2 * p["m"]))
     assert np.max(np.abs(a / want - 1)) < 1e-2
@@ -101,7 +101,7 @@ def test_dc_delay_current_rises_as_one_minus_exp():
     current rises as 1 - exp(-(t - T/2)/tau) and decays as j(T) exp(-(t - T)/tau) after T."""
     tau, f = 0.02, 6.0
     ds = maps.simulate("prototype", t_end=1.5 / f, dt=1e-4, params={"tau_dc": tau, "relay_hz": f})
-    t, j = ds.time.values, ds.j_dc.values
+    t, j = ds.t.values, ds.j_dc.values
     T = 1 / f
     on = (t > T / 2) & (t <= T)
     assert np.max(np.abs(j[t <= T / 2])) < 1e-15

@@ -38,7 +38,7 @@ def test_viscous_rate_obeys_the_momentum_balance():
     is F_static/soil_c plus the momentum change over soil_c and the window."""
     ds = maps.simulate("thesis-2dof", t_end=2.0, transient=0.5, params={"V": 90.0, "relay_hz": 9.0})
     p = {k: ds.attrs[f"param_{k}"] for k in ("m1", "m2", "F_static", "soil_c")}
-    a, b = ds.sel(time=0.5), ds.isel(time=-1)
+    a, b = ds.sel(t=0.5), ds.isel(t=-1)
     dP = float(p["m1"] * (b.v1 - a.v1) + p["m2"] * (b.v2 - a.v2))
     expected = (p["F_static"] * 1.5 + dP) / (p["soil_c"] * 1.5)
     assert float(ds.progression_rate) == pytest.approx(expected, rel=1e-9)
@@ -50,7 +50,7 @@ def test_viscous_rate_obeys_the_momentum_balance():
 
 def test_coulomb_stuck_fraction_is_the_time_the_flag_holds():
     ds = maps.simulate("prototype", periods=12)
-    t = ds.time.values
+    t = ds.t.values
     half = t >= t[-1] / 2
     sampled = float(np.mean(ds.rig_stuck.values[half]))          # the flag on the sampling grid
     assert float(ds.stuck_fraction) == pytest.approx(sampled, abs=2e-3)
@@ -111,6 +111,6 @@ def test_sweep_stuck_fraction_is_the_time_in_the_holding_mode(soil):
         # (with no transient the two agree to 1e-15), and the converging orbit carries it into the times
         assert float(ds.stuck_fraction[0, 0]) == pytest.approx(float(h.stuck_fraction), rel=1e-7)
     held = h.rig_stuck.values == 1 if soil == "coulomb" else h.soil_mode.values != 2   # drift: the slider still
-    sampled = float(np.mean(held[h.time.values >= tr / W][:-1]))
+    sampled = float(np.mean(held[h.t.values >= tr / W][:-1]))
     assert 0.0 < float(h.stuck_fraction) < 1.0
     assert float(h.stuck_fraction) == pytest.approx(sampled, abs=2e-3)

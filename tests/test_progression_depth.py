@@ -38,5 +38,5 @@ def test_the_time_to_02_m_agrees_with_maps_simulate():
     assert run["status"] == "ok" and ref == pytest.approx(run["times"][0], abs=2e-3)
     # and the samples are the rig's position, 20 per relay period
     k = 60
-    x2 = float(h.x2.sel(time=k / 120.0, method="nearest"))
+    x2 = float(h.x2.sel(t=k / 120.0, method="nearest"))
     assert run["depth"][k] == pytest.approx(float(h.x2.values[0]) - x2, abs=2e-4 * 0.25)

@@ -17,7 +17,7 @@ def test_dense_output_does_not_change_the_trajectory(history):
     run = maps.run_scene("thesis-1dof", 1.5, **CASE)  # no dense output requested
     assert history.attrs["status"] == run.status == "ok"
     # the same steps are taken with and without continuous output: identical to rounding
-    np.testing.assert_allclose(history.isel(time=-1)[["x", "v", "i", "z"]].to_array().values,
+    np.testing.assert_allclose(history.isel(t=-1)[["x", "v", "i", "z"]].to_array().values,
                                run.y, rtol=1e-14, atol=1e-15)
     from maps.impacts import impact_table
     np.testing.assert_array_equal(history.impact_time.values, impact_table(run)["t"])
@@ -27,13 +27,13 @@ def test_dense_output_does_not_change_the_trajectory(history):
 def test_sampling_grid_does_not_change_impacts(history):
     fine = maps.simulate("thesis-1dof", t_end=1.5, dt=1e-4, **CASE)
     np.testing.assert_array_equal(fine.impact_time.values, history.impact_time.values)
-    np.testing.assert_allclose(fine.x.sel(time=history.time, method="nearest").values, history.x.values,
+    np.testing.assert_allclose(fine.x.sel(t=history.t, method="nearest").values, history.x.values,
                                rtol=0, atol=1e-13)
 
 
 def test_dense_output_matches_restarted_integration(history):
     """A sample from dense output equals the state of a separate run stopped at that instant."""
-    t_probe = float(history.time[777])
+    t_probe = float(history.t[777])
     run = maps.run_scene("thesis-1dof", t_probe, **CASE)
     assert abs(float(history.x[777]) - run["x"]) < 1e-11
     assert abs(float(history.v[777]) - run["v"]) < 1e-9
@@ -103,7 +103,7 @@ def test_escape_is_reported_with_time_and_truncated_grid():
     t_fail = ds.attrs["failure_time"]
     # free fall from rest with a weak upward AC pull: no faster than g, 0.2 m in >= sqrt(2*0.2/g)
     assert np.sqrt(2 * 0.2 / 9.81) - 1e-9 <= t_fail < 1.0
-    assert float(ds.time[-1]) <= t_fail
+    assert float(ds.t[-1]) <= t_fail
     assert not np.isnan(ds.x.values).any()
 
 

@@ -45,7 +45,7 @@ def test_every_guard_is_no_larger_than_the_state(name, options):
     names = [g.name for g in system.guards]
     binary = [f for f in system.flag_names if f not in ("escaped",)]
     worst = 0.0
-    for y, t in zip(Y[::10], ds["time"].values[::10]):
+    for y, t in zip(Y[::10], ds["t"].values[::10]):
         bound = max(1.0, np.abs(y).max())
         for bits in itertools.product((0.0, 1.0), repeat=len(binary)):
             flags = dict(system.flag_defaults, **dict(zip(binary, bits)))

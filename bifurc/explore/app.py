@@ -98,7 +98,7 @@ class OrbitPanels:
     def show_history(self, h, text: str) -> None:
         """Draw the time history ``h`` (maps.simulate's dataset) and write ``text`` above it."""
         y = h[self.state].values * self.y
-        t = h["time"].values
+        t = h["t"].values
         self.history_source.data = dict(t=t, y=y, i=h["i"].values if "i" in h else np.zeros(t.size),
                                         relay=h["relay"].values if "relay" in h else np.zeros(t.size),
                                         v=h[self.vel].values if self.vel in h else np.zeros(t.size))

@@ -43,7 +43,7 @@ def _displacement(ds):
 
 
 def _draw_displacement(ax, ds):
-    t = ds.time.values
+    t = ds.t.values
     r, name, units = _displacement(ds)
     e = float(ds.attrs.get("param_e", 0.0))
     scale, shown = _length_scale(np.append(r, e), units)
@@ -68,7 +68,7 @@ def _draw_displacement(ax, ds):
 def _draw_series(ax, ds, name, color, lw=0.7):
     var = ds[name]
     scale, shown = _length_scale(var.values, var.attrs.get("units", ""))
-    ax.plot(ds.time.values, scale * var.values, lw=lw, color=color)
+    ax.plot(ds.t.values, scale * var.values, lw=lw, color=color)
     ax.set_ylabel(_ylabel(SHORT_NAMES.get(name, var.attrs.get("long_name", name)), shown))
 
 
@@ -76,7 +76,7 @@ def _draw_flag(ax, ds, name, color):
     var = ds[name]
     meanings = var.attrs.get("flag_meanings", "0 1").split()
     values = np.asarray(var.attrs.get("flag_values", [0, 1]))
-    ax.fill_between(ds.time.values, var.values, step="post", alpha=0.45, color=color, lw=0)
+    ax.fill_between(ds.t.values, var.values, step="post", alpha=0.45, color=color, lw=0)
     ax.set_ylim(values.min() - 0.15, values.max() + 0.15)
     ax.set_yticks(values, meanings)
     ax.set_ylabel("relay" if name == "relay" else name)
@@ -158,7 +158,7 @@ def plot_time_history(ds, path=None, ax=None, overwrite=False):
         elif panel == "relay":
             _draw_flag(a, ds, "relay", "C4")
         a.grid(alpha=0.3)
-    axes[len(panels) - 1].set_xlabel(f"time [{ds.time.attrs.get('units', 's')}]")
+    axes[len(panels) - 1].set_xlabel(f"time [{ds.t.attrs.get('units', 's')}]")
     if own:
         fig.suptitle(_title(ds), fontsize=9)
         fig.align_ylabels(axes)

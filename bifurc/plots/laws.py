@@ -70,9 +70,9 @@ def law_curves(scene="thesis-1dof", preset=None, params=None, dc_law=None, n=401
         h = maps.simulate(base, t_end=t_end, dt=t_end / 2000)
         y = np.column_stack([h[s].values for s in base.system.state_names])
         fl = dict(base.system.flag_defaults, P=1.0)
-        out["t"] = h.time.values
+        out["t"] = h.t.values
         out["F_ac"] = np.array([base.system.evaluate(["F_ac"], yk, dict(base.values), fl, t=tk)[0]
-                                for tk, yk in zip(h.time.values, y)])
+                                for tk, yk in zip(h.t.values, y)])
     return out
 
 

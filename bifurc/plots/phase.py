@@ -40,10 +40,10 @@ def plot_phase(ds, x: str = "x", t_from: float | None = None, path=None, ax=None
     if path is not None:
         check_figure_output(path, overwrite)
     px, pv = phase_pair(ds, x)
-    sel = ds if t_from is None else ds.sel(time=slice(float(t_from), None))
-    if sel.sizes.get("time", 0) < 2:
+    sel = ds if t_from is None else ds.sel(t=slice(float(t_from), None))
+    if sel.sizes.get("t", 0) < 2:
         raise ParameterError(f"phase: t_from = {t_from} s leaves fewer than 2 samples (the run ends at "
-                             f"{float(ds.time.values[-1]):g} s)")
+                             f"{float(ds.t.values[-1]):g} s)")
     pos, units, name = _values(sel, px)
     vel, vunits, vname = _values(sel, pv)
     own = ax is None
@@ -56,7 +56,7 @@ def plot_phase(ds, x: str = "x", t_from: float | None = None, path=None, ax=None
     if "param_e" in ds.attrs and px in ("x", "r"):
         ax.axvline(scale * float(ds.attrs["param_e"]), color="k", lw=0.8, ls="--", label="stop")
     ti = ds.impact_time.values if "impact_time" in ds else np.array([])
-    t = sel.time.values
+    t = sel.t.values
     ti = ti[np.isfinite(ti) & (ti >= t[0]) & (ti <= t[-1])]
     if ti.size:
         ax.plot(scale * np.interp(ti, t, pos), np.interp(ti, t, vel), "v", color="C3", ms=4,

@@ -29,9 +29,10 @@ except ImportError:  # not POSIX: no lock
 
 #: variable attribute: the name of a variable stored under another one (:func:`stored_names`)
 STORED_AS = "bifurc_name"
-#: on disk and in memory, a simulation's elapsed time [s] is a plain coordinate: units "s", no
+#: on disk and in memory, a simulation's elapsed time [s] is a plain coordinate ``t``: units "s", no
 #: ``standard_name = "time"`` and no epoch, so that ``xr.open_dataset`` reads it as float seconds (a CF
-#: time coordinate needs "<unit> since <epoch>", which every netCDF reader decodes to dates)
+#: time coordinate needs "<unit> since <epoch>", which every netCDF reader decodes to dates); named ``t``, not
+#: ``time``, since CF checkers take a coordinate named ``time`` for a CF time axis (IOOS checker, section 5.1)
 ELAPSED_ATTRS = {"units": "s", "long_name": "time", "comment": "elapsed time from the start of the integration"}
 #: files written before 0.2 stored elapsed time as a CF time coordinate with a nominal epoch;
 #: :func:`bifurc.storage.load.read` gives such a variable :data:`ELAPSED_ATTRS` back

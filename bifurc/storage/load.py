@@ -39,7 +39,7 @@ def kind_of(ds) -> str | None:
         return "branch"
     if "multiplier_abs" in ds and "node" in ds.dims:
         return "orbit"
-    if "time" in ds.dims and "scene" in ds.attrs:
+    if "t" in ds.dims and "scene" in ds.attrs:
         return "history"
     if "verdict" in ds:
         return "stability"
@@ -69,6 +69,8 @@ def read(path):
     for var in ds.variables.values():
         if var.attrs.get("units") == LEGACY_ELAPSED_UNITS:   # written before 0.2: a nominal epoch
             var.attrs = {k: v for k, v in var.attrs.items() if k not in ("standard_name", "calendar")} | ELAPSED_ATTRS
+    if "time" in ds.dims and "t" not in ds.variables and ds["time"].attrs.get("units") == "s":
+        ds = ds.rename({"time": "t"})       # a time history written before 0.2 named its elapsed time "time"
     for key in ARRAY_ATTRS:
         if key in ds.attrs:
             ds.attrs[key] = np.atleast_1d(ds.attrs[key])

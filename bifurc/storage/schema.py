@@ -360,11 +360,11 @@ ATTRACTOR_COORDS = [
     Variable("multiplier", ("multiplier",), np.int32, 0, "1", "Floquet multiplier of an attractor, by modulus"),
 ]
 
-T = ("time",)
+T = ("t",)
 I = ("impact",)  # noqa: E741
 #: the time-history dataset of maps.simulate (states: their own units and long names, see state_variable)
 HISTORY = [
-    Variable("time", T, float, np.nan, "s", "time", (("comment", "elapsed time from the start of the integration"),)),
+    Variable("t", T, float, np.nan, "s", "time", (("comment", "elapsed time from the start of the integration"),)),
     Variable("relay", T, np.int8, 0, "1", "relay state (1: AC solenoid powered)", _yes_no("off on")),
     Variable("contact", T, np.int8, 0, "1", "bar in contact with the stop", _yes_no("off on")),
     Variable("rig_stuck", T, np.int8, 0, "1", "rig stuck in the soil", _yes_no("slipping stuck")),

@@ -109,11 +109,11 @@ def settling() -> dict:
     out = {"weight": {}, "no_weight": {}}
     for c in AC_ONLY_C_AIR:
         ds = maps.simulate("ac-only", preset="thesis-text", params={"V": 25.0, "c_air": c}, t_end=3.0, dt=5e-4)
-        out["weight"][c] = float(ds.time.values[-1])
+        out["weight"][c] = float(ds.t.values[-1])
     for c in AC_ONLY_C_AIR_NO_WEIGHT:
         ds = maps.simulate("ac-only", preset="thesis-text", params={"V": 25.0, "g": 0.0, "c_air": c}, t_end=3.0,
                            dt=5e-4)
-        late = ds.x.values[ds.time.values > 2.7]
+        late = ds.x.values[ds.t.values > 2.7]
         out["no_weight"][c] = (float(late.min()), float(late.max()))
     return out
 
@@ -130,7 +130,7 @@ def _stroke(law, sign, params, hz, periods):
     import maps
     ds = maps.simulate(SCENE, preset=PRESET, dc_law=law, ac_sign=sign, params=dict(params, relay_hz=hz),
                        x0=START, periods=periods, dt=2e-4)
-    late = ds.x.values[ds.time.values >= (periods - 10) / hz - 1e-12]
+    late = ds.x.values[ds.t.values >= (periods - 10) / hz - 1e-12]
     return float(late.min()), float(late.max())
 
 

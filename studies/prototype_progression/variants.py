@@ -84,11 +84,11 @@ def escapes(freqs, periods, v_amplitude, f_static) -> list:
         ti = hr.impact_time.values
         late = int(np.sum(np.isfinite(ti) & (ti >= 0.5 * periods / f)))
         row["rear"] = {"status": hr.attrs["status"], "r_max": float(np.nanmax(rr)), "e_rear": float(e_rear),
-                       "r_min_late": float(np.nanmin(rr[hr.time.values >= 0.5 * periods / f])),
+                       "r_min_late": float(np.nanmin(rr[hr.t.values >= 0.5 * periods / f])),
                        "stop_per_period": late / (0.5 * periods),
                        "hits_per_period": up / periods, "rate": 1e3 * float(hr.progression_rate),
-                       "time": hr.time.values, "r": rr}
-        row["history"] = {"time": h.time.values, "r": h.x1.values - h.x2.values}
+                       "time": hr.t.values, "r": rr}
+        row["history"] = {"time": h.t.values, "r": h.x1.values - h.x2.values}
         out.append(row)
     return out
 
