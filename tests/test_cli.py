@@ -39,7 +39,7 @@ def test_simulate_writes_the_same_numbers_as_the_api(tmp_path, reference, capsys
     nc, png = tmp_path / "run.nc", tmp_path / "run.png"
     assert main(["simulate", *ARGV, "--periods", "12", "-o", str(nc), "--plot", str(png)]) == 0
     out = capsys.readouterr().out
-    ds = bifurc.load(nc)   # time in s (plain xarray decodes the file's CF time from its nominal epoch)
+    ds = bifurc.load(nc)   # t in s
     n = reference.sizes["impact"]
     assert n > 0 and ds.sizes["impact"] == n and f"{n} impacts" in out and "status ok" in out
     for name in ("impact_time", "impact_velocity", "impact_penetration", "impact_duration"):

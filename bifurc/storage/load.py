@@ -71,6 +71,7 @@ def read(path):
             var.attrs = {k: v for k, v in var.attrs.items() if k not in ("standard_name", "calendar")} | ELAPSED_ATTRS
     if "time" in ds.dims and "t" not in ds.variables and ds["time"].attrs.get("units") == "s":
         ds = ds.rename({"time": "t"})       # a time history written before 0.2 named its elapsed time "time"
+        ds["t"].attrs = {k: v for k, v in ds["t"].attrs.items() if k not in ("standard_name", "calendar")}
     for key in ARRAY_ATTRS:
         if key in ds.attrs:
             ds.attrs[key] = np.atleast_1d(ds.attrs[key])
