@@ -37,6 +37,12 @@ ELAPSED_ATTRS = {"units": "s", "long_name": "time", "comment": "elapsed time fro
 #: files written before 0.2 stored elapsed time as a CF time coordinate with a nominal epoch;
 #: :func:`bifurc.storage.load.read` gives such a variable :data:`ELAPSED_ATTRS` back
 LEGACY_ELAPSED_UNITS = "s since 1970-01-01 00:00:00"
+
+
+def without_time_axis(attrs: dict) -> dict:
+    """An elapsed time's attributes without those of a CF time axis (``standard_name``, ``calendar``)."""
+    return {k: v for k, v in attrs.items() if k not in ("standard_name", "calendar")}
+
 #: dataset attributes that name a parameter with a variable of its own
 PARAMETER_ATTRS = ("swept_parameter", "swept_parameter2", "continuation_parameter")
 #: zlib level of every numeric netCDF variable (4: most of level 9's gain at a fraction of its time)
@@ -260,7 +266,7 @@ def write_netcdf(ds, path, overwrite: bool = False) -> Path:
             out[new].attrs = {**out[new].attrs, STORED_AS: old}
     for name, var in out.variables.items():
         if var.attrs.get("standard_name") == "time" and var.attrs.get("units") == "s":  # an elapsed time
-            out[name].attrs = {k: v for k, v in var.attrs.items() if k not in ("standard_name", "calendar")}
+            out[name].attrs = without_time_axis(var.attrs)
     try:
         tmp = _temporary(path)
     except OSError as exc:

@@ -9,7 +9,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from .build import KIND_ATTR, KINDS
-from .files import ELAPSED_ATTRS, LEGACY_ELAPSED_UNITS, STORED_AS, BadFileError
+from .files import ELAPSED_ATTRS, LEGACY_ELAPSED_UNITS, STORED_AS, BadFileError, without_time_axis
 
 #: former kind names still accepted
 ALIASES = {"simulate": "history"}
@@ -68,10 +68,10 @@ def read(path):
         ds = ds.load()
     for var in ds.variables.values():
         if var.attrs.get("units") == LEGACY_ELAPSED_UNITS:   # written before 0.2: a nominal epoch
-            var.attrs = {k: v for k, v in var.attrs.items() if k not in ("standard_name", "calendar")} | ELAPSED_ATTRS
+            var.attrs = without_time_axis(var.attrs) | ELAPSED_ATTRS
     if "time" in ds.dims and "t" not in ds.variables and ds["time"].attrs.get("units") == "s":
         ds = ds.rename({"time": "t"})       # a time history written before 0.2 named its elapsed time "time"
-        ds["t"].attrs = {k: v for k, v in ds["t"].attrs.items() if k not in ("standard_name", "calendar")}
+        ds["t"].attrs = without_time_axis(ds["t"].attrs)
     for key in ARRAY_ATTRS:
         if key in ds.attrs:
             ds.attrs[key] = np.atleast_1d(ds.attrs[key])
