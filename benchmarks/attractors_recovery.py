@@ -209,13 +209,22 @@ def _named(link: str, evidence: str) -> list:
             (link, float(at.group(1)), float(at.group(1)))]
 
 
+#: relative half-period mismatch below which a fold reads as a period-doubling birth: the value the continuation's
+#: special-point rule uses (its ``BIRTH_MISMATCH``), restated here so the check reads the branch on its own
+BIRTH = 0.3
+
+
 def _birth(br, point: int, names) -> bool:
-    """Whether a fold at branch point ``point`` is a period-2m orbit's birth at a period-m orbit's period doubling
-    (the orbit nearly repeats after m periods there, as the census' linking and the continuation read it)."""
-    from bifurc.attractors.follow import half_gaps
-    from bifurc.orbits.special_points import BIRTH_MISMATCH
-    gaps = half_gaps(br, names, int(br.period.values[point]))
-    return gaps is not None and gaps[point] < BIRTH_MISMATCH
+    """Whether a fold at branch point ``point`` is a period-2m orbit's birth at a period-m orbit's period doubling:
+    its nodes nearly repeat after m periods (each state's largest difference between the two halves, relative to
+    that state's largest magnitude on the orbit, below :data:`BIRTH`)."""
+    period = int(br.period.values[point])
+    if period % 2 or "node" not in br.dims or br.sizes["node"] < period:
+        return False
+    Y = np.stack([np.asarray(br[n].values, dtype=float)[point, :period] for n in names], axis=-1)  # node, state
+    scale = np.abs(Y).max(axis=0)
+    scale = np.where(scale > 1e-12 * scale.max(), scale, 1.0)
+    return float(np.max(np.abs(Y[:period // 2] - Y[period // 2:]) / scale)) < BIRTH
 
 
 def same(A, B, rtol=RTOL) -> bool:

@@ -20,8 +20,10 @@ The toolkit runs twice, both product paths (``maps.HybridRun``):
 from __future__ import annotations
 
 import argparse
+import cProfile
 import math
 import os
+import pstats
 import time
 
 import numpy as np
@@ -43,47 +45,28 @@ SETUP = dict(preset="matlab-listing", params={"V": 90.0, "relay_hz": 9.0})
 def overhead_split(tol, repeats=20, observations=True):
     """Seconds per run spent integrating (inside heyoka's propagate_until, minus the guards'
     transitions that run in its event callbacks) and in total (HybridRun, no dense output).
-    The timers themselves add ~0.1 us per stop.  Returns (integrating, total, steps, events,
-    switches, final state)."""
+    The split comes from a profiled pass (``cProfile``: heyoka's ``propagate_until`` is a C++
+    call whose own time the profiler does not inflate; the Python it calls back, the profiler's
+    cost included, is subtracted from it), the total from unprofiled runs.  Returns
+    (integrating, total, steps, events, switches, final state)."""
     sc = maps.get_scene("thesis-1dof").with_options(dc_law="listing")   # matlab-listing's law
     p = sc.parameters(preset="matlab-listing", V=90.0, relay_hz=9.0)
     run = maps.HybridRun(sc.system, p, sc.initial_state(), tol=tol, observations=observations)
-    inner, callbacks = [0.0], [0.0]
-    ta = run.ta
-    real_propagate, real_on_event = ta.propagate_until, run._on_event
-
-    def on_event(gi, sign):     # the transitions, inside propagate_until: Python, not integration
-        t0 = time.perf_counter()
-        r = real_on_event(gi, sign)
-        callbacks[0] += time.perf_counter() - t0
-        return r
-
-    class Timed:  # a thin proxy that times heyoka's propagate_until
-        def __init__(self, ta):
-            object.__setattr__(self, "_ta", ta)
-
-        def __setattr__(self, name, value):
-            setattr(self._ta, name, value)
-
-        def propagate_until(self, *a, **k):
-            t0 = time.perf_counter()
-            r = real_propagate(*a, **k)
-            inner[0] += time.perf_counter() - t0
-            return r
-
-        def __getattr__(self, name):
-            return getattr(self._ta, name)
-
-    run.ta, run._on_event = Timed(ta), on_event
     total = 0.0
     for _ in range(repeats):
         run.reset(0.0, sc.initial_state())
         t0 = time.perf_counter()
         run.advance(2.0)
         total += time.perf_counter() - t0
-    run.ta = ta
-    del run._on_event
-    return ((inner[0] - callbacks[0]) / repeats, total / repeats, run.n_steps, run.n_events, run.n_switches, run.y)
+    prof = cProfile.Profile()
+    for _ in range(repeats):
+        run.reset(0.0, sc.initial_state())
+        prof.runcall(run.advance, 2.0)
+    stats = pstats.Stats(prof).stats     # (file, line, name) -> (calls, prim, tottime, cumtime, callers)
+    inner = {k for k in stats if "propagate_until" in k[2]}
+    inside = sum(stats[k][3] for k in inner)
+    callbacks = sum(row[4][c][3] for row in stats.values() for c in row[4] if c in inner)   # Python called by it
+    return ((inside - callbacks) / repeats, total / repeats, run.n_steps, run.n_events, run.n_switches, run.y)
 
 
 def bare_run(tol, repeats=100, rounds=5, observations=True):
