@@ -87,6 +87,15 @@ def work():
     bifurc.attractors("impact-oscillator", "Omega", [1.25, 1.3, 1.35], params=OSC, box={"x": (-1.0, 2.0),
                       "v": (-2.0, 2.0)}, n_starts=50, seed=3, progress=False, workers=1)
 """),
+    "census like for like": ("the census path at the old defaults on both sides (2000 periods per start, periods up "
+                             "to 16: `budget`/`max_period`, before the step `max_periods`/`max_period`)", """
+import bifurc
+OSC = dict(w0=1.0, zeta=0.05, F=0.3, Omega=1.3, e=-1.0, r=0.8)
+KW = dict(budget=2000, max_period=16) if hasattr(bifurc, "Census") else dict(max_periods=2000, max_period=16)
+def work():
+    bifurc.attractors("impact-oscillator", "Omega", [1.25, 1.3, 1.35], params=OSC, box={"x": (-1.0, 2.0),
+                      "v": (-2.0, 2.0)}, n_starts=50, seed=3, progress=False, workers=1, **KW)
+"""),
 }
 
 _TIMER = """
