@@ -7,7 +7,8 @@ within 5 s on 2 cores), in CPU seconds, which a loaded machine inflates far less
    alternating old and new): warm zoom processes ready (:class:`bifurc.explore.compute.Spares`), then
    :class:`bifurc.explore.compute.Zoom` over 8 to 9 Hz on 200 values, polled every 0.05 s as a page does until the
    first picture: the CPU seconds of each zoom process (from ``/proc/<pid>/stat``) and of the page's process
-   (its polls, loads of the stored chunks and joins), the wall times of the first and the last stored chunk.
+   (its polls, loads of the stored chunks and joins), the wall times of the first and the last stored chunk, and
+   the CPU of one join of every chunk into the picture (:meth:`bifurc.explore.compute.Zoom.picture`, after it).
 2. The floor, in this process (the new checkout's code): 100 of the 200 values (every other one, a zoom process'
    share) as one :func:`bifurc.sweep` call with the first picture's settings, as the batch engine's orbits alone
    (:meth:`maps.StroboscopicMap.orbits`, 300 + 100 periods), and as a bare heyoka batch ensemble of the same
@@ -58,9 +59,13 @@ me1 = resource.getrusage(resource.RUSAGE_SELF)
 wall0 = time.time() - (time.perf_counter() - z.started)
 lands = sorted(os.path.getmtime(f) - wall0 for f in z.folder.glob("s0-*.pickle"))
 z.close(); spares.close()
+t = time.process_time()
+for _ in range(5):
+    z.picture()
+join = (time.process_time() - t) / 5
 print(json.dumps({"first_picture": s["seconds"], "zoom_cpu": [after[p] - before[p] for p in after],
                   "page_cpu": me1.ru_utime + me1.ru_stime - me0.ru_utime - me0.ru_stime,
-                  "first_chunk": lands[0], "last_chunk": lands[-1]}))
+                  "first_chunk": lands[0], "last_chunk": lands[-1], "join": join, "chunks": len(z.chunks)}))
 """
 
 
@@ -131,6 +136,8 @@ def main(argv=None) -> int:
         run.figure(f"{name}: last chunk stored to first picture seen (median)",
                    round(med(lambda m: m["first_picture"] - m["last_chunk"]), 2), "s")
         run.figure(f"{name}: first picture (median, loaded)", round(med(lambda m: m["first_picture"]), 2), "s")
+        run.figure(f"{name}: join of every chunk into the picture (Zoom.picture, CPU, median)",
+                   round(med(lambda m: m["join"]), 3), "s", note=f"{ms[0]['chunks']} chunks")
     fl = floor(args.rounds + 1)
     print("floor, CPU s per 100 values (best): " + ", ".join(f"{k} {v:.2f}" for k, v in fl.items()))
     for k, v in fl.items():
