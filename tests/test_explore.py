@@ -216,6 +216,10 @@ def test_served_page_hover_shows_the_stored_class_and_a_click_its_history_and_or
                      "Periodic orbit" in t and t, 90, "the time history and the orbit")
         _check_history(ds, text)
         assert re.search(rf"Periodic orbit: period {n}, {m} impacts per period, stable", text)
+        # its Floquet multipliers, one per state (4), all inside the unit circle as a stable orbit's are
+        mus = re.search(r"Floquet multipliers \|mu\| = ([^;]*);", text)
+        moduli = [float(x) for x in re.findall(r"([\d.e+-]+) \(arg", mus.group(1))] if mus else []
+        assert len(moduli) == 4 and max(moduli) < 1, mus and mus.group(1)
         _screenshot(driver, tmp_path, "explore.png")
         # the branch button, pressed in the browser: relay_hz sets the relay period under mains forcing, so its
         # continuation is refused, in one line on the status line
