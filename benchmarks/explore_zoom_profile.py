@@ -17,7 +17,6 @@ within 5 s on 2 cores), in CPU seconds, which a loaded machine inflates far less
 """
 from __future__ import annotations
 
-import argparse
 import json
 import os
 import statistics
@@ -105,15 +104,10 @@ def floor(rounds: int) -> dict:
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("old", type=Path)
-    ap.add_argument("new", type=Path)
-    ap.add_argument("--rounds", type=int, default=2)
-    ap.add_argument("--no-record", action="store_true")
-    ap.add_argument("--notes", default="", help="appended to the record's notes (what old and new are)")
-    args = ap.parse_args(argv)
     sys.path.insert(0, str(HERE))
+    from explore_zoom_compare import checkouts
     from record import Run
+    args = checkouts(__doc__, 2, argv)
     run = Run("explorer zoom: where the first picture's time goes",
               " ".join(["python benchmarks/explore_zoom_profile.py", *map(str, (argv or sys.argv[1:]))]),
               notes="CPU seconds of the zoom processes and the page's process until the first picture of 200 values "
