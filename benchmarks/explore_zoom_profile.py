@@ -8,7 +8,8 @@ within 5 s on 2 cores), in CPU seconds, which a loaded machine inflates far less
    :class:`bifurc.explore.compute.Zoom` over 8 to 9 Hz on 200 values, polled every 0.05 s as a page does until the
    first picture: the CPU seconds of each zoom process (from ``/proc/<pid>/stat``) and of the page's process
    (its polls, loads of the stored chunks and joins), the wall times of the first and the last stored chunk, and
-   the CPU of one join of every chunk into the picture (:meth:`bifurc.explore.compute.Zoom.picture`, after it).
+   the CPU of one join of every chunk into the picture (:meth:`bifurc.explore.compute.Zoom.picture`, after it);
+   the first round's pictures compared value by value, bit for bit (class, period, impacts, strobe states).
 2. The floor, in this process (the new checkout's code): 100 of the 200 values (every other one, a zoom process'
    share) as one :func:`bifurc.sweep` call with the first picture's settings, as the batch engine's orbits alone
    (:meth:`maps.StroboscopicMap.orbits`, 300 + 100 periods), and as a bare heyoka batch ensemble of the same
@@ -28,7 +29,7 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 
 CODE = r"""
-import json, os, resource, tempfile, time
+import json, os, pickle, resource, sys, tempfile, time
 import numpy as np, maps, bifurc
 from bifurc.explore import compute
 folder = tempfile.mkdtemp()
@@ -62,17 +63,37 @@ t = time.process_time()
 for _ in range(5):
     z.picture()
 join = (time.process_time() - t) / 5
+with open(sys.argv[1], "wb") as f:
+    pickle.dump(z.picture(), f)
 print(json.dumps({"first_picture": s["seconds"], "zoom_cpu": [after[p] - before[p] for p in after],
                   "page_cpu": me1.ru_utime + me1.ru_stime - me0.ru_utime - me0.ru_stime,
                   "first_chunk": lands[0], "last_chunk": lands[-1], "join": join, "chunks": len(z.chunks)}))
 """
 
 
-def zoom(checkout: Path) -> dict:
+def zoom(checkout: Path, picture: Path) -> dict:
+    """One zoom in ``checkout``; its first picture pickled to ``picture``."""
     env = dict(os.environ, PYTHONPATH=str(checkout), MPLBACKEND="Agg")
-    out = subprocess.run([sys.executable, "-c", CODE], cwd=checkout, env=env, capture_output=True, text=True,
-                         check=True)
+    out = subprocess.run([sys.executable, "-c", CODE, str(picture)], cwd=checkout, env=env, capture_output=True,
+                         text=True, check=True)
     return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def differing(a: Path, b: Path) -> int:
+    """Values whose first picture differs between two pickled pictures (class, period, impacts, strobe states;
+    bit for bit, NaN equal to NaN)."""
+    import pickle
+
+    import numpy as np
+    with open(a, "rb") as fa, open(b, "rb") as fb:
+        x, y = pickle.load(fa), pickle.load(fb)
+    assert np.array_equal(x.relay_hz.values, y.relay_hz.values)
+    bad = np.zeros(x.sizes["relay_hz"], bool)
+    for name in ("class_code", "period", "impacts_per_period", "x", "v"):
+        u, w = x[name].transpose("relay_hz", ...).values, y[name].transpose("relay_hz", ...).values
+        same = (u == w) | (np.isnan(u) & np.isnan(w)) if u.dtype.kind == "f" else u == w
+        bad |= ~same.reshape(same.shape[0], -1).all(axis=1)
+    return int(bad.sum())
 
 
 def floor(rounds: int) -> dict:
@@ -112,11 +133,13 @@ def main(argv=None) -> int:
               " ".join(["python benchmarks/explore_zoom_profile.py", *map(str, (argv or sys.argv[1:]))]),
               notes="CPU seconds of the zoom processes and the page's process until the first picture of 200 values "
                     "(300 + 100 relay periods), and the floor of 100 values (a zoom process' share). " + args.notes)
+    import tempfile
+    folder = tempfile.mkdtemp(prefix="bifurc-zoom-profile-")
     got: dict = {"old": [], "new": []}
     for r in range(args.rounds):
         for name in (("old", "new") if r % 2 == 0 else ("new", "old")):
             load = os.getloadavg()[0]
-            m = zoom(getattr(args, name))
+            m = zoom(getattr(args, name), Path(folder) / f"{name}-{r}.pickle")
             got[name].append(m)
             print(f"round {r + 1} {name}: first picture {m['first_picture']:.2f} s, zoom processes "
                   f"{' + '.join(f'{x:.2f}' for x in m['zoom_cpu'])} CPU s, page {m['page_cpu']:.2f} CPU s, chunks "
@@ -132,6 +155,10 @@ def main(argv=None) -> int:
         run.figure(f"{name}: first picture (median, loaded)", round(med(lambda m: m["first_picture"]), 2), "s")
         run.figure(f"{name}: join of every chunk into the picture (Zoom.picture, CPU, median)",
                    round(med(lambda m: m["join"]), 3), "s", note=f"{ms[0]['chunks']} chunks")
+    diff = differing(Path(folder) / "old-0.pickle", Path(folder) / "new-0.pickle")
+    print(f"values whose first picture differs, new against old (first round): {diff} of 200")
+    run.figure("values whose first picture differs, new against old (class, period, impacts, strobe states, bit for "
+               "bit; first round)", diff, "values", note="of 200")
     fl = floor(args.rounds + 1)
     print("floor, CPU s per 100 values (best): " + ", ".join(f"{k} {v:.2f}" for k, v in fl.items()))
     for k, v in fl.items():
