@@ -1,7 +1,7 @@
 """A zoom's first progress and first picture on two checkouts, interleaved (issue 49: first picture <= 5 s for 200
 values of the main job, progress from the first second).
 
-    python benchmarks/explore_zoom_compare.py OLD_CHECKOUT NEW_CHECKOUT [--rounds 3] [--no-record]
+    python benchmarks/explore_zoom_compare.py OLD_CHECKOUT NEW_CHECKOUT [--rounds 3] [--warm-both] [--no-record]
 
 Each measurement is a fresh process in the checkout (``PYTHONPATH`` set to it): a one-value stored diagram of the
 main job's problem (8.5 Hz), then :class:`bifurc.explore.compute.Zoom` over 8 to 9 Hz on 200 values, timed from the
@@ -9,6 +9,8 @@ zoom's start to its first stored chunk ("first progress") and to its first pictu
 relay periods, no extension).  Where the checkout has :class:`bifurc.explore.compute.Spares` (warm zoom processes,
 started after the page's first click), a second figure "new, warm" waits for them to be ready before the zoom, as
 on a page a few seconds after a click.  Rounds alternate old, new, new warm so that a burst of load falls on all.
+With ``--warm-both`` both checkouts run with their warm processes ready ("old, warm" and "new, warm", the order
+reversed every other round), for two checkouts that both have them.
 """
 from __future__ import annotations
 
@@ -61,23 +63,35 @@ def measure(checkout: Path, warm: bool) -> dict:
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
-def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+def checkouts(doc: str, rounds: int, argv=None, more=()) -> argparse.Namespace:
+    """The arguments of a benchmark of two checkouts: old, new, --rounds, --no-record, --notes (and ``more``
+    flags, each off by default)."""
+    ap = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("old", type=Path)
     ap.add_argument("new", type=Path)
-    ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--rounds", type=int, default=rounds)
     ap.add_argument("--no-record", action="store_true")
-    args = ap.parse_args(argv)
+    ap.add_argument("--notes", default="", help="appended to the record's notes (what old and new are)")
+    for flag in more:
+        ap.add_argument(flag, action="store_true")
+    return ap.parse_args(argv)
+
+
+def main(argv=None, script: str = "explore_zoom_compare.py") -> int:
+    args = checkouts(__doc__, 3, argv, more=("--warm-both",))
     sys.path.insert(0, str(Path(__file__).resolve().parent))
     from record import Run
-    run = Run("explorer zoom: old and new interleaved", " ".join(["python benchmarks/explore_zoom_compare.py",
+    run = Run("explorer zoom, warm processes: old and new interleaved" if args.warm_both else
+              "explorer zoom: old and new interleaved", " ".join([f"python benchmarks/{script}",
                                                                   *map(str, (argv or sys.argv[1:]))]),
               notes="issue 49: a zoom over 200 values of the main job shows a first picture within 5 s, progress "
-                    "from the first second; 1000 such values took 12.3 s idle at b962ece (about 2.5 s for 200)")
-    sides = {"old": (args.old, False), "new": (args.new, False), "new, warm": (args.new, True)}
+                    "from the first second; 1000 such values took 12.3 s idle at b962ece (about 2.5 s for 200)" +
+                    (f"; {args.notes}" if args.notes else ""))
+    sides = {"old, warm": (args.old, True), "new, warm": (args.new, True)} if args.warm_both else \
+        {"old": (args.old, False), "new": (args.new, False), "new, warm": (args.new, True)}
     got: dict = {k: [] for k in sides}
     for r in range(args.rounds):
-        for name, (checkout, warm) in sides.items():
+        for name, (checkout, warm) in (list(sides.items())[::-1] if r % 2 else sides.items()):
             load = os.getloadavg()[0]
             m = measure(checkout, warm)
             got[name].append(m)
@@ -89,9 +103,12 @@ def main(argv=None) -> int:
             print(f"{name:10s} {key}: best {min(vals):.2f} s, median {statistics.median(vals):.2f} s")
             run.figure(f"zoom 200 values, {name}: {key.replace('_', ' ')} (median of {len(vals)})",
                        round(statistics.median(vals), 2), "s", target="5 s" if key == "first_picture" else "1 s")
-    old, new = (statistics.median(m["first_picture"] for m in got[k]) for k in ("old", "new, warm"))
-    print(f"first picture new warm / old: {new / old:.3f}")
-    run.figure("first picture: new warm / old (medians)", round(new / old, 3), "")
+    base = "old, warm" if args.warm_both else "old"
+    old, new = (statistics.median(m["first_picture"] for m in got[k]) for k in (base, "new, warm"))
+    ratios = [n["first_picture"] / o["first_picture"] for o, n in zip(got[base], got["new, warm"])]
+    print(f"first picture new warm / {base}: medians {new / old:.3f}, per round "
+          f"{', '.join(f'{x:.3f}' for x in ratios)}")
+    run.figure(f"first picture: new warm / {base} (medians)", round(new / old, 3), "")
     if not args.no_record:
         print(f"wrote {run.write()}")
     return 0

@@ -216,6 +216,10 @@ def test_served_page_hover_shows_the_stored_class_and_a_click_its_history_and_or
                      "Periodic orbit" in t and t, 90, "the time history and the orbit")
         _check_history(ds, text)
         assert re.search(rf"Periodic orbit: period {n}, {m} impacts per period, stable", text)
+        # its Floquet multipliers, one per state (4), all inside the unit circle as a stable orbit's are
+        mus = re.search(r"Floquet multipliers \|mu\| = ([^;]*);", text)
+        moduli = [float(x) for x in re.findall(r"([\d.e+-]+) \(arg", mus.group(1))] if mus else []
+        assert len(moduli) == 4 and max(moduli) < 1, mus and mus.group(1)
         _screenshot(driver, tmp_path, "explore.png")
         # the branch button, pressed in the browser: relay_hz sets the relay period under mains forcing, so its
         # continuation is refused, in one line on the status line
@@ -453,14 +457,14 @@ def test_relay_frequency_has_no_branch_and_says_so_in_one_line(stored):
 
 
 def test_a_zoom_streams_its_chunks_and_labels_the_stored_value_alike(stored):
-    """Six values up to 8.5 Hz in two warm zoom processes (chunks of 5): the picture grows chunk by chunk, both
+    """Six values up to 8.5 Hz in two warm zoom processes (chunks of 4): the picture grows chunk by chunk, both
     stages finish, every value is there once in order, and 8.5 Hz gets the stored class and the stored strobe
     points at each stage (the stored diagram was swept with the same transient, record and budget)."""
     from bifurc.explore.compute import ZOOM_CHUNK, Computer, Spares, Zoom
     ds = bifurc.load(stored)
     c = Computer(ds)
     spares = Spares(c, workers=2).fill()
-    values = np.linspace(8.4, 8.5, 6)                       # two chunks: 5 and 1 values (8.5 Hz alone)
+    values = np.linspace(8.4, 8.5, 6)                       # two chunks: 4 and 2 values
     z = Zoom(c, 8.4, 8.5, 6, workers=2, spares=spares)
     assert len(z.children) == 2 and not spares.children  # both taken
     sizes, at_stage = [], {}
@@ -479,7 +483,7 @@ def test_a_zoom_streams_its_chunks_and_labels_the_stored_value_alike(stored):
         z.close()
         spares.close()
     assert not z.folder.exists() and not spares.dir.exists()
-    assert ZOOM_CHUNK == 5 and sizes[0] in (1, 5) and sizes[-1] == 6 and 1 in at_stage and 2 in at_stage
+    assert ZOOM_CHUNK == 4 and sizes[0] in (2, 4, 6) and sizes[-1] == 6 and 1 in at_stage and 2 in at_stage
     code, n, m = _expected(ds, CLICKED)
     for stage in (1, 2):
         zd = at_stage[stage]
@@ -488,6 +492,46 @@ def test_a_zoom_streams_its_chunks_and_labels_the_stored_value_alike(stored):
         assert (int(got.class_code), int(got.period), int(got.impacts_per_period)) == (code, n, m)
         stored_x = ds.isel(branch=0).sel(relay_hz=CLICKED).x.values
         assert np.allclose(got.x.values, stored_x, rtol=1e-9, atol=1e-12, equal_nan=True)
+
+
+def test_a_zooms_first_picture_is_a_plain_sweep_of_the_same_values(stored):
+    """40 values in two warm zoom processes, whose first picture sweeps groups of up to 6 chunks of 4 values in one
+    call each (claimed in turn, :func:`zoom_groups`), split back into chunks: every value's class, period, impacts
+    and strobe points are those of one plain sweep of the 40 values at the same 300 + 100 periods without
+    extension, exponent or grazing search (the batch engine's lanes are independent, so a value's batch-mates do
+    not change it)."""
+    from bifurc.explore.compute import ZOOM_CHUNK, ZOOM_GROUP, Computer, Spares, Zoom, zoom_groups
+    groups = zoom_groups(10, 2, ZOOM_GROUP)
+    assert groups == [(0, 1), (1, 2), (2, 4), (4, 6), (6, 7), (7, 8), (8, 9), (9, 10)]   # ceil(r / 4), r left
+    assert zoom_groups(50, 2, 6)[:4] == [(0, 1), (1, 2), (2, 8), (8, 14)] and zoom_groups(50, 2, 6)[-1] == (49, 50)
+    c = Computer(bifurc.load(stored))
+    spares = Spares(c, workers=2).fill()
+    z = Zoom(c, 8.0, 8.5, 40, workers=2, spares=spares)
+    try:
+        end = time.monotonic() + 240
+        while time.monotonic() < end:
+            s = z.poll()
+            assert not s["error"], s["error"]
+            if s["stage"] >= 1:
+                break
+            time.sleep(0.1)
+        got = z.picture()
+        assert s["stage"] >= 1 and len(z.chunks) == 40 // ZOOM_CHUNK
+    finally:
+        z.close()
+        spares.close()
+    pb = __import__("maps").problem("thesis-1dof", preset="matlab-listing", params={"V": 90})
+    values = np.linspace(8.0, 8.5, 40)                      # 8.5 Hz periodic (period 17), the rest not yet
+    plain = bifurc.sweep(pb, "relay_hz", values, bifurc.Diagram(transient=300, record=100, budget=400, lyapunov=False,
+                                                                grazing=False, error_sample=0),
+                         run=bifurc.Run(workers=1, progress=False)).isel(branch=0)
+    got = got.isel(branch=0)
+    assert np.array_equal(got.relay_hz.values, values)
+    for name in ("class_code", "period", "impacts_per_period"):
+        assert np.array_equal(got[name].values, plain[name].values), name
+    assert len(set(plain.class_code.values.tolist())) > 1          # more than one class in the range
+    assert np.allclose(got.x.values, plain.x.values, rtol=1e-12, atol=1e-15, equal_nan=True)
+    assert "impact" not in got.dims                                # not drawn: dropped before the pickle
 
 
 def test_a_newer_click_makes_the_older_one_stale(stored):
@@ -525,8 +569,8 @@ def test_a_zoom_repaints_the_page_from_its_first_chunk_and_its_values_are_clicke
             assert not ex.status.startswith("zoom failed"), ex.status
             time.sleep(0.1)
         assert "anytime labels shown" in ex.status, ex.status
-        # chunks of 5 and 1 values: the first repaint shows one of them, or both when they landed between two polls
-        assert painted[0] in (1, 5, 6) and painted[-1] == 6, painted
+        # chunks of 4 and 2 values: the first repaint shows one of them, or both when they landed between two polls
+        assert painted[0] in (2, 4, 6) and painted[-1] == 6, painted
         ex.select(CLICKED, wait=True)
         _check_history(ds, ex.history_text)
     finally:

@@ -384,8 +384,12 @@ def branch_points(br, state: str) -> tuple[np.ndarray, np.ndarray]:
     return np.repeat(p, y.shape[1])[keep.ravel()], y[keep]
 
 
-#: values per chunk of a zoom: each chunk is swept and stored on its own, so the page repaints as they land
-ZOOM_CHUNK = 5
+#: values per chunk of a zoom: each chunk is stored on its own, so the page repaints as they land; a multiple of
+#: the batch engine's 4 SIMD lanes (a chunk of 5 ran its fifth value alone on 4 lanes: 2 passes for 5 values)
+ZOOM_CHUNK = 4
+#: at most this many chunks swept together (one :func:`bifurc.sweep` call, then stored chunk by chunk) in a zoom's
+#: first picture: a call and its dataset cost about 0.05 s, paid once per group instead of once per chunk
+ZOOM_GROUP = 6
 #: values of a zoomed census and values per chunk (each chunk is a census of its own)
 ZOOM_CENSUS_VALUES, ZOOM_CENSUS_CHUNK = 20, 4
 #: at most this many fresh starts per value in a zoomed census (fewer than a stored census with many)
@@ -470,8 +474,8 @@ def _plan(kind, computer, method, stages, warm, **more) -> dict:
     the parameter(s), the settings shared by the stages and each stage's, and ``warm``: the one-point task that
     compiles the integrators before any zoom."""
     return dict({"kind": kind, "problem": computer.kwargs, "param": computer.param, "param2": None, "method": method,
-                 "stages": stages, "chunk": ZOOM_CHUNK, "unit": "values", "warm": warm, "starts": None, "note": ""},
-                **more)
+                 "stages": stages, "chunk": ZOOM_CHUNK, "group": ZOOM_GROUP, "unit": "values", "warm": warm,
+                 "starts": None, "note": ""}, **more)
 
 
 def diagram_plan(computer) -> dict:
@@ -496,7 +500,7 @@ def census_plan(computer, limit: int = ZOOM_STARTS) -> dict:
     return _plan("census", computer, settings, [["census", {}]],
                  {"values": [float(computer.values[0])], "settings": {"budget": min(settings.get("budget", 200), 200)},
                   "starts": {"kind": "given", "points": first}},
-                 chunk=ZOOM_CENSUS_CHUNK, starts=starts, note=note, n_starts=n)
+                 chunk=ZOOM_CENSUS_CHUNK, group=1, starts=starts, note=note, n_starts=n)
 
 
 def _zoom_task(plan: dict, pb, values, settings: dict, values2=None, starts=None):
@@ -612,8 +616,10 @@ class Zoom:
     """A range of a stored diagram, census or regime map computed anew through the public API (the computer's
     :meth:`zoom_plan`: :func:`bifurc.sweep`, :func:`bifurc.attractors`, or :func:`bifurc.regime_map` over the
     rectangle ``second`` = (lo2, hi2, n2) of the second parameter) by one process per worker (warm ones from
-    :class:`Spares` when given, else new ones), each running every ``workers``-th chunk of the plan's values and
-    storing each chunk as it ends, stage by stage: for a diagram and a map, first the first picture of all its
+    :class:`Spares` when given, else new ones), each claiming the next group of chunks of the plan's values as it
+    ends its last (:func:`zoom_groups`; the first picture's groups hold up to ``plan["group"]`` chunks, the other
+    stages' one) and storing each chunk as its group ends, stage by stage: for a diagram and a map, first the
+    first picture of all its
     chunks (the dataset's transient and record, no extension, no exponent and no grazing search), then their
     anytime labels (undecided values extended up to the dataset's budget); for a census, one stage.
     :meth:`poll` gathers the chunks stored so far into one dataset (each value at its latest stage), so the page
@@ -648,9 +654,11 @@ class Zoom:
         self.children = spares.take(k) if spares is not None else []
         while len(self.children) < k:
             self.children.append(_start_child(plan, self.folder))
-        for w, child in enumerate(self.children):
-            job = {"folder": str(self.folder), "values": self.values.tolist(), "chunks": self.chunks[w::k],
-                   "chunk": step, "values2": None if self.values2 is None else self.values2.tolist()}
+        groups = [zoom_groups(len(self.chunks), k, plan.get("group", 1) if s == 0 else 1)
+                  for s in range(len(self.stages))]
+        job = {"folder": str(self.folder), "values": self.values.tolist(), "chunks": self.chunks, "groups": groups,
+               "values2": None if self.values2 is None else self.values2.tolist()}
+        for child in self.children:
             child.stdin.write((json.dumps(job) + "\n").encode())
             child.stdin.close()
         self._stage_of = np.full(len(self.chunks), -1)         # the latest stage stored, per chunk
@@ -680,26 +688,23 @@ class Zoom:
             if stage > self._stage_of[chunk]:
                 self._stage_of[chunk] = stage
                 with open(f, "rb") as fh:           # written by this zoom's own processes, in its private folder
-                    part = pickle.load(fh)
-                if self.kind != "census":
-                    keep = {"branch", self.param, "sample", self.param2}
-                    part = part.drop_vars([k for k, v in part.variables.items() if not set(v.dims) <= keep])
-                self._parts[chunk] = part
+                    self._parts[chunk] = pickle.load(fh)
                 new = True
         return new
 
     def picture(self):
         """The chunks stored so far as one dataset of the stored kind (each value at its latest stage), or None
         before the first.  A diagram's or map's variables along the parameter are joined array by array
-        (xarray's concat of 40 chunks costs 0.5 s, paid again at each new chunk); a census' with
-        :func:`join_censuses`."""
+        (xarray's concat of 40 chunks costs 0.5 s, paid again at each new chunk), from each part's variables
+        (``part[name]`` builds a DataArray with its coordinates: 50 chunks of 40 variables cost 0.5 s); a census'
+        with :func:`join_censuses`."""
         import xarray as xr
         if not self._parts:
             return None
-        parts = [self._parts[c] for c in sorted(self._parts)]
+        parts = [self._parts[c].variables for c in sorted(self._parts)]
         if self.kind == "census":
-            return join_censuses(parts)
-        first, par = parts[0], self.param
+            return join_censuses([self._parts[c] for c in sorted(self._parts)])
+        first, par = self._parts[min(self._parts)], self.param
 
         def join(name, v):
             if par not in v.dims:
@@ -799,10 +804,10 @@ def join_censuses(parts):
 def zoom_worker() -> None:
     """A zoom process (``python -c ... <ready folder>``, see :func:`_start_child`): the first line on its standard
     input is its page's zoom plan (:func:`_plan`), whose one-point task it runs to compile the integrators; the
-    second, a zoom's job (folder, values, its chunks), runs the plan's task on each of its chunks at each stage
-    and stores it as ``s<stage>-c<chunk>.pickle`` in the folder (atomically: the page never reads half a file).
-    It ends after the chunk it is on when the page's process has ended (in its own process group, nothing else
-    would stop it)."""
+    second, a zoom's job (folder, values, chunks, each stage's groups of chunks), runs the plan's task on each
+    group it claims at each stage and stores each chunk as ``s<stage>-c<chunk>.pickle`` in the folder
+    (atomically: the page never reads half a file).  It ends after the group it is on when the page's process has
+    ended (in its own process group, nothing else would stop it)."""
     import maps
     parent = os.getppid()
     plan = json.loads(sys.stdin.readline())
@@ -822,16 +827,53 @@ def zoom_worker() -> None:
         sys.exit(2)
 
 
+def zoom_groups(n: int, workers: int, cap: int) -> list[tuple[int, int]]:
+    """A stage's ``n`` chunks as consecutive groups [i, j) of chunks, which the zoom's ``workers`` processes claim
+    in order, each as it ends its last (:func:`_run_job`): one chunk each first (the first progress within a
+    second), then guided self-scheduling (the next group of the r chunks left holds ceil(r / (2 workers)) of them,
+    at most ``cap``), down to one chunk at the end, so that the processes finish together."""
+    out, i = [], 0
+    while i < n:
+        size = 1 if len(out) < workers else max(1, min(int(cap), math.ceil((n - i) / (2 * workers))))
+        out.append((i, min(n, i + size)))
+        i += size
+    return out
+
+
+def _claim(path: Path) -> bool:
+    """True for the one process that creates ``path`` (a group of chunks is then its to run)."""
+    try:
+        os.close(os.open(path, os.O_CREAT | os.O_EXCL | os.O_WRONLY))
+    except FileExistsError:
+        return False
+    return True
+
+
+def _drawn(ds, plan: dict):
+    """What the page draws and clicks of a diagram's or map's chunk: the variables along the parameter(s), the
+    branch and the strobe samples (the impacts' own dimensions dropped before the pickle, not after it)."""
+    if plan["kind"] == "census":
+        return ds
+    keep = {"branch", plan["param"], "sample", plan["param2"]}
+    return ds.drop_vars([k for k, v in ds.variables.items() if not set(v.dims) <= keep])
+
+
 def _run_job(plan: dict, pb, job: dict, parent: int) -> None:
-    """A zoom process' job: each of its chunks at each stage, stored as it ends (:func:`zoom_worker`)."""
-    folder, values = Path(job["folder"]), np.asarray(job["values"])
+    """A zoom process' job: at each stage, the groups of chunks it claims first (:func:`zoom_groups`), each run
+    as one task of the plan and stored chunk by chunk as it ends (:func:`zoom_worker`)."""
+    folder, values, chunks = Path(job["folder"]), np.asarray(job["values"]), job["chunks"]
     for s, (_, settings) in enumerate(plan["stages"]):
-        for a, b in job["chunks"]:
+        for g, (i, j) in enumerate(job["groups"][s]):
             if os.getppid() != parent:
                 return                  # the page's process ended (Ctrl-C, a closed server): nobody to show it to
-            out = folder / f"s{s}-c{a // job['chunk']:04d}.pickle"
-            ds = _zoom_task(plan, pb, values[a:b], dict(plan["method"], **settings), values2=job["values2"],
-                            starts=plan["starts"])
-            with open(folder / f"tmp-{out.name}", "wb") as f:     # a pickle: a netCDF file costs 0.3 s to write
-                pickle.dump(ds, f, protocol=pickle.HIGHEST_PROTOCOL)
-            os.replace(folder / f"tmp-{out.name}", out)
+            if not _claim(folder / f"claim-s{s}-g{g:04d}"):
+                continue
+            a, b = chunks[i][0], chunks[j - 1][1]
+            ds = _drawn(_zoom_task(plan, pb, values[a:b], dict(plan["method"], **settings), values2=job["values2"],
+                                   starts=plan["starts"]), plan)
+            for c in range(i, j):
+                part = ds if j - i == 1 else ds.isel({plan["param"]: slice(chunks[c][0] - a, chunks[c][1] - a)})
+                out = folder / f"s{s}-c{c:04d}.pickle"
+                with open(folder / f"tmp-{out.name}", "wb") as f:     # a pickle: a netCDF file costs 0.3 s to write
+                    pickle.dump(part, f, protocol=pickle.HIGHEST_PROTOCOL)
+                os.replace(folder / f"tmp-{out.name}", out)
