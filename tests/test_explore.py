@@ -637,3 +637,17 @@ def test_a_census_zooms_chunks_join_with_each_start_at_its_attractor(census):
         (n, stored) == (25, 36)
     boxed = ds.assign_attrs(starts_sampler="Box(n=200, box=None, seed=7)", fresh_starts=200)
     assert zoom_starts(boxed, ["x", "v"])[0] == {"kind": "box", "n": 25, "box": None, "seed": 7}
+
+
+def test_a_zoom_process_imports_the_pages_bifurc_not_a_checkout_in_its_working_folder(tmp_path):
+    """A zoom process runs ``python -c`` from the page's working folder; a `bifurc` package there (another checkout)
+    must not shadow the one the page runs."""
+    import subprocess
+    import bifurc
+    from bifurc.explore.compute import child_argv
+    (tmp_path / "bifurc").mkdir()
+    (tmp_path / "bifurc" / "__init__.py").write_text("raise SystemExit('the checkout in the working folder')\n")
+    out = subprocess.run(child_argv("import bifurc; print(bifurc.__file__)"), cwd=tmp_path, capture_output=True,
+                         text=True, env={k: v for k, v in os.environ.items() if k != "PYTHONPATH"})
+    assert out.returncode == 0, out.stderr
+    assert Path(out.stdout.strip()).resolve() == Path(bifurc.__file__).resolve()

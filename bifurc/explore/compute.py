@@ -520,14 +520,25 @@ def _zoom_task(plan: dict, pb, values, settings: dict, values2=None, starts=None
     return sweep(pb, plan["param"], values, Diagram(**settings), run=run)
 
 
+#: the folder holding this bifurc package: a zoom process imports it from there, not a checkout in its working folder
+_PACKAGE_ROOT = str(Path(__file__).resolve().parents[2])
+
+
+def child_argv(code: str, *args: str) -> list[str]:
+    """``python -c code args...`` with this bifurc's folder first on the child's path (``-c`` puts the working
+    folder first, where another checkout would shadow the page's code)."""
+    return [sys.executable, "-c", f"import sys; sys.path.insert(0, {_PACKAGE_ROOT!r}); {code}", *args]
+
+
 def _start_child(warm: dict, ready_dir: Path) -> subprocess.Popen:
-    """One zoom process, in its own process group: it imports bifurc, rebuilds the problem and compiles its
+    """One zoom process, in its own process group: it imports this bifurc (from :data:`_PACKAGE_ROOT`, first on its
+    path: ``python -c`` would otherwise put its working folder first), rebuilds the problem and compiles its
     integrators on a one-value first picture (then touches ``ready-<pid>`` in ``ready_dir``), and waits on its
     standard input for a zoom's job (:func:`zoom_worker`)."""
     err = Path(tempfile.mkstemp(prefix="stderr-", suffix=".txt", dir=ready_dir)[1])
     with open(err, "wb") as sink:
-        child = subprocess.Popen([sys.executable, "-c", "from bifurc.explore.compute import zoom_worker; "
-                                  "zoom_worker()", str(ready_dir)], start_new_session=True, stdin=subprocess.PIPE,
+        child = subprocess.Popen(child_argv("from bifurc.explore.compute import zoom_worker; zoom_worker()",
+                                            str(ready_dir)), start_new_session=True, stdin=subprocess.PIPE,
                                  stdout=subprocess.DEVNULL, stderr=sink)
     child.err_path = err
     child.stdin.write((json.dumps(warm) + "\n").encode())
