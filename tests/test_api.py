@@ -591,3 +591,16 @@ def test_no_test_asserts_a_wall_time(tmp_path):
         "code, seconds = run()\nassert seconds < LIMIT\nassert 0 < ds.attrs['sweep_seconds'] < 60\n"
         "assert ds.attrs['sweep_seconds'] > 0 and est['seconds'] < 60\n")
     assert [int(r.split(" ", 1)[0].rsplit(":", 1)[1]) for r in _wall_time_asserts(tmp_path)] == [6, 7, 13, 14]
+
+
+def test_help_on_the_census_shows_its_parameters_and_importing_it_stays_light():
+    """G7: ``help(bifurc.attractors)`` printed only the package's text; it now also gives the census' parameters (the
+    text Jupyter's Shift-Tab shows), read only when asked: importing the package loads none of its modules."""
+    import pydoc
+    text = pydoc.render_doc(bifurc.attractors, renderer=pydoc.plaintext)
+    for entry in ("problem : ", "values : ", "method : ", "starts : ", "match : ", "run : ", "**options", "Returns"):
+        assert entry in text, entry
+    code = "import sys, bifurc.attractors\nassert not [m for m in sys.modules if m.startswith('bifurc.attractors.')]"
+    r = subprocess.run([sys.executable, "-c", code], env=dict(os.environ, PYTHONPATH=str(ROOT)), capture_output=True,
+                       text=True, timeout=60)
+    assert r.returncode == 0, r.stderr

@@ -26,5 +26,14 @@ class _CallablePackage(types.ModuleType):
         from .atlas import attractors
         return inspect.signature(attractors)
 
+    @property
+    def __doc__(self):
+        """The package's text and the census' own parameters (``help(bifurc.attractors)``, Jupyter's Shift-Tab:
+        G7 of newcomer review 4); read only when asked, so importing the package stays light."""
+        import inspect
+
+        from .atlas import attractors
+        return f"{self.__dict__.get('__doc__') or ''}\n{inspect.getdoc(attractors)}"
+
 
 sys.modules[__name__].__class__ = _CallablePackage
