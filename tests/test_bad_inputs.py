@@ -30,8 +30,9 @@ from data.bad_inputs import API, API4, CLI, CLI4, CONT, MAP, QUICK, QUICK4, SIM,
 
 
 ROOT = Path(__file__).resolve().parents[1]
-#: seconds after which a row is a hang (no test asserts a wall time: benchmarks/wall_times.py times the rows)
-HANG = 60
+#: seconds after which a row is a hang: a refusal, or a row that computes (the slow rows: a small diagram, a census,
+#: a branch, at load 8 beside other runs); no test asserts a wall time: benchmarks/wall_times.py times the rows
+HANG, HANG_COMPUTING = 60, 900
 
 
 def _mount_tmpfs(where: Path, options: str) -> bool:
@@ -100,12 +101,12 @@ def socket_port():
     yield port       # closed: nothing listens there
 
 
-def _run(argv):
+def _run(argv, hang=HANG):
     """(exit code, stdout, stderr) of one command line; (None, "", "timeout") for a hang."""
     env = dict(os.environ, PYTHONPATH=str(ROOT))
     try:
         r = subprocess.run([sys.executable, "-m", "bifurc", *argv], env=env, capture_output=True, text=True,
-                           timeout=HANG)
+                           timeout=hang)
         return r.returncode, r.stdout, r.stderr
     except subprocess.TimeoutExpired:
         return None, "", "timeout"
@@ -117,8 +118,9 @@ def results(files, request):
     slow = request.config.getoption("--runslow")
     rows = {r[0]: [a.format(**files) for a in r[1]] for r in CLI + CLI4
             if (slow or r[0] in QUICK | QUICK4) and not ("{full}" in " ".join(r[1]) and files["full"] is None)}
+    hangs = [HANG_COMPUTING if "slow" in r[4:] else HANG for r in CLI + CLI4 if r[0] in rows]
     with ThreadPoolExecutor(max_workers=2) as pool:
-        done = dict(zip(rows, pool.map(_run, rows.values())))
+        done = dict(zip(rows, pool.map(_run, rows.values(), hangs)))
     return done
 
 
