@@ -168,3 +168,27 @@ def test_every_command_a_help_text_names_exists():
              for m in re.finditer(r"bifurc\s+([a-z][a-z-]*)", " ".join(sp.format_help().split()))}
     assert ("attractors", "continue") in named          # the --refine-from help names its source
     assert {w for _, w in named} <= set(sub), sorted((n, w) for n, w in named if w not in sub)
+
+
+def test_the_census_command_has_the_api_s_defaults():
+    """G7 (newcomer review 4): the API drew 100 starts and the command line 200. Every setting the command line
+    builds from its defaults is the API's default object: the census method, the matcher, the sampler (200 starts,
+    seed 0) and the diagram's method."""
+    from bifurc.attractors.method import ByDistance, Census, sampler_of
+    from bifurc.commands._options import settings_from_args
+    args = cli.build_parser().parse_args(["attractors", "--from", "1", "--to", "1", "-o", "x.nc"])
+    assert settings_from_args(Census, args) == Census() and settings_from_args(ByDistance, args) == ByDistance()
+    assert sampler_of(None, {}) == bifurc.Box(n=args.starts, seed=args.seed) == bifurc.Box(n=200, seed=0)
+    args = cli.build_parser().parse_args(["diagram", "--from", "1", "--to", "2", "-o", "x.nc"])
+    assert settings_from_args(bifurc.Diagram, args) == bifurc.Diagram()
+
+
+def test_no_option_is_another_s_plural():
+    """G8: `--max-periods` (the budget) and `--max-period` (the longest period searched) differed by one letter;
+    the budget is `--budget` now, in every verb."""
+    sub = cli.build_parser()._subparsers._group_actions[0].choices
+    pairs = [(name, o) for name, sp in sub.items() for act in sp._actions for o in act.option_strings
+             if o.endswith("s") and o[:-1] in {s for a in sp._actions for s in a.option_strings}]
+    assert not pairs, pairs
+    census = " ".join(sub["attractors"].format_help().split())
+    assert "--budget BUDGET" in census and "--max-period MAX_PERIOD" in census and "--max-periods" not in census

@@ -140,3 +140,44 @@ def test_the_duplicates_page_cites_only_files_and_names_that_exist():
     rows = re.findall(r"^\| (N\d|D\d+) \|", text, flags=re.M)
     assert rows == ["N1", "N2", "N3", "N4", "N5", "N6", "N7", "D1", "D2", "D3", "D5", "D8", "D9", "D11", "D12",
                     "D15"], rows
+
+
+def _cited_tests(page: str) -> tuple:
+    """The tests a page cites: ``tests/FILE.py::name`` (``::name`` alone continues the last file of its line), a bare
+    ``test_name``, and ``tests/FILE.py``; returns (cited, missing), a parametrized id's ``[...]`` ignored."""
+    import ast
+    defined = {p.name: {n.name for n in ast.walk(ast.parse(p.read_text())) if isinstance(n, ast.FunctionDef)}
+               for p in (ROOT / "tests").glob("test_*.py")}
+    everywhere = set().union(*defined.values())
+    cited, missing = [], []
+    for line in (DOCS / page).read_text().splitlines():
+        current = None
+        for ref in re.findall(r"`([^`]+)`", line):
+            if m := re.fullmatch(r"tests/(test_\w+\.py)(?:::(\w+)(?:\[[^\]]*\])?)?", ref):
+                current, name = m.group(1), m.group(2)
+                cited.append(ref)
+                if current not in defined or (name and name not in defined[current]):
+                    missing.append(ref)
+            elif m := re.fullmatch(r"::(test_\w+)(?:\[[^\]]*\])?", ref):
+                cited.append(f"{current}{ref}")
+                if current not in defined or m.group(1) not in defined[current]:
+                    missing.append(f"{current}{ref}")
+            elif m := re.fullmatch(r"(test_\w+)(?:\[[^\]]*\])?", ref):
+                cited.append(ref)
+                if m.group(1) not in everywhere:
+                    missing.append(ref)
+    return cited, missing
+
+
+def test_the_newcomer_answers_cite_tests_that_exist_and_answer_every_finding_of_review_4():
+    """docs/newcomer-answers.md names, for each finding, the test that covers it: every cited test file and test
+    function exists (a renamed test fails here until the page follows), and its section on review 4 has one row per
+    finding G1-G14 and the time coordinate, each citing a test."""
+    cited, missing = _cited_tests("newcomer-answers.md")
+    assert len(cited) > 60 and not missing, missing
+    text = (DOCS / "newcomer-answers.md").read_text()
+    section = text[text.index("## Review 4 (G1-G14)"):]
+    section = section[:section.find("\n## ", 1)] if "\n## " in section[1:] else section
+    rows = re.findall(r"^\| (G\d+|time coordinate)\b[^|]*\|[^|]*\|(.*)\|$", section, flags=re.M)
+    assert [r[0] for r in rows] == [f"G{i}" for i in range(1, 15)] + ["time coordinate"], [r[0] for r in rows]
+    assert all("tests/" in test for _, test in rows), [g for g, test in rows if "tests/" not in test]

@@ -152,7 +152,7 @@ def test_the_tail_on_the_workers_equals_the_tail_here(scene):
     assert len(keys) == 10
     for k in keys:
         np.testing.assert_array_equal(two.attrs[k], one.attrs[k], err_msg=k)
-    assert 0 < two.attrs["error_estimate_seconds"] < 60
+    assert two.attrs["error_estimate_seconds"] > 0      # a duration: bounded in benchmarks, not here (G10)
     assert 0 < two.attrs["error_map_step_rel"] < 300 * kw.get("tol", 1e-10)
     if scene == "impact-oscillator":
         zeta, F, e = OSC["zeta"], OSC["F"], OSC["e"]

@@ -170,6 +170,36 @@ def test_the_branch_plot_breaks_at_section_moves_spreads_its_labels_and_explains
     plt.close(fig)
 
 
+def test_a_branch_far_smaller_than_its_diagram_gets_a_magnified_inset_in_mm():
+    """G13: the thesis branch over its diagram was flat at x = 0 (its orbits 0-0.6 mm, the diagram to 94 mm, both
+    in m). Lengths are drawn in mm, as in the diagram's figure, and a branch under a tenth of the Axes' height is
+    repeated in an inset whose window holds every branch point and is at most twice the branch's height (the
+    impact oscillator's branch in e over a stand-in diagram 100 times taller); a branch alone gets no inset."""
+    import xarray as xr
+    ds = bifurc.continue_orbit("impact-oscillator", "e", (0.2, -0.2), branch_switch=True)
+    x = ds.x.values[:, 0]
+    e = np.linspace(-0.2, 0.2, 9)
+    tall = 100 * (np.nanmax(x) - np.nanmin(x))
+    diagram = xr.Dataset({"x": (("e", "sample"), np.linspace(0, tall, 9 * 4).reshape(9, 4))}, coords={"e": e},
+                         attrs={"swept_parameter": "e"})
+    alone = bifurc.plot_branch(ds)
+    assert alone.get_ylabel().startswith("x at strobe node 0 [mm]") and not alone.child_axes
+    drawn = np.concatenate([ln.get_ydata() for ln in alone.lines if ln.get_gid() is None and len(ln.get_ydata())])
+    assert np.nanmin(drawn) == pytest.approx(1e3 * np.nanmin(x), rel=1e-12)
+    assert np.nanmax(drawn) == pytest.approx(1e3 * np.nanmax(x), rel=1e-12)
+    plt.close(alone.figure)
+    ax = bifurc.plot_branch(ds, diagram=diagram)
+    assert len(ax.child_axes) == 1
+    inset = ax.child_axes[0]
+    low, high = inset.get_ylim()
+    span = 1e3 * (np.nanmax(x) - np.nanmin(x))
+    assert low <= 1e3 * np.nanmin(x) and 1e3 * np.nanmax(x) <= high and high - low <= 2 * span
+    ax.figure.canvas.draw()
+    box = inset.get_window_extent()
+    assert not any(box.overlaps(t.get_window_extent()) for t in ax.texts if t.get_gid() == "special-label")
+    plt.close(ax.figure)
+
+
 def test_report_wording_and_the_table_gives_the_reason_of_not_converged(diagram):
     """F24: "dc_scale = 1 1" (a value and the unit "1"); F1's remedy needs the reason where a user looks."""
     text = diagram.bifurc.report()

@@ -26,5 +26,16 @@ class _CallablePackage(types.ModuleType):
         from .atlas import attractors
         return inspect.signature(attractors)
 
+    @property
+    def __doc__(self):
+        """The package's text and the census' own parameters (``help(bifurc.attractors)``, Jupyter's Shift-Tab:
+        G7 of newcomer review 4); read only when asked, so importing the package stays light."""
+        import inspect
+        import textwrap
+
+        from .atlas import attractors
+        own = self.__dict__.get("__doc__") or ""      # the census' text as a literal block: valid reST for the docs
+        return f"{own}\nCalled as a function::\n\n{textwrap.indent(inspect.getdoc(attractors), '    ')}\n"
+
 
 sys.modules[__name__].__class__ = _CallablePackage

@@ -32,7 +32,9 @@ def plot_branch(ds, path=None, state=None, node: int = 0, ax=None, diagram=None,
     the state at another phase is not a continuation of the curve.
 
     ``diagram``: a sweep dataset (bifurc.sweep / ``bifurc diagram``) of the same parameter, drawn
-    behind as grey dots (every recorded sample).  ``ax``: draw into this Axes.  ``path``: also save
+    behind as grey dots (every recorded sample); where the branch spans under a tenth of the diagram's height, an
+    inset repeats it magnified, with the diagram's points in its window.  Lengths in metres are drawn in mm, as in
+    the diagram's own figure.  ``ax``: draw into this Axes.  ``path``: also save
     there (an existing file is refused unless ``overwrite``) and close the figure.  ``style``: ``label`` (the
     legend text) and ``colour`` (the first palette index), to tell several datasets apart on one Axes.
     Returns the Axes (shown once in Jupyter).
@@ -51,15 +53,16 @@ def plot_branch(ds, path=None, state=None, node: int = 0, ax=None, diagram=None,
     if own:
         import matplotlib.pyplot as plt
         _, ax = plt.subplots(figsize=(11, 5.5), layout="constrained")
+    scale = 1e3 if ds[state].attrs.get("units") == "m" else 1.0     # mm, as plot_diagram
     if diagram is not None:
-        _draw_diagram(ax, diagram, par, state)
+        _draw_diagram(ax, diagram, par, state, scale)
     colours = ["#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9"]
     labels = ds.attrs.get("branch_labels", "").split(" | ")
     phase = ds.section_phase.values if "section_phase" in ds else np.zeros(ds.sizes["point"])
     moved = False
     for b in np.unique(ds.branch_id.values):
         sel = ds.branch_id.values == b
-        p, y, stable = ds[par].values[sel], ds[state].values[sel, node], ds.stable.values[sel] == 1
+        p, y, stable = ds[par].values[sel], scale * ds[state].values[sel, node], ds.stable.values[sel] == 1
         tint = colours[(int(b) + colour) % len(colours)]
         name = labels[int(b)] if int(b) < len(labels) else f"branch {b}"
         name = name if label is None else f"{label}, {name}"
@@ -69,31 +72,34 @@ def plot_branch(ds, path=None, state=None, node: int = 0, ax=None, diagram=None,
             ax.plot(p[k:k + 2], y[k:k + 2], color=tint, lw=1.8, ls="-" if stable[k] and stable[k + 1] else "--")
         import textwrap
         ax.plot([], [], color=tint, lw=1.8, label="\n".join(textwrap.wrap(name, 34)))
-    _special_points(ax, ds, state, node)
+    _special_points(ax, ds, state, node, scale)
     unit = ds[par].attrs.get("units", "")
     ax.set_xlabel(f"{par} [{unit}]")
     gaps = " (gaps: the strobe section moves there)" if moved else ""
-    ax.set_ylabel(f"{state} at strobe node {node} [{ds[state].attrs.get('units', '')}]{gaps}")
+    ax.set_ylabel(f"{state} at strobe node {node} [{'mm' if scale == 1e3 else ds[state].attrs.get('units', '')}]"
+                  f"{gaps}")
     ax.set_title(ds.attrs.get("title", ""), fontsize=10)
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0,   # clear of the data
               title="solid: stable, dashed: unstable", title_fontsize=8)
     _spread_labels(ax)
+    if diagram is not None:
+        _inset_if_flat(ax)
     if path is not None:
         save_figure(ax.figure, path, overwrite=overwrite, close=own)
     return ax
 
 
-def _special_points(ax, ds, state, node) -> None:
+def _special_points(ax, ds, state, node, scale=1.0) -> None:
     """Mark and label the special points (one legend entry per kind present); a point at the place of one
     drawn before it gets a larger hollow marker, so that both show (PD and LP at one orbit)."""
     shown, drawn = set(), []
     par = ds.attrs["continuation_parameter"]
-    xs, ys = ds[par].values, ds[state].values[:, node]
+    xs, ys = ds[par].values, scale * ds[state].values[:, node]
     near = 0.01 * max(np.nanmax(xs) - np.nanmin(xs), 1e-300), 0.01 * max(np.nanmax(ys) - np.nanmin(ys), 1e-300)
     for i in range(ds.sizes.get("special", 0)):
         kind = SPECIAL_KINDS[int(ds.special_kind.values[i])]
         value = float(ds.special_value.values[i])
-        y = float(ds[state].values[int(ds.special_point.values[i]), node])
+        y = scale * float(ds[state].values[int(ds.special_point.values[i]), node])
         under = sum(abs(value - a) < near[0] and abs(y - b) < near[1] for a, b in drawn)
         ax.plot([value], [y], marker=_MARKERS[kind], color="k", ms=7 + 5 * under, ls="none",
                 mfc="none" if under else "k", mew=1.3, zorder=3 - 0.1 * under, gid="special-marker",
@@ -139,7 +145,7 @@ def _spread_labels(ax) -> None:
         placed.append(text.get_window_extent(renderer))
 
 
-def _draw_diagram(ax, diagram, par, state):
+def _draw_diagram(ax, diagram, par, state, scale=1.0):
     if diagram.attrs.get("swept_parameter") != par:
         from maps.parameters import ParameterError
         raise ParameterError(f"the diagram sweeps {diagram.attrs.get('swept_parameter')!r}, the branch {par!r}: "
@@ -147,8 +153,54 @@ def _draw_diagram(ax, diagram, par, state):
     d = diagram[state].transpose(..., par, "sample")
     for vals in (d.values.reshape(-1, *d.shape[-2:])):            # each sweep branch
         pp = np.broadcast_to(diagram[par].values[:, None], vals.shape)
-        ax.plot(pp.ravel(), vals.ravel(), ",", color="0.6", alpha=0.6)
+        ax.plot(pp.ravel(), scale * vals.ravel(), ",", color="0.6", alpha=0.6, gid="diagram-points")
     ax.plot([], [], ".", color="0.6", label="brute-force diagram (every recorded sample)")
+
+
+def _inset_if_flat(ax) -> None:
+    """Where the branch's lines span under a tenth of the Axes' height (a branch of sub-mm orbits over a diagram
+    of 100 mm), an inset at the corner holding the fewest drawn points repeats the branch, its special markers and
+    the diagram's points in the branch's window, magnified, with the zoom indicated."""
+    branch = [ln for ln in ax.lines if ln.get_gid() != "diagram-points" and len(ln.get_xdata()) > 0]
+    if not branch:
+        return
+    bx = np.concatenate([np.asarray(ln.get_xdata(), float) for ln in branch])
+    by = np.concatenate([np.asarray(ln.get_ydata(), float) for ln in branch])
+    lo, hi = ax.get_ylim()
+    span = np.nanmax(by) - np.nanmin(by)
+    if not np.isfinite(span) or span >= 0.1 * (hi - lo):
+        return
+    pad_y = max(0.15 * span, 1e-3 * (hi - lo))
+    pad_x = 0.05 * max(np.nanmax(bx) - np.nanmin(bx), 1e-300)
+    window = (np.nanmin(bx) - pad_x, np.nanmax(bx) + pad_x, np.nanmin(by) - pad_y, np.nanmax(by) + pad_y)
+    points = np.vstack([np.column_stack([ln.get_xdata(), ln.get_ydata()]) for ln in ax.lines
+                        if len(ln.get_xdata()) > 0]).astype(float)
+    frac = ax.transAxes.inverted().transform(ax.transData.transform(points[np.all(np.isfinite(points), axis=1)]))
+    corners = [[0.04, 0.52, 0.42, 0.42], [0.54, 0.52, 0.42, 0.42], [0.04, 0.06, 0.42, 0.42], [0.54, 0.06, 0.42, 0.42]]
+    texts = [t.get_window_extent() for t in ax.texts]
+    to_axes = ax.transAxes.inverted()
+
+    def crowd(c):
+        x0, y0, w, h = c
+        inside = np.sum((frac[:, 0] > x0) & (frac[:, 0] < x0 + w) & (frac[:, 1] > y0) & (frac[:, 1] < y0 + h))
+        covered = sum(1 for b in texts if (lambda e: e[0][0] < x0 + w and x0 < e[1][0] and e[0][1] < y0 + h
+                                           and y0 < e[1][1])(to_axes.transform(b.get_points())))
+        return inside + 1000 * covered
+    inset = ax.inset_axes(min(corners, key=crowd))
+    for ln in ax.lines:
+        x, y = np.asarray(ln.get_xdata(), float), np.asarray(ln.get_ydata(), float)
+        if ln.get_gid() == "diagram-points":
+            keep = (x >= window[0]) & (x <= window[1]) & (y >= window[2]) & (y <= window[3])
+            inset.plot(x[keep], y[keep], ".", color="0.6", ms=2, alpha=0.6)
+        elif len(x):
+            inset.plot(x, y, color=ln.get_color(), ls=ln.get_linestyle(), lw=ln.get_linewidth(),
+                       marker=ln.get_marker(), ms=ln.get_markersize(), mfc=ln.get_markerfacecolor(),
+                       mec=ln.get_markeredgecolor())
+    inset.set_xlim(window[0], window[1])
+    inset.set_ylim(window[2], window[3])
+    inset.tick_params(labelsize=7)
+    inset.set_title("the branch, magnified", fontsize=7)
+    ax.indicate_inset_zoom(inset, edgecolor="0.3")
 
 
 def branch_curves(ds) -> list:
