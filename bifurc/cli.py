@@ -29,6 +29,10 @@ USER_ERRORS = (ParameterError, BadFileError, FileNotFoundError, FileExistsError,
                NotADirectoryError, PermissionError, OSError)
 
 
+#: options of 0.1 renamed in 0.2 (CHANGELOG's migration table): an unrecognized one is told its new name
+RENAMED = {"--max-periods": "--budget"}
+
+
 class UsageError(ValueError):
     """A malformed command line (unknown option, a value argparse cannot convert)."""
 
@@ -37,7 +41,9 @@ class _Parser(argparse.ArgumentParser):
     """argparse that raises :class:`UsageError` instead of printing usage and exiting."""
 
     def error(self, message):
-        raise UsageError(f"{message} (see `{self.prog} --help`)")
+        renamed = [f"{old} is now {new}" for old, new in RENAMED.items()
+                   if "unrecognized arguments" in message and old in message.split()]
+        raise UsageError(f"{message}{'; ' + ', '.join(renamed) if renamed else ''} (see `{self.prog} --help`)")
 
 
 def build_parser() -> argparse.ArgumentParser:

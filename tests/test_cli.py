@@ -192,3 +192,12 @@ def test_no_option_is_another_s_plural():
     assert not pairs, pairs
     census = " ".join(sub["attractors"].format_help().split())
     assert "--budget BUDGET" in census and "--max-period MAX_PERIOD" in census and "--max-periods" not in census
+
+
+def test_a_renamed_option_of_0_1_is_told_its_new_name(tmp_path, capsys):
+    """`--max-periods` (0.1) is `--budget` now: the one-line refusal says so, and runs nothing."""
+    code = main(["attractors", "impact-oscillator", "--param", "Omega", "--from", "1", "--to", "1.2", "--n", "2",
+                 "-o", str(tmp_path / "a.nc"), "--max-periods", "10"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and "--max-periods is now --budget" in err[0], err
+    assert not (tmp_path / "a.nc").exists()
