@@ -57,13 +57,15 @@ class _Lane:
 
 
 class _GridLane:
-    """A lane of :meth:`BatchEngine._run_grid`: its flags, their changes ``(t, flags after)`` and its event count."""
+    """A lane of :meth:`BatchEngine._run_grid`: its flags, their changes ``(t, flags after, their key)`` and its
+    event count."""
 
-    __slots__ = ("start", "flags", "key", "log", "count", "cap")
+    __slots__ = ("start", "start_key", "flags", "key", "log", "count", "cap")
 
     def __init__(self, flags, key, cap):
         self.start = self.flags = flags
-        self.key, self.log, self.count, self.cap = key, [], 0, cap
+        self.start_key = self.key = key
+        self.log, self.count, self.cap = [], 0, cap
 
 
 #: what a guard crossing does in a run on the sampling grid (:meth:`BatchEngine._grid_rule`), besides new flags
@@ -337,7 +339,7 @@ class BatchEngine(Engine):
         for row, v in writes:
             pars[row, j] = v
         lane.flags, lane.key = flags, fkey
-        lane.log.append((self.time.item(j), flags))
+        lane.log.append((self.time.item(j), flags, fkey))
         return True
 
     def _grid_rule(self, choose, d_sgn, flags):
@@ -560,20 +562,16 @@ def _flags_only(system, groups) -> bool:
 
 def _grid_result(times, points, lane: _GridLane, steps: int, seconds: float) -> OrbitResult:
     """The :class:`OrbitResult` of one lane of :meth:`BatchEngine._run_grid`: its samples at ``times``, each with
-    the flags after the last change before it."""
+    the flags after the last change before it (also as the array ``point_flags``)."""
     res = OrbitResult()
-    res.times = times.tolist()
-    res.points = list(points.copy())
-    flags, log, e = lane.start, lane.log, 0
-    out = []
-    for t in res.times:
-        while e < len(log) and log[e][0] <= t:
-            flags = log[e][1]
-            e += 1
-        out.append(flags)
-    res.flags = out         # shared dicts, read only (maps.poincare reads them into an array)
-    res.final_time = res.times[-1]
-    res.final_state = res.points[-1].copy()
-    res.final_flags = dict(out[-1])
+    at = np.searchsorted(np.array([t for t, _, _ in lane.log]), times, side="right")   # changes up to each sample
+    flags = [lane.start] + [f for _, f, _ in lane.log]
+    keys = np.array([lane.start_key] + [k for _, _, k in lane.log], dtype=float).reshape(len(flags), -1)
+    res.times, res.points = times.copy(), points.copy()
+    res.flags = [flags[i] for i in at]      # shared dicts, read only (maps.poincare reads them into an array)
+    res.point_flags = keys[at]
+    res.final_time = float(times[-1])
+    res.final_state = points[-1].copy()
+    res.final_flags = dict(flags[at[-1]])
     res.n_steps, res.n_events, res.seconds = int(steps), lane.count, seconds
     return res
