@@ -37,7 +37,7 @@ ev = [hy.t_event_batch(z, direction=hy.event_direction.negative, callback=Flip(-
       hy.t_event_batch(z, direction=hy.event_direction.positive, callback=Flip(1.0), cooldown=1e-10)]
 ta = hy.taylor_adaptive_batch([(x, y - x), (y, -x * z + hy.par[1] * hy.par[2] * z), (z, x * y - hy.par[0])],
                               np.zeros((3, B)), tol=tol, t_events=ev, compact_mode=False)
-starts = np.stack([ds[f"start_{s}"].values for s in "xyz"], axis=-1)       # (value, start, 3)
+starts = np.stack([ds[f"start_{s}"].values for s in "xyz"], axis=-1)       # (start, 3): the same at every value
 periods = ds.start_periods.values.astype(int)
 clock, samples = time.process_time(), 0
 for i, a in enumerate(ds.a.values):
@@ -47,9 +47,9 @@ for i, a in enumerate(ds.a.values):
         lanes = np.concatenate([idx, np.repeat(idx[:1], B - len(idx))])
         m = int(periods[i, lanes].max())
         ta.set_time(0.0)
-        ta.state[:] = starts[i, lanes].T
+        ta.state[:] = starts[lanes].T
         ta.pars[0, :], ta.pars[1, :] = float(a), b
-        ta.pars[2, :] = np.where(starts[i, lanes, 2] >= 0, 1.0, -1.0)
+        ta.pars[2, :] = np.where(starts[lanes, 2] >= 0, 1.0, -1.0)
         ta.reset_cooldowns()
         ta.propagate_grid(np.repeat((STEP * np.arange(m + 1))[:, None], B, axis=1))
         samples += int(periods[i, idx].sum())
