@@ -608,12 +608,13 @@ class StroboscopicMap:
 
     def _orbit_from(self, r, job) -> MapOrbit:
         points, times, flags = r.points, r.times, r.flags
-        if not points:     # failed before the first sample
+        if not len(points):     # failed before the first sample
             points = [np.asarray(job.y0, dtype=float)]
             times = [job.sample_time(job.k0)]
             flags = [r.final_flags or {}]
         names = self.system.flag_names
-        point_flags = np.array([[fl.get(f, np.nan) for f in names] for fl in flags], dtype=float)
+        point_flags = r.point_flags if r.point_flags is not None and len(r.points) else \
+            np.array([[fl.get(f, np.nan) for f in names] for fl in flags], dtype=float)
         W = self.system.strobe_rate(job.params) or 1.0 / job.period
         extra = {} if job.tangent is None else dict(tangent_start=np.asarray(job.tangent, dtype=float),
                                                       tangent=np.array(r.tangent).reshape(-1, len(job.y0)),
@@ -626,6 +627,14 @@ class StroboscopicMap:
                                   final_flags=dict(r.final_flags), flag_names=names, point_flags=point_flags)
 
 
+def _no_events() -> dict:
+    """The impact log of a window without guard crossings: :func:`maps.impacts.impact_log` of none."""
+    f, i = np.zeros(0), np.zeros(0, dtype=np.int64)
+    return {"time": f, "velocity": f.copy(), "penetration": f.copy(), "duration": f.copy(), "event": i,
+            "flight_time": f.copy(), "flight_gap": f.copy(), "flight_event": i.copy(), "event_gap": f.copy(),
+            "event_role": []}
+
+
 def orbit_from_periods(system, params, W, times, points, period_events, **fields) -> MapOrbit:
     """A :class:`MapOrbit` from the sampled states and each period's guard crossings.
 
@@ -636,7 +645,8 @@ def orbit_from_periods(system, params, W, times, points, period_events, **fields
     """
     gap = system.gap if system.gap is not None else (lambda y, p, t=0.0: (math.nan, math.nan))
     step_of = [k for k, events in enumerate(period_events) for _ in events]
-    log = impact_log(system, params, ((name, t, y) for events in period_events for name, t, y in events))
+    log = impact_log(system, params, ((name, t, y) for events in period_events for name, t, y in events)) \
+        if step_of else _no_events()
     n = len(period_events)
     imp_step = np.array(step_of, dtype=np.int64)[log["event"]] if step_of else np.zeros(0, np.int64)
     imp_n = np.bincount(imp_step, minlength=n)

@@ -39,8 +39,8 @@ from ..labels.vocabulary import BUDGET, MAX_PERIOD
 from ..labels.classify import candidate_periods
 from ..labels.lyapunov import exponent_interval
 from .lifetime import Lifetime, estimate_lifetime, periodic_tail
-from .identify import (Attractor, Grid, approaching, area_rate, contracting, converging, from_chunk, identify,
-                       newton_periods, no_contraction, polish_once, same_attractor, same_orbit)
+from .identify import (AREA_SKIP, Attractor, Grid, approaching, area_rate, contracting, converging, from_chunk,
+                       identify, newton_periods, no_contraction, polish_once, same_attractor, same_orbit)
 
 
 
@@ -148,7 +148,7 @@ def census_at(smap, starts: list, grid: Grid, settings: Settings, *, k0=0,
     found: list[Attractor] = list(known or [])
     owner: dict = {c: i for i, a in enumerate(found) for c in a.cells}
     mem = Memory() if memory is None else memory
-    active = list(range(len(tracks)))
+    active, waiting = list(range(min(ACTIVE, len(tracks)))), min(ACTIVE, len(tracks))
     near = candidate_periods(smap.forcing_period_steps, s.max_period)
     while active:
         clock = time.process_time()                                             # stage CPU (Memory.cpu)
@@ -187,6 +187,9 @@ def census_at(smap, starts: list, grid: Grid, settings: Settings, *, k0=0,
         if progress is not None and done:
             progress(len(done))
         active = [i for i in active if tracks[i].outcome is None]
+        if waiting < len(tracks) and len(active) < ACTIVE:          # the next starts join as others end
+            more = min(len(tracks), waiting + ACTIVE - len(active))
+            active, waiting = active + list(range(waiting, more)), more
         mem.cpu["identify"] += time.process_time() - mid                        # stage CPU (Memory.cpu)
     mem.via = [next((j for j, sd in enumerate(mem.saddles) if sd is t.saddle), -1) for t in tracks]
     if s.apportion:
@@ -195,6 +198,14 @@ def census_at(smap, starts: list, grid: Grid, settings: Settings, *, k0=0,
         mem.cpu["exits"] += time.process_time() - clock                         # stage CPU (Memory.cpu)
     return [t.outcome for t in tracks], found, [t.periods for t in tracks]
 
+
+#: starts followed at once: the next ones join as others end, so that the attractors the first starts found are
+#: known before most starts begin (a start then stops as soon as its path lands on one) instead of every start
+#: wandering ``WANDER`` chunks before the first record (modified Lorenz-84 flow, docs/howto/autonomous-flows.md,
+#: a = 4.7, 5.0, 5.5 with 100 starts each: 501 samples per start on average, 278 with 32 at once, the same fractions;
+#: with 1000 starts at 4.7 and 5.0: 115 and 74).  A start's path does not depend on when it runs: its chunks are the
+#: same.
+ACTIVE = 32
 
 #: chunks after which a start that has neither landed nor recurred is identified all the same: one that fills an
 #: area of the states without recurring on the grid (thesis-1dof under `listing` at 90 V, 10 Hz: 1000-1800 cells of
@@ -296,8 +307,18 @@ def _identify_candidates(smap, tracks, candidates, grid, s: Settings, found: lis
             t.outcome = _sharing(t.last_keys, found, owner)
             if t.outcome is None and not _on_saddle(t, mem.saddles):
                 rest.append(i)
+    for i in rest[RECORDS_AT_ONCE:]:
+        tracks[i].recur = 0          # runs on: it lands on what the first records find, or is a candidate again
     if rest:
-        _record_and_classify(smap, tracks, rest, grid, s, found, owner, mem)
+        _record_and_classify(smap, tracks, rest[:RECORDS_AT_ONCE], grid, s, found, owner, mem)
+
+
+#: records run at most at once (two batches of 4 lanes): the other candidates of the chunk run on, and land on the
+#: attractors these records find (or recur and are recorded later).  The modified Lorenz-84 flow at a = 4.7
+#: (docs/howto/autonomous-flows.md, 200 box starts): every start wandered 10 chunks over new cells before the first
+#: record and all 200 were recorded together (768 samples each with a tangent vector, its 0-1 test and 96 exact
+#: Jacobians), every one finding the one limit cycle: 26 of the census' 28 s of CPU
+RECORDS_AT_ONCE = 8
 
 
 def _shares_cell(keys: list, sets: list) -> bool:
@@ -450,8 +471,12 @@ def _on_an_equilibrium(smap, a: Attractor, grid: Grid) -> bool:
 
 def _with_area_rate(smap, a: Attractor, record, k0: int) -> Attractor:
     """``a`` with the area rate of its record (:func:`.identify.area_rate`; 48 exact one-period Jacobians, so it is
-    computed only for a new attractor or an impact-free record)."""
-    rate, lo, hi = area_rate(smap, record, k0)
+    computed only for a new attractor or an impact-free record).  An autonomous flow's records are ``locate`` = 768
+    samples long and its area rate is stored, not judged (its neutrality is :func:`volume_rate`'s): its first
+    AREA_SKIP + VOLUME_SAMPLES samples, as many batch means as the volume rate's (768 exact Jacobians, 1.7 s of CPU,
+    per new limit cycle or chaotic set of the modified Lorenz-84 flow)."""
+    flow = getattr(smap.system, "autonomous", False)
+    rate, lo, hi = area_rate(smap, record, k0, steps=AREA_SKIP + VOLUME_SAMPLES if flow else None)
     a.area_rate, a.area_rate_interval = rate, (lo, hi)
     return a
 

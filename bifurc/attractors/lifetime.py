@@ -74,7 +74,16 @@ def periodic_tail(points, periods, rtol: float = 1e-6, atol: float = 1e-9) -> bo
     (plus atol) of the point n before.  A tolerance of the states, not of the grid."""
     P = np.asarray(points, dtype=float)
     tol = rtol * state_scale(P, atol) + atol
-    return any(n < len(P) and bool(np.all(np.abs(P[n:] - P[:-n]) <= tol)) for n in periods)
+    return any(bool(np.all(np.abs(P[n:] - P[:-n]) <= tol)) for n in _last_repeats(P, periods, tol))
+
+
+def _last_repeats(P: np.ndarray, periods, tol) -> list:
+    """The periods n of ``periods`` (below len(P)) at which the last point repeats the one n before, within ``tol``:
+    the only ones at which a tail can repeat (one numpy pass instead of one per period: on a chaotic set none)."""
+    n = np.asarray([m for m in periods if 0 < m < len(P)], dtype=np.int64)
+    if not n.size:
+        return []
+    return n[~np.any(np.abs(P[-1] - P[len(P) - 1 - n]) > tol, axis=1)].tolist()    # as the callers' tests read NaN
 
 
 def fall_index(points, periods, tail: int, rtol: float = 1e-6, atol: float = 1e-9) -> int | None:
@@ -83,9 +92,7 @@ def fall_index(points, periods, tail: int, rtol: float = 1e-6, atol: float = 1e-
     P = np.asarray(points, dtype=float)
     tol = rtol * state_scale(P[-tail:], atol) + atol
     best = None
-    for n in periods:
-        if n >= len(P):
-            continue
+    for n in _last_repeats(P, periods, tol):      # the last point too must repeat
         bad = np.flatnonzero(np.any(np.abs(P[n:] - P[:-n]) > tol, axis=1))
         if len(bad) and bad[-1] >= len(P) - n - tail:
             continue                      # the last ``tail`` points do not repeat after n

@@ -78,6 +78,8 @@ class OrbitResult:
     tangent: list = field(default_factory=list)   # the tangent vector at the end of each recorded period
     mode_time: list = field(default_factory=list)  # [s] time in the job's ``timed`` mode from the first recorded
                                                    # sample to each recorded sample (empty: no mode timed)
+    point_flags: np.ndarray | None = None   # the flags at each sample as an array (columns: the system's
+                                            # flag_names), where the engine has them so (else read from ``flags``)
 
 
 class Engine:

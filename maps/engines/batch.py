@@ -28,6 +28,8 @@ from collections import deque
 
 import numpy as np
 
+from collections.abc import Mapping
+
 from .. import transitions as tr
 from ..hybrid import EVENT_COOLDOWN
 from ..parameters import ParameterError
@@ -52,6 +54,22 @@ class _Lane:
     __slots__ = ("job", "res", "W", "n_sw", "t_sw", "k_next", "t_k", "rec_k", "last", "flags", "params",
                  "events", "recording", "budget", "done", "start_clock", "tangent", "timed", "in_mode_since",
                  "mode_total")
+
+
+class _GridLane:
+    """A lane of :meth:`BatchEngine._run_grid`: its flags, their changes ``(t, flags after, their key)`` and its
+    event count."""
+
+    __slots__ = ("start", "start_key", "flags", "key", "log", "count", "cap")
+
+    def __init__(self, flags, key, cap):
+        self.start = self.flags = flags
+        self.start_key = self.key = key
+        self.log, self.count, self.cap = [], 0, cap
+
+
+#: what a guard crossing does in a run on the sampling grid (:meth:`BatchEngine._grid_rule`), besides new flags
+_PASS, _OBSERVED, _HALT = object(), object(), object()
 
 
 class BatchEngine(Engine):
@@ -94,6 +112,9 @@ class BatchEngine(Engine):
         self.compile_seconds = _time.perf_counter() - t0
         self.state, self.pars, self.time = self.ta.state, self.ta.pars, self.ta.time   # live views
         self.lanes: list = [None] * self.B
+        self.grid_lanes: list | None = None       # the lanes of a run on the sampling grid (:meth:`_run_grid`)
+        self.grid_rules: dict = {}                # (surface, sign, flags) -> what a crossing does (:meth:`_grid_rule`)
+        self.on_grid = self.sw is None and not self.tangent and _flags_only(system, groups)
 
     # ----- per-lane helpers -------------------------------------------------------
     def _set_flags(self, j, lane, changes, t):
@@ -236,6 +257,111 @@ class BatchEngine(Engine):
         """Integrate every job; one :class:`OrbitResult` per job, in order."""
         if not jobs:
             return []
+        if self.on_grid and all(_plain(j) for j in jobs):
+            return self._run_grid(jobs)
+        return self._run_lanes(jobs)
+
+    def _run_grid(self, jobs: list[OrbitJob]) -> list[OrbitResult]:
+        """Plain jobs (:func:`_plain`) of a system without a clock whose guards only set flags (:func:`_flags_only`):
+        ``B`` jobs of one length at a time, integrated by heyoka's ``propagate_grid`` over their sample times (no
+        clock event, no Python per sample), the guards' flag changes written by :meth:`_grid_event`.  The samples
+        are the dense output at the sample times (the lane loop stops at them as events: the same states to
+        round-off).  A group where any lane fails, escapes or exceeds the event cap runs again on the lane loop
+        (:meth:`_run_lanes`), which reports it."""
+        hy, B, n = self.hy, self.B, self.n
+        results: list = [None] * len(jobs)
+        order = sorted(range(len(jobs)), key=lambda i: jobs[i].record)
+        groups, i = [], 0
+        while i < len(order):
+            m = jobs[order[i]].record
+            g = [order[i]]
+            i += 1
+            while i < len(order) and len(g) < B and jobs[order[i]].record == m:
+                g.append(order[i])
+                i += 1
+            groups.append(g)
+        ok = int(hy.taylor_outcome.time_limit)
+        for g in groups:
+            clock = _time.perf_counter()
+            lanes = [g[j] if j < len(g) else g[0] for j in range(B)]      # spare lanes repeat the first job
+            m = jobs[g[0]].record
+            grid = np.empty((m + 1, B))
+            self.grid_lanes = [None] * B
+            for j, idx in enumerate(lanes):
+                job = jobs[idx]
+                k = np.arange(job.k0, job.k0 + m + 1, dtype=float)       # as OrbitJob.sample_time
+                grid[:, j] = job.offset + (k / job.rate if job.rate is not None else k * job.period)
+                flags = tr.start_flags(self.system, grid[0, j], job.y0, job.params, job.flags)
+                self.state[:, j] = job.y0
+                # the clock instant beyond the last sample, never reached (at _FAR, (t - t_next) / T of the order
+                # of 1e30 spoils heyoka's steps in every lane: errors of 1e15 over 10 samples of the Lorenz-84 flow)
+                self.pars[:, j] = self.system.par_vector(job.params, flags) + [grid[-1, j] + job.period,
+                                                                               1.0 / job.period]
+                self.grid_lanes[j] = _GridLane(flags, self._flag_key(flags), self.max_events_per_period * max(m, 1))
+            self.ta.set_dtime(grid[0].copy(), np.zeros(B))
+            self.ta.reset_cooldowns()
+            self.grid_stop = False
+            try:
+                out = self.ta.propagate_grid(grid)
+            finally:
+                lanes_run, self.grid_lanes = self.grid_lanes, None
+            points = out[-1] if isinstance(out, tuple) else out
+            if self.grid_stop or any(int(r[0]) != ok for r in self.ta.propagate_res) \
+                    or not np.all(np.isfinite(points[:, :n, :len(g)])):
+                for idx, r in zip(g, self._run_lanes([jobs[idx] for idx in g])):
+                    results[idx] = r
+                continue
+            share = (_time.perf_counter() - clock) / B
+            for j, idx in enumerate(g):
+                results[idx] = _grid_result(grid[:, j], points[:, :n, j], lanes_run[j],
+                                            self.ta.propagate_res[j][3], share)
+        return results
+
+    def _grid_event(self, choose, d_sgn, j) -> bool:
+        """A guard crossed in lane j of :meth:`_run_grid`: its flag changes written and noted (False, stopping the
+        group: the event cap exceeded or a halt flag set; the lane loop then runs the group).  The flags after a
+        crossing depend only on the surface, the crossing's sign and the flags before: looked up once each."""
+        lane = self.grid_lanes[j]
+        key = (choose, d_sgn, lane.key)
+        got = self.grid_rules.get(key)
+        if got is None:
+            got = self.grid_rules[key] = self._grid_rule(choose, d_sgn, lane.flags)
+        if got is _PASS:
+            return True
+        lane.count += 1
+        if lane.count > lane.cap or got is _HALT:
+            self.grid_stop = True
+            return False
+        if got is _OBSERVED:
+            return True
+        flags, fkey, writes = got
+        pars = self.pars
+        for row, v in writes:
+            pars[row, j] = v
+        lane.flags, lane.key = flags, fkey
+        lane.log.append((self.time.item(j), flags, fkey))
+        return True
+
+    def _grid_rule(self, choose, d_sgn, flags):
+        """What a crossing of sign ``d_sgn`` does to lanes in ``flags``: _PASS (no guard acts), _OBSERVED (an
+        event that changes nothing), _HALT (a halt flag set), else (the flags after, their key, the pars rows
+        written)."""
+        guard = choose(d_sgn, flags)
+        if guard is None:
+            return _PASS
+        changes = {k: v for k, v in (guard.then or {}).items() if flags.get(k) != v}
+        if not changes:
+            return _OBSERVED
+        after = dict(flags, **changes)
+        if tr.halted(self.system, after):
+            return _HALT
+        return after, self._flag_key(after), [(self.i_flag[k], v) for k, v in changes.items()]
+
+    def _flag_key(self, flags) -> tuple:
+        return tuple(flags.get(f) for f in self.system.flag_names)
+
+    def _run_lanes(self, jobs: list[OrbitJob]) -> list[OrbitResult]:
+        """The lane loop: every job, clock instants and samples as terminal events (module docstring)."""
         hy, ta, B = self.hy, self.ta, self.B
         results = [OrbitResult() for _ in jobs]
         waiting = deque(range(len(jobs)))
@@ -394,6 +520,8 @@ class _GuardCallback(_Callback):
 
     def __call__(self, ta, d_sgn, j):      # heyoka's entry, inlined (the hot path of every sweep)
         eng = self.eng
+        if eng.grid_lanes is not None:
+            return eng._grid_event(self.choose, d_sgn, j)
         lane = eng.lanes[j]
         if lane is None or lane.done:
             return False
@@ -416,3 +544,34 @@ class _GuardCallback(_Callback):
         eng._tangent_transition(j, lane, out, t, before, guard)
         return True
 
+
+
+def _plain(job: OrbitJob) -> bool:
+    """Whether a job asks for the samples only: no transient, event log, companion, tangent vector or timed mode."""
+    return (job.transient == 0 and not job.log and job.reference is None and job.tangent is None
+            and job.timed is None)
+
+
+def _flags_only(system, groups) -> bool:
+    """Whether every transition of ``system`` at its event surfaces ``groups`` only sets flags: no reset map, no
+    callable or projecting ``then``, no settle rule or mode projection (the modified Lorenz-84 flow's sign flag,
+    docs/howto/autonomous-flows.md): :meth:`BatchEngine._run_grid` can then run it."""
+    return (system.settle is None and not system.mode_projections
+            and all(g.reset is None and (g.then is None or isinstance(g.then, Mapping)) for grp in groups for g in grp))
+
+
+def _grid_result(times, points, lane: _GridLane, steps: int, seconds: float) -> OrbitResult:
+    """The :class:`OrbitResult` of one lane of :meth:`BatchEngine._run_grid`: its samples at ``times``, each with
+    the flags after the last change before it (also as the array ``point_flags``)."""
+    res = OrbitResult()
+    at = np.searchsorted(np.array([t for t, _, _ in lane.log]), times, side="right")   # changes up to each sample
+    flags = [lane.start] + [f for _, f, _ in lane.log]
+    keys = np.array([lane.start_key] + [k for _, _, k in lane.log], dtype=float).reshape(len(flags), -1)
+    res.times, res.points = times.copy(), points.copy()
+    res.flags = [flags[i] for i in at]      # shared dicts, read only (maps.poincare reads them into an array)
+    res.point_flags = keys[at]
+    res.final_time = float(times[-1])
+    res.final_state = points[-1].copy()
+    res.final_flags = dict(flags[at[-1]])
+    res.n_steps, res.n_events, res.seconds = int(steps), lane.count, seconds
+    return res
