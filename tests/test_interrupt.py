@@ -1,7 +1,7 @@
 """Ctrl-C (SIGINT to the process group, as a terminal sends) or a kernel interrupt (SIGINT to the
 process alone) stops a sweep with one line saying what was kept, and a rerun resumes to the data of an
 uninterrupted run.  How soon it stops (target: within a second) is benchmarks/interrupt.py's figure: no test
-asserts a wall time (a loaded machine delays any process); the 10 s wait for the process' end is a hang guard."""
+asserts a wall time (a loaded machine delays any process); the wait for the process' end (HANG, 60 s) is a hang guard."""
 import os
 import re
 import signal
@@ -23,16 +23,21 @@ GRID = ["--scene", "thesis-1dof", "--preset", "matlab-listing", "--set", "V=90",
 # (a budget of 1000 relay periods keeps each chunk short: these tests are about interrupts, not labels)
 
 
+#: seconds an interrupted run may take to end before the test reads it as a hang
+HANG = 60
+
+
 def _interrupt(proc, when, group=True, timeout=120):
     """SIGINT to ``proc`` (its process group: a terminal's Ctrl-C) once ``when()`` holds; returns its stderr: the
-    process must end within 10 s (a hang guard)."""
+    process must end within :data:`HANG` s (a hang guard, generous for a loaded machine: the latency itself, against
+    1 s, is measured by benchmarks/interrupt.py)."""
     deadline = time.monotonic() + timeout
     while not when() and time.monotonic() < deadline and proc.poll() is None:
         time.sleep(0.02)
     assert proc.poll() is None, "the run ended before the interrupt"
     (os.killpg if group else os.kill)(proc.pid, signal.SIGINT)
     try:
-        err = proc.communicate(timeout=10)[1]
+        err = proc.communicate(timeout=HANG)[1]
     except subprocess.TimeoutExpired:     # show where it hangs (faulthandler), then end the whole group
         os.kill(proc.pid, signal.SIGABRT)
         time.sleep(1)
