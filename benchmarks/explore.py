@@ -60,7 +60,7 @@ def main(argv=None) -> int:
               (f" --only {' '.join(parts)}" if parts != list(PARTS) else ""),
               notes="issue 49's targets: click <= 0.5 s for a period up to 20, branch <= 2 s for 200 points, zoom "
                     "first picture <= 5 s with progress from the first second; the census and map zooms have none")
-    from bifurc.explore.compute import CensusComputer, Computer, MapComputer
+    from bifurc.explore import CensusComputer, Computer, MapComputer
     folder = tempfile.mkdtemp(prefix="bifurc-explore-bench-")
     print(f"load average before: {os.getloadavg()}, cores: {os.cpu_count()}", flush=True)
     main_job = dict(problem=dict(preset="matlab-listing", params={"V": 90}), budget=6000)
@@ -99,7 +99,7 @@ OSC = dict(w0=1.0, zeta=0.05, F=0.3, Omega=1.3, e=-1.0, r=0.8)
 
 
 def _click(run, d, repeat):
-    from bifurc.explore.app import Explorer
+    from bifurc.explore import Explorer
     ex = Explorer(d, zoom=False)
     ex._warm.result()                                       # what the page does while it loads
     ex.select(8.5, wait=True)                               # the first click also builds the orbit's map
@@ -116,7 +116,7 @@ def _click(run, d, repeat):
 
 
 def _branch(run, folder, repeat):
-    from bifurc.explore.compute import Computer
+    from bifurc.explore import Computer
 
     osc = _diagram(folder, "impact-oscillator", "e", np.linspace(-0.2, 0.6, 17), transient=100, record=50, budget=150)
     c = Computer(osc)
@@ -138,7 +138,7 @@ def _branch(run, folder, repeat):
 def _zoom(run, label, computer, args, kw, picture, target=None, last=None, note=None):
     """A zoom by warm processes (ready, as a page has them after a click): first progress, the first picture, and
     the last stage when there are two."""
-    from bifurc.explore.compute import Spares, Zoom
+    from bifurc.explore import Spares, Zoom
     spares = Spares(computer).fill()                        # what the page starts after the first click
     while spares.ready() < spares.n:
         time.sleep(0.05)

@@ -42,8 +42,8 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 import maps
-from bifurc.run.executor import map_values
-from maps.tangent import TANGENT_SIZE
+from bifurc.studykit import map_values
+from maps.studykit import TANGENT_SIZE
 from bifurc import sweep
 
 
@@ -396,7 +396,7 @@ class BareBatchEvents(BareBatch):
 
     def _build(self, system, events):
         import heyoka as hy
-        from maps.variational import tangent_equations
+        from maps.studykit import tangent_equations
         flow = system.heyoka_system()
         self.n = len(flow)
         dynamics = flow + tangent_equations(system) if self.tangent else flow
@@ -454,7 +454,7 @@ class BareBatchTangent:
         return self.run_many([W])[0]
 
     def run_many(self, values):
-        from maps.tangent import start_direction
+        from maps.studykit import start_direction
         self.warm()
         T, records = self.task.transient, dict(self.task.records)
         ends = self.transient._run([(float(W), self.transient.y0, 0, T, None) for W in values])

@@ -44,10 +44,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 import maps
-from maps.hybrid import settle_may_act
-from maps.poincare import forcing_period_steps
-from bifurc.sweeps.job import ValueJob
-from bifurc.run.executor import map_values
+from maps.studykit import forcing_period_steps, settle_may_act
+from bifurc.studykit import ValueJob, map_values
 from bifurc import sweep
 from frequency_diagram import BareBatch, _Same
 

@@ -29,7 +29,7 @@ import time
 import numpy as np
 
 import maps
-from bifurc.verification.accuracy import work_precision
+from bifurc.studykit import work_precision
 
 LADDERS = {
     "heyoka-transient": [1e-8, 3e-9, 1e-9, 3e-10, 1e-10, 1e-11, 1e-12],
@@ -76,13 +76,14 @@ def bare_run(tol, repeats=100, rounds=5, observations=True):
     ``propagate_until`` time limits; no event log, no settle (it never acts here), no checks.
     The floor of the product's structure.  Returns (best seconds per run, final state)."""
     import heyoka as hy
-    from maps import transitions as tr
+    from maps.studykit import GuardChoice, event_surfaces, start_flags
     sc = maps.get_scene("thesis-1dof").with_options(dc_law="listing")
     system = sc.system
     p = sc.parameters(preset="matlab-listing", V=90.0, relay_hz=9.0)
-    W, index = p["relay_hz"], system._flag_index
-    groups = tr.event_surfaces(system, observations)
-    choices = [tr.GuardChoice(g) for g in groups]
+    W = p["relay_hz"]
+    index = {f: len(system.param_names) + i for i, f in enumerate(system.flag_names)}   # par_vector's order
+    groups = event_surfaces(system, observations)
+    choices = [GuardChoice(g) for g in groups]
     flags = {}
 
     class Flip:
@@ -108,7 +109,7 @@ def bare_run(tol, repeats=100, rounds=5, observations=True):
 
     def run():
         flags.clear()
-        flags.update(tr.start_flags(system, 0.0, y0, p, None))
+        flags.update(start_flags(system, 0.0, y0, p, None))
         ta.time = 0.0
         ta.state[:] = y0
         ta.reset_cooldowns()

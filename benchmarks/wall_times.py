@@ -105,7 +105,7 @@ def studies() -> None:
 
 def estimate_ratio() -> tuple[float, float]:
     """(estimated, measured) seconds per value-relay-period of the README's main job on 9 values, one worker."""
-    from bifurc.run.guard import estimate
+    from bifurc.studykit import estimate
     from bifurc import sweep
     with tempfile.TemporaryDirectory() as tmp:
         ds = sweep("thesis-1dof", "relay_hz", np.linspace(2, 10, 9), preset="matlab-listing", params={"V": 90},

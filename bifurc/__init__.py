@@ -23,7 +23,7 @@ _LAZY = {
     "plot_branch": "plots.branch", "plot_curves": "plots.branch", "plot_diagram": "plots.diagram",
     "plot_time_history": "plots.history", "plot_regime_map": "plots.map", "plot_orbit": "plots.orbit",
     "regime_map": "sweeps.regime", "class_at": "report", "classification_report": "report", "sweep": "sweeps.sweep",
-    "plot_basins": "attractors.plots",
+    "plot_basins": "attractors.plots", "plot_attractors": "attractors.plots",
     "Run": "run.where", "Diagram": "sweeps.method", "Census": "attractors.method", "Box": "attractors.method",
     "Slice": "attractors.method", "SwitchOn": "attractors.method", "Given": "attractors.method",
     "ByDistance": "attractors.method", "grid_points": "attractors.atlas", "Shooting": "orbits.method",
@@ -36,14 +36,17 @@ __all__ = ["__version__", "sweep", "load", "plot_diagram", "plot_time_history", 
            "classification_report", "class_at", "periodic_orbit", "continue_orbit", "plot_branch", "plot_curves", "plot_orbit",
            "sweep_point", "find_periodic_orbit", "OrbitNotFound", "attractors", "plot_basins",
            "Run", "Diagram", "Census", "Box", "Slice", "SwitchOn", "Given", "ByDistance", "grid_points",
-           "Shooting", "PALC", "ClassCode", "Status", "Outcome"]
+           "Shooting", "PALC", "ClassCode", "Status", "Outcome", "plot_attractors", "labels", "studykit", "explore"]
+
+#: the public modules: their names in ``_LAZY`` are public too (``bifurc.studykit.write_text``); nothing else in them
+_MODULES = ("attractors", "labels", "studykit", "explore")
 
 
 _lazy_getattr, __dir__ = lazy_exports(__name__, _LAZY, globals())
 
 
 def __getattr__(name):
-    if name == "attractors":    # the subpackage, callable: bifurc.attractors(scene, param, values, ...)
+    if name in _MODULES:        # bifurc.attractors is callable: bifurc.attractors(scene, param, values, ...)
         import importlib
-        return importlib.import_module(".attractors", __name__)
+        return importlib.import_module(f".{name}", __name__)
     return _lazy_getattr(name)

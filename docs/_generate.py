@@ -1,7 +1,8 @@
 """The documentation pages written at build time (docs/conf.py calls these; none is committed).
 
 - ``api/``: the API reference, one autosummary table per package over its declared public surface
-  (``bifurc.__all__``, ``maps.__all__``: whatever they list when the docs are built);
+  (``bifurc.__all__``, ``maps.__all__``: whatever they list when the docs are built), and one per public module
+  that declares names of its own (``bifurc.studykit``, ``maps.studykit``, ``bifurc.labels``, ``bifurc.explore``);
 - ``studies/``: one page per committed study report (``studies/<name>/report*.md``) with the command
   that regenerates it;
 - ``notebooks/``: copies of ``notebooks/*.ipynb`` (myst-nb executes them, outputs cached).
@@ -45,7 +46,25 @@ def api_pages(docs: Path) -> None:
                  f".. currentmodule:: {name}", "", ".. autosummary::", "   :toctree: generated", "   :nosignatures:", ""]
         lines += [f"   {n}" for n in names]
         _write(out / f"{name}.rst", "\n".join(lines) + "\n")
+        for sub, declared in public_modules(module).items():
+            index.append(f"   {sub}")
+            first = (importlib.import_module(sub).__doc__ or "").strip().split("\n\n")[0].replace("\n", " ")
+            lines = [f"``{sub}``", "=" * (len(sub) + 4), "", first, "", f".. currentmodule:: {sub}", "",
+                     ".. autosummary::", "   :toctree: generated", "   :nosignatures:", ""]
+            _write(out / f"{sub}.rst", "\n".join(lines + [f"   {n}" for n in declared]) + "\n")
     _write(out / "index.rst", "\n".join(index) + "\n")
+
+
+def public_modules(package) -> dict:
+    """{"bifurc.studykit": [its public names], ...}: the modules ``package.__all__`` names that declare names of
+    their own (a ``_LAZY`` table, as ``bifurc.studykit``); a public module without one (``bifurc.attractors``, a
+    callable package) is documented as itself on the package's page."""
+    out = {}
+    for n in package.__all__:
+        value = getattr(package, n)
+        if isinstance(value, type(importlib)) and getattr(value, "_LAZY", None):
+            out[value.__name__] = list(value._LAZY)
+    return out
 
 
 def study_pages(docs: Path, studies: Path) -> None:

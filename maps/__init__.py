@@ -44,7 +44,7 @@ __all__ = ["__version__", "Escaped", "EventRecord", "Guard", "HybridRun", "Hybri
            "MapOrbit", "HybridState", "EventCap", "ROLES", "ScalarEngine", "BatchEngine", "OrbitJob",
            "OrbitResult", "engine_for", "MapLinearization", "ImpactLinearization", "SOIL_LAWS",
            "translation_basis", "reduce_points", "reduce_jacobian", "Problem", "problem",
-           "register_scene", "ParameterValues"]
+           "register_scene", "ParameterValues", "studykit"]
 
 
 class _Package(types.ModuleType):
@@ -59,4 +59,11 @@ class _Package(types.ModuleType):
 sys.modules[__name__].__class__ = _Package
 
 
-__getattr__, __dir__ = lazy_exports(__name__, _LAZY, globals())
+_lazy_getattr, __dir__ = lazy_exports(__name__, _LAZY, globals())
+
+
+def __getattr__(name):
+    if name == "studykit":      # the public module: its names in its ``_LAZY`` are public too
+        import importlib
+        return importlib.import_module(".studykit", __name__)
+    return _lazy_getattr(name)

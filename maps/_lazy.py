@@ -12,5 +12,5 @@ def lazy_exports(package: str, table: dict, namespace: dict):
         return value
 
     def __dir__():
-        return sorted(set(namespace) | set(namespace.get("__all__", ())))
+        return sorted(set(namespace) | set(namespace.get("__all__", ())) | set(table))
     return __getattr__, __dir__

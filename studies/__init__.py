@@ -13,6 +13,6 @@ def provenance(name: str, quick: bool) -> str:
     """The line every committed report states: the command, the code's git commit and the date [UTC]."""
     from datetime import datetime, timezone
 
-    from maps.provenance import git_commit
+    from maps.studykit import git_commit
     return (f"Made by `bifurc study {name}{' --quick' if quick else ''} -o DIR` at git {git_commit() or 'unknown'} "
             f"on {datetime.now(timezone.utc):%Y-%m-%d %H:%M} UTC.")

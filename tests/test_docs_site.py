@@ -76,6 +76,15 @@ def test_the_api_reference_lists_the_declared_public_surface(generate, tmp_path)
         text = (tmp_path / "api" / f"{module.__name__}.rst").read_text()
         listed = re.findall(r"^   (\w+)$", text, flags=re.M)
         assert listed == [n for n in module.__all__ if not n.startswith("_")]
+    pages = {"bifurc.studykit", "maps.studykit", "bifurc.labels", "bifurc.explore"}
+    for name in pages:
+        module = importlib.import_module(name)
+        text = (tmp_path / "api" / f"{name}.rst").read_text()
+        assert re.findall(r"^   (\w+)$", text, flags=re.M) == list(module._LAZY), name
+        for n in module._LAZY:
+            assert getattr(module, n) is not None
+    index = (tmp_path / "api" / "index.rst").read_text()
+    assert pages <= set(re.findall(r"^   ([\w.]+)$", index, flags=re.M))
 
 
 def test_a_study_page_per_committed_report_with_its_command(generate, tmp_path):

@@ -37,8 +37,8 @@ def run(out, quick=False, progress=True, overwrite=False) -> dict:
     """Every census into folder ``out``: ``<law>-box.nc``, ``<law>-switch-on.nc``, ``<law>.png`` and
     ``report.md``; returns {(law, kind): dataset}."""
     import bifurc
-    from bifurc.attractors.plots import plot_attractors
-    from bifurc.storage.files import write_text
+    from bifurc import plot_attractors
+    from bifurc.studykit import write_text
     out = Path(out)
     size = QUICK if quick else FULL
     clock = _time.perf_counter()
@@ -85,7 +85,7 @@ def _label(ds, i, j, is_neutral: bool) -> str:
     name = str(ds.attractor_label.values[j])
     if not name.startswith("A"):
         return name
-    from bifurc.labels.classify import describe
+    from bifurc.labels import describe
     text = describe(int(ds.class_code.values[i, j]), int(ds.period.values[i, j]), int(ds.impacts_per_period.values[i, j]))
     return text + " (neutral: no area contraction)" if is_neutral else text
 
@@ -93,7 +93,7 @@ def _label(ds, i, j, is_neutral: bool) -> str:
 def neutral(ds):
     """Per (V, attractor): a non-periodic set whose area rate's 95 % interval contains 0 (no contraction shown: an
     invariant set of undamped motion, as the tori of an area-preserving map, not an attractor of a dissipative one)."""
-    from bifurc.attractors.identify import no_contraction
+    from bifurc.studykit import no_contraction
     return no_contraction(ds.area_rate_low, ds.area_rate_high)
 
 
@@ -162,8 +162,7 @@ def findings(results, quick) -> list:
     """Per law: the distinct attractors the box census found (+-1), the share of box starts on neutral motion
     (undamped flight: no impact, no area contraction) averaged over V (+- 0.05), and the switch-on probability of
     hammering at the highest V (+- 0.15: its Wilson interval at these sizes is wider)."""
-    from bifurc.attractors.dataset import attractor_count
-    from bifurc.findings import Finding
+    from bifurc.studykit import Finding, attractor_count
     out = []
     for law in LAWS:
         box, sw = results[law, "box"], results[law, "switch-on"]

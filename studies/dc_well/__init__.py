@@ -136,7 +136,7 @@ def _stroke(law, sign, params, hz, periods):
 
 def _cells(ds, law, sign, params, rest, relays) -> list:
     from bifurc import class_at
-    from bifurc.storage.load import in_convention
+    from bifurc.studykit import in_convention
     dm = in_convention(ds, "mechanical")
     out = []
     for hz in relays:
@@ -158,7 +158,7 @@ def _hammers(cell) -> bool:
 
 
 def run(out, quick=False, progress=True, overwrite=False, workers=None) -> dict:
-    from bifurc.storage.files import write_netcdf, write_text
+    from bifurc.studykit import write_netcdf, write_text
     from bifurc import sweep
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
@@ -237,9 +237,8 @@ def windows(maps_, sweeps, size) -> list:
     and the run of stable points with the cell's period and impact count: its ends and what bounds each (a
     located fold, period doubling, Neimark-Sacker point or grazing, or "branch end" where the continuation
     stopped at ``window_points`` points or the span's end still stable)."""
-    from bifurc import continue_orbit, sweep_point
-    from bifurc import class_at
-    from bifurc.storage.schema import SPECIAL_KINDS
+    from bifurc import class_at, continue_orbit, sweep_point
+    from bifurc.studykit import SPECIAL_KINDS
     from maps import ParameterError
     from bifurc import OrbitNotFound
     out = []
@@ -285,7 +284,7 @@ def windows(maps_, sweeps, size) -> list:
 def _figure(case, m, size, path, overwrite):
     import matplotlib.pyplot as plt
 
-    from bifurc.storage.files import check_figure_output
+    from bifurc.studykit import check_figure_output
     check_figure_output(path, overwrite)
     fig, ax = plt.subplots(figsize=(7, 4.5))
     for c in m["cells"]:
@@ -315,7 +314,7 @@ def _figure(case, m, size, path, overwrite):
 
 
 def report(parts, quick) -> str:
-    from maps.provenance import git_commit
+    from maps.studykit import git_commit
     s = parts["structure"]
     size = QUICK if quick else FULL
     L = [f"# {NAME}: where the bar rests decides whether the model hammers a few millimetres", "",
@@ -416,7 +415,7 @@ def _cell_text(c) -> str:
 
 
 def findings(results, quick) -> list:
-    from bifurc.findings import Finding
+    from bifurc.studykit import Finding
     out = []
     s = results["structure"]
     for law, r in s["laws"].items():

@@ -73,7 +73,7 @@ def _sweep(param, values, law, size, dc_law=None, options=None, **params):
 
 def measure(size, progress=True) -> dict:
     """Every sweep of the study: {"freq": {law: ...}, "volt": ..., "static": {(law, ac): ...}, maps, checks}."""
-    from maps.thesis_data import load_table
+    from maps.studykit import load_table
     out = {"freq": {}, "volt": {}, "static": {}, "map_force": {}, "map_fv": {}, "dc_laws": {}}
     say = print if progress else (lambda *a, **k: None)
     for law in LAWS:
@@ -116,8 +116,7 @@ def reference(law, size, ac_rms) -> dict:
     """The reference condition (6 Hz, F_static 31.1 N) as one scalar-engine run of transient + record
     relay periods: rate over the record [mm/s], time-weighted fraction held by the soil, slider
     releases per relay period (the slider starts to yield, the rig to slip), impact energy per relay period [J]."""
-    from maps.impacts import impact_table
-    from maps.progression import held_mode, held_time, progression_measures
+    from maps.studykit import held_mode, held_time, impact_table, progression_measures
     from maps import run_scene
     W = REF["relay_hz"]
     p = {"relay_hz": W, "V": RMS_TO_AMPLITUDE * ac_rms, "F_static": ACTUATOR_N_PER_V * REF["actuator"]}
@@ -279,7 +278,7 @@ def figures(m, size, out):
     """rates.png (against frequency, voltage, static force) and maps.png (what it would take)."""
     import matplotlib.pyplot as plt
 
-    from bifurc.storage.files import save_figure
+    from bifurc.studykit import save_figure
     floor = 1e-4                       # [mm/s] zero rates drawn here on the log axes
     clip = lambda r: np.maximum(np.asarray(r, float), floor)  # noqa: E731
     colours = {"viscous": "C0", "coulomb": "C3", "drift": "C2"}
@@ -430,7 +429,7 @@ def report(m, size, quick, seconds) -> str:
 
 def run(out, quick=False, progress=True, overwrite=False) -> dict:
     """The study into folder ``out``: ``report.md``, ``rates.png``, ``maps.png``."""
-    from bifurc.storage.files import refuse_existing, write_text
+    from bifurc.studykit import refuse_existing, write_text
     out = Path(out)
     for name in ("report.md", "rates.png", "maps.png", "escape.png"):
         refuse_existing(out / name, overwrite, hint="use --force")
@@ -449,7 +448,7 @@ def run(out, quick=False, progress=True, overwrite=False) -> dict:
 def findings(results, quick) -> list:
     """The steady rate at the reference condition (6 Hz, AC 90 V RMS, actuator 10 V) per soil law (+-10 %,
     at least 0.05 mm/s) and the thesis' measure (0.2 m / t) and the 0.9 m runs (depth.findings)."""
-    from bifurc.findings import Finding
+    from bifurc.studykit import Finding
 
     from . import depth
     m = results["measured"]

@@ -22,8 +22,7 @@ def depth_run(law, *, compaction=False, relay_hz=6.0, v_amplitude=127.28, f_stat
     """Run the prototype (soil ``law``) from its start until it is ``max(depths)`` [m] into the soil or
     ``t_max`` [s] passed; returns {"times": first time [s] at each depth (NaN: not reached),
     "t", "depth": the samples [s, m], ``per_period`` per relay period, "status": "ok"/"escaped"/"failed"}."""
-    from maps import Escaped, IntegrationFailure
-    from maps import run_scene
+    from maps import Escaped, IntegrationFailure, run_scene
     params = {"relay_hz": float(relay_hz), "V": float(v_amplitude), "F_static": float(f_static)}
     period = 1.0 / float(relay_hz) / int(per_period)
     ts, xs = [], []
@@ -160,7 +159,7 @@ def report_lines(d, size, table55, steady) -> list[str]:
 def findings(d) -> list:
     """0.2 m / t at every condition (+-10 %, or the depth reached [mm] +-10 % where 0.2 m is not) and the
     Fig 5.22 runs' deepest depth and overall gradient (+-10 %)."""
-    from bifurc.findings import Finding
+    from bifurc.studykit import Finding
     out = []
     for (law, c, f), run in d["to_depth"].items():
         r = thesis_rate(run["times"][0])

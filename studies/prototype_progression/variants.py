@@ -98,7 +98,7 @@ def cells_4hz(volts) -> list:
     import bifurc
     import maps
     from bifurc import class_at
-    from bifurc.storage.load import in_convention
+    from bifurc.studykit import in_convention
     pb = maps.problem("thesis-1dof", dc_law="listing", params={"relay_hz": 4.0})
     ds = bifurc.sweep(pb, "V", np.asarray(volts, float), bifurc.Diagram(lyapunov=False, grazing=False, error_sample=0),
                       run=bifurc.Run(workers=1, progress=False))
@@ -218,7 +218,7 @@ def figure(v, out):
         return
     import matplotlib.pyplot as plt
 
-    from bifurc.storage.files import save_figure
+    from bifurc.studykit import save_figure
     e = esc[0]
     fig, ax = plt.subplots(figsize=(8, 3.6))
     ax.plot(e["rear"]["time"], 1e3 * e["rear"]["r"], color="C0", lw=0.8, label="with the rear stop (e_rear 112.5 mm)")
@@ -237,7 +237,7 @@ def figure(v, out):
 def findings(v, m, size) -> list:
     """Per variant the drift and coulomb rates at 6 Hz (+-10 %, at least 0.05 mm/s), the escape census (exact
     counts) and the 4 Hz cells (exact)."""
-    from bifurc.findings import Finding
+    from bifurc.studykit import Finding
     i6 = int(np.argmin(np.abs(np.asarray(_freqs(size)) - 6.0)))
     out = []
     for (name, soil), sw in v["freq"].items():

@@ -35,9 +35,8 @@ QUICK = dict(n=7, n2=7, transient=100, record=40)     # for the tests and `--qui
 def run(out, quick=False, progress=True, overwrite=False) -> dict:
     """Every map into folder ``out`` (refused before if occupied, see bifurc.commands.study.run_study):
     ``<case>.nc``, ``<case>.png`` and ``report.md``; returns {case: dataset}."""
-    from bifurc.storage.files import write_text
-    from bifurc import plot_regime_map
-    from bifurc import regime_map
+    from bifurc.studykit import write_text
+    from bifurc import plot_regime_map, regime_map
     out = Path(out)
     size = QUICK if quick else FULL
     clock = _time.perf_counter()
@@ -57,7 +56,7 @@ def hammering(ds, period_of: str = "mechanical"):
     """Boolean (param, param2) mask of the cells that hammer periodically: period-1, 1 impact, in the
     convention ``period_of`` ("mechanical": the bar's; "full": the whole state's)."""
     from bifurc import ClassCode
-    from bifurc.storage.load import in_convention
+    from bifurc.studykit import in_convention
     ds = in_convention(ds, period_of)
     return (ds.class_code == ClassCode.PERIODIC) & (ds.period == 1) & (ds.impacts_per_period == 1)
 
@@ -90,7 +89,7 @@ def _finding(ds) -> str:
         return (f"Periodic hammering (mechanical period-1, 1 impact per relay period) at {n} of {h.size} cells "
                 f"({full} of them period-1 in the full state too); the lowest voltage that gives it on this grid "
                 f"is {lowest:.4g} V. Where: {_where(ds, h)}.")
-    from bifurc.storage.load import in_convention
+    from bifurc.studykit import in_convention
     dm = in_convention(ds, "mechanical")
     once = (dm.class_code == ClassCode.PERIODIC) & (dm.impacts_per_period == dm.period)
     text = ("No cell of this grid hammers periodically with one impact per relay period (mechanical period-1, "
@@ -108,8 +107,7 @@ RARE = 3
 def _counts(ds):
     """(regime, cells) rows: every n:m on at least RARE cells (and period-1, 1 impact always), the
     rarer ones in one row, then the other classes."""
-    from bifurc.plots.map import regime_categories
-    from bifurc.storage.load import in_convention
+    from bifurc.studykit import in_convention, regime_categories
     index, cats = regime_categories(in_convention(ds, "mechanical"), colours=None)   # every n:m its own category
     rows = [(text, int((index == i).sum())) for i, (text, _) in enumerate(cats)]
     keep = lambda t, n: not t.startswith("period-") or n >= RARE or t == "period-1, 1 impact"  # noqa: E731
@@ -156,7 +154,7 @@ def findings(results, quick) -> list:
     of the map: chaotic labels near the threshold may move with round-off), the lowest hammering voltage
     (+- one grid step; NaN: none)."""
     from bifurc import ClassCode
-    from bifurc.findings import Finding
+    from bifurc.studykit import Finding
     out = []
     for case, ds in results.items():
         h = hammering(ds)

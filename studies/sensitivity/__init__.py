@@ -113,7 +113,7 @@ def evaluate(sample: dict, size: dict) -> dict:
 def one_dof(sample: dict, size: dict) -> dict:
     """gap, its parts, stroke [mm] and in_regime of the 1-DOF run at ``sample`` (:func:`regime_gap`)."""
     import maps
-    from maps.impacts import impact_table
+    from maps.studykit import impact_table
     cfg = configure(sample, SCENE)
     pb = maps.problem(SCENE, PRESET, cfg["params"], x0=cfg["x0"], dc_law=cfg["dc_law"], ac_sign=cfg["ac_sign"])
     T = 1.0 / sample["relay_hz"]
@@ -161,8 +161,7 @@ def run(out, quick=False, progress=True, overwrite=False, workers=None, schedule
     """Run every sample into ``out`` (each result kept in ``out/samples.parts/``: a rerun, or a run after
     Ctrl-C, resumes), then write ``report.md`` and ``samples.json``; returns the analysis as a dict (with the
     form's size, the wall time and the samples run).  ``size``: another form's dict (e.g. MEDIUM)."""
-    from bifurc.run.executor import available_cores, map_values
-    from bifurc.storage.files import write_text
+    from bifurc.studykit import available_cores, map_values, write_text
     from tqdm.auto import tqdm
     size = size or (QUICK if quick else FULL)
     out = Path(out)
@@ -403,7 +402,7 @@ def findings(results, quick) -> list:
     """What the report states: the mean gap and the share in the regime (+-0.02 and +-1 sample), per law the mean
     gap (+-0.03), the leading inputs of each output by the measure used (:func:`leaders`: those the samples cannot
     order below the most influential one; exact)."""
-    from bifurc.findings import Finding
+    from bifurc.studykit import Finding
     Y = results["outputs_per_sample"]
     n = len(Y["gap"])
     out = [Finding("mean gap over samples", round(float(np.mean(Y["gap"])), 4), 0.02, "1"),

@@ -37,9 +37,8 @@ def run(out, quick=False, progress=True, overwrite=False, cases=None) -> dict:
     """Every case (or those named in ``cases``) into folder ``out``: ``<case>.nc`` (sweep dataset),
     ``<case>.png`` (diagram), ``<case>.md`` (classification report) and ``comparison.md``: the
     toolkit's class next to the thesis' claims, one sentence per disagreement.  Returns {case: dataset}."""
-    from bifurc import plot_diagram
-    from bifurc import classification_report
-    from bifurc.storage.files import write_text
+    from bifurc import classification_report, plot_diagram
+    from bifurc.studykit import write_text
     from bifurc import sweep
     out = Path(out)
     size = QUICK if quick else FULL
@@ -99,7 +98,7 @@ def _measured(ds, case_preset, w):
 
 def comparison(results, quick) -> str:
     from bifurc import class_at
-    from bifurc.storage.load import in_convention
+    from bifurc.studykit import in_convention
     from ..thesis_replay import well_frequency
     presets = {case: preset for case, preset, _ in CASES}
     lines = [f"# {NAME}: toolkit against the thesis", "",
@@ -147,9 +146,9 @@ REPORT = "comparison.md"
 def findings(results, quick) -> list:
     """What the comparison states, per case: the class at each integer relay frequency in the mechanical
     convention (text, exact) and how many agree with the thesis' numerical period (exact)."""
-    from bifurc.findings import Finding
+    from bifurc.studykit import Finding
     from bifurc import class_at
-    from bifurc.storage.load import in_convention
+    from bifurc.studykit import in_convention
     out = []
     for case, ds in results.items():
         dm = in_convention(ds, "mechanical")

@@ -116,7 +116,7 @@ def report(m, size, quick, seconds) -> str:
 
 def run(out, quick=False, progress=True, overwrite=False) -> dict:
     """The study into folder ``out`` (``report.md``); returns {"measured": ..., "size": ..., "seconds": ...}."""
-    from bifurc.storage.files import refuse_existing, write_text
+    from bifurc.studykit import refuse_existing, write_text
     out = Path(out)
     refuse_existing(out / "report.md", overwrite, hint="use --force")
     out.mkdir(parents=True, exist_ok=True)
@@ -131,7 +131,7 @@ def run(out, quick=False, progress=True, overwrite=False) -> dict:
 def findings(results, quick) -> list:
     """Per soil law: the answer (yes/no), the cells where the impacts advance the rig (+-1), and the fastest
     rate with the AC on (+-10 %, at least 0.05 mm/s)."""
-    from bifurc.findings import Finding
+    from bifurc.studykit import Finding
     m, size = results["measured"], results["size"]
     adv = advanced(m, size)
     on = np.asarray(size["volts"]) > 0

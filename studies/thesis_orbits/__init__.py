@@ -37,7 +37,7 @@ QUICK = dict(relays=(10.0,), laws=("listing", "measured"), seeds=(90.0, 200.0), 
 
 def run(out, quick=False, progress=True, overwrite=False) -> dict:
     """Every case into folder ``out``: ``report.md``, ``orbits_<law>_<hz>Hz.png``, ``branches_*.nc``."""
-    from bifurc.storage.files import write_netcdf, write_text
+    from bifurc.studykit import write_netcdf, write_text
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     size = QUICK if quick else FULL
@@ -56,8 +56,7 @@ def run(out, quick=False, progress=True, overwrite=False) -> dict:
 
 
 def _case(law, hz, size, progress) -> dict:
-    from bifurc import continue_orbit, sweep
-    from bifurc import OrbitNotFound
+    from bifurc import OrbitNotFound, continue_orbit, sweep
     from maps import ParameterError
     params = {"relay_hz": hz}
     diagram = sweep(SCENE, "V", np.linspace(*V_RANGE, size["sweep_n"]), preset=PRESET, dc_law=law, params=params,
@@ -113,8 +112,7 @@ def _seed_followed(branches, ds, V) -> bool:
 def _parent_doubling(ds, i: int, branches) -> str:
     """For a fold bracketed where a period-2m branch is born (special ``i`` of ``ds``, its note says
     so), the located period doubling of a period-m orbit within its tolerance, from ``branches``."""
-    from bifurc.storage.schema import SPECIAL_KINDS
-    from bifurc.orbits.special_points import BIRTH_NOTE
+    from bifurc.studykit import BIRTH_NOTE, SPECIAL_KINDS
     if BIRTH_NOTE not in str(ds.special_note.values[i]):
         return ""
     value, width = float(ds.special_value.values[i]), float(ds.special_tolerance.values[i])
@@ -199,7 +197,7 @@ def stable_intervals(ds, located: bool = False) -> list:
 
 def _located_folds(ds, i0: int, i1: int) -> list:
     """[(value, "fold")] of the located folds recorded between points of the run i0..i1."""
-    from bifurc.storage.schema import SPECIAL_KINDS
+    from bifurc.studykit import SPECIAL_KINDS
     if "special" not in ds.dims:
         return []
     fold = SPECIAL_KINDS.index("fold")
@@ -216,8 +214,7 @@ def _branch_ids(ds) -> np.ndarray:
 def _bounding_special(ds, i: int, k: int):
     """(value, kind) of the located special point nearest to point ``i`` among those recorded between
     points k and k + 1 (``special_point == k``), on the side of ``i`` away from the run; None if none."""
-    from bifurc.storage.schema import SPECIAL_KINDS
-    from bifurc.orbits.special_points import LOCATED_KINDS
+    from bifurc.studykit import LOCATED_KINDS, SPECIAL_KINDS
     if "special" not in ds.dims or k < 0:
         return None
     V, ids = ds.V.values, _branch_ids(ds)
@@ -258,7 +255,7 @@ def _restarted_at_stick_onset(branches) -> bool:
 
 def report(cases, quick, seconds) -> str:
     from bifurc import class_at
-    from bifurc.storage.schema import SPECIAL_KINDS
+    from bifurc.studykit import SPECIAL_KINDS
     lines = [f"# {NAME}: periodic orbits of thesis-1dof continued in V ({'quick' if quick else 'full'} run)", "",
              f"Scene {SCENE}, preset {PRESET} (Table C.1), V over {V_RANGE[0]:g}-{V_RANGE[1]:g} V; relay frequency and "
              f"DC-force law per section.  Orbits are solved by Newton's method by multiple shooting with exact "
@@ -353,7 +350,7 @@ def _stroke(ds, law, hz, lo, hi) -> str:
 def _figure(case, path, overwrite):
     import matplotlib.pyplot as plt
 
-    from bifurc.storage.files import save_figure
+    from bifurc.studykit import save_figure
     from bifurc import plot_branch
     fig, ax = plt.subplots(figsize=(9, 5.5))
     first = True
@@ -380,7 +377,7 @@ def findings(results, quick) -> list:
     points located (+-2: a step may land on either side of a borderline point), and each stable period-1
     one-impact interval's ends as the report states them (the located fold, period doubling or grazing that
     bounds it, else the last stable point sampled; +- 1e-3 V); "none" where there is none."""
-    from bifurc.findings import Finding
+    from bifurc.studykit import Finding
     out = []
     for c in results["cases"]:
         tag = f"{c['law']} {c['hz']:g} Hz"

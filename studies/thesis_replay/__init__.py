@@ -30,7 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
-from maps.transitions import start_flags
+from maps.studykit import start_flags
 
 from .. import provenance
 
@@ -57,7 +57,7 @@ THESIS_NUMERICAL = {2: 1, 3: 1, 4: 1, 5: 1, 6: 2, 7: 2, 8: 2, 9: 1, 10: 1}  # Fi
 def _label(points, imps, rtol, atol, max_period=16, lyapunov=math.nan):
     """(text, period) of stroboscopic (x, v) samples: 'period-n (m impacts)', 'period-n, no impact',
     'chaotic', 'quasi-periodic' (given a Lyapunov exponent) or 'aperiodic'."""
-    from bifurc.labels.classify import classify_orbit, lyapunov_threshold
+    from bifurc.labels import classify_orbit, lyapunov_threshold
     p = np.asarray(points, float)[:, :2]
     if p.shape[0] < 3:
         return "too short", 0
@@ -65,7 +65,7 @@ def _label(points, imps, rtol, atol, max_period=16, lyapunov=math.nan):
                        scale=np.maximum(np.ptp(p, axis=0), atol), lyapunov=lyapunov,
                        lyap_tol=lyapunov_threshold(p.shape[0] - 1))
     if c["label"] == "quasi-periodic":      # positive evidence of a torus, as sweeps require
-        from bifurc.labels.evidence import torus_evidence
+        from bifurc.labels import torus_evidence
         torus, why, k01, rho = torus_evidence(p / np.maximum(np.ptp(p, axis=0), atol), max_period)
         if not torus:
             return f"aperiodic (lambda {lyapunov:+.2f} near 0, but {why})", 0
@@ -106,9 +106,7 @@ def well_frequency(law: str, seconds: float = 30.0) -> float:
 def measure(W: float, V: float, law: str, *, preset=PRESET, ac_sign=AC_SIGN, circuit=CIRCUIT, x0=None,
             long_periods=LONG_PERIODS, long_window=LONG_WINDOW, tol=TOL) -> dict:
     """One replay: relay W [Hz], source amplitude V [V], DC law; the 3 s window and the long run."""
-    from maps import HybridRun
-    from maps import Escaped, IntegrationFailure
-    from maps import problem
+    from maps import Escaped, HybridRun, IntegrationFailure, problem
     pb = problem(SCENE, preset, {"V": V, "relay_hz": W}, X0 if x0 is None else x0, circuit=circuit, ac_sign=ac_sign,
                  dc_law=law)
     p, system, y0 = dict(pb.values), pb.system, pb.state_vector()
@@ -148,7 +146,7 @@ def measure(W: float, V: float, law: str, *, preset=PRESET, ac_sign=AC_SIGN, cir
         label3, per3 = _label(strobe[1:n3 + 1], imps[1:n3], rtol=1e-2, atol=1e-6, max_period=8)
         labelL, perL = _label(strobe[long_from:], imps[long_from:], rtol=1e-6, atol=1e-9)
         if not perL and int(long_window) >= 3:     # not periodic: the Lyapunov exponent tells chaos apart
-            from bifurc.labels.lyapunov import lyapunov_along
+            from bifurc.labels import lyapunov_along
             from maps import StroboscopicMap
             smap = StroboscopicMap(pb, tol=tol)
             lyap = lyapunov_along(smap.step, strobe[long_from:], k0=long_from,
@@ -258,7 +256,7 @@ def figure(rows, V, path):
     Sets no matplotlib backend (the command line picks one; a notebook keeps its own)."""
     import matplotlib.pyplot as plt
 
-    from bifurc.storage.files import save_figure
+    from bifurc.studykit import save_figure
     freqs = sorted({r["relay_hz"] for r in rows if r["V"] == V})
     n = len(freqs)
     cols = min(3, n)
@@ -336,7 +334,7 @@ def report(rows, wells, quick, seconds, physical=()) -> str:
 def run(out, quick=False, progress=True, overwrite=False) -> dict:
     """Every replay into folder ``out``: ``report.md``, ``replay_<V>V.png``, ``replay.csv`` (an
     existing report refused unless ``overwrite``)."""
-    from bifurc.storage.files import refuse_existing
+    from bifurc.studykit import refuse_existing
     out = Path(out)
     refuse_existing(out / "report.md", overwrite, hint="use --force")
     out.mkdir(parents=True, exist_ok=True)
@@ -385,7 +383,7 @@ def findings(results, quick) -> list:
     range over 3 s (+- 0.1 mm); the DC force at the stop (+- 0.01 N); the DC well's own frequency per law
     (+- 0.05 Hz); and, under the measured law with the physical AC sign, the largest height the bar
     reaches (+- 0.01 mm)."""
-    from bifurc.findings import Finding
+    from bifurc.studykit import Finding
     out = [Finding(f"DC well's own frequency, {law}", float(f), 0.05, "Hz") for law, f in results["wells"].items()]
     for r in results["rows"]:
         tag = f"{r['V']:g} V, {r['relay_hz']:g} Hz, {r['dc_law']}"
