@@ -40,7 +40,7 @@ from ..labels.classify import candidate_periods
 from ..labels.lyapunov import exponent_interval
 from .lifetime import Lifetime, estimate_lifetime, periodic_tail
 from .identify import (AREA_SKIP, Attractor, Grid, approaching, area_rate, contracting, converging, from_chunk,
-                       identify, newton_periods, no_contraction, polish_once, same_attractor, same_orbit)
+                       identify, is_flow, newton_periods, no_contraction, polish_once, same_attractor, same_orbit)
 
 
 
@@ -112,6 +112,7 @@ class Memory:
 STAGES = ("chunks", "identify", "exits")
 
 
+
 def _step_cells(t: Track, keys: list, owner: dict, s: Settings) -> str:
     """Walk the new points' cells: 'land' (outcome set), 'recur' (an attractor found) or ''."""
     for key in keys:
@@ -148,7 +149,7 @@ def census_at(smap, starts: list, grid: Grid, settings: Settings, *, k0=0,
     found: list[Attractor] = list(known or [])
     owner: dict = {c: i for i, a in enumerate(found) for c in a.cells}
     mem = Memory() if memory is None else memory
-    at_once = ACTIVE if getattr(smap.system, "autonomous", False) else len(tracks)   # see ACTIVE
+    at_once = ACTIVE if is_flow(smap) else len(tracks)   # see ACTIVE
     active, waiting = list(range(min(at_once, len(tracks)))), min(at_once, len(tracks))
     near = candidate_periods(smap.forcing_period_steps, s.max_period)
     while active:
@@ -311,7 +312,7 @@ def _identify_candidates(smap, tracks, candidates, grid, s: Settings, found: lis
             t.outcome = _sharing(t.last_keys, found, owner)
             if t.outcome is None and not _on_saddle(t, mem.saddles):
                 rest.append(i)
-    cap = RECORDS_AT_ONCE if getattr(smap.system, "autonomous", False) else len(rest)   # see RECORDS_AT_ONCE
+    cap = RECORDS_AT_ONCE if is_flow(smap) else len(rest)   # see RECORDS_AT_ONCE
     for i in rest[cap:]:
         tracks[i].recur = 0          # runs on: it lands on what the first records find, or is a candidate again
     if rest:
@@ -471,7 +472,7 @@ def _on_an_equilibrium(smap, a: Attractor, grid: Grid) -> bool:
     tests/test_census_flows.py past its Hopf point: the seed from the neighbouring value's fixed point (the origin,
     an equilibrium at every value) sits on it to 1e-17 and its record's exponent is mu dt > 0; it was listed as a
     chaotic attractor."""
-    return bool(getattr(smap.system, "autonomous", False) and not a.periodic
+    return bool(is_flow(smap) and not a.periodic
                 and np.max(np.ptp(grid.gridded(a.points), axis=0)) < 1.0)
 
 
@@ -481,7 +482,7 @@ def _with_area_rate(smap, a: Attractor, record, k0: int) -> Attractor:
     samples long and its area rate is stored, not judged (its neutrality is :func:`volume_rate`'s): its first
     AREA_SKIP + VOLUME_SAMPLES samples, as many batch means as the volume rate's (768 exact Jacobians, 1.7 s of CPU,
     per new limit cycle or chaotic set of the modified Lorenz-84 flow)."""
-    flow = getattr(smap.system, "autonomous", False)
+    flow = is_flow(smap)
     rate, lo, hi = area_rate(smap, record, k0, steps=AREA_SKIP + VOLUME_SAMPLES if flow else None)
     a.area_rate, a.area_rate_interval = rate, (lo, hi)
     return a
@@ -496,7 +497,7 @@ def _neutral(smap, record, k0: int, a) -> bool:
     the 16 non-periodic sets the census met; their 146 undecided starts ran to the periods' budget)."""
     if a is not None and a.periodic or np.any(np.asarray(record.impacts_per_step)):
         return False
-    if getattr(smap.system, "autonomous", False):      # a flow's own direction neither stretches nor contracts
+    if is_flow(smap):      # a flow's own direction neither stretches nor contracts
         lo, hi = volume_rate(smap, record, k0)[1:]
         return bool(no_contraction(lo, hi) and hi - lo <= NEUTRAL_WIDTH)
     lo, hi = _with_area_rate(smap, a, record, k0).area_rate_interval if a is not None else \

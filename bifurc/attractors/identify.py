@@ -100,6 +100,12 @@ class Attractor:
         return describe(self.code, self.period, self.impacts)
 
 
+def is_flow(smap) -> bool:
+    """True when ``smap`` samples an autonomous flow (``HybridSystem.autonomous``; a system without the attribute is
+    not one)."""
+    return bool(getattr(smap.system, "autonomous", False))
+
+
 def distance(a: Attractor, b: Attractor, grid: Grid, q: int = 1) -> float:
     """State-space distance [grid cells] between two attractors: for two periodic orbits of one period, the
     largest node distance at the best phase (shifts keeping the forcing's phase, a multiple of q); otherwise
@@ -209,7 +215,7 @@ def identify(smap, orbit, k0: int, grid: Grid, *, max_period: int = MAX_PERIOD, 
     # periodic orbit of it but at a period of a whole number of samples: Newton is tried at period 1 only (a slow
     # focus); the modified Lorenz-84 flow at a = 5.2 and 5.6 (1000 starts): 9 polishes at lags up to 100 samples,
     # 41.7 of 56 s, none converged
-    circle = label == "quasi-periodic" and getattr(smap.system, "autonomous", False)
+    circle = label == "quasi-periodic" and is_flow(smap)
     if label != "chaotic":
         for n in itertools.chain(newton_periods(pts, grid, candidate_periods(q, max_period)),
                                  _lag_beyond(pts, grid, q, max_period, label, lam)):
