@@ -45,7 +45,8 @@ import numpy as np
 
 import maps
 from maps.studykit import forcing_period_steps, settle_may_act
-from bifurc.studykit import ValueJob, map_values
+from bifurc.studykit import map_values
+import bifurc
 from bifurc import sweep
 from frequency_diagram import BareBatch, _Same
 
@@ -73,7 +74,7 @@ class BareProgression(BareBatch):
     True: the observation-only ones too (the recorded window's: the product stops there to measure
     free-flight minima and the deepest penetration).  :meth:`run_many` runs the product's events:
     the transient without observation stops, then the record with them, each value's record as
-    long as the product's (``ValueJob.record_for``, extended where the forcing period q needs it);
+    long as the product's (``bifurc.Diagram.record_for``, extended where the forcing period q needs it);
     ``one_pass=True`` (the previous baseline) runs all periods in one pass without observation stops.
     """
 
@@ -181,8 +182,8 @@ class BareProgression(BareBatch):
 
     def records(self, values):
         """Each value's record length, as the product's (extended for a long forcing period q)."""
-        job = ValueJob(self.task.scene, "relay_hz", self.task.params, record=self.task.record)
-        return [job.record_for(forcing_period_steps(self.task.params["f_mains"], float(W))) for W in values]
+        method = bifurc.Diagram(record=self.task.record)
+        return [method.record_for(forcing_period_steps(self.task.params["f_mains"], float(W))) for W in values]
 
     def run_many(self, values):
         """Per value: (rate [m/s] over the recorded window (NaN: escaped), escape time [s] (NaN:

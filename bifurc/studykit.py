@@ -12,8 +12,7 @@ these names as the built-in studies do. Each is imported on first use.
   branch's special points :data:`SPECIAL_KINDS` (the index is the stored ``special_kind``), those located by
   bisection :data:`LOCATED_KINDS`, and :data:`BIRTH_NOTE` (the note of a branch born at a period doubling);
 - where and how long: :func:`map_values` (a job over values on workers or a Dask scheduler),
-  :func:`available_cores`, :func:`estimate` (a sweep's seconds and memory before it runs), :class:`ValueJob`
-  (one value of a diagram, with its record-length rule);
+  :func:`available_cores`, :func:`estimate` (a sweep's seconds and memory before it runs);
 - accuracy: :func:`work_precision` (error against run time of one trajectory, ``bifurc accuracy``).
 
 The model's own measures and the engine's parts are in :mod:`maps.studykit`.
@@ -27,7 +26,7 @@ _LAZY = {
     "in_convention": "storage.load", "regime_categories": "plots.map", "attractor_count": "attractors.dataset",
     "no_contraction": "attractors.identify", "SPECIAL_KINDS": "storage.schema", "LOCATED_KINDS": "orbits.special_points",
     "BIRTH_NOTE": "orbits.special_points", "map_values": "run.executor", "available_cores": "run.executor",
-    "estimate": "run.guard", "ValueJob": "sweeps.job", "work_precision": "verification.accuracy",
+    "estimate": "run.guard", "work_precision": "verification.accuracy",
 }
 
 __getattr__, __dir__ = lazy_exports("bifurc", _LAZY, globals())

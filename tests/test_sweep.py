@@ -459,6 +459,9 @@ def test_record_extended_to_three_forcing_periods_up_to_max_record():
     assert job.record_cap == 300 and job.record_for(89) == 267 and job.record_for(17) == 100
     assert job.record_for(0) == 100 and job.record_for(101) == 100     # nothing to search: no extension
     assert ValueJob(maps.problem("thesis-1dof"), "relay_hz", record=100, max_record=120).record_for(89) == 120
+    method = bifurc.Diagram(record=100)                                  # the public form of the same rule
+    assert [method.record_for(q) for q in (89, 17, 0, 101)] == [267, 100, 100, 100]
+    assert bifurc.Diagram(record=100, max_record=120).record_for(89) == 120
     kw = dict(preset="matlab-listing", params={"V": 90}, grazing=False, error_sample=0, progress=False)
     ds = sweep("thesis-1dof", "relay_hz", np.array([8.9]), **kw)
     v = ds.isel(branch=0, relay_hz=0)

@@ -27,7 +27,7 @@ from ..storage.build import dataset
 from ..storage.schema import (CELL_VARIABLES, GRAZING, GRAZING_FLAG, GRAZING_GAP, GRAZING_SPEED, PARAM, PROGRESSION,
                               SWEEP, SWEEP_COORDS, flag_variable, grazing_flag, state_variable)
 from ..labels.classify import lyapunov_threshold
-from .job import FORCING_PERIODS
+from .method import FORCING_PERIODS
 from ..labels.anytime import ANYTIME_METHOD
 from ..labels.lyapunov import INTERVAL_METHOD, METHODS
 

@@ -21,14 +21,9 @@ from maps.hybrid import HybridState
 from ..labels.anytime import BUDGET, TRAJECTORIES, Value
 from ..labels.classify import candidate_periods, classify_orbit, mechanical_period, state_scale
 from ..labels.codes import ClassCode, Status
+from .method import RECORD_FACTOR, record_length
 
 _MAPS: dict = {}      # (problem key, tol) -> the process-wide map
-#: default cap of the record extension, in multiples of ``record`` (3 x 100 periods holds three forcing
-#: periods of every q up to the default max_period of 100)
-RECORD_FACTOR = 3
-#: whole forcing periods q the record must hold before the period search (two for the recurrence
-#: test of period q, one more for its decay fit); a shorter record is extended up to ``max_record``
-FORCING_PERIODS = 3
 
 
 @dataclass
@@ -160,12 +155,8 @@ class ValueJob:
         return self.max_record if self.max_record is not None else RECORD_FACTOR * self.record
 
     def record_for(self, q: int) -> int:
-        """Relay periods to record at a value whose forcing repeats every ``q`` periods: ``record``,
-        extended to FORCING_PERIODS x q (never beyond :attr:`record_cap`) when the period search
-        has candidates (0 < q <= max_period) and the record holds fewer than FORCING_PERIODS of them."""
-        if 0 < q <= self.max_period and self.record < FORCING_PERIODS * q:
-            return max(self.record, min(FORCING_PERIODS * q, self.record_cap))
-        return self.record
+        """Relay periods to record at a value whose forcing repeats every ``q`` periods (:func:`.method.record_length`)."""
+        return record_length(self.record, q, self.max_period, self.record_cap)
 
     def x0_state(self):
         return self.problem.state_vector()

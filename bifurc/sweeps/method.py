@@ -9,6 +9,23 @@ from ..labels.vocabulary import BUDGET, MAX_PERIOD, METHODS, TRAJECTORIES
 from ..run.settings import MODES, Settings, setting
 
 
+#: default cap of the record extension, in multiples of ``record`` (3 x 100 periods holds three forcing
+#: periods of every q up to the default max_period of 100)
+RECORD_FACTOR = 3
+#: whole forcing periods q the record must hold before the period search (two for the recurrence
+#: test of period q, one more for its decay fit); a shorter record is extended up to ``max_record``
+FORCING_PERIODS = 3
+
+
+def record_length(record: int, q: int, max_period: int, record_cap: int) -> int:
+    """Strobe periods to record at a value whose forcing repeats every ``q`` periods: ``record``, extended to
+    FORCING_PERIODS x q (never beyond ``record_cap``) when the period search has candidates (0 < q <=
+    ``max_period``) and the record holds fewer than FORCING_PERIODS of them."""
+    if 0 < q <= max_period and record < FORCING_PERIODS * q:
+        return max(record, min(FORCING_PERIODS * q, record_cap))
+    return record
+
+
 @dataclass(frozen=True)
 class Diagram(Settings):
     """A brute-force bifurcation diagram: each value integrated, recorded and labelled on evidence.
@@ -53,6 +70,13 @@ class Diagram(Settings):
                                 whole=True, cli="")
     batch_size: int = setting(4, "values integrated together in heyoka's batch mode (SIMD lanes; 1: one at a "
                               "time); results agree to round-off", low=1, high=64, whole=True)
+
+    def record_for(self, q: int) -> int:
+        """Strobe periods recorded at a value whose forcing repeats every ``q`` periods before it is first judged:
+        ``record``, extended to hold three forcing periods where the period search needs them, at most
+        ``max_record`` (default 3 x ``record``)."""
+        cap = self.max_record if self.max_record is not None else RECORD_FACTOR * self.record
+        return record_length(self.record, q, self.max_period, cap)
 
     def _check(self) -> None:
         if self.budget is not None and self.budget < self.transient + self.record:
