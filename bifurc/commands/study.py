@@ -21,19 +21,19 @@ GROUP = "bifurc.studies"
 #: machine is slower by about the load over the cores). `bifurc study --help` prints this table and README.md states
 #: it (tests/test_readme.py checks that they agree).
 DURATIONS = {
-    "dc-well": ("37 s idle", "513 s at 411e9dd, before its census and windows were added (more now, not measured)",
-                "quick idle at 7ba01d4, 2026-11-29; full at 411e9dd, 2026-11-29"),
+    "dc-well": ("37 s idle", "263 s idle (its census and windows included)",
+                "quick idle at 7ba01d4, 2026-11-29; full idle at e505efe, 2026-11-29, report committed"),
     "attractor-atlas": ("65 s idle", "12 min (718 s)",
                         "quick idle at 7ba01d4, 2026-11-29; full at fc9ed40, 2026-11-27, report commit 8dc852c"),
-    "prototype-progression": ("20 s idle", "1396 s at load 6-9 (8 of 25 frequencies for the variants)",
-                              "quick idle at 7ba01d4, 2026-11-29; full at 34b2ffa, 2026-11-29"),
+    "prototype-progression": ("20 s idle", "318 s idle (8 of 25 frequencies for the variants)",
+                              "quick idle at 7ba01d4, 2026-11-29; full idle at e505efe, 2026-11-29, report committed"),
     "regime-maps": ("154 s idle", "not measured: 41 x 41 cells a map, 34 times the quick form's",
                     "quick idle at 7ba01d4, 2026-11-29"),
     "sensitivity": ("14 s idle", "N = 256, 2560 samples: about 0.6 h on 2 idle cores by its 1.6 s of CPU per "
                     "sample; its last 1538 took 2641 s on 2 workers at load 3-8 (resumable per sample)",
                     "quick idle at 7ba01d4, 2026-11-29; full at 396289d-d03017e, 2026-11-29"),
-    "thesis-1dof-relay": ("63 s idle", "833 s at load 7-9 (3 diagrams like the main job's 61 s idle)",
-                          "quick idle at 7ba01d4, 2026-11-29; full at b962ece, 2026-11-27, newcomer review 4"),
+    "thesis-1dof-relay": ("63 s idle", "376 s idle (3 diagrams of 81 values to budget 6000)",
+                          "quick idle at 7ba01d4, 2026-11-29; full idle at e505efe, 2026-11-29, report committed"),
     "thesis-2dof-rig": ("5 s idle", "72 s", "quick idle at 7ba01d4, 2026-11-29; full: report of adc9ad6, 2026-11-26"),
     "thesis-orbits": ("32 s idle", "22 min (1303 s)", "quick idle at 7ba01d4, 2026-11-29; full at dabb3d8, 2026-11-26"),
     "thesis-replay": ("17 s idle", "9 min (547 s)", "quick idle at 7ba01d4, 2026-11-29; full at f2a2b4e, 2026-11-27"),
