@@ -23,8 +23,8 @@ GROUP = "bifurc.studies"
 DURATIONS = {
     "dc-well": ("37 s idle", "263 s idle (its census and windows included)",
                 "quick idle at 7ba01d4, 2026-11-29; full idle at e505efe, 2026-11-29, report committed"),
-    "attractor-atlas": ("65 s idle", "12 min (718 s)",
-                        "quick idle at 7ba01d4, 2026-11-29; full at fc9ed40, 2026-11-27, report commit 8dc852c"),
+    "attractor-atlas": ("65 s idle", "30 min (1788 s) idle",
+                        "quick idle at 7ba01d4, 2026-11-29; full idle at e505efe, 2026-11-30, report committed"),
     "prototype-progression": ("20 s idle", "318 s idle (8 of 25 frequencies for the variants)",
                               "quick idle at 7ba01d4, 2026-11-29; full idle at e505efe, 2026-11-29, report committed"),
     "regime-maps": ("154 s idle", "not measured: 41 x 41 cells a map, 34 times the quick form's",
@@ -34,9 +34,12 @@ DURATIONS = {
                     "quick idle at 7ba01d4, 2026-11-29; full at 396289d-d03017e, 2026-11-29"),
     "thesis-1dof-relay": ("63 s idle", "376 s idle (3 diagrams of 81 values to budget 6000)",
                           "quick idle at 7ba01d4, 2026-11-29; full idle at e505efe, 2026-11-29, report committed"),
-    "thesis-2dof-rig": ("5 s idle", "72 s", "quick idle at 7ba01d4, 2026-11-29; full: report of adc9ad6, 2026-11-26"),
-    "thesis-orbits": ("32 s idle", "22 min (1303 s)", "quick idle at 7ba01d4, 2026-11-29; full at dabb3d8, 2026-11-26"),
-    "thesis-replay": ("17 s idle", "9 min (547 s)", "quick idle at 7ba01d4, 2026-11-29; full at f2a2b4e, 2026-11-27"),
+    "thesis-2dof-rig": ("5 s idle", "14 s idle", "quick idle at 7ba01d4, 2026-11-29; full idle at e505efe, 2026-11-30, "
+                        "report committed"),
+    "thesis-orbits": ("32 s idle", "17 min (1025 s) idle", "quick idle at 7ba01d4, 2026-11-29; full idle at e505efe, "
+                      "2026-11-30, report committed"),
+    "thesis-replay": ("17 s idle", "11 min (634 s) idle", "quick idle at 7ba01d4, 2026-11-29; full idle at e505efe, "
+                      "2026-11-30, report committed"),
 }
 
 
