@@ -7,6 +7,10 @@ top of the dynamics in :mod:`maps`.
 >>> d = bifurc.sweep("thesis-1dof", "relay_hz", np.linspace(2, 10, 41), preset="matlab-listing")
 >>> d.bifurc.plot(); d.bifurc.table(); d.bifurc.class_at(6.0)
 
+Public modules beside the names in ``__all__``: :mod:`bifurc.attractors` (the census, callable),
+:mod:`bifurc.labels` (judging records of one's own), :mod:`bifurc.studykit` (what a study or a benchmark is built
+from) and :mod:`bifurc.explore` (the explorer's pages and computers).
+
 Importing bifurc never selects a matplotlib backend; it registers the ``ds.bifurc`` accessor.
 The public names are imported on first use (PEP 562), so the command line starts without
 heyoka, xarray or matplotlib.

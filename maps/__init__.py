@@ -9,7 +9,8 @@ every transition rule in :mod:`maps.transitions`), the maps (:class:`Stroboscopi
 :class:`ImpactMap`), named parameters (:class:`Parameter`, :class:`ParameterError`), the 2-DOF
 soil laws (``SOIL_LAWS``) and the reduced
 coordinates of a shift-invariant system (:func:`translation_basis`, :func:`reduce_points`,
-:func:`reduce_jacobian`).
+:func:`reduce_jacobian`); and the public module :mod:`maps.studykit` (the model's measures and the
+engine's parts, for studies and benchmarks).
 """
 import sys
 import types

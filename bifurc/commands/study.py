@@ -29,9 +29,8 @@ DURATIONS = {
                               "quick idle at 7ba01d4, 2026-11-29; full idle at e505efe, 2026-11-29, report committed"),
     "regime-maps": ("154 s idle", "not measured: 41 x 41 cells a map, 34 times the quick form's",
                     "quick idle at 7ba01d4, 2026-11-29"),
-    "sensitivity": ("14 s idle", "N = 256, 2560 samples: about 0.6 h on 2 idle cores by its 1.6 s of CPU per "
-                    "sample; its last 1538 took 2641 s on 2 workers at load 3-8 (resumable per sample)",
-                    "quick idle at 7ba01d4, 2026-11-29; full at 396289d-d03017e, 2026-11-29"),
+    "sensitivity": ("14 s idle", "29 min (1724 s) idle, N = 256 (2560 samples; resumable per sample)",
+                    "quick idle at 7ba01d4, 2026-11-29; full idle at 64145f6, 2026-11-30, report committed"),
     "thesis-1dof-relay": ("63 s idle", "376 s idle (3 diagrams of 81 values to budget 6000)",
                           "quick idle at 7ba01d4, 2026-11-29; full idle at e505efe, 2026-11-29, report committed"),
     "thesis-2dof-rig": ("5 s idle", "14 s idle", "quick idle at 7ba01d4, 2026-11-29; full idle at e505efe, 2026-11-30, "
