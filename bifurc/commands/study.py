@@ -27,8 +27,9 @@ DURATIONS = {
                         "quick idle at 7ba01d4, 2026-11-29; full idle at e505efe, 2026-11-30, report committed"),
     "prototype-progression": ("20 s idle", "318 s idle (8 of 25 frequencies for the variants)",
                               "quick idle at 7ba01d4, 2026-11-29; full idle at e505efe, 2026-11-29, report committed"),
-    "regime-maps": ("154 s idle", "not measured: about 5 h by its first 64 cells (170 s idle; 4 maps of 41 x 41 "
-                    "cells, resumable)", "quick idle at 7ba01d4, 2026-11-29; first cells idle at e505efe, 2026-11-29"),
+    "regime-maps": ("154 s idle", "not measured to its end: of its 4 maps of 41 x 41 cells, the first one's first 1508 "
+                    "cells took 19 min idle (resumable)", "quick idle at 7ba01d4, 2026-11-29; part of the full form idle "
+                    "at e505efe, 2026-11-30"),
     "sensitivity": ("14 s idle", "29 min (1724 s) idle, N = 256 (2560 samples; resumable per sample)",
                     "quick idle at 7ba01d4, 2026-11-29; full idle at 64145f6, 2026-11-30, report committed"),
     "thesis-1dof-relay": ("63 s idle", "376 s idle (3 diagrams of 81 values to budget 6000)",
