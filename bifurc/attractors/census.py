@@ -112,7 +112,6 @@ class Memory:
 STAGES = ("chunks", "identify", "exits")
 
 
-
 def _step_cells(t: Track, keys: list, owner: dict, s: Settings) -> str:
     """Walk the new points' cells: 'land' (outcome set), 'recur' (an attractor found) or ''."""
     for key in keys:

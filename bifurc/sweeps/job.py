@@ -21,7 +21,7 @@ from maps.hybrid import HybridState
 from ..labels.anytime import BUDGET, TRAJECTORIES, Value
 from ..labels.classify import candidate_periods, classify_orbit, mechanical_period, state_scale
 from ..labels.codes import ClassCode, Status
-from .method import RECORD_FACTOR, record_length
+from .method import record_cap, record_length
 
 _MAPS: dict = {}      # (problem key, tol) -> the process-wide map
 
@@ -152,7 +152,7 @@ class ValueJob:
     @property
     def record_cap(self) -> int:
         """The longest record of a value [relay periods]: ``max_record``, else RECORD_FACTOR x ``record``."""
-        return self.max_record if self.max_record is not None else RECORD_FACTOR * self.record
+        return record_cap(self.record, self.max_record)
 
     def record_for(self, q: int) -> int:
         """Relay periods to record at a value whose forcing repeats every ``q`` periods (:func:`.method.record_length`)."""

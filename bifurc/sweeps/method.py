@@ -17,6 +17,11 @@ RECORD_FACTOR = 3
 FORCING_PERIODS = 3
 
 
+def record_cap(record: int, max_record: int | None) -> int:
+    """The longest record of a value [strobe periods]: ``max_record``, else RECORD_FACTOR x ``record``."""
+    return max_record if max_record is not None else RECORD_FACTOR * record
+
+
 def record_length(record: int, q: int, max_period: int, record_cap: int) -> int:
     """Strobe periods to record at a value whose forcing repeats every ``q`` periods: ``record``, extended to
     FORCING_PERIODS x q (never beyond ``record_cap``) when the period search has candidates (0 < q <=
@@ -75,8 +80,7 @@ class Diagram(Settings):
         """Strobe periods recorded at a value whose forcing repeats every ``q`` periods before it is first judged:
         ``record``, extended to hold three forcing periods where the period search needs them, at most
         ``max_record`` (default 3 x ``record``)."""
-        cap = self.max_record if self.max_record is not None else RECORD_FACTOR * self.record
-        return record_length(self.record, q, self.max_period, cap)
+        return record_length(self.record, q, self.max_period, record_cap(self.record, self.max_record))
 
     def _check(self) -> None:
         if self.budget is not None and self.budget < self.transient + self.record:
